@@ -1,0 +1,5 @@
+import sys
+
+from pampipe.cli import main
+
+sys.exit(main())

@@ -1,0 +1,58 @@
+"""Helpers shared by the command modules: unit-aware option types and output emission."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from pampipe.errors import InputError
+from pampipe.output import atomic_write_text, to_json
+from pampipe.units import to_si
+
+
+def quantity_type(dimension: str, option: str):
+    """argparse type: a quantity such as '3 in' or '400 kPa', converted to SI."""
+
+    def parse(text: str) -> float:
+        try:
+            return to_si(text, dimension, where=option)
+        except InputError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    parse.__name__ = dimension
+    return parse
+
+
+def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -> None:
+    """--json and (for commands that draw) --plots DIR."""
+    parser.add_argument("--json", action="store_true",
+                        help="print exactly one JSON document on stdout; human text goes to stderr")
+    if plots:
+        parser.add_argument("--plots", metavar="DIR", type=Path,
+                            help="write PNG plots into DIR (created if missing)")
+
+
+def text_stream(args: argparse.Namespace):
+    """Where human-readable text goes: stderr under --json, stdout otherwise."""
+    return sys.stderr if getattr(args, "json", False) else sys.stdout
+
+
+def say(args: argparse.Namespace, text: str) -> None:
+    """Print human-readable text to the right stream."""
+    print(text, file=text_stream(args), flush=True)
+
+
+def emit(args: argparse.Namespace, document: dict, text: str) -> None:
+    """Print the JSON document (under --json) or the text report."""
+    if getattr(args, "json", False):
+        print(text, file=sys.stderr, flush=True)
+        sys.stdout.write(to_json(document))
+        sys.stdout.flush()
+    else:
+        print(text, flush=True)
+
+
+def write_json(path: Path, document: dict) -> None:
+    """Write the JSON document to ``path`` atomically."""
+    atomic_write_text(path, to_json(document))

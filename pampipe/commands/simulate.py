@@ -1,0 +1,72 @@
+"""`pampipe simulate`: anchoring pressure and radial force of one muscle in one or more pipes."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from pampipe.commands.common import add_output_options, emit, quantity_type, say
+from pampipe.config import load_pam
+from pampipe.errors import InputError
+from pampipe.report import table
+from pampipe.simulate import PAPER_PRESSURES, simulate_anchored
+
+NAME = "simulate"
+HELP = "anchoring pressure, anchored length, amplification and radial force of a PAM in a pipe"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("pam", type=Path, metavar="PAM.yaml", help="PAM file with a moduli: block")
+    parser.add_argument("--pipe-diameter", "-d", action="append", required=True,
+                        type=quantity_type("length", "--pipe-diameter"), metavar="D",
+                        help="pipe inner diameter, e.g. '3 in' (repeat for several pipes)")
+    parser.add_argument("--axial-load", "-f", action="append",
+                        type=quantity_type("force", "--axial-load"), metavar="F",
+                        help="axial tension on the anchored PAM, e.g. '1024.74 N' (repeatable; default 0)")
+    parser.add_argument("--pressure", "-p", action="append",
+                        type=quantity_type("pressure", "--pressure"), metavar="P",
+                        help="gauge pressure, e.g. '400 kPa' (repeatable; default 69..689 kPa)")
+    parser.add_argument("--paper-literal", action="store_true",
+                        help="contact pressure as F_r/(pi D L) (the paper's wording) instead of F_r/(D L)")
+    add_output_options(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    pam = load_pam(args.pam)
+    loads = args.axial_load or [0.0]
+    pressures = args.pressure or list(PAPER_PRESSURES)
+    cases = []
+    for diameter in args.pipe_diameter:
+        for load in loads:
+            try:
+                cases.append(simulate_anchored(pam, pipe_diameter=diameter, axial_load=load,
+                                               pressures=pressures, paper_literal=args.paper_literal))
+            except InputError as exc:
+                raise InputError(f"{args.pam}: {exc}") from None
+    document = dict(cases[0].as_document())
+    document["pam"] = pam.name
+    if len(cases) > 1:
+        document["cases"] = [c.as_document() for c in cases]
+    emit(args, document, _text(pam.name, cases))
+    if args.plots:
+        from pampipe.plots.simulate import plot_simulation
+
+        for path in plot_simulation(pam, cases, args.plots):
+            say(args, f"wrote {path}")
+    return 0
+
+
+def _text(name: str, cases) -> str:
+    parts = []
+    for c in cases:
+        head = (f"{name} in a {c.pipe_diameter * 1e3:.2f} mm pipe, axial load {c.axial_load:.2f} N: "
+                f"anchored length {c.anchored_length * 1e3:.2f} mm, amplification factor "
+                f"{c.amplification_factor:.4f}, anchoring pressure {c.anchoring_pressure / 1e3:.2f} kPa")
+        rows = [(p / 1e3, bool(a), f / 1e0, fl, pc / 1e3, np.pi * f)
+                for p, a, f, fl, pc in zip(c.pressures, c.anchored, c.radial_force, c.force_per_length,
+                                           c.contact_pressure, strict=True)]
+        parts.append(head + "\n" + table(
+            ["P [kPa]", "anchored", "F_r [N]", "f_r [N/m]", "p_c [kPa]", "N_tot [N]"], rows))
+    return "\n\n".join(parts)

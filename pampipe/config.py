@@ -1,0 +1,394 @@
+"""Strict pydantic schemas for the PAM, experiment and mission files (interfaces.md §1-§4).
+
+Each ``load_*`` function reads a YAML file, validates it (unknown keys, units, ranges) and returns
+frozen SI objects. Any problem raises :class:`InputError` naming the file, the key, the value and
+what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+import pydantic
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+
+from pampipe.errors import InputError
+from pampipe.model.domain import check_geometry
+from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.units import to_si
+from pampipe.yamlio import load_mapping
+
+
+def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,
+             lt: float | None = None, le: float | None = None, unit: str = ""):
+    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked."""
+
+    def convert(value: Any) -> float:
+        return to_si(value, dimension)
+
+    def check(value: float) -> float:
+        shown = f"{value:.6g}{' ' + unit if unit else ''}"
+        if gt is not None and not value > gt:
+            raise ValueError(f"{shown} must be greater than {gt:g}{' ' + unit if unit else ''}")
+        if ge is not None and not value >= ge:
+            raise ValueError(f"{shown} must be at least {ge:g}{' ' + unit if unit else ''}")
+        if lt is not None and not value < lt:
+            raise ValueError(f"{shown} must be less than {lt:g}{' ' + unit if unit else ''}")
+        if le is not None and not value <= le:
+            raise ValueError(f"{shown} must be at most {le:g}{' ' + unit if unit else ''}")
+        return value
+
+    return Annotated[float, BeforeValidator(convert), AfterValidator(check)]
+
+
+Length = quantity("length", gt=0, le=10.0, unit="m")  # a PAM dimension or a pipe diameter
+RouteLength = quantity("length", gt=0, le=1e7, unit="m")
+Pressure = quantity("pressure", ge=0, le=1e8, unit="Pa")
+PositivePressure = quantity("pressure", gt=0, le=1e8, unit="Pa")
+Force = quantity("force", ge=-1e7, le=1e7, unit="N")
+NonNegativeForce = quantity("force", ge=0, le=1e7, unit="N")
+Mass = quantity("mass", ge=0, le=1e5, unit="kg")
+Angle = quantity("angle", gt=0, lt=math.pi / 2, unit="rad")
+Incline = quantity("angle", ge=-math.pi / 2, le=math.pi / 2, unit="rad")
+Friction = quantity("dimensionless", ge=0, le=10)
+Coefficient = Annotated[float, AfterValidator(lambda v: _finite(v))]
+
+
+def _finite(value: float) -> float:
+    if not math.isfinite(value):
+        raise ValueError(f"{value!r} is not a finite number")
+    return value
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# ---------------------------------------------------------------------------------------------- PAM
+class GeometrySchema(Strict):
+    initial_length: Length
+    initial_diameter: Length
+    braid_angle_from_transverse: Angle | None = None
+    braid_angle_from_axis: Angle | None = None
+    bladder_thickness: Length
+    wall: Literal["thick", "thin"] = "thick"
+
+    @model_validator(mode="after")
+    def _one_angle(self):
+        given = [self.braid_angle_from_transverse is not None, self.braid_angle_from_axis is not None]
+        if sum(given) != 1:
+            raise ValueError("give exactly one of braid_angle_from_transverse (the paper's convention, "
+                             "e.g. '65.92 deg') or braid_angle_from_axis (e.g. '24.08 deg'); "
+                             f"{'both were' if all(given) else 'neither was'} given")
+        return self
+
+
+class LawSchema(Strict):
+    a: list[Coefficient] = Field(min_length=1, max_length=8)
+    b: list[Coefficient] = Field(min_length=1, max_length=8)
+
+    @model_validator(mode="after")
+    def _same_length(self):
+        if len(self.a) != len(self.b):
+            raise ValueError(f"'a' has {len(self.a)} coefficients and 'b' has {len(self.b)}; "
+                             "they must have the same length (degree + 1)")
+        return self
+
+
+class ContactSchema(Strict):
+    axial: LawSchema
+    hoop: LawSchema
+
+
+class ModuliSchema(Strict):
+    unit: str = "MPa"
+    reference_pressure: PositivePressure = 1e6
+    axial: LawSchema
+    hoop: LawSchema
+    contact: ContactSchema | None = None
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        to_si(f"1 {self.unit}", "pressure", where=f"unit {self.unit!r}")
+        sizes = {len(self.axial.a), len(self.hoop.a)}
+        if self.contact is not None:
+            sizes |= {len(self.contact.axial.a), len(self.contact.hoop.a)}
+        if len(sizes) != 1:
+            raise ValueError("axial, hoop (and contact) laws must have the same number of coefficients")
+        return self
+
+
+class UncertaintySchema(Strict):
+    """Covariance of the moduli vector [axial.a, axial.b, hoop.a, hoop.b], in ``unit``²."""
+
+    unit: str = "MPa"
+    covariance: list[list[Coefficient]]
+
+
+class PamSchema(Strict):
+    name: str = Field(min_length=1)
+    geometry: GeometrySchema
+    moduli: ModuliSchema | None = None
+    uncertainty: UncertaintySchema | None = None
+
+
+def build_pam(schema: PamSchema) -> Pam:
+    """SI :class:`Pam` from a validated schema (the geometry's domain is checked too)."""
+    g = schema.geometry
+    if g.braid_angle_from_axis is not None:
+        alpha = g.braid_angle_from_axis
+    else:
+        alpha = math.pi / 2 - g.braid_angle_from_transverse
+    geometry = Geometry(g.initial_length, g.initial_diameter, alpha, g.bladder_thickness, g.wall)
+    check_geometry(geometry)
+    moduli = covariance = None
+    if schema.moduli is not None:
+        m = schema.moduli
+        scale = to_si(f"1 {m.unit}", "pressure", where="moduli.unit")
+        contact = None
+        if m.contact is not None:
+            contact = scale * np.concatenate([m.contact.axial.a, m.contact.axial.b,
+                                              m.contact.hoop.a, m.contact.hoop.b])
+        moduli = Moduli.from_vector(scale * np.concatenate([m.axial.a, m.axial.b, m.hoop.a, m.hoop.b]),
+                                    reference_pressure=m.reference_pressure, contact=contact)
+        if schema.uncertainty is not None:
+            u = schema.uncertainty
+            cov = np.asarray(u.covariance, dtype=float)
+            n = moduli.as_vector().size
+            if cov.shape != (n, n):
+                raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
+            covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
+    return Pam(schema.name, geometry, moduli, covariance)
+
+
+# ------------------------------------------------------------------------------------- experiment
+class TestSchema(Strict):
+    name: str = Field(min_length=1)
+    kind: Literal["axial", "radial"]
+    data: str = Field(min_length=1)
+    pipe_diameter: Length | None = None
+    axial_load: Force = 0.0
+
+    @model_validator(mode="after")
+    def _radial_needs_pipe(self):
+        if self.kind == "radial" and self.pipe_diameter is None:
+            raise ValueError("a radial test needs pipe_diameter (e.g. '3 in')")
+        if self.kind == "axial" and self.pipe_diameter is not None:
+            raise ValueError("an axial test has no pipe_diameter; use kind: radial for a pipe test")
+        return self
+
+
+class ExperimentSchema(Strict):
+    pam: str | PamSchema
+    tests: list[TestSchema] = Field(min_length=1)
+    fit: dict[str, Any] | None = None  # options of `identify`; validated there
+
+
+@dataclass(frozen=True)
+class TestSpec:
+    """One test of an experiment: its kind, conditions and resolved CSV path (SI)."""
+
+    name: str
+    kind: str
+    data: Path
+    pipe_diameter: float | None
+    axial_load: float
+
+
+@dataclass(frozen=True)
+class Experiment:
+    source: Path
+    pam: Pam
+    tests: tuple[TestSpec, ...]
+    fit: dict[str, Any]
+
+
+# ---------------------------------------------------------------------------------------- mission
+class SegmentSchema(Strict):
+    name: str = Field(min_length=1)
+    pam: str | PamSchema
+    mass: Mass
+
+
+class RobotSchema(Strict):
+    segments: list[SegmentSchema] = Field(min_length=3, max_length=3)
+    payload: Mass = 0.0
+
+
+class UncertainFriction(Strict):
+    value: Friction
+    sd: quantity("dimensionless", ge=0, le=10) = 0.0
+
+
+class SectionSchema(Strict):
+    name: str = Field(min_length=1)
+    length: RouteLength
+    inner_diameter: Length
+    incline: Incline = 0.0
+    friction: Friction | UncertainFriction
+
+
+class MissionSchema(Strict):
+    robot: RobotSchema
+    supply_pressure: PositivePressure
+    safety_factor: quantity("dimensionless", ge=1, le=100) = 1.0
+    load_path: Literal["through_anchor", "distributed", "none"] = "through_anchor"
+    tether_drag: NonNegativeForce = 0.0
+    route: list[SectionSchema] = Field(min_length=1)
+    gait: dict[str, Any] | None = None  # options of `gait`; validated there
+
+
+LOAD_PATH_KAPPA = {"through_anchor": 1.0, "distributed": 0.5, "none": 0.0}
+
+
+@dataclass(frozen=True)
+class Segment:
+    name: str
+    pam: Pam
+    mass: float  # [kg]
+
+
+@dataclass(frozen=True)
+class Section:
+    name: str
+    length: float  # [m]
+    diameter: float  # inner diameter [m]
+    incline: float  # [rad] above horizontal
+    friction: float  # braid-wall Coulomb coefficient
+    friction_sd: float  # its standard deviation (0 = known exactly)
+
+
+@dataclass(frozen=True)
+class Mission:
+    source: Path
+    segments: tuple[Segment, ...]
+    payload: float  # [kg]
+    supply_pressure: float  # [Pa] gauge
+    safety_factor: float
+    load_path: str
+    tether_drag: float  # [N]
+    route: tuple[Section, ...]
+    gait: dict[str, Any]
+
+    @property
+    def kappa(self) -> float:
+        """κ of the no-slip condition (physics.md §8)."""
+        return LOAD_PATH_KAPPA[self.load_path]
+
+
+# ---------------------------------------------------------------------------------------- loaders
+def load_pam(path: str | Path) -> Pam:
+    """Read and validate a PAM file."""
+    path = Path(path)
+    return _build(path, PamSchema, load_mapping(path, what="PAM file"), build_pam)
+
+
+def load_experiment(path: str | Path) -> Experiment:
+    """Read and validate an experiment file; CSV paths are resolved but not read here."""
+    path = Path(path)
+    schema = _validate(path, ExperimentSchema, load_mapping(path, what="experiment file"))
+    pam = _resolve_pam(path, schema.pam, "pam")
+    tests = []
+    names = set()
+    for i, t in enumerate(schema.tests):
+        if t.name in names:
+            raise InputError(f"{path}: tests[{i}].name: duplicate test name {t.name!r}.")
+        names.add(t.name)
+        tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load))
+    return Experiment(path, pam, tuple(tests), dict(schema.fit or {}))
+
+
+def load_mission(path: str | Path) -> Mission:
+    """Read and validate a mission file and the PAM files it names."""
+    path = Path(path)
+    schema = _validate(path, MissionSchema, load_mapping(path, what="mission file"))
+    segments = tuple(Segment(s.name, _resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass)
+                     for i, s in enumerate(schema.robot.segments))
+    if len({s.name for s in segments}) != len(segments):
+        raise InputError(f"{path}: robot.segments: segment names must be unique, got "
+                         f"{[s.name for s in segments]}.")
+    route = []
+    for sec in schema.route:
+        fr = sec.friction
+        value, sd = (fr.value, fr.sd) if isinstance(fr, UncertainFriction) else (fr, 0.0)
+        route.append(Section(sec.name, sec.length, sec.inner_diameter, sec.incline, value, sd))
+    if len({s.name for s in route}) != len(route):
+        raise InputError(f"{path}: route: section names must be unique.")
+    return Mission(path, segments, schema.robot.payload, schema.supply_pressure, schema.safety_factor,
+                   schema.load_path, schema.tether_drag, tuple(route), dict(schema.gait or {}))
+
+
+def _resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:
+    if isinstance(ref, PamSchema):
+        return _build(owner, PamSchema, ref, build_pam, prefix=key)
+    target = _relative(owner, ref)
+    try:
+        return load_pam(target)
+    except InputError as exc:
+        raise InputError(f"{owner}: {key}: {exc}") from None
+
+
+def _relative(owner: Path, ref: str) -> Path:
+    target = Path(ref).expanduser()
+    return target if target.is_absolute() else owner.parent / target
+
+
+def _build(path: Path, schema_cls, raw, builder, prefix: str = ""):
+    schema = raw if isinstance(raw, schema_cls) else _validate(path, schema_cls, raw)
+    try:
+        return builder(schema)
+    except (InputError, ValueError) as exc:
+        raise InputError(f"{path}: {prefix + ': ' if prefix else ''}{exc}") from None
+
+
+def _validate(path: Path, schema_cls: type[BaseModel], raw: dict):
+    try:
+        return schema_cls.model_validate(raw)
+    except pydantic.ValidationError as exc:
+        lines = [_describe(schema_cls, err) for err in exc.errors()]
+        raise InputError(f"{path}: " + "; ".join(dict.fromkeys(lines))) from None
+
+
+def _describe(schema_cls: type[BaseModel], err: dict) -> str:
+    """One readable sentence for one pydantic error: key path, bad value, what is allowed."""
+    loc = [part for part in err["loc"] if not (isinstance(part, str) and part[0].isupper()
+                                                 or part in {"str", "float", "int", "list"})]
+    key = ".".join(f"[{p}]" if isinstance(p, int) else str(p) for p in loc).replace(".[", "[")
+    kind, value = err["type"], err.get("input")
+    if kind == "extra_forbidden":
+        allowed = _allowed_keys(schema_cls, loc[:-1])
+        return f"unknown key '{key}'" + (f"; allowed keys here: {', '.join(allowed)}" if allowed else "")
+    if kind == "missing":
+        return f"missing required key '{key}'"
+    message = err["msg"].removeprefix("Value error, ")
+    where = f"key '{key}'" if key else "top level"
+    shown = repr(value) if not isinstance(value, dict | list) else type(value).__name__
+    return f"{where}: {message} (got {shown})"
+
+
+def _allowed_keys(schema_cls: type[BaseModel], loc: list) -> list[str]:
+    cls: Any = schema_cls
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        field = cls.model_fields.get(part) if isinstance(cls, type) and issubclass(cls, BaseModel) else None
+        if field is None:
+            return []
+        cls = _model_in(field.annotation)
+        if cls is None:
+            return []
+    return list(cls.model_fields) if isinstance(cls, type) and issubclass(cls, BaseModel) else []
+
+
+def _model_in(annotation) -> type[BaseModel] | None:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()):
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None

@@ -1,0 +1,73 @@
+"""Bladder strains, the nonlinear moduli law and the Drucker stability expressions (physics.md §4, §6).
+
+The moduli vector θ = [a₁, b₁, a₂, b₂] (each of length degree + 1, in Pa) gives the secant moduli
+E_k = Σ_j (a_kj + b_kj P/P_ref) ε_k^j, so σ_k = E_k ε_k. Floats and CasADi symbols alike.
+"""
+
+from __future__ import annotations
+
+import math
+
+from pampipe.model.braid import turns
+
+
+def split_moduli(theta):
+    """Split θ into (a₁, b₁, a₂, b₂), each a sequence of degree + 1 coefficients [Pa]."""
+    n = theta.shape[0] // 4 if hasattr(theta, "shape") else len(theta) // 4
+    return tuple(theta[i * n:(i + 1) * n] for i in range(4))
+
+
+def strains(length, diameter, geometry):
+    """Engineering strains (Eqs. 6-7): ε₁ = (L − L₀)/L₀, ε₂ = (D − D₀)/D₀ [-]."""
+    eps_axial = (length - geometry.initial_length) / geometry.initial_length
+    eps_hoop = (diameter - geometry.initial_diameter) / geometry.initial_diameter
+    return eps_axial, eps_hoop
+
+
+def stress(strain, pressure, a, b, reference_pressure):
+    """σ = Σ_{j=0}^{deg} (a_j + b_j P/P_ref) ε^{j+1} [Pa] (Eq. 8)."""
+    scaled = pressure / reference_pressure
+    total = 0
+    power = strain
+    for a_j, b_j in zip(_items(a), _items(b), strict=True):
+        total = total + (a_j + b_j * scaled) * power
+        power = power * strain
+    return total
+
+
+def tangent_modulus(strain, pressure, a, b, reference_pressure):
+    """Eᵗ = ∂σ/∂ε = Σ_j (j + 1)(a_j + b_j P/P_ref) ε^j [Pa]."""
+    scaled = pressure / reference_pressure
+    total = 0
+    power = 1
+    for j, (a_j, b_j) in enumerate(zip(_items(a), _items(b), strict=True)):
+        total = total + (j + 1) * (a_j + b_j * scaled) * power
+        power = power * strain
+    return total
+
+
+def drucker_tangent_moduli(pressure, length, diameter, geometry, theta, reference_pressure):
+    """(E₁ᵗ, E₂ᵗ) [Pa]: the per-direction Drucker stability requires both ≥ 0 (physics.md §6)."""
+    a1, b1, a2, b2 = split_moduli(theta)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
+    return (tangent_modulus(eps_axial, pressure, a1, b1, reference_pressure),
+            tangent_modulus(eps_hoop, pressure, a2, b2, reference_pressure))
+
+
+def drucker_second_order_work(pressure, length, diameter, geometry, theta, reference_pressure):
+    """E₁ᵗ(∂ε₁/∂L)² + E₂ᵗ(∂ε₂/∂L)² [Pa/m²], ≥ 0 for stability along the braid path (physics.md §6).
+
+    ∂ε₁/∂L = 1/L₀ and ∂ε₂/∂L = −L/((Nπ)² D D₀).
+    """
+    e1, e2 = drucker_tangent_moduli(pressure, length, diameter, geometry, theta, reference_pressure)
+    n_pi = turns(geometry) * math.pi
+    de1 = 1 / geometry.initial_length
+    de2 = -length / (n_pi**2 * diameter * geometry.initial_diameter)
+    return e1 * de1**2 + e2 * de2**2
+
+
+def _items(seq):
+    """Iterate over the entries of a list, numpy array or CasADi column vector."""
+    if hasattr(seq, "nnz") and hasattr(seq, "shape"):  # CasADi SX/MX/DM
+        return [seq[i] for i in range(seq.shape[0])]
+    return list(seq)

@@ -1,0 +1,178 @@
+"""Axial force balance, anchoring and the radial (split-pipe) force (physics.md §4.3, §5, §7).
+
+Floats and CasADi symbols alike. ``theta`` is the moduli vector [a₁, b₁, a₂, b₂] in Pa
+(see :mod:`pampipe.model.bladder`); ``reference_pressure`` is P_ref [Pa]. SI units throughout.
+"""
+
+from __future__ import annotations
+
+import math
+
+from pampipe.model import ops
+
+from pampipe.model.bladder import split_moduli, strains, stress
+from pampipe.model.braid import (
+    amplification_factor,
+    braid_length,
+    diameter_at_length,
+    length_at_diameter,
+    turns,
+)
+
+
+def bladder_volume(geometry):
+    """V_b [m³]: π(R₀² − (R₀ − t₀)²)L₀ for a thick wall, πD₀t₀L₀ for a thin one (incompressible)."""
+    r_o = geometry.initial_diameter / 2
+    t0 = geometry.bladder_thickness
+    if geometry.wall == "thin":
+        return math.pi * geometry.initial_diameter * t0 * geometry.initial_length
+    return math.pi * (r_o**2 - (r_o - t0) ** 2) * geometry.initial_length
+
+
+def wall_section(length, geometry):
+    """(R_o, R_i, t) [m] at length L.
+
+    Thick wall: R_o = D(L)/2, R_i = √(R_o² − V_b/(πL)), t = R_o − R_i (incompressible bladder).
+    Thin wall: R_i = R_o and t = V_b/(πDL).
+    """
+    r_o = diameter_at_length(length, geometry) / 2
+    v_b = bladder_volume(geometry)
+    if geometry.wall == "thin":
+        return r_o, r_o, v_b / (2 * math.pi * r_o * length)
+    r_i = ops.sqrt(r_o**2 - v_b / (math.pi * length))
+    return r_o, r_i, r_o - r_i
+
+
+def axial_levers(length, geometry):
+    """(pressure area, σ₁ lever, σ₂ lever) such that F_ax = P·area + σ₁·lever₁ − σ₂·lever₂ (Eq. 9).
+
+    Thick: area = R_i L²/(2πN²R_o) − πR_i² [m²], lever₁ = V_b/L [m²], lever₂ = t L²/(2πN²R_o) [m²].
+    Thin:  area = (3L² − B²)/(4πN²) (Gaylord), lever₂ = V_b L/(B² − L²).
+    """
+    n2 = turns(geometry) ** 2
+    v_b = bladder_volume(geometry)
+    if geometry.wall == "thin":
+        b = braid_length(geometry)
+        return ((3 * length**2 - b**2) / (4 * math.pi * n2), v_b / length,
+                v_b * length / (b**2 - length**2))
+    r_o, r_i, t = wall_section(length, geometry)
+    return (r_i * length**2 / (2 * math.pi * n2 * r_o) - math.pi * r_i**2, v_b / length,
+            t * length**2 / (2 * math.pi * n2 * r_o))
+
+
+def bladder_force(pressure, length, geometry, theta, reference_pressure):
+    """σ₁V_b/L − σ₂(lever₂) [N]: the bladder terms of Eq. 9 (negative in contraction)."""
+    _, lever1, lever2 = axial_levers(length, geometry)
+    a1, b1, a2, b2 = split_moduli(theta)
+    eps_axial, eps_hoop = strains(length, diameter_at_length(length, geometry), geometry)
+    return (stress(eps_axial, pressure, a1, b1, reference_pressure) * lever1
+            - stress(eps_hoop, pressure, a2, b2, reference_pressure) * lever2)
+
+
+def axial_force(pressure, length, geometry, theta, reference_pressure=1e6):
+    """F_ax(P, L) [N] (Eq. 9): tension the free muscle holds at length L and gauge pressure P.
+
+    Thick wall: F_ax = P[R_iL²/(2πN²R_o) − πR_i²] + σ₁V_b/L − σ₂tL²/(2πN²R_o).
+    """
+    area, _, _ = axial_levers(length, geometry)
+    return pressure * area + bladder_force(pressure, length, geometry, theta, reference_pressure)
+
+
+def axial_force_affine(length, geometry, theta, reference_pressure=1e6):
+    """(F_ax(0, L), ∂F_ax/∂P) at fixed L [N, N/Pa]: F_ax is affine in P (physics.md §7)."""
+    area, _, _ = axial_levers(length, geometry)
+    at_zero = bladder_force(0.0, length, geometry, theta, reference_pressure)
+    slope = area + (bladder_force(reference_pressure, length, geometry, theta, reference_pressure)
+                    - at_zero) / reference_pressure
+    return at_zero, slope
+
+
+def axial_force_regressors(pressure, length, geometry, degree, reference_pressure=1e6):
+    """(offset, φ) with F_ax = offset + φ·θ: F_ax is linear in the moduli θ (for identification).
+
+    offset = P·area [N]; φ has 4(degree + 1) entries [N/Pa] ordered like θ.
+    """
+    area, lever1, lever2 = axial_levers(length, geometry)
+    eps_axial, eps_hoop = strains(length, diameter_at_length(length, geometry), geometry)
+    scaled = pressure / reference_pressure
+    powers_1 = [eps_axial ** (j + 1) for j in range(degree + 1)]
+    powers_2 = [eps_hoop ** (j + 1) for j in range(degree + 1)]
+    row = ([p * lever1 for p in powers_1] + [scaled * p * lever1 for p in powers_1]
+           + [-p * lever2 for p in powers_2] + [-scaled * p * lever2 for p in powers_2])
+    return pressure * area, row
+
+
+def anchoring_pressure(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):
+    """P_anchor(D_p, F_a) = (F_a − F_ax(0, L_p)) / ∂_P F_ax(L_p) [Pa] (physics.md §7).
+
+    The pressure at which the free-contraction curve reaches the pipe wall, L_free(P) = L(D_p).
+    """
+    at_zero, slope = axial_force_affine(length_at_diameter(diameter, geometry), geometry, theta,
+                                        reference_pressure)
+    return (axial_load - at_zero) / slope
+
+
+def contact_force_increment(pressure, length, geometry, contact_theta, reference_pressure, anchoring):
+    """ΔF_ax [N] from contact stiffening (physics.md §9d): ((P − P_anchor)₊/P_ref) × bladder terms of Δθ.
+
+    Zero at the anchoring pressure, so stresses are compatible there by construction.
+    """
+    engaged = ops.fmax(pressure - anchoring, 0) / reference_pressure
+    return engaged * bladder_force(pressure, length, geometry, contact_theta, reference_pressure)
+
+
+def radial_force(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,
+                 contact_theta=None, smoothing=None):
+    """F_r = max(0, A·(F_ax(P, L_p) − F_a)) [N] (physics.md §5.3): the split-pipe separating force.
+
+    ``smoothing`` [N], if given, replaces max by the softplus s·log(1 + exp(x/s)) for
+    gradient-based fitting across the anchoring point (physics.md §12).
+    """
+    length = length_at_diameter(diameter, geometry)
+    holding = axial_force(pressure, length, geometry, theta, reference_pressure) - axial_load
+    if contact_theta is not None:
+        anchoring = anchoring_pressure(diameter, geometry, theta, reference_pressure, axial_load)
+        holding = holding + contact_force_increment(pressure, length, geometry, contact_theta,
+                                                    reference_pressure, anchoring)
+    unclipped = amplification_factor(diameter, geometry) * holding
+    if smoothing is None:
+        return ops.fmax(unclipped, 0)
+    return smoothing * ops.log1p(ops.exp(unclipped / smoothing))
+
+
+def radial_force_terms(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):
+    """Term-by-term Eq. 14 (before the contact clip) [N]; the values sum to A·(F_ax − F_a).
+
+    Keys: ``pressure_wall`` 2PR_iL, ``pressure_end_caps`` −A·PπR_i², ``hoop_stress`` −2σ₂tL,
+    ``axial_stress`` A·σ₁V_b/L, ``axial_load`` −A·F_a.
+    """
+    length = length_at_diameter(diameter, geometry)
+    _, r_i, t = wall_section(length, geometry)
+    amp = amplification_factor(diameter, geometry)
+    a1, b1, a2, b2 = split_moduli(theta)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
+    sigma_axial = stress(eps_axial, pressure, a1, b1, reference_pressure)
+    sigma_hoop = stress(eps_hoop, pressure, a2, b2, reference_pressure)
+    return {
+        "pressure_wall": 2 * pressure * r_i * length,
+        "pressure_end_caps": -amp * pressure * math.pi * r_i**2,
+        "hoop_stress": -2 * sigma_hoop * t * length,
+        "axial_stress": amp * sigma_axial * bladder_volume(geometry) / length,
+        "axial_load": -amp * axial_load,
+    }
+
+
+def contact_pressure(radial, diameter, length, paper_literal=False):
+    """Mean wall contact pressure [Pa]: p_c = F_r/(D·L) (physics.md §5.6), or F_r/(πDL) if paper_literal."""
+    projected = diameter * length
+    return radial / (math.pi * projected) if paper_literal else radial / projected
+
+
+def force_per_length(radial, length):
+    """f_r = F_r / L [N/m] (Eq. 15)."""
+    return radial / length
+
+
+def total_normal_force(radial):
+    """N_tot = ∮p_c dA = π F_r [N] (physics.md §5.4): what wall friction acts on."""
+    return math.pi * radial

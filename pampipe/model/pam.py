@@ -1,0 +1,115 @@
+"""Frozen SI descriptions of a PAM: its braid/bladder geometry and its bladder moduli.
+
+No I/O here: :mod:`pampipe.config` builds these from YAML files.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from pampipe.model import braid
+
+Wall = Literal["thick", "thin"]
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Rest geometry of a contractile McKibben muscle (physics.md §1-§2), SI units.
+
+    ``braid_angle`` is α₀, measured from the PAM axis (the paper quotes β₀ = 90° − α₀).
+    """
+
+    initial_length: float  # L0 [m], active length between end fittings
+    initial_diameter: float  # D0 [m], braid = bladder outer diameter
+    braid_angle: float  # alpha0 [rad], from the axis
+    bladder_thickness: float  # t0 [m]
+    wall: Wall = "thick"
+
+    @classmethod
+    def from_transverse_angle(cls, *, initial_length, initial_diameter, braid_angle_from_transverse,
+                              bladder_thickness, wall: Wall = "thick") -> Geometry:
+        """Build from the paper's angle convention β₀ (from the transverse plane): α₀ = π/2 − β₀."""
+        return cls(initial_length, initial_diameter, math.pi / 2 - braid_angle_from_transverse,
+                   bladder_thickness, wall)
+
+    @property
+    def braid_length(self) -> float:
+        """B = L₀ / cos α₀ [m] (Eq. 1)."""
+        return braid.braid_length(self)
+
+    @property
+    def turns(self) -> float:
+        """N = L₀ tan α₀ / (π D₀) [-] (Eq. 2)."""
+        return braid.turns(self)
+
+    @property
+    def shortest_length(self) -> float:
+        """B/√3 [m]: the length at which the Gaylord force vanishes (α = 54.74°)."""
+        return self.braid_length / math.sqrt(3.0)
+
+    @property
+    def largest_diameter(self) -> float:
+        """D(B/√3) = B√(2/3)/(Nπ) [m]: the widest the muscle can pull itself open."""
+        return self.braid_length * math.sqrt(2.0 / 3.0) / (self.turns * math.pi)
+
+    def as_vector(self) -> np.ndarray:
+        """[L₀, D₀, α₀, t₀]: the geometry parameter vector of the prebuilt CasADi functions."""
+        return np.array([self.initial_length, self.initial_diameter, self.braid_angle,
+                         self.bladder_thickness])
+
+
+@dataclass(frozen=True)
+class Moduli:
+    """Secant-moduli law E_k = Σ_j (a_kj + b_kj P/P_ref) ε_k^j, coefficients in Pa (physics.md §4.2).
+
+    ``contact`` holds optional increments applied once the muscle is anchored (physics.md §9d),
+    in the same order as :meth:`as_vector`; ``None`` means zero.
+    """
+
+    axial_a: tuple[float, ...]
+    axial_b: tuple[float, ...]
+    hoop_a: tuple[float, ...]
+    hoop_b: tuple[float, ...]
+    reference_pressure: float = 1e6  # P_ref [Pa]
+    contact: tuple[float, ...] | None = None
+
+    @property
+    def degree(self) -> int:
+        """Polynomial degree of the secant moduli in strain (3 = cubic, 16 coefficients)."""
+        return len(self.axial_a) - 1
+
+    def as_vector(self) -> np.ndarray:
+        """θ = [a₁, b₁, a₂, b₂] [Pa], the ordering of physics.md §6."""
+        return np.concatenate([self.axial_a, self.axial_b, self.hoop_a, self.hoop_b]).astype(float)
+
+    def contact_vector(self) -> np.ndarray:
+        """Contact increments Δθ [Pa] in the order of :meth:`as_vector` (zeros when absent)."""
+        if self.contact is None:
+            return np.zeros(4 * (self.degree + 1))
+        return np.asarray(self.contact, dtype=float)
+
+    @classmethod
+    def from_vector(cls, theta, *, reference_pressure: float = 1e6, contact=None) -> Moduli:
+        """Inverse of :meth:`as_vector`."""
+        theta = [float(v) for v in np.asarray(theta).ravel()]
+        n = len(theta) // 4
+        parts = [tuple(theta[i * n:(i + 1) * n]) for i in range(4)]
+        contact_t = None if contact is None else tuple(float(v) for v in np.asarray(contact).ravel())
+        return cls(*parts, reference_pressure=reference_pressure, contact=contact_t)
+
+
+@dataclass(frozen=True)
+class Pam:
+    """A named muscle: geometry, optional moduli and optional fit covariance.
+
+    ``covariance`` is the covariance of :meth:`Moduli.as_vector` [Pa²], written by ``identify``.
+    """
+
+    name: str
+    geometry: Geometry
+    moduli: Moduli | None = None
+    covariance: np.ndarray | None = field(default=None, compare=False)

@@ -1,0 +1,1 @@
+"""Plots of each command (matplotlib, imported lazily by the command modules)."""
