@@ -355,7 +355,7 @@ def _validate(path: Path, schema_cls: type[BaseModel], raw: dict):
 
 def _describe(schema_cls: type[BaseModel], err: dict) -> str:
     """One readable sentence for one pydantic error: key path, bad value, what is allowed."""
-    loc = [part for part in err["loc"] if not (isinstance(part, str) and part[0].isupper()
+    loc = [part for part in err["loc"] if not ((isinstance(part, str) and part[0].isupper())
                                                  or part in {"str", "float", "int", "list"})]
     key = ".".join(f"[{p}]" if isinstance(p, int) else str(p) for p in loc).replace(".[", "[")
     kind, value = err["type"], err.get("input")

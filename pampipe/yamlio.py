@@ -53,7 +53,7 @@ def load_mapping(path: Path, *, what: str = "YAML file") -> dict:
     if not text.strip():
         raise InputError(f"{path}: the {what} is empty; expected a YAML mapping.")
     try:
-        document = yaml.load(text, Loader=_StrictLoader)  # noqa: S506 - a SafeLoader subclass
+        document = yaml.load(text, Loader=_StrictLoader)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""

@@ -7,7 +7,7 @@ the scalar inputs they evaluate n points at once.
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import casadi as ca
 import numpy as np
@@ -23,7 +23,7 @@ def symbolic_geometry(wall: Wall) -> tuple[ca.SX, Geometry]:
     return g, Geometry(g[0], g[1], g[2], g[3], wall)
 
 
-@lru_cache(maxsize=None)
+@cache
 def radial_force_function(wall: Wall, degree: int) -> ca.Function:
     """F_r(P, D_p, F_a, g, θ, Δθ, P_ref) [N], contact switch and contact increments included."""
     pressure, diameter, load, pref = (ca.SX.sym(n) for n in ("pressure", "diameter", "axial_load",
@@ -37,7 +37,7 @@ def radial_force_function(wall: Wall, degree: int) -> ca.Function:
                         "reference_pressure"], ["radial_force"])
 
 
-@lru_cache(maxsize=None)
+@cache
 def axial_force_function(wall: Wall, degree: int) -> ca.Function:
     """F_ax(P, L, g, θ, P_ref) [N] (Eq. 9)."""
     pressure, length, pref = ca.SX.sym("pressure"), ca.SX.sym("length"), ca.SX.sym("reference_pressure")

@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 
 from pampipe.model import ops
-
 from pampipe.model.bladder import split_moduli, strains, stress
 from pampipe.model.braid import (
     amplification_factor,
