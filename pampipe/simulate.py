@@ -78,7 +78,7 @@ def simulate_anchored(pam: Pam, *, pipe_diameter: float, axial_load: float = 0.0
     radial = muscle.radial_force(pressures, pipe_diameter, geometry, theta, pref, axial_load,
                                  contact if np.any(contact) else None)
     radial = np.asarray(radial, dtype=float) * np.ones_like(pressures)
-    lengths = np.maximum(free_length(pressures, geometry, theta, pref), length)
+    lengths = np.maximum(free_length(pressures, geometry, theta, pref, axial_load=axial_load), length)
     terms = muscle.radial_force_terms(pressures, pipe_diameter, geometry, theta, pref, axial_load)
     terms = {k: np.asarray(v, dtype=float) * np.ones_like(pressures) for k, v in terms.items()}
     return AnchoredCase(

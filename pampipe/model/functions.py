@@ -50,23 +50,25 @@ def axial_force_function(wall: Wall, degree: int) -> ca.Function:
 
 
 def free_length(pressure, geometry: Geometry, theta, reference_pressure: float = 1e6,
-                *, grid: int = 400, iterations: int = 60) -> np.ndarray:
-    """L_free(P) [m]: the largest root of F_ax(P, L) = 0 in (B/√3, L₀] (physics.md §7).
+                *, axial_load: float = 0.0, grid: int = 400, iterations: int = 60) -> np.ndarray:
+    """L_free(P) [m]: the largest root of F_ax(P, L) = F_a in (B/√3, L₀] (physics.md §7).
 
+    ``axial_load`` F_a [N] is a tension hanging on the free muscle (0: free contraction).
     Vectorized over pressures: a downward scan from L₀ brackets the first sign change, then
-    bisection. Where F_ax(P, L₀) ≤ 0 the muscle cannot contract and L_free = L₀.
+    bisection. Where F_ax(P, L₀) ≤ F_a the muscle cannot contract and L_free = L₀.
     """
     pressure = np.atleast_1d(np.asarray(pressure, dtype=float))
     top, bottom = geometry.initial_length, geometry.shortest_length * (1 + 1e-9)
     lengths = np.linspace(top, bottom, grid)
     at_zero, slope = muscle.axial_force_affine(lengths, geometry, theta, reference_pressure)
-    force = at_zero[None, :] + pressure[:, None] * slope[None, :]  # pressures × lengths
+    force = at_zero[None, :] + pressure[:, None] * slope[None, :] - axial_load  # pressures × lengths
     negative = force < 0
-    negative[:, 0] = False  # F(L₀) = P·area(L₀) ≥ 0: the rest length is the start of the scan
+    negative[:, 0] = False  # the scan starts at the rest length L₀
     first = np.argmax(negative, axis=1)
     found = negative[np.arange(pressure.size), first]
-    if not np.all(found | (pressure == 0)):
-        bad = pressure[~(found | (pressure == 0))][0]
+    blocked = at_zero[0] + pressure * slope[0] - axial_load <= 0  # cannot contract at all
+    if not np.all(found | blocked):
+        bad = pressure[~(found | blocked)][0]
         raise SolverError(f"no free-contraction length in (B/sqrt(3), L0] at {bad:.6g} Pa: the "
                           "moduli never balance the pressure force", status="no_root")
     high = lengths[np.maximum(first - 1, 0)]
@@ -74,7 +76,7 @@ def free_length(pressure, geometry: Geometry, theta, reference_pressure: float =
     for _ in range(iterations):
         mid = 0.5 * (high + low)
         f0, f1 = muscle.axial_force_affine(mid, geometry, theta, reference_pressure)
-        positive = f0 + pressure * f1 >= 0
+        positive = f0 + pressure * f1 - axial_load >= 0
         high = np.where(positive, mid, high)
         low = np.where(positive, low, mid)
     result = 0.5 * (high + low)

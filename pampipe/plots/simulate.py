@@ -35,17 +35,17 @@ def plot_simulation(pam, cases, folder: Path) -> list[Path]:
     written.append(save_figure(fig, folder, "radial_force.png"))
 
     fig, ax = new_figure(figsize=(7, 4.5))
-    lengths = free_length(grid, geometry, theta, pref)
-    ax.plot(grid / 1e3, lengths * 1e3, "k-", label="free contraction L_free(P)")
+    for k, load in enumerate(sorted({c.axial_load for c in cases})):
+        lengths = free_length(grid, geometry, theta, pref, axial_load=load)
+        ax.plot(grid / 1e3, lengths * 1e3, "k-" if k == 0 else "k--", lw=1.5 if k == 0 else 1,
+                label=f"free contraction, F_a = {load:.0f} N")
     for c in cases:
-        line = ax.axhline(c.anchored_length * 1e3, ls="--", lw=1, color="C0")
+        ax.axhline(c.anchored_length * 1e3, ls=":", lw=1, color="grey")
         ax.plot(c.anchoring_pressure / 1e3, c.anchored_length * 1e3, "o", ms=7,
-                color=line.get_color())
-        ax.annotate(f"  {c.pipe_diameter * 1e3:.1f} mm pipe, F_a = {c.axial_load:.0f} N: "
-                    f"{c.anchoring_pressure / 1e3:.1f} kPa",
-                    (c.anchoring_pressure / 1e3, c.anchored_length * 1e3), fontsize=8, va="bottom")
+                label=f"anchors in {c.pipe_diameter * 1e3:.1f} mm pipe, F_a = {c.axial_load:.0f} N: "
+                      f"{c.anchoring_pressure / 1e3:.1f} kPa")
     ax.set(xlabel="gauge pressure P [kPa]", ylabel="length L [mm]",
-           title=f"{pam.name}: free contraction and anchoring points")
+           title=f"{pam.name}: free contraction; anchoring where L_free = L(D_p) (dotted)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     written.append(save_figure(fig, folder, "free_contraction.png"))
@@ -54,7 +54,7 @@ def plot_simulation(pam, cases, folder: Path) -> list[Path]:
     diameters = np.linspace(geometry.initial_diameter, 0.98 * geometry.largest_diameter, 300)
     ax.plot(diameters * 1e3, braid.amplification_factor(diameters, geometry), "k-")
     ax.axhline(1.0, color="grey", lw=1, ls=":")
-    for c in cases:
+    for c in {c.pipe_diameter: c for c in cases}.values():
         ax.plot(c.pipe_diameter * 1e3, c.amplification_factor, "o", ms=7)
         ax.annotate(f"  A = {c.amplification_factor:.3f}", (c.pipe_diameter * 1e3, c.amplification_factor),
                     fontsize=8)

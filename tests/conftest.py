@@ -1,0 +1,32 @@
+"""Shared fixtures: the bundled problem files and a CLI runner."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from pampipe.config import load_pam
+
+ROOT = Path(__file__).resolve().parent.parent
+PROBLEMS = ROOT / "problems"
+
+
+@pytest.fixture(scope="session")
+def radial_pam():
+    """The paper's radial-test muscle with the demo moduli (physics.md §7)."""
+    return load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
+
+
+@pytest.fixture(scope="session")
+def axial_load_pam():
+    """The paper's axial-load test muscle (physics.md §5.8)."""
+    return load_pam(PROBLEMS / "pams" / "paper-axial-load-pam.yaml")
+
+
+def run_cli(*args: str, cwd: Path | None = None, timeout: float = 300) -> subprocess.CompletedProcess:
+    """Run ``python -m pampipe ARGS`` in a subprocess, as a user would."""
+    return subprocess.run([sys.executable, "-m", "pampipe", *map(str, args)], capture_output=True,
+                          text=True, cwd=cwd or ROOT, timeout=timeout)
