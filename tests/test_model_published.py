@@ -110,7 +110,8 @@ def test_stride_table(radial_pam, axial_load_pam):
     for pam, strides in ((radial_pam, (23.90e-3, 45.24e-3)), (axial_load_pam, (25.44e-3, 48.27e-3))):
         g = pam.geometry
         for diameter, stride in zip((0.0762, 0.0889), strides, strict=True):
-            assert g.initial_length - braid.length_at_diameter(diameter, g) == pytest.approx(stride, abs=0.01e-3)
+            computed = g.initial_length - braid.length_at_diameter(diameter, g)
+            assert computed == pytest.approx(stride, abs=0.01e-3)
 
 
 def test_inferred_radial_pam_geometry(radial_pam):
