@@ -28,13 +28,13 @@ def bladder_volume(geometry):
     return math.pi * (r_o**2 - (r_o - t0) ** 2) * geometry.initial_length
 
 
-def wall_section(length, geometry):
-    """(R_o, R_i, t) [m] at length L.
+def wall_section(length, geometry, diameter=None):
+    """(R_o, R_i, t) [m] at length L (``diameter``: D(L) if already known).
 
     Thick wall: R_o = D(L)/2, R_i = √(R_o² − V_b/(πL)), t = R_o − R_i (incompressible bladder).
     Thin wall: R_i = R_o and t = V_b/(πDL).
     """
-    r_o = diameter_at_length(length, geometry) / 2
+    r_o = (diameter_at_length(length, geometry) if diameter is None else diameter) / 2
     v_b = bladder_volume(geometry)
     if geometry.wall == "thin":
         return r_o, r_o, v_b / (2 * math.pi * r_o * length)
@@ -42,7 +42,7 @@ def wall_section(length, geometry):
     return r_o, r_i, r_o - r_i
 
 
-def axial_levers(length, geometry):
+def axial_levers(length, geometry, diameter=None):
     """(pressure area, σ₁ lever, σ₂ lever) such that F_ax = P·area + σ₁·lever₁ − σ₂·lever₂ (Eq. 9).
 
     Thick: area = R_i L²/(2πN²R_o) − πR_i² [m²], lever₁ = V_b/L [m²], lever₂ = t L²/(2πN²R_o) [m²].
@@ -54,27 +54,36 @@ def axial_levers(length, geometry):
         b = braid_length(geometry)
         return ((3 * length**2 - b**2) / (4 * math.pi * n2), v_b / length,
                 v_b * length / (b**2 - length**2))
-    r_o, r_i, t = wall_section(length, geometry)
+    r_o, r_i, t = wall_section(length, geometry, diameter)
     return (r_i * length**2 / (2 * math.pi * n2 * r_o) - math.pi * r_i**2, v_b / length,
             t * length**2 / (2 * math.pi * n2 * r_o))
 
 
-def bladder_force(pressure, length, geometry, theta, reference_pressure):
-    """σ₁V_b/L − σ₂(lever₂) [N]: the bladder terms of Eq. 9 (negative in contraction)."""
-    _, lever1, lever2 = axial_levers(length, geometry)
+def bladder_force(pressure, length, geometry, theta, reference_pressure, *, diameter=None, levers=None):
+    """σ₁V_b/L − σ₂(lever₂) [N]: the bladder terms of Eq. 9 (negative in contraction).
+
+    ``diameter`` = D(L) and ``levers`` = :func:`axial_levers` may be passed when already computed.
+    """
+    if diameter is None:
+        diameter = diameter_at_length(length, geometry)
+    _, lever1, lever2 = axial_levers(length, geometry, diameter) if levers is None else levers
     a1, b1, a2, b2 = split_moduli(theta)
-    eps_axial, eps_hoop = strains(length, diameter_at_length(length, geometry), geometry)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
     return (stress(eps_axial, pressure, a1, b1, reference_pressure) * lever1
             - stress(eps_hoop, pressure, a2, b2, reference_pressure) * lever2)
 
 
-def axial_force(pressure, length, geometry, theta, reference_pressure=1e6):
+def axial_force(pressure, length, geometry, theta, reference_pressure=1e6, *, diameter=None):
     """F_ax(P, L) [N] (Eq. 9): tension the free muscle holds at length L and gauge pressure P.
 
     Thick wall: F_ax = P[R_iL²/(2πN²R_o) − πR_i²] + σ₁V_b/L − σ₂tL²/(2πN²R_o).
+    ``diameter`` = D(L) may be passed when already known (it saves a square root per point).
     """
-    area, _, _ = axial_levers(length, geometry)
-    return pressure * area + bladder_force(pressure, length, geometry, theta, reference_pressure)
+    if diameter is None:
+        diameter = diameter_at_length(length, geometry)
+    levers = axial_levers(length, geometry, diameter)
+    return pressure * levers[0] + bladder_force(pressure, length, geometry, theta, reference_pressure,
+                                                diameter=diameter, levers=levers)
 
 
 def axial_force_affine(length, geometry, theta, reference_pressure=1e6):
@@ -128,7 +137,8 @@ def radial_force(pressure, diameter, geometry, theta, reference_pressure=1e6, ax
     gradient-based fitting across the anchoring point (physics.md §12).
     """
     length = length_at_diameter(diameter, geometry)
-    holding = axial_force(pressure, length, geometry, theta, reference_pressure) - axial_load
+    holding = (axial_force(pressure, length, geometry, theta, reference_pressure, diameter=diameter)
+               - axial_load)
     if contact_theta is not None:
         anchoring = anchoring_pressure(diameter, geometry, theta, reference_pressure, axial_load)
         holding = holding + contact_force_increment(pressure, length, geometry, contact_theta,
