@@ -18,8 +18,15 @@ from pampipe.errors import InputError, PampipeError
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "synth")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (exit 2) instead of the full usage block."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="pampipe",
         description="Plan the inflation pressures of a pneumatic-muscle pipe-crawling robot.",
         epilog="Exit codes: 0 success, 2 bad input, 3 no solution (infeasible or solver failure), "
@@ -47,7 +54,10 @@ def main(argv: list[str] | None = None) -> int:
     """Run one command; return its exit code."""
     signal.signal(signal.SIGTERM, _interrupted)
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version and usage errors
+        return int(exc.code or 0)
     try:
         return args.run(args)
     except PampipeError as exc:
