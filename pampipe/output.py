@@ -9,7 +9,7 @@ import tempfile
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
-from pampipe.errors import InputError
+from pampipe.errors import InputError, SolverError
 
 
 def check_not_input(target: Path, inputs: Iterable[Path], *, option: str) -> None:
@@ -54,18 +54,22 @@ def atomic_write_text(target: Path, text: str) -> None:
     atomic_write(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
-def _clean(value):
+def _clean(value, key: str = "result"):
+    """JSON-ready copy of ``value``; a NaN or infinite number is an error, never printed."""
     if isinstance(value, float):
-        return value if math.isfinite(value) else None
+        if not math.isfinite(value):
+            raise SolverError(f"{key} came out as {value}: the computation left the model's valid "
+                              "domain; please report the input that caused it", status="non_finite")
+        return value
     if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
+        return {str(k): _clean(v, f"{key}.{k}") for k, v in value.items()}
     if isinstance(value, list | tuple):
-        return [_clean(v) for v in value]
+        return [_clean(v, f"{key}[{i}]") for i, v in enumerate(value)]
     if hasattr(value, "item") and hasattr(value, "dtype"):  # numpy scalar
-        return _clean(value.item())
+        return _clean(value.item(), key)
     return value
 
 
 def to_json(document: dict) -> str:
-    """Deterministic JSON: sorted keys, shortest round-trip floats, NaN/inf as null."""
+    """Deterministic JSON: sorted keys, shortest round-trip floats; NaN/inf raise SolverError (exit 3)."""
     return json.dumps(_clean(document), sort_keys=True, indent=2, allow_nan=False) + "\n"
