@@ -1,0 +1,122 @@
+"""The ``fit:`` block of an experiment file: options of the moduli identification (strict schema).
+
+```yaml
+fit:
+  degree: 3                      # secant moduli cubic in strain (16 coefficients)
+  mode: shared                   # shared | per_pipe | contact_increment
+  objective: least_squares       # least_squares | sum_rmse (the paper's metric, smooth sqrt)
+  average_legs: false            # fit the mean of loading/unloading legs per length bin (paper)
+  average_bins: 30               # length bins per pressure level when averaging
+  drucker: tangent               # tangent (E1t >= 0 and E2t >= 0) | sum | none
+  drucker_grid: {pressures: 6, lengths: 15}
+  bounds: {constant: [0 MPa, 50 MPa], other: [-50 MPa, 50 MPa], contact: [-50 MPa, 50 MPa]}
+  contact_terms: constant        # contact_increment mode: constant (ΔE1, ΔE2) | full (all 4(d+1))
+  prior: {sd: 2 MPa, toward: input}   # optional ridge toward input | axial | zero moduli
+  contact_smoothing: 1 N         # softplus width of the contact switch
+  rmse_smoothing: 1.0e-4         # ε_s [N²] in sqrt(MSE + ε_s) for sum_rmse
+  max_iterations: 1000
+  tolerance: 1.0e-10
+```
+Bounds follow physics.md §6: constant-term coefficients a_k0 ∈ [0, 50] MPa, all others ∈ [−50, 50] MPa.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from pampipe.config import Strict, _validate, quantity
+
+Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
+
+
+class GridSchema(Strict):
+    pressures: int = Field(6, ge=2, le=100)
+    lengths: int = Field(15, ge=2, le=400)
+
+
+class BoundsSchema(Strict):
+    constant: tuple[Stress, Stress] = (0.0, 50e6)
+    other: tuple[Stress, Stress] = (-50e6, 50e6)
+    contact: tuple[Stress, Stress] = (-50e6, 50e6)
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        for name in ("constant", "other", "contact"):
+            low, high = getattr(self, name)
+            if not low < high:
+                raise ValueError(f"bounds.{name}: the lower bound {low:g} Pa must be below the upper "
+                                 f"bound {high:g} Pa")
+        return self
+
+
+class PriorSchema(Strict):
+    sd: quantity("pressure", gt=0, le=1e10, unit="Pa")
+    toward: Literal["input", "axial", "zero"] = "input"
+
+
+class FitSchema(Strict):
+    degree: int = Field(3, ge=0, le=7)
+    mode: Literal["shared", "per_pipe", "contact_increment"] = "shared"
+    objective: Literal["least_squares", "sum_rmse"] = "least_squares"
+    average_legs: bool = False
+    average_bins: int = Field(30, ge=2, le=10_000)
+    drucker: Literal["tangent", "sum", "none"] = "tangent"
+    drucker_grid: GridSchema = GridSchema()
+    bounds: BoundsSchema = BoundsSchema()
+    contact_terms: Literal["constant", "full"] = "constant"
+    prior: PriorSchema | None = None
+    contact_smoothing: quantity("force", gt=0, le=1e6, unit="N") = 1.0
+    rmse_smoothing: float = Field(1e-4, gt=0, le=1e6)
+    max_iterations: int = Field(1000, ge=1, le=100_000)
+    tolerance: float = Field(1e-10, gt=0, le=1e-2)
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """Validated identification options (SI). See the module docstring for their meaning."""
+
+    degree: int = 3
+    mode: str = "shared"
+    objective: str = "least_squares"
+    average_legs: bool = False
+    average_bins: int = 30
+    drucker: str = "tangent"
+    grid_pressures: int = 6
+    grid_lengths: int = 15
+    bounds_constant: tuple[float, float] = (0.0, 50e6)
+    bounds_other: tuple[float, float] = (-50e6, 50e6)
+    bounds_contact: tuple[float, float] = (-50e6, 50e6)
+    contact_terms: str = "constant"
+    prior_sd: float | None = None  # [Pa]
+    prior_toward: str = "input"
+    contact_smoothing: float = 1.0  # [N]
+    rmse_smoothing: float = 1e-4  # [N²]
+    max_iterations: int = 1000
+    tolerance: float = 1e-10
+
+    def with_overrides(self, **changes) -> FitOptions:
+        """A copy with the given (non-None) fields replaced, e.g. from command-line flags."""
+        return replace(self, **{k: v for k, v in changes.items() if v is not None})
+
+
+def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file") -> FitOptions:
+    """Validate a ``fit:`` mapping; errors name ``fit.<key>``, the value and the allowed values."""
+    schema = _validate(Path(source), _Wrapper, {"fit": dict(raw or {})}).fit
+    return FitOptions(
+        degree=schema.degree, mode=schema.mode, objective=schema.objective,
+        average_legs=schema.average_legs, average_bins=schema.average_bins, drucker=schema.drucker,
+        grid_pressures=schema.drucker_grid.pressures, grid_lengths=schema.drucker_grid.lengths,
+        bounds_constant=tuple(schema.bounds.constant), bounds_other=tuple(schema.bounds.other),
+        bounds_contact=tuple(schema.bounds.contact), contact_terms=schema.contact_terms,
+        prior_sd=None if schema.prior is None else schema.prior.sd,
+        prior_toward="input" if schema.prior is None else schema.prior.toward,
+        contact_smoothing=schema.contact_smoothing, rmse_smoothing=schema.rmse_smoothing,
+        max_iterations=schema.max_iterations, tolerance=schema.tolerance)
+
+
+class _Wrapper(Strict):
+    fit: FitSchema

@@ -1,0 +1,65 @@
+"""The model's forces for recorded test rows, and fit quality per test and pressure level.
+
+Used by ``identify`` for its report and by anything that needs residuals (``diagnose``): the
+exact, unsmoothed model of physics.md §4.3 (axial tests) and §5.3 (radial tests, contact switch and
+contact increments included).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pampipe.data import ExperimentData, TestData
+from pampipe.identify.result import LevelFit, TestFit
+from pampipe.model import muscle
+from pampipe.model.pam import Moduli, Pam
+from pampipe.simulate import require_moduli
+
+
+def predict(pam: Pam, test: TestData) -> np.ndarray:
+    """Model force [N] at every row of ``test``: F_ax(P, L) (axial) or F_r(P; D_p, F_a) (radial)."""
+    require_moduli(pam)
+    moduli = pam.moduli
+    theta, pref = moduli.as_vector(), moduli.reference_pressure
+    if test.kind == "axial":
+        force = muscle.axial_force(test.pressure, test.length, pam.geometry, theta, pref)
+    else:
+        contact = moduli.contact_vector()
+        force = muscle.radial_force(test.pressure, test.spec.pipe_diameter, pam.geometry, theta, pref,
+                                    test.spec.axial_load, contact if np.any(contact) else None)
+    return np.asarray(force, dtype=float) * np.ones(test.points)
+
+
+def residuals(pam: Pam, test: TestData) -> np.ndarray:
+    """Model minus measured force [N], row by row."""
+    return predict(pam, test) - test.force
+
+
+def test_fit(pam: Pam, test: TestData, *, block: str = "theta") -> tuple[TestFit, float]:
+    """(fit quality of one test, its sum of squared residuals [N²])."""
+    squared = residuals(pam, test) ** 2
+    levels = []
+    count = np.bincount(test.level, minlength=test.level_pressure.size)
+    sums = np.bincount(test.level, weights=squared, minlength=test.level_pressure.size)
+    for lev, pressure in enumerate(test.level_pressure):
+        if count[lev]:
+            levels.append(LevelFit(float(pressure), int(count[lev]), float(np.sqrt(sums[lev] / count[lev]))))
+    total = float(squared.sum())
+    fit = TestFit(test.name, test.kind, test.points, float(np.sqrt(total / max(test.points, 1))),
+                  tuple(levels), block)
+    return fit, total
+
+
+def evaluate_tests(data: ExperimentData, moduli: Moduli, pipe_moduli: dict[float, Moduli], blocks: dict
+                   ) -> tuple[tuple[TestFit, ...], float, float]:
+    """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N])."""
+    names = {id(m): name for name, m in blocks.items()}
+    fits, sse = [], 0.0
+    for test in data.tests:
+        used = moduli if test.kind == "axial" else pipe_moduli.get(test.spec.pipe_diameter, moduli)
+        fit, total = test_fit(Pam(data.pam.name, data.pam.geometry, used), test,
+                              block=names.get(id(used), "theta"))
+        fits.append(fit)
+        sse += total
+    sum_rmse = float(sum(level.rmse for fit in fits for level in fit.levels))
+    return tuple(fits), sse, sum_rmse
