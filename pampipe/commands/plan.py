@@ -1,0 +1,113 @@
+"""`pampipe plan`: minimum anchoring pressure per route section and segment (physics.md §8)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
+from pampipe.config import load_mission
+from pampipe.errors import InfeasibleError, InputError
+from pampipe.output import check_not_input
+from pampipe.report import table
+
+NAME = "plan"
+HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mission", type=Path, metavar="MISSION.yaml", help="mission file (interfaces.md §4)")
+    parser.add_argument("-o", "--output", type=Path, metavar="PLAN.json",
+                        help="also write the JSON plan to this file (atomically)")
+    parser.add_argument("--payload", type=quantity_type("mass", "--payload"), metavar="M",
+                        help="plan for this payload instead of the mission's, e.g. '5 kg'")
+    parser.add_argument("--max-payload", action="store_true",
+                        help="also report the largest payload the supply carries through the whole route, "
+                             "and the section that limits it")
+    parser.add_argument("--confidence", type=_probability, metavar="C",
+                        help="plan the pressure that holds with probability C (e.g. 0.95), from the PAM "
+                             "covariance ('uncertainty:' block) and the sections' friction sd")
+    parser.add_argument("--solver", choices=("kkt", "ipopt"), default="kkt",
+                        help="kkt: Newton on the NLP's KKT conditions (default, fast); ipopt: the same "
+                             "NLP solved by IPOPT")
+    add_output_options(parser)
+
+
+def _probability(text: str) -> float:
+    try:
+        value = float(text.strip().removesuffix("%")) / (100 if text.strip().endswith("%") else 1)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a probability; give e.g. 0.95 or 95%") from None
+    if not 0.5 <= value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a probability in [0.5, 1), e.g. 0.95")
+    return value
+
+
+def run(args: argparse.Namespace) -> int:
+    from pampipe.plan import plan_mission
+
+    start = time.perf_counter()
+    mission = load_mission(args.mission)
+    if args.output is not None:
+        inputs = [mission.source, *(_pam_sources(args.mission))]
+        check_not_input(args.output, inputs, option="-o")
+    plan = plan_mission(mission, payload=args.payload, confidence=args.confidence, method=args.solver,
+                        with_max_payload=args.max_payload)
+    document = plan.as_document()
+    document["solver"]["wall_time_s"] = time.perf_counter() - start
+    emit(args, document, _text(plan))
+    if args.output is not None:
+        write_json(args.output, document)
+        say(args, f"wrote {args.output}")
+    if args.plots:
+        from pampipe.plots.plan import plot_plan
+
+        for path in plot_plan(mission, plan, args.plots):
+            say(args, f"wrote {path}")
+    if not plan.feasible:
+        raise InfeasibleError("the mission is infeasible:\n  " + "\n  ".join(plan.reasons))
+    return 0
+
+
+def _pam_sources(mission_path: Path) -> list[Path]:
+    """PAM files a mission names (so -o cannot overwrite them)."""
+    from pampipe.yamlio import load_mapping
+
+    raw = load_mapping(mission_path, what="mission file")
+    refs = [s.get("pam") for s in raw.get("robot", {}).get("segments", []) if isinstance(s, dict)]
+    return [mission_path.parent / r for r in refs if isinstance(r, str)]
+
+
+def _text(plan) -> str:
+    head = (f"plan for {plan.mission}: supply {plan.supply_pressure / 1e3:.4g} kPa, payload "
+            f"{plan.payload:.4g} kg, safety factor {plan.safety_factor:g}, load path {plan.load_path}"
+            + (f", confidence {plan.confidence:.3g}" if plan.confidence is not None else ""))
+    rows = []
+    for sec in plan.sections:
+        if not sec.segments:
+            rows.append((sec.name, "-", "-", "-", "-", "-", "-", "NO"))
+            continue
+        for seg in sec.segments:
+            rows.append((sec.name, seg.name, seg.pressure / 1e3, seg.anchoring_pressure / 1e3,
+                         seg.required_hold, seg.holding_capacity,
+                         seg.margin if math.isfinite(seg.margin) else "inf",
+                         "yes" if seg.feasible else "NO"))
+    parts = [head, table(["section", "segment", "P [kPa]", "P_anchor [kPa]", "hold W [N]", "capacity [N]",
+                          "margin", "ok"], rows)]
+    parts.append("margin = capacity / W (the safety factor where no slip sets the pressure); P_anchor: "
+                 "the pressure at which the unloaded muscle touches the wall.")
+    if plan.max_payload is not None:
+        limit = plan.max_payload
+        if limit.payload is None:
+            parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at "
+                         f"{limit.supply_pressure / 1e3:.4g} kPa.")
+        else:
+            parts.append(f"max payload at {limit.supply_pressure / 1e3:.4g} kPa: {limit.payload:.4g} kg, "
+                         f"limited by {limit.segment} in section {limit.section!r}.")
+    if plan.feasible:
+        parts.append("feasible: every segment holds in every section within the supply.")
+    else:
+        parts.append("INFEASIBLE:\n  " + "\n  ".join(plan.reasons))
+    return "\n".join(parts)

@@ -1,0 +1,18 @@
+"""`pampipe plan`: the least anchoring pressure per route section and segment (physics.md §5, §7, §8).
+
+Library API::
+
+    from pampipe.config import load_mission
+    from pampipe.plan import plan_mission, max_payload
+
+    plan = plan_mission(load_mission("mission.yaml"))          # -> MissionPlan
+    plan.feasible, plan.sections[0].segments[0].pressure       # SI units
+    limit = max_payload(mission)                               # -> PayloadLimit (kg, limiting section)
+"""
+
+from pampipe.plan.mission import plan_mission
+from pampipe.plan.payload import PayloadLimit, SectionPayload, max_payload
+from pampipe.plan.result import MissionPlan, SectionPlan, SegmentPlan
+
+__all__ = ["MissionPlan", "PayloadLimit", "SectionPayload", "SectionPlan", "SegmentPlan", "max_payload",
+           "plan_mission"]

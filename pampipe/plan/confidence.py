@@ -1,0 +1,113 @@
+"""Pressure that holds with probability C under model and friction uncertainty (first order).
+
+Sources: the covariance Σ_θ of the moduli θ written by `identify` (``Pam.covariance`` [Pa²]) and the
+standard deviation σ_μ of a section's wall friction (``friction: {value, sd}``). With the no-slip
+margin g(P; θ, μ) = μπF_r(P, D, κW(μ); θ) − SF·W(μ), first-order propagation gives
+    E[g] ≈ g(P; θ̂, μ̂),   Var[g] ≈ ∇_θg Σ_θ ∇_θgᵀ + (∂_μ g)² σ_μ²,
+and the pressure that holds with probability C is the least P with E[g] − z_C·√Var[g] ≥ 0,
+z_C = Φ⁻¹(C). At C = 0.5 this is the nominal plan. The probability is per segment and section
+(each anchor separately), with the safety factor kept inside the requirement. The gradients come
+from one CasADi function per (wall, degree), built once and mapped over the sections.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+from statistics import NormalDist
+
+import casadi as ca
+import numpy as np
+
+from pampipe.errors import InputError
+from pampipe.model import slip
+from pampipe.model.functions import symbolic_geometry
+from pampipe.plan.problem import PRESSURE_LIMIT
+
+
+@cache
+def margin_function(wall: str, degree: int) -> ca.Function:
+    """(P, D, φ, μ, M, m_anchor, tether, κ, SF, g, θ, Δθ, P_ref) → (g [N], ∂g/∂θ, ∂g/∂μ)."""
+    names = ("pressure", "diameter", "incline", "friction", "total_mass", "anchor_mass", "tether_drag",
+             "kappa", "safety_factor", "reference_pressure")
+    p, d, phi, mu, mass, m_anchor, tether, kappa, sf, pref = (ca.SX.sym(n) for n in names)
+    g, geometry = symbolic_geometry(wall)
+    n = 4 * (degree + 1)
+    theta, contact = ca.SX.sym("theta", n), ca.SX.sym("contact", n)
+    load = slip.anchor_load(mass, m_anchor, phi, mu, tether)
+    margin = (slip.holding_capacity(p, d, geometry, theta, pref, load, kappa, mu, contact)
+              - sf * load)
+    return ca.Function("slip_margin", [p, d, phi, mu, mass, m_anchor, tether, kappa, sf, g, theta,
+                                       contact, pref],
+                       [margin, ca.jacobian(margin, theta), ca.jacobian(margin, mu)])
+
+
+def z_value(confidence: float) -> float:
+    """z_C = Φ⁻¹(C) for 0.5 ≤ C < 1."""
+    if not (0.5 <= confidence < 1):
+        raise InputError(f"--confidence: {confidence!r} must be a probability in [0.5, 1), e.g. 0.95.")
+    return NormalDist().inv_cdf(confidence)
+
+
+def check_uncertainty(mission) -> None:
+    """--confidence needs at least one source of uncertainty."""
+    if all(seg.pam.covariance is None for seg in mission.segments) and all(
+            s.friction_sd == 0 for s in mission.route):
+        raise InputError(
+            f"{mission.source}: --confidence needs an uncertainty: no PAM file has an 'uncertainty:' "
+            "covariance block (written by `pampipe identify`) and no route section gives "
+            "'friction: {value: 0.3, sd: 0.05}'.")
+
+
+class _Segment:
+    """Mapped margin of one segment over all sections, with its uncertainty."""
+
+    def __init__(self, mission, index: int):
+        seg = mission.segments[index]
+        m = seg.pam.moduli
+        route = mission.route
+        self.sections = len(route)
+        self.function = margin_function(seg.pam.geometry.wall, m.degree).map(self.sections)
+        self.row = lambda values: np.asarray(values, dtype=float).reshape(1, -1)
+        total = sum(s.mass for s in mission.segments) + mission.payload
+        self.fixed = [self.row([s.diameter for s in route]), self.row([s.incline for s in route]),
+                      self.row([s.friction for s in route]), total, seg.mass, mission.tether_drag,
+                      mission.kappa, mission.safety_factor, seg.pam.geometry.as_vector(), m.as_vector(),
+                      m.contact_vector(), m.reference_pressure]
+        n = m.as_vector().size
+        self.covariance = seg.pam.covariance if seg.pam.covariance is not None else np.zeros((n, n))
+        self.friction_sd = np.array([s.friction_sd for s in route])
+
+    def lower_limit(self, pressure: np.ndarray, z: float) -> np.ndarray:
+        """E[g] − z·√Var[g] [N] at the given pressures (one per section)."""
+        margin, d_theta, d_mu = (np.asarray(v) for v in self.function(self.row(pressure), *self.fixed))
+        d_theta = d_theta.reshape(self.sections, -1)
+        variance = (np.einsum("si,ij,sj->s", d_theta, self.covariance, d_theta)
+                    + (d_mu.ravel() * self.friction_sd) ** 2)
+        return margin.ravel() - z * np.sqrt(np.maximum(variance, 0.0))
+
+
+def confidence_pressure(mission, nominal: np.ndarray, confidence: float, *, iterations: int = 60):
+    """Least P ≥ P_nominal [Pa] holding with probability C, per element (S, 3); inf if none ≤ 100 MPa."""
+    z = z_value(confidence)
+    check_uncertainty(mission)
+    out = np.array(nominal, dtype=float)
+    for i in range(len(mission.segments)):
+        col = np.isfinite(nominal[:, i])
+        if z == 0 or not col.any():
+            continue
+        seg = _Segment(mission, i)
+        low = np.where(col, nominal[:, i], 1.0)
+        high = np.maximum(1.1 * low, low + 1e4)
+        for _ in range(int(math.log2(PRESSURE_LIMIT / 1e4)) + 1):  # grow the bracket up to 100 MPa
+            short = col & (seg.lower_limit(high, z) < 0) & (high < PRESSURE_LIMIT)
+            if not short.any():
+                break
+            high = np.where(short, np.minimum(2 * high, PRESSURE_LIMIT), high)
+        reachable = col & (seg.lower_limit(high, z) >= 0)
+        for _ in range(iterations):
+            mid = 0.5 * (low + high)
+            ok = seg.lower_limit(mid, z) >= 0
+            high, low = np.where(ok, mid, high), np.where(ok, low, mid)
+        out[:, i] = np.where(reachable, high, np.where(col, np.inf, nominal[:, i]))
+    return out

@@ -1,0 +1,96 @@
+"""`plan_mission`: the least anchoring pressure of every segment in every section of a route."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from pampipe.errors import SolverError
+from pampipe.model import muscle, slip
+from pampipe.plan.checks import cross_check
+from pampipe.plan.confidence import confidence_pressure
+from pampipe.plan.feasibility import element_feasible, section_reasons
+from pampipe.plan.payload import max_payload as route_max_payload
+from pampipe.plan.payload import section_payloads
+from pampipe.plan.problem import Elements, build_elements
+from pampipe.plan.result import MissionPlan, SectionPlan, SegmentPlan
+from pampipe.plan.solve import Solution, solve
+from pampipe.simulate import require_moduli
+
+#: Largest accepted relative disagreement between the NLP and its cross-checks.
+CHECK_TOLERANCE = 1e-6
+
+
+def plan_mission(mission, *, payload: float | None = None, confidence: float | None = None,
+                 method: str = "kkt", check: bool = True, with_max_payload: bool = False) -> MissionPlan:
+    """Plan ``mission`` (a :class:`pampipe.config.Mission`); ``payload`` [kg] overrides its payload.
+
+    ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C (first order, see
+    :mod:`pampipe.plan.confidence`). ``check`` compares the NLP's pressures with the closed form and
+    a bisection on the model and raises :class:`SolverError` beyond a relative 1e-6.
+    """
+    for i, seg in enumerate(mission.segments):
+        require_moduli(seg.pam, source=f"{mission.source}: robot.segments[{i}].pam")
+    if payload is not None:
+        mission = dataclasses.replace(mission, payload=float(payload))
+    elements = build_elements(mission)
+    solution = solve(elements, mission.supply_pressure, method=method)
+    checks = {}
+    if check:
+        checks = cross_check(mission, elements, solution.pressure)
+        worst = max((v for v in checks.values() if v is not None), default=0.0)
+        if worst > CHECK_TOLERANCE:
+            raise SolverError(f"the planning NLP disagrees with its cross-checks by {worst:.3g} "
+                              f"(relative): {checks}", status="cross_check_failed")
+    nominal = None
+    if confidence is not None:
+        nominal = solution.pressure
+        pressure = confidence_pressure(mission, nominal, confidence)
+        solution = dataclasses.replace(solution, pressure=pressure,
+                                       slip_active=solution.slip_active | (pressure > nominal))
+    payloads = section_payloads(mission, elements)
+    reasons = section_reasons(mission, elements, solution, payloads, confidence=confidence)
+    sections = _sections(mission, elements, solution, reasons, nominal)
+    limit = route_max_payload(mission) if with_max_payload else None
+    return MissionPlan(feasible=all(s.feasible for s in sections), sections=sections,
+                       mission=str(mission.source), supply_pressure=mission.supply_pressure,
+                       safety_factor=mission.safety_factor, load_path=mission.load_path,
+                       payload=mission.payload, method=solution.method, iterations=solution.iterations,
+                       checks=checks, confidence=confidence, max_payload=limit)
+
+
+def _sections(mission, e: Elements, solution: Solution, reasons, nominal) -> tuple[SectionPlan, ...]:
+    feasible = element_feasible(e, solution, mission.supply_pressure)
+    columns = [_evaluate(mission, e, solution.pressure, i) for i in range(len(mission.segments))]
+    sections = []
+    for s, sec in enumerate(mission.route):
+        segments = ()
+        if e.valid[s].all() and np.isfinite(solution.pressure[s]).all():
+            segments = tuple(
+                SegmentPlan(seg.name, float(solution.pressure[s, i]), float(e.free_anchoring[s, i]),
+                            float(e.load[s, i]), float(columns[i][0][s]), float(columns[i][1][s]),
+                            float(columns[i][2][s]), loaded_anchoring_pressure=float(e.anchoring[s, i]),
+                            air_volume=float(e.volume[s, i]),
+                            binding="no_slip" if solution.slip_active[s, i] else "contact",
+                            feasible=bool(feasible[s, i]),
+                            nominal_pressure=None if nominal is None else float(nominal[s, i]))
+                for i, seg in enumerate(mission.segments))
+        sections.append(SectionPlan(sec.name, reasons[s] is None, reasons[s], segments, sec.length,
+                                    sec.diameter, sec.incline, sec.friction))
+    return tuple(sections)
+
+
+def _evaluate(mission, e: Elements, pressure: np.ndarray, i: int):
+    """(holding capacity, F_r, p_c) of segment i in every section, from the model at the plan."""
+    m = mission.segments[i].pam.moduli
+    geometry, theta, pref = mission.segments[i].pam.geometry, m.as_vector(), m.reference_pressure
+    contact = m.contact_vector() if np.any(m.contact_vector()) else None
+    p = np.where(np.isfinite(pressure[:, i]) & e.valid[:, i], pressure[:, i], 0.0)
+    d = np.where(e.valid[:, i], e.diameter[:, i], 0.5 * (geometry.initial_diameter
+                                                         + geometry.largest_diameter))
+    load = e.load[:, i]
+    radial = muscle.radial_force(p, d, geometry, theta, pref, mission.kappa * load, contact)
+    capacity = slip.holding_capacity(p, d, geometry, theta, pref, load, mission.kappa, e.friction[:, i],
+                                     contact)
+    return capacity, radial, muscle.contact_pressure(radial, d, e.length[:, i])

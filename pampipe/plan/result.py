@@ -1,0 +1,100 @@
+"""Frozen results of `plan`, and their JSON document (interfaces.md §6 `plan`). SI units inside."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from pampipe.plan.payload import PayloadLimit
+
+
+@dataclass(frozen=True)
+class SegmentPlan:
+    """One segment anchored alone in one section.
+
+    ``pressure`` is the least pressure that holds (for an infeasible element: the pressure it would
+    need); ``anchoring_pressure`` the pressure at which the unloaded muscle touches the wall;
+    ``required_hold`` the axial load W it must hold, before the safety factor; ``holding_capacity``
+    μπF_r at ``pressure`` under that load; ``radial_force`` F_r; ``contact_pressure`` F_r/(D L).
+    """
+
+    name: str
+    pressure: float  # [Pa]
+    anchoring_pressure: float  # [Pa], P_a(D_p, 0)
+    required_hold: float  # [N]
+    holding_capacity: float  # [N]
+    radial_force: float  # [N]
+    contact_pressure: float  # [Pa]
+    loaded_anchoring_pressure: float = math.nan  # [Pa], P_a(D_p, κW): the contact bound
+    air_volume: float = math.nan  # [m³], V at the anchored length
+    binding: str = "no_slip"  # which constraint sets the pressure: "no_slip" | "contact"
+    feasible: bool = True
+    nominal_pressure: float | None = None  # [Pa], the plan without uncertainty (with --confidence)
+
+    @property
+    def margin(self) -> float:
+        """holding_capacity / required_hold [-]: equals the safety factor where no slip binds."""
+        return self.holding_capacity / self.required_hold if self.required_hold > 0 else math.inf
+
+    def as_document(self) -> dict:
+        doc = {"name": self.name, "pressure_Pa": self.pressure, "anchoring_pressure_Pa": self.anchoring_pressure,
+               "required_hold_N": self.required_hold, "holding_capacity_N": self.holding_capacity,
+               "radial_force_N": self.radial_force, "contact_pressure_Pa": self.contact_pressure,
+               "loaded_anchoring_pressure_Pa": self.loaded_anchoring_pressure,
+               "air_volume_m3": self.air_volume, "margin": self.margin, "binding": self.binding,
+               "feasible": self.feasible}
+        if self.nominal_pressure is not None:
+            doc["nominal_pressure_Pa"] = self.nominal_pressure
+        return doc
+
+
+@dataclass(frozen=True)
+class SectionPlan:
+    """The plan of one route section: feasible with its segments, or a reason in words."""
+
+    name: str
+    feasible: bool
+    reason: str | None
+    segments: tuple[SegmentPlan, ...]  # empty where the pipe itself is impassable
+    length: float  # [m]
+    diameter: float  # [m]
+    incline: float  # [rad]
+    friction: float  # [-]
+
+    def as_document(self) -> dict:
+        return {"name": self.name, "feasible": self.feasible, "reason": self.reason,
+                "length_m": self.length, "inner_diameter_m": self.diameter, "incline_rad": self.incline,
+                "friction": self.friction, "segments": [s.as_document() for s in self.segments]}
+
+
+@dataclass(frozen=True)
+class MissionPlan:
+    """The anchoring pressures of a whole mission; ``feasible`` only if every section is."""
+
+    feasible: bool
+    sections: tuple[SectionPlan, ...]
+    mission: str  # source file
+    supply_pressure: float  # [Pa]
+    safety_factor: float
+    load_path: str
+    payload: float  # [kg]
+    method: str  # "kkt" | "ipopt"
+    iterations: int
+    checks: dict = field(default_factory=dict)  # largest relative differences to the cross-checks
+    confidence: float | None = None
+    max_payload: PayloadLimit | None = None
+
+    @property
+    def reasons(self) -> list[str]:
+        """'section: reason' for every infeasible section."""
+        return [f"{s.name}: {s.reason}" for s in self.sections if not s.feasible]
+
+    def as_document(self) -> dict:
+        doc = {"feasible": self.feasible, "sections": [s.as_document() for s in self.sections],
+               "mission": self.mission, "supply_pressure_Pa": self.supply_pressure,
+               "safety_factor": self.safety_factor, "load_path": self.load_path,
+               "payload_kg": self.payload, "confidence": self.confidence,
+               "solver": {"method": self.method, "iterations": self.iterations, **self.checks}}
+        if self.max_payload is not None:
+            doc["max_payload"] = self.max_payload.as_document()
+        return doc
