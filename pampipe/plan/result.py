@@ -37,7 +37,8 @@ class SegmentPlan:
         return self.holding_capacity / self.required_hold if self.required_hold > 0 else math.inf
 
     def as_document(self) -> dict:
-        doc = {"name": self.name, "pressure_Pa": self.pressure, "anchoring_pressure_Pa": self.anchoring_pressure,
+        doc = {"name": self.name, "pressure_Pa": self.pressure,
+               "anchoring_pressure_Pa": self.anchoring_pressure,
                "required_hold_N": self.required_hold, "holding_capacity_N": self.holding_capacity,
                "radial_force_N": self.radial_force, "contact_pressure_Pa": self.contact_pressure,
                "loaded_anchoring_pressure_Pa": self.loaded_anchoring_pressure,
