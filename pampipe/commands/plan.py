@@ -67,7 +67,9 @@ def run(args: argparse.Namespace) -> int:
         for path in plot_plan(mission, plan, args.plots):
             say(args, f"wrote {path}")
     if not plan.feasible:
-        raise InfeasibleError("the mission is infeasible:\n  " + "\n  ".join(plan.reasons))
+        bad = [s.name for s in plan.sections if not s.feasible]
+        raise InfeasibleError(f"{len(bad)} of {len(plan.sections)} sections cannot be planned "
+                              f"({', '.join(bad)}); the reasons are listed above.")
     return 0
 
 
@@ -84,18 +86,21 @@ def _text(plan) -> str:
     head = (f"plan for {plan.mission}: supply {plan.supply_pressure / 1e3:.4g} kPa, payload "
             f"{plan.payload:.4g} kg, safety factor {plan.safety_factor:g}, load path {plan.load_path}"
             + (f", confidence {plan.confidence:.3g}" if plan.confidence is not None else ""))
+    uncertain = plan.confidence is not None
+    headers = ["section", "segment", "P [kPa]", *(["P_nominal [kPa]"] if uncertain else []),
+               "P_anchor [kPa]", "hold W [N]", "capacity [N]", "margin", "ok"]
     rows = []
     for sec in plan.sections:
         if not sec.segments:
-            rows.append((sec.name, "-", "-", "-", "-", "-", "-", "NO"))
+            rows.append((sec.name, *["-"] * (len(headers) - 2), "NO"))
             continue
         for seg in sec.segments:
-            rows.append((sec.name, seg.name, seg.pressure / 1e3, seg.anchoring_pressure / 1e3,
+            nominal = [seg.nominal_pressure / 1e3] if uncertain else []
+            rows.append((sec.name, seg.name, seg.pressure / 1e3, *nominal, seg.anchoring_pressure / 1e3,
                          seg.required_hold, seg.holding_capacity,
                          seg.margin if math.isfinite(seg.margin) else "inf",
                          "yes" if seg.feasible else "NO"))
-    parts = [head, table(["section", "segment", "P [kPa]", "P_anchor [kPa]", "hold W [N]", "capacity [N]",
-                          "margin", "ok"], rows)]
+    parts = [head, table(headers, rows)]
     parts.append("margin = capacity / W (the safety factor where no slip sets the pressure); P_anchor: "
                  "the pressure at which the unloaded muscle touches the wall.")
     if plan.max_payload is not None:

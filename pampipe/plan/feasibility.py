@@ -59,8 +59,8 @@ def _reason(mission, s: int, e: Elements, solution: Solution, payload: SectionPa
     wide = np.array([sec.diameter >= p.geometry.largest_diameter for p in pams])
     if wide.any():
         reach = min(p.geometry.largest_diameter for p, w in zip(pams, wide, strict=True) if w)
-        return (f"{pipe} is wider than the braid of {_names(mission, wide)} can ever open "
-                f"({reach * 1e3:.4g} mm, where its contractile force vanishes), so it cannot anchor.")
+        return (f"{pipe} is wider than the braid of {_names(mission, wide)} can ever open (at most "
+                f"{reach * 1e3:.4g} mm, where the contractile force vanishes), so it cannot anchor.")
     short = e.free_anchoring[s] > supply
     if short.any():
         i = int(np.argmax(e.free_anchoring[s]))

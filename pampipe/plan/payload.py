@@ -48,8 +48,9 @@ class PayloadLimit:
 def element_payloads(mission, elements: Elements) -> np.ndarray:
     """Largest payload [kg] of every element at the mission's supply pressure, shape (S, 3)."""
     held = largest_load(mission.supply_pressure, elements)
-    payload = mission.payload + (held - elements.load) / elements.load_per_payload
     usable = elements.valid & (elements.slope > 0) & (held >= 0)
+    per_kg = np.where(usable, elements.load_per_payload, 1.0)  # > 0 where valid (μ > 0)
+    payload = mission.payload + (held - elements.load) / per_kg
     return np.where(usable, payload, -np.inf)
 
 
