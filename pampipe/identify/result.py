@@ -92,7 +92,11 @@ class IdentifyResult:
         return Pam(base.name, base.geometry, moduli, None)
 
     def as_document(self) -> dict:
-        """The ``identify`` JSON document (interfaces.md §6), with extra keys."""
+        """The ``identify`` JSON document (interfaces.md §6), with extra keys.
+
+        Undetermined quantities (intervals of unidentifiable coefficients, the Drucker margin
+        with ``drucker: none``) are null.
+        """
         u = self.uncertainty
         doc = {
             "moduli": moduli_document(self.moduli),
@@ -112,16 +116,16 @@ class IdentifyResult:
             "uncertainty": {
                 "unit": "MPa", "parameters": list(self.names), "values": self.x.tolist(),
                 "sigma_N": u.sigma, "dof": u.dof, "rank": u.rank, "rank_deficient": u.rank_deficient,
-                "std": u.std.tolist(), "interval_95": [[lo, hi] for lo, hi in zip(u.lower, u.upper,
-                                                                                   strict=True)],
+                "std": _finite(u.std), "interval_95": [_finite([lo, hi]) for lo, hi in zip(u.lower, u.upper,
+                                                                                            strict=True)],
                 "at_bound": u.at_bound.tolist(), "determined": u.determined.tolist(),
-                "correlation": u.correlation.tolist(), "covariance": u.covariance.tolist(),
+                "correlation": [_finite(row) for row in u.correlation], "covariance": u.covariance.tolist(),
                 "combinations": [{"weights_N_per_MPa": c.weights.tolist(), "value_N": c.value,
-                                  "std_N": c.std, "interval_95_N": list(c.interval),
+                                  "std_N": _finite([c.std])[0], "interval_95_N": _finite(c.interval),
                                   "singular_value": c.singular_value, "identifiable": c.identifiable}
                                  for c in u.combinations],
             },
-            "drucker": {"form": self.drucker_grid["form"], "margin_Pa": self.drucker_margin,
+            "drucker": {"form": self.drucker_grid["form"], "margin_Pa": _finite([self.drucker_margin])[0],
                         "pressures_Pa": list(self.drucker_grid["pressures"]),
                         "lengths_m": list(self.drucker_grid["lengths"])},
             "warnings": list(self.warnings),
@@ -131,6 +135,11 @@ class IdentifyResult:
             doc["per_pipe"] = [{"pipe_diameter_m": d, "moduli": moduli_document(m)}
                                for d, m in sorted(self.pipe_moduli.items())]
         return doc
+
+
+def _finite(values) -> list:
+    """Numbers as a list, with NaN/inf (undetermined quantities) as None (JSON null)."""
+    return [float(v) if np.isfinite(v) else None for v in values]
 
 
 def moduli_document(moduli: Moduli, unit: float = MPA) -> dict:

@@ -1,0 +1,136 @@
+"""Plots of `identify`: measured vs model per pressure, residuals, and the Drucker margin."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pampipe.identify.predict import predict
+from pampipe.model import bladder, braid, muscle
+from pampipe.model.pam import Pam
+from pampipe.report import new_figure, save_figure
+
+#: At most this many measured points per panel are drawn (a uniform subsample of the rows).
+MAX_POINTS = 6000
+
+
+def plot_identification(data, result, folder: Path) -> list[Path]:
+    """Write axial_fit.png, radial_fit.png, residuals.png and drucker_margin.png (those that apply)."""
+    written = []
+    axial = [t for t in data.tests if t.kind == "axial"]
+    radial = [t for t in data.tests if t.kind == "radial"]
+    muscle_pam = Pam(data.pam.name, data.pam.geometry, result.moduli)
+    if axial:
+        written.append(_axial(axial, muscle_pam, folder))
+    if radial:
+        written.append(_radial(radial, data.pam, result, folder))
+    written.append(_residuals(data, result, folder))
+    if result.options.drucker != "none":
+        written.append(_drucker(muscle_pam, result, folder))
+    return written
+
+
+def _subsample(n: int) -> np.ndarray:
+    return np.arange(n) if n <= MAX_POINTS else np.linspace(0, n - 1, MAX_POINTS).astype(int)
+
+
+def _axial(tests, pam: Pam, folder: Path) -> Path:
+    fig, axes = new_figure(1, len(tests), figsize=(7.5 * len(tests), 5), squeeze=False)
+    theta, pref = pam.moduli.as_vector(), pam.moduli.reference_pressure
+    for ax, test in zip(axes[0], tests, strict=True):
+        colors = _level_colors(test.level_pressure.size)
+        rows = _subsample(test.points)
+        ax.scatter(test.length[rows] * 1e3, test.force[rows], s=4, c=colors[test.level[rows]], alpha=0.35,
+                   linewidths=0)
+        for lev, pressure in enumerate(test.level_pressure):
+            mine = test.level == lev
+            lengths = np.linspace(test.length[mine].min(), test.length[mine].max(), 100)
+            model = muscle.axial_force(pressure, lengths, pam.geometry, theta, pref)
+            ax.plot(lengths * 1e3, model, color=colors[lev], lw=1.5, label=f"{pressure / 1e3:.0f} kPa")
+        ax.set(xlabel="length L [mm]", ylabel="axial force F_ax [N]",
+               title=f"{test.name}: measured (dots) and fitted model (lines)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, ncol=2, title="pressure", title_fontsize=7)
+    return save_figure(fig, folder, "axial_fit.png")
+
+
+def _radial(tests, base: Pam, result, folder: Path) -> Path:
+    fig, ax = new_figure(figsize=(8, 5.5))
+    for i, test in enumerate(tests):
+        pam = result.pam_for_pipe(base, test.spec.pipe_diameter)
+        theta, pref = pam.moduli.as_vector(), pam.moduli.reference_pressure
+        contact = pam.moduli.contact_vector()
+        rows = _subsample(test.points)
+        color = f"C{i % 10}"
+        ax.plot(test.pressure[rows] / 1e3, test.force[rows], ".", ms=3, alpha=0.35, color=color)
+        grid = np.linspace(min(0.0, test.pressure.min()), test.pressure.max(), 300)
+        model = muscle.radial_force(grid, test.spec.pipe_diameter, pam.geometry, theta, pref,
+                                    test.spec.axial_load, contact if np.any(contact) else None)
+        ax.plot(grid / 1e3, model, color=color, lw=1.5,
+                label=f"{test.name} (RMSE {result.tests[_index(result, test.name)].rmse:.3g} N)")
+    ax.set(xlabel="gauge pressure P [kPa]", ylabel="radial (split-pipe) force F_r [N]",
+           title="radial tests: measured (dots) and fitted model (lines)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return save_figure(fig, folder, "radial_fit.png")
+
+
+def _residuals(data, result, folder: Path) -> Path:
+    has_axial = any(t.kind == "axial" for t in data.tests)
+    fig, axes = new_figure(1, 2 if has_axial else 1, figsize=(13 if has_axial else 7, 4.8), squeeze=False)
+    for i, test in enumerate(data.tests):
+        moduli = (result.moduli if test.kind == "axial"
+                  else result.pam_for_pipe(data.pam, test.spec.pipe_diameter).moduli)
+        residual = predict(Pam(data.pam.name, data.pam.geometry, moduli), test) - test.force
+        rows = _subsample(test.points)
+        axes[0, 0].plot(test.pressure[rows] / 1e3, residual[rows], ".", ms=3, alpha=0.4, color=f"C{i % 10}",
+                        label=test.name)
+        if test.kind == "axial":
+            axes[0, 1].plot(test.length[rows] * 1e3, residual[rows], ".", ms=3, alpha=0.4, color=f"C{i % 10}",
+                            label=test.name)
+    sigma = result.uncertainty.sigma
+    for ax in axes[0]:
+        for sign in (-2, 2):
+            ax.axhline(sign * sigma, color="k", ls=":", lw=1)
+        ax.axhline(0, color="k", lw=0.8)
+        ax.set_ylabel("model − measured [N]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, markerscale=3)
+    axes[0, 0].set(xlabel="gauge pressure P [kPa]",
+                   title=f"residuals vs pressure (dotted: ±2σ, σ = {sigma:.3g} N)")
+    if has_axial:
+        axes[0, 1].set(xlabel="length L [mm]", title="axial residuals vs length")
+    return save_figure(fig, folder, "residuals.png")
+
+
+def _drucker(pam: Pam, result, folder: Path) -> Path:
+    grid = result.drucker_grid
+    geometry, theta, pref = pam.geometry, pam.moduli.as_vector(), pam.moduli.reference_pressure
+    pressures = np.linspace(min(grid["pressures"]), max(grid["pressures"]), 80)
+    lengths = np.linspace(min(grid["lengths"]), max(grid["lengths"]), 120)
+    pp, ll = np.meshgrid(pressures, lengths, indexing="ij")
+    e1, e2 = bladder.drucker_tangent_moduli(pp, ll, braid.diameter_at_length(ll, geometry), geometry, theta,
+                                            pref)
+    margin = np.minimum(e1, e2) / 1e6
+    fig, ax = new_figure(figsize=(7.5, 5))
+    image = ax.pcolormesh(ll * 1e3, pp / 1e3, margin, shading="auto", cmap="viridis")
+    fig.colorbar(image, ax=ax, label="min(E₁ᵗ, E₂ᵗ) [MPa]")
+    if margin.min() < 0 < margin.max():
+        ax.contour(ll * 1e3, pp / 1e3, margin, levels=[0], colors="red", linewidths=1.5)
+    gp, gl = np.meshgrid(grid["pressures"], grid["lengths"], indexing="ij")
+    ax.plot(gl.ravel() * 1e3, gp.ravel() / 1e3, "w+", ms=5, label="constraint grid")
+    ax.set(xlabel="length L [mm]", ylabel="gauge pressure P [kPa]",
+           title=f"Drucker margin of the fitted moduli (min {margin.min():.3g} MPa; red: 0)")
+    ax.legend(fontsize=8, loc="upper left")
+    return save_figure(fig, folder, "drucker_margin.png")
+
+
+def _level_colors(n: int) -> np.ndarray:
+    from matplotlib import colormaps
+
+    return colormaps["viridis"](np.linspace(0, 0.9, max(n, 1)))
+
+
+def _index(result, name: str) -> int:
+    return [t.name for t in result.tests].index(name)
