@@ -54,13 +54,18 @@ def atomic_write_text(target: Path, text: str) -> None:
     atomic_write(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
+#: Significant digits of every float in JSON output: fixed, so that results are byte-identical across
+#: thread counts (BLAS may reorder sums and change the last bits).
+JSON_DIGITS = 12
+
+
 def _clean(value, key: str = "result"):
     """JSON-ready copy of ``value``; a NaN or infinite number is an error, never printed."""
     if isinstance(value, float):
         if not math.isfinite(value):
             raise SolverError(f"{key} came out as {value}: the computation left the model's valid "
                               "domain; please report the input that caused it", status="non_finite")
-        return value
+        return float(f"{value:.{JSON_DIGITS}g}")
     if isinstance(value, dict):
         return {str(k): _clean(v, f"{key}.{k}") for k, v in value.items()}
     if isinstance(value, list | tuple):
@@ -71,5 +76,5 @@ def _clean(value, key: str = "result"):
 
 
 def to_json(document: dict) -> str:
-    """Deterministic JSON: sorted keys, shortest round-trip floats; NaN/inf raise SolverError (exit 3)."""
+    """Deterministic JSON: sorted keys, floats to 12 significant digits; NaN/inf raise SolverError (exit 3)."""
     return json.dumps(_clean(document), sort_keys=True, indent=2, allow_nan=False) + "\n"

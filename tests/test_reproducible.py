@@ -1,0 +1,32 @@
+"""Reproducibility (issue 7): the same inputs give byte-identical JSON, whatever the thread count."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from tests.conftest import PROBLEMS, ROOT
+
+COMMANDS = {
+    "simulate": ["simulate", PROBLEMS / "pams" / "paper-radial-pam.yaml", "-d", "3 in", "-d", "3.5 in",
+                 "-f", "0 N", "-f", "1024.74 N", "--json"],
+}
+
+
+def _run(args, threads: int) -> bytes:
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads), OPENBLAS_NUM_THREADS=str(threads),
+               MKL_NUM_THREADS=str(threads))
+    out = subprocess.run([sys.executable, "-m", "pampipe", *map(str, args)], capture_output=True, cwd=ROOT,
+                         env=env, timeout=600)
+    assert out.returncode == 0, out.stderr.decode()
+    return out.stdout
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_json_is_byte_identical_across_runs_and_thread_counts(command):
+    first = _run(COMMANDS[command], threads=1)
+    assert first == _run(COMMANDS[command], threads=1)
+    assert first == _run(COMMANDS[command], threads=2)
