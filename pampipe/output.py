@@ -76,5 +76,5 @@ def _clean(value, key: str = "result"):
 
 
 def to_json(document: dict) -> str:
-    """Deterministic JSON: sorted keys, floats to 12 significant digits; NaN/inf raise SolverError (exit 3)."""
+    """Deterministic JSON: sorted keys, 12-digit floats; NaN or inf raises SolverError (exit 3)."""
     return json.dumps(_clean(document), sort_keys=True, indent=2, allow_nan=False) + "\n"
