@@ -1,0 +1,108 @@
+"""CSV loading (pampipe.data): SI conversion, row/column-precise errors, chunking, levels and legs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pampipe import data as data_module
+from pampipe.data import legs_and_cycles, pressure_levels, read_csv
+from pampipe.errors import InputError
+
+AXIAL = ("pressure", "length", "force")
+
+
+def write(tmp_path, text, name="test.csv"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_units_in_headers_are_converted_to_si(tmp_path):
+    path = write(tmp_path, "time [min],pressure [psi],length [in],force [kN]\n1,10,12,2\n2,20,11.5,3.5\n")
+    columns = read_csv(path, required=AXIAL)
+    # exact definitions: 1 psi = 6894.757293 Pa, 1 in = 0.0254 m, 1 kN = 1000 N, 1 min = 60 s
+    np.testing.assert_allclose(columns["pressure"], [68947.57293168, 137895.14586336], rtol=1e-12)
+    np.testing.assert_allclose(columns["length"], [0.3048, 0.2921], rtol=1e-12)
+    np.testing.assert_allclose(columns["force"], [2000.0, 3500.0], rtol=1e-12)
+    np.testing.assert_allclose(columns["time"], [60.0, 120.0], rtol=1e-12)
+
+
+def test_extra_columns_and_blank_lines_are_ignored(tmp_path):
+    path = write(tmp_path, "pressure [kPa], force [N], note [1]\n100,5,0\n\n200,6,1\n")
+    columns = read_csv(path, required=("pressure", "force"))
+    np.testing.assert_array_equal(columns["pressure"], [1e5, 2e5])
+    assert set(columns) == {"pressure", "force"}
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("", "the file is empty"),
+    ("pressure [kPa],length [mm],force [N]\n", "header but no data rows"),
+    ("pressure [kPa],force [N]\n1,2\n", "missing column(s) length"),
+    ("pressure,length [mm],force [N]\n1,2,3\n", "line 1, column 1: header 'pressure' has no unit"),
+    ("pressure [kPa],length [kPa],force [N]\n1,2,3\n", "the unit [kPa] is not a length"),
+    ("pressure [kPa],length [furlongz],force [N]\n1,2,3\n", "unknown unit [furlongz]"),
+    ("pressure [kPa],length [mm],force [N]\n1,2,3\n4,x,6\n", "line 3, column 2 (length): 'x' is not a"),
+    ("pressure [kPa],length [mm],force [N]\n1,2,3\n4,,6\n", "line 3, column 2 (length): an empty cell"),
+    ("pressure [kPa],length [mm],force [N]\n1,2,nan\n", "line 2, column 3 (force): 'nan' is not a finite"),
+    ("pressure [kPa],length [mm],force [N]\n1,2,inf\n", "line 2, column 3 (force): 'inf' is not a finite"),
+    ("pressure [kPa],length [mm],force [N]\n1,2,3\n4,5\n", "line 3: has 2 cells but the header has 3"),
+    ("pressure [kPa],pressure [kPa],force [N]\n1,2,3\n", "appears twice"),
+])
+def test_malformed_csv_names_file_line_and_column(tmp_path, text, expected):
+    path = write(tmp_path, text)
+    with pytest.raises(InputError) as info:
+        read_csv(path, required=AXIAL)
+    assert str(path) in str(info.value)
+    assert expected in str(info.value)
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(InputError, match="data file not found"):
+        read_csv(tmp_path / "nope.csv", required=AXIAL)
+
+
+def test_chunked_reading_matches_and_keeps_line_numbers(tmp_path, monkeypatch):
+    rows = [f"{i},{i * 0.5},{i * 2}" for i in range(1, 101)]
+    path = write(tmp_path, "pressure [Pa],length [m],force [N]\n" + "\n".join(rows) + "\n")
+    whole = read_csv(path, required=AXIAL)
+    monkeypatch.setattr(data_module, "CHUNK_ROWS", 7)  # 15 chunks, the last one short
+    chunked = read_csv(path, required=AXIAL)
+    for name in AXIAL:
+        np.testing.assert_array_equal(whole[name], chunked[name])
+    np.testing.assert_array_equal(chunked["pressure"], np.arange(1, 101))
+    rows[57] = "58,oops,116"  # data row 58 is file line 59, in the 9th chunk
+    write(tmp_path, "pressure [Pa],length [m],force [N]\n" + "\n".join(rows) + "\n")
+    with pytest.raises(InputError, match=r"line 59, column 2 \(length\): 'oops'"):
+        read_csv(path, required=AXIAL)
+
+
+def test_pressure_levels_of_a_stepped_protocol_with_noise():
+    rng = np.random.default_rng(3)
+    steps = np.array([69e3, 138e3, 207e3, 276e3])
+    truth = np.repeat(np.arange(4), 250)
+    rng.shuffle(truth)
+    pressure = steps[truth] + 2e3 * rng.standard_normal(truth.size)  # 2 kPa noise, 69 kPa steps
+    level, medians = pressure_levels(pressure)
+    np.testing.assert_array_equal(level, truth)
+    np.testing.assert_allclose(medians, steps, atol=1e3)  # median of 250 draws: SE ≈ 0.16 kPa
+
+
+def test_a_pressure_ramp_falls_back_to_equal_count_bins():
+    pressure = np.linspace(0, 7e5, 1000)
+    level, medians = pressure_levels(pressure)
+    assert medians.size == 10
+    np.testing.assert_array_equal(np.bincount(level), np.full(10, 100))
+    assert np.all(np.diff(medians) > 0)
+
+
+def test_legs_and_cycles_of_a_triangle_wave():
+    one_cycle = np.concatenate([np.linspace(0.31, 0.25, 20, endpoint=False),
+                                np.linspace(0.25, 0.31, 20, endpoint=False)])
+    length = np.tile(one_cycle, 3)
+    leg, cycle = legs_and_cycles(length, np.zeros(length.size, dtype=int))
+    # shortening first (-1), then lengthening (+1); the central difference (window 2) shifts the
+    # switch by at most one row at each turning point
+    assert np.all(leg[1:19] == -1) and np.all(leg[21:39] == 1)
+    assert set(np.unique(cycle)) == {0, 1, 2}
+    assert np.all(cycle[:19] == 0) and np.all(cycle[-15:] == 2)
