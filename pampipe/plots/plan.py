@@ -1,0 +1,94 @@
+"""Plots of `plan`: the required pressure along the route, and holding capacity against pressure."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pampipe.model import slip
+from pampipe.report import new_figure, save_figure
+
+MAX_CURVES = 8  # sections drawn in the capacity plot (the first ones with a plan)
+
+
+def plot_plan(mission, plan, folder: Path) -> list[Path]:
+    """Write required_pressure.png and holding_capacity.png into ``folder``."""
+    return [_required_pressure(mission, plan, folder), _holding_capacity(mission, plan, folder)]
+
+
+def _required_pressure(mission, plan, folder: Path) -> Path:
+    fig, ax = new_figure(figsize=(8, 4.5))
+    edges = np.concatenate([[0.0], np.cumsum([s.length for s in mission.route])])
+    for k, seg in enumerate(mission.segments):
+        values = [sec.segments[k].pressure / 1e3 if sec.segments else np.nan for sec in plan.sections]
+        ax.stairs(values, edges, baseline=None, lw=2.2 - 0.5 * k, label=f"{seg.name}: planned pressure")
+    anchoring = [max(s.anchoring_pressure for s in sec.segments) / 1e3 if sec.segments else np.nan
+                 for sec in plan.sections]
+    ax.stairs(anchoring, edges, baseline=None, color="grey", ls=":", lw=1.5,
+              label="anchoring pressure (no load)")
+    ax.axhline(plan.supply_pressure / 1e3, color="C3", ls="--", lw=1.2, label="supply pressure")
+    for sec, a, b in zip(plan.sections, edges[:-1], edges[1:], strict=True):
+        if not sec.feasible:
+            ax.axvspan(a, b, color="C3", alpha=0.12, lw=0)
+    if len(plan.sections) <= 30:
+        top = ax.secondary_xaxis("top")
+        tilted = len(plan.sections) > 3
+        top.set_xticks((edges[:-1] + edges[1:]) / 2, [sec.name for sec in plan.sections],
+                       rotation=30 if tilted else 0, fontsize=8, ha="left" if tilted else "center")
+        for label, sec in zip(top.get_xticklabels(), plan.sections, strict=True):
+            label.set_color("k" if sec.feasible else "C3")
+    ax.set_ylim(bottom=0)
+    ax.set(xlabel="distance along the route [m]", ylabel="gauge pressure [kPa]",
+           title="required anchoring pressure along the route (red band: infeasible section)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    return save_figure(fig, folder, "required_pressure.png")
+
+
+def _holding_capacity(mission, plan, folder: Path) -> Path:
+    fig, ax = new_figure(figsize=(8, 4.8))
+    drawn = [(s, sec) for s, sec in enumerate(plan.sections) if sec.segments][:MAX_CURVES]
+    top = max([plan.supply_pressure] + [max(x.pressure for x in sec.segments) for _, sec in drawn])
+    grid = np.linspace(0.0, 1.1 * top, 400)
+    for n, (s, sec) in enumerate(drawn):
+        k = int(np.argmax([x.pressure for x in sec.segments]))
+        point, seg, route = sec.segments[k], mission.segments[k], mission.route[s]
+        m = seg.pam.moduli
+        contact = m.contact_vector() if np.any(m.contact_vector()) else None
+        capacity = slip.holding_capacity(grid, route.diameter, seg.pam.geometry, m.as_vector(),
+                                         m.reference_pressure, point.required_hold, mission.kappa,
+                                         route.friction, contact)
+        color = f"C{n % 10}"
+        capacity = np.where(capacity > 0, capacity, np.nan)  # zero before contact: off the log axis
+        ax.plot(grid / 1e3, capacity, color=color, lw=1.5,
+                label=f"{sec.name} ({seg.name}, {route.diameter * 1e3:.1f} mm, "
+                      f"W = {point.required_hold:.3g} N)")
+        ax.axhline(plan.safety_factor * point.required_hold, color=color, ls="--", lw=0.8)
+        ax.plot(point.pressure / 1e3, point.holding_capacity, "o", color=color, ms=7,
+                mec="k" if point.feasible else "C3", mew=1.2)
+    ax.axvline(plan.supply_pressure / 1e3, color="C3", ls="--", lw=1.2, label="supply pressure")
+    needed = [plan.safety_factor * x.required_hold for _, sec in drawn for x in sec.segments]
+    positive = [v for v in needed if v > 0] or [1.0]
+    ax.set_yscale("log")
+    ax.set_ylim(0.3 * min(positive), 3 * max(max(positive), _capacity_at(mission, plan, drawn, top)))
+    ax.set(xlabel="gauge pressure P [kPa]", ylabel="holding capacity μπF_r [N]",
+           title=f"holding capacity vs pressure (dashed: {plan.safety_factor:g} × required hold; "
+                 "dots: operating points)\n(curves start where the muscle touches the wall)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left")
+    return save_figure(fig, folder, "holding_capacity.png")
+
+
+def _capacity_at(mission, plan, drawn, pressure: float) -> float:
+    """Largest holding capacity [N] of the drawn elements at ``pressure`` (top of the log axis)."""
+    best = 1.0
+    for s, sec in drawn:
+        for k, point in enumerate(sec.segments):
+            seg, route = mission.segments[k], mission.route[s]
+            m = seg.pam.moduli
+            contact = m.contact_vector() if np.any(m.contact_vector()) else None
+            best = max(best, float(slip.holding_capacity(
+                pressure, route.diameter, seg.pam.geometry, m.as_vector(), m.reference_pressure,
+                point.required_hold, mission.kappa, route.friction, contact)))
+    return best
