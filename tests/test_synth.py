@@ -1,0 +1,78 @@
+"""The synthetic-experiment generator: protocol, exact model values, noise, files and CLI."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pampipe.cli import main
+from pampipe.config import load_experiment
+from pampipe.data import load_experiment_data
+from pampipe.model import muscle
+from pampipe.model.functions import free_length
+from pampipe.synth import PAPER_LOAD, PAPER_PIPES, Protocol, generate, write_experiment
+
+
+def test_protocol_shape_and_noise_free_values(radial_pam):
+    tests = generate(radial_pam, Protocol(force_noise=0.0), seed=0)
+    names = [spec.name for spec, _ in tests]
+    assert names == ["axial", "radial-76.2mm-0N", "radial-76.2mm-1025N", "radial-88.9mm-0N",
+                     "radial-88.9mm-1025N"]
+    spec, axial = tests[0]
+    assert axial["force"].size == 10 * 3 * 2 * 50  # pressures x cycles x legs x points
+    g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
+    model = muscle.axial_force(axial["pressure"], axial["length"], g, theta)
+    np.testing.assert_allclose(axial["force"], model)
+    # each leg spans L0 .. L_free(P); at 689 kPa the demo muscle contracts to 209.3 mm (physics.md §7)
+    top = axial["pressure"] == axial["pressure"].max()
+    assert axial["length"][top].max() == pytest.approx(g.initial_length)
+    shortest = free_length(Protocol().pressures[-1], g, theta)[0]
+    assert axial["length"][top].min() == pytest.approx(shortest, abs=1e-9)
+    assert axial["length"][top].min() == pytest.approx(0.2093, abs=2e-4)
+    for spec, radial in tests[1:]:
+        assert spec.pipe_diameter in PAPER_PIPES and spec.axial_load in (0.0, PAPER_LOAD)
+        expected = muscle.radial_force(radial["pressure"], spec.pipe_diameter, g, theta, 1e6, spec.axial_load)
+        np.testing.assert_allclose(radial["force"], expected)
+    # below the anchoring pressure (117 kPa in the 3 in pipe without load) the force is zero
+    radial = tests[1][1]
+    assert np.all(radial["force"][radial["pressure"] < 117e3] == 0)
+    assert np.all(radial["force"][radial["pressure"] > 118e3] > 0)
+
+
+def test_noise_has_the_requested_size_and_seed(radial_pam):
+    clean = generate(radial_pam, Protocol(force_noise=0.0, pressure_noise=0.0), seed=1)[0][1]
+    noisy = generate(radial_pam, Protocol(force_noise=3.0, pressure_noise=1500.0), seed=1)[0][1]
+    again = generate(radial_pam, Protocol(force_noise=3.0, pressure_noise=1500.0), seed=1)[0][1]
+    np.testing.assert_array_equal(noisy["force"], again["force"])
+    # 3000 draws: the sample standard deviation is within ±5 % (≈ 4 standard errors)
+    assert np.std(noisy["force"] - clean["force"]) == pytest.approx(3.0, rel=0.05)
+    assert np.std(noisy["pressure"] - clean["pressure"]) == pytest.approx(1500.0, rel=0.05)
+
+
+def test_written_experiment_loads_back(tmp_path, radial_pam):
+    target = write_experiment(tmp_path, radial_pam, name="demo", protocol=Protocol(points_per_leg=10), seed=2)
+    data = load_experiment_data(load_experiment(target))
+    generated = generate(radial_pam, Protocol(points_per_leg=10), seed=2)
+    for test, (spec, columns) in zip(data.tests, generated, strict=True):
+        assert test.name == spec.name and test.kind == spec.kind
+        # CSV precision: 1e-4 kPa, 1e-4 N, 1e-5 mm
+        np.testing.assert_allclose(test.pressure, columns["pressure"], atol=0.06)
+        np.testing.assert_allclose(test.force, columns["force"], atol=6e-5)
+        if test.kind == "axial":
+            np.testing.assert_allclose(test.length, columns["length"], atol=6e-9)
+    assert data.pam.geometry.braid_angle == pytest.approx(radial_pam.geometry.braid_angle, rel=1e-8)
+    with pytest.raises(Exception, match="already exists"):
+        write_experiment(tmp_path, radial_pam, name="demo")
+
+
+def test_synth_cli(tmp_path, capsys):
+    args = ["synth", str(tmp_path), "--seed", "4", "--force-noise", "0.5 N", "--points-per-leg", "5"]
+    assert main(args) == 0
+    assert (tmp_path / "experiment.yaml").exists()
+    assert len(list((tmp_path / "data" / "experiment").glob("*.csv"))) == 5
+    assert main(["synth", str(tmp_path)]) == 2
+    assert "already exists" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as info:  # argparse rejects a force given in kPa
+        main(["synth", str(tmp_path / "x"), "--force-noise", "5 kPa"])
+    assert info.value.code == 2
+    assert "is not a force" in capsys.readouterr().err
