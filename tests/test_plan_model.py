@@ -115,7 +115,7 @@ def test_capacity_equals_safety_factor_times_hold_where_slip_binds():
 
 
 def test_limit_case_needs_only_the_anchoring_pressure():
-    """Horizontal, massless, no payload, no tether: W = 0, so P = P_anchor = 117.00 / 165.00 kPa (physics.md §7)."""
+    """Horizontal, massless, no payload or tether: W = 0, so P = P_anchor (117, 165 kPa; physics.md §7)."""
     base = load_mission(DEMO)
     segments = tuple(dataclasses.replace(s, mass=0.0) for s in base.segments)
     route = tuple(dataclasses.replace(s, incline=0.0) for s in base.route)
@@ -135,7 +135,7 @@ def _pressure(mission, **changes):
 
 
 def test_monotonicity():
-    """More payload, a steeper climb or descent, a larger safety factor: more pressure; more friction: less."""
+    """More payload, a steeper climb or descent, more safety factor: more pressure; more friction: less."""
     base = load_mission(DEMO)
     slope = dataclasses.replace(base.route[0], incline=math.radians(30))
     base = dataclasses.replace(base, route=(slope,))
