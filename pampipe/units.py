@@ -27,6 +27,7 @@ SI_UNITS = {
     "velocity": "m/s",
     "mass_flow_per_pressure": "m**3/(s*Pa)",  # ISO 6358 sonic conductance C
     "temperature": "K",
+    "compliance": "1/N",  # fibre strain per newton (physics.md §9b braid extensibility)
 }
 
 
