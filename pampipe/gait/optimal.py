@@ -1,0 +1,276 @@
+"""The time-optimal gait: a multi-phase optimal-control problem in CasADi (IPOPT), built once.
+
+Phases: the six transitions into steps II…VII in their order (roles in :mod:`.schedule`), each with
+a free duration T_k and ``intervals`` piecewise-constant valve commands u_i ∈ [−1, 1] (the sign is
+fixed by the role: rise/prefill fill, fall vents, hold/off keep the valve closed).
+
+* Dynamics: multiple shooting on the pressures, RK4 with ``substeps`` per interval of
+  ṗ = n·R·T·ṁ(p, u)/(V + n·p·V′) (:mod:`.pneumatics`).
+* No slip: at every node of phase k, each holder satisfies μπF_r(P, D_p, κW) ≥ SF·W, written as
+  μπA(F_ax(P, L_p) − κW + ΔF_contact) − SF·W ≥ 0 (equal to the clipped model wherever it holds);
+  the rising segment satisfies it at the end of its phase, before any other segment may let go.
+* A falling segment is deflated (P ≤ vented_pressure) at the end of its phase; a pre-filling one
+  stays ``contact_margin`` below its contact pressure; the middle segment stays deflated while the
+  two end segments may both touch the wall (so the stride L₀ − L(D_p) is kept).
+* 0 ≤ P ≤ supply; the cycle is periodic; the objective is the cycle time Σ T_k.
+* A falling segment vents at full opening (venting faster can only help), so its command is fixed.
+
+IPOPT runs with a limited-memory Hessian on an MX graph of mapped SX functions: building takes
+well under a second and a warm re-solve a few tenths (benchmarks/bench_gait.py).
+
+Everything that depends on the mission (geometry, moduli, pipe, loads, valve, gas) enters as the
+NLP parameter vector, so the problem is built once per structure (walls, moduli degrees, grid) and
+re-solved warm-started from the previous solution.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from pampipe.errors import SolverError
+from pampipe.gait.options import GaitOptions, Gas, Valve
+from pampipe.gait.pneumatics import SHAPE_DEGREE, Chamber, pressure_rate
+from pampipe.gait.requirements import MuscleNeed
+from pampipe.gait.schedule import PHASES, ControlPlan
+from pampipe.model import braid, muscle
+from pampipe.model.pam import Geometry
+
+SCALE = 1e5  # pressure scaling [Pa]: the states are P / 1e5
+HOLD_BACKOFF = 1e-4  # holders keep μπF_r ≥ (1 + 10⁻⁴)·SF·W: covers the RK4 error in the exact re-simulation
+GLOBALS = 8  # supply, p_atm, T, n, C, b, vented, contact margin
+
+
+def _muscle_parameter_size(degree: int) -> int:
+    # chamber (V_p, V₀, P_a, c) + D_p, W, κ, μ, SF, hold scale, geometry (4), θ, Δθ, P_ref
+    return 3 + SHAPE_DEGREE + 6 + 4 + 8 * (degree + 1) + 1
+
+
+def _muscle_parameters(need: MuscleNeed) -> np.ndarray:
+    ch, moduli = need.chamber, need.pam.moduli
+    return np.concatenate([[ch.anchored_volume, ch.rest_volume, ch.anchoring_pressure], ch.shape,
+                           [need.pipe_diameter, need.load, need.kappa, need.friction,
+                            need.safety_factor, 1.0 / max(need.safety_factor * need.load, 1.0)],
+                           need.pam.geometry.as_vector(), moduli.as_vector(), moduli.contact_vector(),
+                           [moduli.reference_pressure]])
+
+
+def _global_parameters(supply: float, options: GaitOptions) -> np.ndarray:
+    v, g = options.valve, options.gas
+    return np.array([supply, g.atmospheric_pressure, g.temperature, g.polytropic_index,
+                     v.sonic_conductance, v.critical_pressure_ratio,
+                     options.vented_pressure, options.contact_margin])
+
+
+@dataclass(frozen=True)
+class _MuscleSymbols:
+    chamber: Chamber
+    diameter: ca.SX
+    load: ca.SX
+    kappa: ca.SX
+    friction: ca.SX
+    safety_factor: ca.SX
+    hold_scale: ca.SX
+    geometry: Geometry
+    theta: ca.SX
+    contact: ca.SX
+    reference_pressure: ca.SX
+
+
+def _unpack_muscle(p: ca.SX, wall: str, degree: int) -> _MuscleSymbols:
+    n = 4 * (degree + 1)
+    k = 3 + SHAPE_DEGREE
+    chamber = Chamber(p[0], p[1], p[2], tuple(p[3 + j] for j in range(SHAPE_DEGREE)))
+    g = p[k + 6:k + 10]
+    return _MuscleSymbols(chamber, p[k], p[k + 1], p[k + 2], p[k + 3], p[k + 4], p[k + 5],
+                          Geometry(g[0], g[1], g[2], g[3], wall), p[k + 10:k + 10 + n],
+                          p[k + 10 + n:k + 10 + 2 * n], p[k + 10 + 2 * n])
+
+
+def _holding_excess(pressure, s: _MuscleSymbols):
+    """(μπA(F_ax(P, L_p) − κW + ΔF_contact) − SF·W) / max(SF·W, 1 N): ≥ 0 means no slip."""
+    length = braid.length_at_diameter(s.diameter, s.geometry)
+    load = s.kappa * s.load
+    holding = muscle.axial_force(pressure, length, s.geometry, s.theta, s.reference_pressure) - load
+    anchoring = muscle.anchoring_pressure(s.diameter, s.geometry, s.theta, s.reference_pressure, load)
+    holding += muscle.contact_force_increment(pressure, length, s.geometry, s.contact,
+                                              s.reference_pressure, anchoring)
+    grip = s.friction * np.pi * braid.amplification_factor(s.diameter, s.geometry)
+    return (grip * holding - s.safety_factor * s.load) * s.hold_scale
+
+
+def _rk4_step(substeps: int, subsonic_index: float):
+    """One control interval: x⁺ = RK4^M(x, u, h) for one chamber, scaled states, u ∈ [0, 1]."""
+    x, u, h = ca.SX.sym("x"), ca.SX.sym("u"), ca.SX.sym("h")
+    chamber_p = ca.SX.sym("chamber", 3 + SHAPE_DEGREE)
+    gp = ca.SX.sym("globals", GLOBALS)
+    direction = ca.SX.sym("direction")  # +1 fill, −1 vent
+    chamber = Chamber(chamber_p[0], chamber_p[1], chamber_p[2],
+                      tuple(chamber_p[3 + j] for j in range(SHAPE_DEGREE)))
+    valve, gas = Valve(gp[4], gp[5], subsonic_index), Gas(gp[2], gp[3], gp[1])
+
+    def f(state):
+        pressure = state * SCALE
+        command = (ca.fmax(direction, 0) * u, ca.fmax(-direction, 0) * u)
+        return pressure_rate(pressure, command, chamber, supply=gp[0], valve=valve, gas=gas) / SCALE
+
+    dt = h / substeps
+    state = x
+    for _ in range(substeps):
+        k1 = f(state)
+        k2 = f(state + dt / 2 * k1)
+        k3 = f(state + dt / 2 * k2)
+        k4 = f(state + dt * k3)
+        state = state + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return ca.Function("interval", [x, u, h, direction, chamber_p, gp], [state])
+
+
+@dataclass
+class _Problem:
+    solver: ca.Function
+    lbx: np.ndarray
+    ubx: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+    intervals: int
+    last: dict | None = None  # the previous solution (x, lam_x, lam_g): the warm start
+
+
+def _layout(intervals: int):
+    phases, nodes = len(PHASES), len(PHASES) * intervals + 1
+    return phases, nodes, phases + 3 * nodes  # T, X (nodes × 3), then U (intervals total × 3)
+
+
+@cache
+def _holding_function(wall: str, degree: int) -> ca.Function:
+    """excess(P, muscle parameters): the scaled no-slip margin of :func:`_holding_excess`."""
+    pressure = ca.SX.sym("pressure")
+    params = ca.SX.sym("muscle", _muscle_parameter_size(degree))
+    excess = _holding_excess(pressure, _unpack_muscle(params, wall, degree))
+    return ca.Function("holding_excess", [pressure, params], [excess])
+
+
+@cache
+def _problem(walls: tuple[str, ...], degrees: tuple[int, ...], intervals: int, substeps: int,
+             subsonic_index: float) -> _Problem:
+    """Build the NLP once for this structure (MX graph of mapped SX functions)."""
+    sizes = [_muscle_parameter_size(d) for d in degrees]
+    p = ca.MX.sym("p", GLOBALS + sum(sizes))
+    gp = p[:GLOBALS]
+    offsets = np.cumsum([GLOBALS, *sizes])
+    muscle_p = [p[offsets[i]:offsets[i + 1]] for i in range(3)]
+    phases, nodes, _ = _layout(intervals)
+    count = nodes - 1
+    durations = ca.MX.sym("T", phases)
+    x = ca.MX.sym("X", 3, nodes)
+    u = ca.MX.sym("U", 3, count)
+    vented, margin, supply = gp[6] / SCALE, gp[7] / SCALE, gp[0] / SCALE
+    # structural data: each interval's phase, each segment's role in it
+    phase_of = np.repeat(np.arange(phases), intervals)
+    roles = [[PHASES[k].roles[i] for k in phase_of] for i in range(3)]
+    widths = ca.horzcat(*[durations[k] / intervals for k in phase_of])
+    g, lbg, ubg = [], [], []
+
+    def constrain(expr, low, high):
+        g.append(ca.vec(expr))
+        lbg.append(np.full(expr.numel(), low))
+        ubg.append(np.full(expr.numel(), high))
+
+    lbu, ubu = np.zeros((3, count)), np.zeros((3, count))
+    for i in range(3):
+        for j, role in enumerate(roles[i]):
+            low, high = PHASES[phase_of[j]].command_bounds(i)
+            ubu[i, j] = max(abs(low), abs(high))
+            lbu[i, j] = 1.0 if role == "fall" else 0.0  # venting faster never hurts: full opening
+        # valves that move are integrated; closed ones keep the pressure
+        moving = [j for j in range(count) if roles[i][j] in ("rise", "fall", "prefill")]
+        still = [j for j in range(count) if j not in moving]
+        direction = np.array([[-1.0 if roles[i][j] == "fall" else 1.0 for j in moving]])
+        step = _rk4_step(substeps, subsonic_index).map(len(moving))
+        nxt = step(x[i, moving], u[i, moving], widths[moving], direction,
+                   ca.repmat(muscle_p[i][:3 + SHAPE_DEGREE], 1, len(moving)),
+                   ca.repmat(gp, 1, len(moving)))
+        constrain(x[i, [j + 1 for j in moving]] - nxt, 0, 0)
+        constrain(x[i, [j + 1 for j in still]] - x[i, still], 0, 0)
+        holds, prefill, deflated = [], [], []
+        for k, phase in enumerate(PHASES):
+            first, last = k * intervals, (k + 1) * intervals
+            role = phase.roles[i]
+            if role == "hold":
+                holds.extend(range(first, last + 1))
+            elif role == "rise":
+                holds.append(last)
+            elif role == "prefill":
+                prefill.extend(range(first, last + 1))
+            elif role == "off":
+                deflated.extend(range(first, last + 1))
+            elif role == "fall":
+                deflated.append(last)
+        holds = sorted(set(holds))
+        hold = _holding_function(walls[i], degrees[i]).map(len(holds))
+        constrain(hold(x[i, holds] * SCALE, ca.repmat(muscle_p[i], 1, len(holds))), HOLD_BACKOFF,
+                  np.inf)
+        anchoring = muscle_p[i][2] / SCALE
+        constrain(x[i, sorted(set(prefill))] - (anchoring - margin), -np.inf, 0)
+        constrain(x[i, sorted(set(deflated))] - vented, -np.inf, 0)
+    constrain(x[:, -1] - x[:, 0], 0, 0)  # periodic cycle
+    constrain(ca.vec(x) - supply, -np.inf, 0)  # within the supply
+    decision = ca.vertcat(durations, ca.vec(x), ca.vec(u))
+    nlp = {"x": decision, "p": p, "f": ca.sum1(durations), "g": ca.vertcat(*g)}
+    opts = {"ipopt": {"print_level": 0, "sb": "yes", "tol": 1e-8, "max_iter": 500,
+                      "mu_strategy": "adaptive",
+                      "hessian_approximation": "limited-memory"}, "print_time": False}
+    solver = ca.nlpsol("optimal_gait", "ipopt", nlp, opts)
+    lbx = np.concatenate([np.full(phases, 1e-3), np.zeros(3 * nodes), lbu.T.ravel()])
+    ubx = np.concatenate([np.full(phases, 1e3), np.full(3 * nodes, np.inf), ubu.T.ravel()])
+    return _Problem(solver, lbx, ubx, np.concatenate(lbg), np.concatenate(ubg), intervals)
+
+
+def solve_optimal(needs: tuple[MuscleNeed, ...], guess: ControlPlan, guess_nodes: np.ndarray, *,
+                  supply: float, options: GaitOptions) -> tuple[ControlPlan, dict]:
+    """Solve the time-optimal gait; warm-start from the last solution of this structure if any,
+    else from ``guess`` (a plan on the same grid) and its node pressures ``guess_nodes`` (nodes × 3).
+    """
+    walls = tuple(n.pam.geometry.wall for n in needs)
+    degrees = tuple(n.pam.moduli.degree for n in needs)
+    started = time.perf_counter()
+    built = _problem.cache_info().currsize
+    problem = _problem(walls, degrees, options.intervals, options.substeps,
+                       options.valve.subsonic_index)
+    build_time = time.perf_counter() - started
+    rebuilt = _problem.cache_info().currsize > built
+    p = np.concatenate([_global_parameters(supply, options), *(_muscle_parameters(n) for n in needs)])
+    phases, nodes, _ = _layout(options.intervals)
+    warm = problem.last is not None
+    if warm:
+        x0, extra = problem.last["x"], {"lam_x0": problem.last["lam_x"], "lam_g0": problem.last["lam_g"]}
+    else:
+        magnitude = np.abs(guess.commands.reshape(-1, 3))
+        x0 = np.concatenate([guess.durations, (guess_nodes / SCALE).ravel(), magnitude.ravel()])
+        extra = {}
+    started = time.perf_counter()
+    sol = problem.solver(x0=x0, p=p, lbx=problem.lbx, ubx=problem.ubx, lbg=problem.lbg,
+                         ubg=problem.ubg, **extra)
+    solve_time = time.perf_counter() - started
+    stats = problem.solver.stats()
+    if not stats["success"]:
+        problem.last = None
+        raise SolverError(f"the time-optimal gait was not found (IPOPT: {stats['return_status']}); "
+                          "the sequential schedule is still valid", status=stats["return_status"])
+    z = np.asarray(sol["x"]).ravel()
+    problem.last = {"x": z, "lam_x": np.asarray(sol["lam_x"]).ravel(),
+                    "lam_g": np.asarray(sol["lam_g"]).ravel()}
+    durations = z[:phases]
+    states = z[phases:phases + 3 * nodes].reshape(nodes, 3) * SCALE
+    magnitude = z[phases + 3 * nodes:].reshape(nodes - 1, 3)
+    sign = np.array([[-1.0 if role == "fall" else 1.0 for role in phase.roles] for phase in PHASES])
+    commands = magnitude.reshape(phases, options.intervals, 3) * sign[:, None, :]
+    info = {"status": stats["return_status"], "iterations": int(stats["iter_count"]),
+            "solve_time_s": solve_time, "build_time_s": build_time if rebuilt else 0.0,
+            "warm_start": warm, "intervals_per_phase": options.intervals,
+            "rk4_substeps": options.substeps}
+    return ControlPlan(durations, commands, states[0]), info
