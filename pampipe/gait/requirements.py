@@ -1,8 +1,8 @@
 """What each muscle must do in one pipe section: contact pressure, no-slip pressure, planned target.
 
-The pressures come from the planner (:func:`pampipe.plan.plan_mission`) when it is installed, and
-from the closed forms of :mod:`pampipe.model.slip` otherwise; both use physics.md §7-§8:
-contact (anchoring) at P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
+The planned pressures (and the reason a section cannot be crossed) come from the planner,
+:func:`pampipe.plan.plan_mission`; the thresholds from the model (physics.md §7-§8): contact
+(anchoring) at P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from pampipe.errors import InfeasibleError, InputError
 from pampipe.gait.options import GaitOptions
 from pampipe.gait.pneumatics import Chamber
 from pampipe.model import braid, muscle, slip
-from pampipe.model.domain import check_pipe_diameter
 from pampipe.model.pam import Pam
+from pampipe.plan import plan_mission
 from pampipe.simulate import require_moduli
 
 
@@ -111,43 +111,9 @@ def _required_pressure(need: MuscleNeed, supply: float) -> float:
 
 def _planned_pressures(mission: Mission, section: Section) -> list[float]:
     """The plan's pressure of each segment in ``section``; InfeasibleError with the plan's reason."""
-    try:
-        from pampipe.plan import plan_mission
-    except ImportError:
-        return _fallback_plan(mission, section)
-    plan = plan_mission(mission)
-    for sec in plan.sections:
-        if sec.name == section.name:
-            if not sec.feasible:
-                raise InfeasibleError(f"section {section.name!r} cannot be crossed: {sec.reason}")
-            return [float(s.pressure) for s in sec.segments]
+    for planned in plan_mission(mission).sections:
+        if planned.name == section.name:
+            if not planned.feasible:
+                raise InfeasibleError(f"section {section.name!r} cannot be crossed: {planned.reason}")
+            return [float(s.pressure) for s in planned.segments]
     raise InputError(f"{mission.source}: the plan has no section {section.name!r}.")
-
-
-def _fallback_plan(mission: Mission, section: Section) -> list[float]:
-    """Planned pressure = max(no-slip pressure, contact) per segment, with the plan's reasons."""
-    where = f"section {section.name!r} cannot be crossed"
-    if section.friction <= 0:
-        raise InfeasibleError(f"{where}: the wall friction is zero, so no pressure can hold the robot.")
-    total_mass = sum(s.mass for s in mission.segments) + mission.payload
-    pressures = []
-    for segment in mission.segments:
-        geometry, moduli = segment.pam.geometry, segment.pam.moduli
-        try:
-            check_pipe_diameter(geometry, section.diameter, where=f"{segment.name} in {section.name!r}")
-        except InputError as exc:
-            raise InfeasibleError(f"{where}: {exc}") from None
-        theta, pref = moduli.as_vector(), moduli.reference_pressure
-        load = slip.anchor_load(total_mass, segment.mass, section.incline, section.friction,
-                                mission.tether_drag)
-        required = float(slip.required_pressure(section.diameter, geometry, theta, pref, load,
-                                                mission.kappa, section.friction, mission.safety_factor))
-        contact = float(muscle.anchoring_pressure(section.diameter, geometry, theta, pref))
-        pressure = max(required, contact)
-        if pressure > mission.supply_pressure:
-            raise InfeasibleError(
-                f"{where}: {segment.name} needs {pressure / 1e3:.1f} kPa to hold {load:.1f} N with "
-                f"safety factor {mission.safety_factor:g}, above the {mission.supply_pressure / 1e3:.1f} "
-                "kPa supply.")
-        pressures.append(pressure)
-    return pressures
