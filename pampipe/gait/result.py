@@ -106,7 +106,7 @@ def evaluate(section: str, schedule: str, needs: tuple[MuscleNeed, ...], plan: C
         anchors = ANCHORS[k]
         steps.append(StepState(
             step=STEPS[k],
-            action="reference: the state a cycle starts from" if k == 0 else valve_action(PHASES[k - 1],
+            action="start (= end of VII)" if k == 0 else valve_action(PHASES[k - 1],
                                                                                           names),
             anchored=tuple(names[i] for i in anchors), duration=float(durations[k]),
             pressures={names[i]: float(trajectory.pressures[index, i]) for i in range(3)},

@@ -1,0 +1,95 @@
+"""`pampipe gait`: the peristaltic schedule in one pipe section, and the time-optimal gait."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+from pampipe.commands.common import add_output_options, emit, say
+from pampipe.config import load_mission
+from pampipe.gait import optimal_gait, sequential_gait
+from pampipe.gait.options import gait_options
+from pampipe.gait.result import GaitResult
+from pampipe.gait.schedule import POSITION_KEYS
+from pampipe.report import table
+
+NAME = "gait"
+HELP = ("the 7-step peristaltic schedule of a mission section: steps, pressures, positions, valve "
+        "timing, speed; --optimal adds the time-optimal gait")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("mission", type=Path, metavar="MISSION.yaml",
+                        help="mission file (interfaces.md §4); its optional gait: block sets the valves")
+    parser.add_argument("--section", metavar="NAME", help="route section to walk (default: the first)")
+    parser.add_argument("--optimal", action="store_true",
+                        help="also solve the minimum-time gait (CasADi/IPOPT) and compare the speeds")
+    add_output_options(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    mission = load_mission(args.mission)
+    options = gait_options(mission.gait, source=mission.source)
+    sequential = sequential_gait(mission, args.section, options=options)
+    text = [_header(sequential), _schedule_text(sequential)]
+    document = sequential.as_document()
+    results = [sequential]
+    if args.optimal:
+        print("solving the time-optimal gait (CasADi/IPOPT) ...", file=sys.stderr, flush=True)
+        best = optimal_gait(mission, args.section, options=options, baseline=sequential)
+        results.append(best)
+        gain = sequential.cycle_time / best.cycle_time - 1
+        text += [_schedule_text(best),
+                 f"speed gain of the optimal gait: {100 * gain:+.1f} % "
+                 f"({sequential.speed * 1e3:.4g} -> {best.speed * 1e3:.4g} mm/s; cycle "
+                 f"{sequential.cycle_time:.3f} s -> {best.cycle_time:.3f} s)"]
+        document = best.as_document()
+        document["sequential"] = sequential.as_document()
+        document["speed_gain"] = gain
+    emit(args, document, "\n\n".join(text))
+    if args.plots:
+        from pampipe.plots.gait import plot_gait
+
+        for result in results:
+            for path in plot_gait(result, args.plots):
+                say(args, f"wrote {path}")
+    return 0
+
+
+def _header(result: GaitResult) -> str:
+    lines = [f"section {result.section!r}: "
+             f"{result.needs[0].pipe_diameter * 1e3:.1f} mm pipe, safety factor "
+             f"{result.needs[0].safety_factor:g}"]
+    rows = [(n.name, n.contact_pressure / 1e3, n.required_pressure / 1e3, n.target_pressure / 1e3,
+             n.load, n.anchored_length * 1e3, n.rest_length * 1e3) for n in result.needs]
+    lines.append(table(["segment", "contact [kPa]", "no slip [kPa]", "planned [kPa]", "hold W [N]",
+                        "L(D_p) [mm]", "L0 [mm]"], rows))
+    return "\n".join(lines)
+
+
+def _schedule_text(result: GaitResult) -> str:
+    names = result.names
+    rows = []
+    for s in result.steps:
+        margin = min(s.slip_margins.values())
+        rows.append((s.step, s.action, "+".join(s.anchored), s.duration,
+                     *(s.pressures[n] / 1e3 for n in names),
+                     *(round(s.positions[k] * 1e3, 3) + 0.0 for k in POSITION_KEYS), margin))
+    head = [f"{result.schedule} schedule"]
+    if result.solver is not None:
+        sv = result.solver
+        head[0] += (f" (IPOPT {sv['status']}, {sv['iterations']} iterations, "
+                    f"{sv['solve_time_s']:.2f} s{', warm start' if sv['warm_start'] else ''})")
+    body = table(["step", "valve action", "anchored", "duration [s]",
+                  *(f"P {n} [kPa]" for n in names), "rear [mm]", "joint 1-2 [mm]", "joint 2-3 [mm]",
+                  "front [mm]", "slip margin"], rows)
+    ideal = result.needs[0].rest_length - result.needs[0].anchored_length
+    tail = (f"stride {result.stride * 1e3:.3f} mm from the simulated positions "
+            f"(L0 - L(D_p) = {ideal * 1e3:.3f} mm), cycle time {result.cycle_time:.3f} s, "
+            f"speed {result.speed * 1e3:.4g} mm/s; lowest slip margin at any instant "
+            f"{result.hold_margin.min():.4g} (safety factor {result.needs[0].safety_factor:g})")
+    if not math.isclose(result.kinematic_slip, 0.0, abs_tol=1e-9):
+        tail += f"; kinematic mismatch {result.kinematic_slip * 1e3:.3g} mm"
+    return "\n".join([*head, body, tail])
