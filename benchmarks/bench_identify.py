@@ -100,6 +100,7 @@ def main() -> None:
     rows = []
     header = (f"{'rows':>9}  {'method':<26}{'build s':>9}{'solve s':>10}{'total s':>10}"
               f"{'SSE [N^2]':>14}{'vs total':>10}{'vs solve':>10}  status")
+    identify(make_data(pam, 1), FitOptions(degree=1))  # warm-up: load CasADi's IPOPT plugin once
     print(header)
     print("-" * len(header))
     for scale in args.sizes:

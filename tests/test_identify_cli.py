@@ -121,7 +121,7 @@ def test_bad_csv_exits_2_naming_file_line_and_column(tmp_path, capsys, csv_text,
 
 
 def test_unknown_fit_key_lists_the_allowed_keys(tmp_path, capsys):
-    text = BUNDLED.read_text() + "fit:\n  degre: 2\n"
+    text = BUNDLED.read_text().split("fit:")[0] + "fit:\n  degre: 2\n"
     data = PROBLEMS / "experiments" / "data" / "paper-protocol"
     (tmp_path / "exp.yaml").write_text(text.replace("data/paper-protocol", str(data)))
     code, _, err = cli(capsys, "identify", tmp_path / "exp.yaml")
