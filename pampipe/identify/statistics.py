@@ -26,6 +26,7 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from pampipe.data import ExperimentData, TestData
 from pampipe.model import braid, muscle
@@ -35,8 +36,8 @@ from pampipe.model.pam import Geometry
 MPA = 1e6
 #: Equal-count pressure sub-bins per radial pressure level.
 SUB_BINS = 8
-#: Rows per QR chunk (bounds the memory of the regressor matrix: 2¹⁸ × 17 × 8 B ≈ 36 MB).
-CHUNK = 1 << 18
+#: Rows per QR chunk (bounds the memory of the regressor matrix: 2¹⁴ × 17 × 8 B ≈ 2 MB).
+CHUNK = 1 << 14
 RADIAL_MOMENTS = ("n", "x", "y", "sdd", "sddd", "sdddd", "sde", "sdde", "see")
 
 
@@ -96,7 +97,17 @@ class Statistics:
 
 def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: float = MPA,
                       average_legs: bool = False, average_bins: int = 30) -> Statistics:
-    """Sufficient statistics of every test (one pass over the rows, chunked)."""
+    """Sufficient statistics of every test (one pass over the rows, chunked).
+
+    BLAS runs single-threaded here: the QR blocks are tall and thin (17 columns), where
+    OpenBLAS threads only add overhead, and on a busy machine they oversubscribe the cores
+    (measured 10× slower with the default thread count at load 6 on 2 cores).
+    """
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _reduce(data, degree, reference_pressure, average_legs, average_bins)
+
+
+def _reduce(data, degree, reference_pressure, average_legs, average_bins) -> Statistics:
     geometry = data.pam.geometry
     pipes = tuple(sorted({t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}))
     groups, radial = [], []
