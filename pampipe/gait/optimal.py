@@ -223,7 +223,9 @@ def _problem(walls: tuple[str, ...], degrees: tuple[int, ...], intervals: int, s
     nlp = {"x": decision, "p": p, "f": ca.sum1(durations), "g": ca.vertcat(*g)}
     opts = {"ipopt": {"print_level": 0, "sb": "yes", "tol": 1e-8, "max_iter": 500,
                       "mu_strategy": "adaptive",
-                      "hessian_approximation": "limited-memory"}, "print_time": False}
+                      "hessian_approximation": "limited-memory",
+                      "warm_start_init_point": "yes", "warm_start_bound_push": 1e-6,
+                      "warm_start_mult_bound_push": 1e-6}, "print_time": False}
     solver = ca.nlpsol("optimal_gait", "ipopt", nlp, opts)
     lbx = np.concatenate([np.full(phases, 1e-3), np.zeros(3 * nodes), lbu.T.ravel()])
     ubx = np.concatenate([np.full(phases, 1e3), np.full(3 * nodes, np.inf), ubu.T.ravel()])
