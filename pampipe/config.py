@@ -18,6 +18,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from pampipe.errors import InputError
 from pampipe.model.domain import check_geometry
+from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.units import to_si
 from pampipe.yamlio import load_mapping
@@ -134,6 +135,34 @@ class PamSchema(Strict):
     geometry: GeometrySchema
     moduli: ModuliSchema | None = None
     uncertainty: UncertaintySchema | None = None
+    effects: dict[str, dict[str, Any]] | None = None  # physics.md §9; checked by build_effects
+
+
+def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, float]] | None:
+    """SI effect parameters from an ``effects:`` block, e.g. ``{braid_friction: {f0: "12 N"}}``.
+
+    Unknown effects or parameters, wrong units and values outside the parameter's bounds raise
+    ValueError naming ``effects.<name>.<parameter>``, the value and what is allowed.
+    """
+    if not raw:
+        return None
+    out = {}
+    for name, given in raw.items():
+        if name not in LIBRARY:
+            raise ValueError(f"effects: unknown effect {name!r}; known effects: {', '.join(LIBRARY)}")
+        params = {p.name: p for p in LIBRARY[name].parameters}
+        values = {}
+        for key, value in (given or {}).items():
+            if key not in params:
+                raise ValueError(f"effects.{name}: unknown parameter {key!r}; allowed: {', '.join(params)}")
+            p = params[key]
+            si = to_si(value, p.dimension, where=f"effects.{name}.{key}")
+            if not p.lower <= si <= p.upper:
+                raise ValueError(f"effects.{name}.{key}: {value!r} is outside the allowed range "
+                                 f"[{p.lower / p.scale:g}, {p.upper / p.scale:g}] {p.unit}")
+            values[key] = si
+        out[name] = values
+    return out
 
 
 def build_pam(schema: PamSchema) -> Pam:
@@ -162,7 +191,7 @@ def build_pam(schema: PamSchema) -> Pam:
             if cov.shape != (n, n):
                 raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
             covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
-    return Pam(schema.name, geometry, moduli, covariance)
+    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects))
 
 
 # ------------------------------------------------------------------------------------- experiment

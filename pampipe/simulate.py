@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.model import braid, muscle
+from pampipe.model import braid, effects, muscle
 from pampipe.model.domain import check_pipe_diameter, check_pressure
 from pampipe.model.functions import free_length
 from pampipe.model.pam import Pam
@@ -74,9 +74,15 @@ def simulate_anchored(pam: Pam, *, pipe_diameter: float, axial_load: float = 0.0
     check_pressure(pressures)
     length = float(braid.length_at_diameter(pipe_diameter, geometry))
     amp = float(braid.amplification_factor(pipe_diameter, geometry))
-    anchoring = float(muscle.anchoring_pressure(pipe_diameter, geometry, theta, pref, axial_load))
-    radial = muscle.radial_force(pressures, pipe_diameter, geometry, theta, pref, axial_load,
-                                 contact if np.any(contact) else None)
+    contact = contact if np.any(contact) else None
+    if pam.effects:  # physics.md §9 effects written by `diagnose`
+        anchoring = float(effects.anchoring_pressure_with_effects(pipe_diameter, geometry, theta, pref,
+                                                                  axial_load, contact, pam.effects))
+        radial = effects.radial_force_with_effects(pressures, pipe_diameter, geometry, theta, pref,
+                                                   axial_load, contact, pam.effects)
+    else:
+        anchoring = float(muscle.anchoring_pressure(pipe_diameter, geometry, theta, pref, axial_load))
+        radial = muscle.radial_force(pressures, pipe_diameter, geometry, theta, pref, axial_load, contact)
     radial = np.asarray(radial, dtype=float) * np.ones_like(pressures)
     lengths = np.maximum(free_length(pressures, geometry, theta, pref, axial_load=axial_load), length)
     terms = muscle.radial_force_terms(pressures, pipe_diameter, geometry, theta, pref, axial_load)

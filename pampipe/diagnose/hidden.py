@@ -52,7 +52,8 @@ def hidden_experiment(pam: Pam, effect: str | None, *, seed: int, protocol: Prot
     """An :class:`ExperimentData` generated from ``pam`` with ``effect`` hidden (None: clean)."""
     protocol = protocol or hidden_protocol()
     if protocol.pressure_noise:
-        raise ValueError("hidden effects need pressure_noise = 0 (the effect is added at the recorded pressure)")
+        raise ValueError("hidden effects need pressure_noise = 0 (the effect is added at the "
+                         "recorded pressure)")
     active = {} if effect is None else {effect: dict(MAGNITUDES[effect] if values is None else values)}
     if effect is not None:
         get_effect(effect)  # unknown names fail here

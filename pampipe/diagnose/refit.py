@@ -35,7 +35,8 @@ MPA = 1e6
 GRID = (6, 15)
 #: Softplus width of the contact switch [N] (as `identify`'s default contact_smoothing).
 SMOOTHING = 1.0
-IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-9, "ipopt.mu_strategy": "adaptive",
+IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-9,
+                 "ipopt.mu_strategy": "adaptive",
                  "ipopt.acceptable_tol": 1e-8, "ipopt.max_iter": 500}
 
 
@@ -238,7 +239,7 @@ class Refitter:
         if not stats.get("success", False) and status != "Solved_To_Acceptable_Level":
             raise SolverError(f"the {effect or 'baseline'} refit did not converge (IPOPT status {status}).",
                               status=status)
-        x = np.asarray(sol["x"], dtype=float).ravel()
+        x = np.clip(np.asarray(sol["x"], dtype=float).ravel(), low, high)  # IPOPT relaxes bounds by 1e-8
         res = np.asarray(problem.residuals(x, p), dtype=float).ravel()
         n_a = self.rows.axial.shape[1]
         jac = np.asarray(problem.jacobian(x, p), dtype=float) if jacobian else None

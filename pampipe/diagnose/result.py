@@ -56,7 +56,8 @@ class Candidate:
         return {p.json_key: list(self.intervals[p.name]) for p in get_effect(self.effect).parameters}
 
     def as_document(self) -> dict:
-        return {"effect": self.effect, "sum_rmse_N": self.sum_rmse, "bic": self.bic, "delta_bic": self.delta_bic,
+        return {"effect": self.effect, "sum_rmse_N": self.sum_rmse, "bic": self.bic,
+                "delta_bic": self.delta_bic,
                 "sse_N2": self.sse, "cv_rmse_N": self.cv_rmse, "parameters": self.parameter_document(),
                 "intervals_95": self.interval_document(), "iterations": self.iterations,
                 "wall_time_s": self.wall_time, "status": self.status,
@@ -106,14 +107,16 @@ class DiagnoseResult:
             "baseline": {**self.baseline.as_document(), "source": self.baseline_source},
             "candidates": [c.as_document() for c in self.candidates],
             "selected": {"effect": self.selected, "sum_rmse_N": chosen.sum_rmse,
-                         "parameters": chosen.parameter_document(), "intervals_95": chosen.interval_document(),
+                         "parameters": chosen.parameter_document(),
+                         "intervals_95": chosen.interval_document(),
                          "reason": self.reason, "confounded_with": self.confounded_with},
             "improvement": self.improvement,
             "tests": [{"name": t.name, "kind": t.kind, "points": t.points, "rmse_before_N": t.rmse,
                        "rmse_after_N": after[t.name], "noise_floor_N": noise[t.name].sigma,
                        "noise_floor_high_frequency_N": noise[t.name].high_frequency}
                       for t in self.baseline.tests],
-            "signatures": [{"name": s.name, "rms_N": None if not np.isfinite(s.rms) else s.rms, "score": s.score,
+            "signatures": [{"name": s.name, "rms_N": None if not np.isfinite(s.rms) else s.rms,
+                            "score": s.score,
                             "rows": s.rows} for s in self.signatures],
             "regions": [{"test": r.test, "pressure_Pa": list(r.pressure),
                          "length_m": None if r.length is None else list(r.length), "anchored": r.anchored,
@@ -122,3 +125,39 @@ class DiagnoseResult:
             "timings_s": dict(self.timings),
             "source": str(self.source),
         }
+
+
+def _number(value: float) -> str:
+    return f"{value:.17g}"
+
+
+def pam_text(pam: Pam, *, header: str = "") -> str:
+    """A PAM file (interfaces.md §2) with ``moduli:`` and the ``effects:`` block, full precision."""
+    g, m = pam.geometry, pam.moduli
+    k = m.degree + 1
+    theta = m.as_vector() / MPA
+
+    def law(block):
+        a = ", ".join(_number(v) for v in theta[2 * block * k:(2 * block + 1) * k])
+        b = ", ".join(_number(v) for v in theta[(2 * block + 1) * k:(2 * block + 2) * k])
+        return f"{{a: [{a}], b: [{b}]}}"
+
+    lines = [f"# {line}" for line in header.splitlines()] + [
+        f"name: {pam.name}", "geometry:",
+        f"  initial_length: {_number(g.initial_length * 1e3)} mm",
+        f"  initial_diameter: {_number(g.initial_diameter * 1e3)} mm",
+        f"  braid_angle_from_axis: {_number(np.degrees(g.braid_angle))} deg",
+        f"  bladder_thickness: {_number(g.bladder_thickness * 1e3)} mm",
+        f"  wall: {g.wall}", "moduli:", "  unit: MPa",
+        f"  reference_pressure: {_number(m.reference_pressure / 1e3)} kPa",
+        f"  axial: {law(0)}", f"  hoop: {law(1)}"]
+    if pam.effects:
+        lines.append("effects:")
+        for name, values in pam.effects.items():
+            cells = []
+            for p in get_effect(name).parameters:
+                if p.name in values:
+                    shown = _number(values[p.name] / p.scale)
+                    cells.append(f"{p.name}: {shown}" if p.unit == "-" else f'{p.name}: "{shown} {p.unit}"')
+            lines.append(f"  {name}: {{{', '.join(cells)}}}")
+    return "\n".join(lines) + "\n"

@@ -77,7 +77,8 @@ def intervals(fit: Fit, n: int) -> dict[str, tuple[float, float, float]]:
         j = k - len(params) + i
         value = fit.x[j] * p.scale
         sd = float(np.sqrt(max(cov[j, j], 0.0))) * p.scale
-        out[p.name] = (float(value), float(max(p.lower, value - 1.96 * sd)), float(min(p.upper, value + 1.96 * sd)))
+        out[p.name] = (float(value), float(max(p.lower, value - 1.96 * sd)),
+                       float(min(p.upper, value + 1.96 * sd)))
     return out
 
 
@@ -103,5 +104,6 @@ def decide(baseline_ratio: float, candidates: list[dict]) -> tuple[str, str, str
     reason = (f"{best['effect']} lowers BIC by {-best['delta_bic']:.1f} and the cross-validated RMSE by "
               f"{1 - best['cv_ratio']:.1%}")
     if runner is not None:
-        reason += f"; next best {runner['effect']} is {runner['delta_bic'] - best['delta_bic']:.1f} BIC behind"
+        gap = runner["delta_bic"] - best["delta_bic"]
+        reason += f"; next best {runner['effect']} is {gap:.1f} BIC behind"
     return best["effect"], reason, confounded

@@ -4,8 +4,9 @@ All residuals are r = F_model − F_data [N].
 
 **Noise floor** (per test). Two estimates that ignore slow, systematic residuals:
 ``repeats``: rows sorted by their signature variables (axial: level, leg, length; radial: level,
-pressure), σ² = mean((r_i − r_{i+1})²)/2 over neighbours: with repeated cycles the neighbours are
-repeats of the same point, so a systematic part that is smooth in (P, L, leg) cancels.
+pressure), σ² = mean((r_{i−1} − 2r_i + r_{i+1})²)/6 over neighbours: with repeated cycles the
+neighbours are repeats of the same point, and a systematic part that is locally linear in
+(P, L, leg) cancels.
 ``high_frequency``: the same in recorded order within each pressure level. The floor is the
 ``repeats`` value.
 
@@ -58,16 +59,18 @@ class Region:
     length: tuple[float, float] | None  # [m] (axial tests)
     anchored: bool | None  # radial tests: after anchoring?
     mean: float  # mean residual [N]
-    rms: float  # [N]
+    rmse: float  # [N]
     rows: int
     score: float  # |mean|√n/σ
 
 
 def _neighbour_sigma(r: np.ndarray, order: np.ndarray, groups: np.ndarray) -> float:
+    """σ from second differences of neighbours in one group: E[(r₋ − 2r + r₊)²] = 6σ² for white
+    noise, and a residual that is locally linear in the sort variable cancels."""
     r, groups = r[order], groups[order]
-    same = groups[1:] == groups[:-1]
-    d = np.diff(r)[same]
-    return float(np.sqrt(np.mean(d**2) / 2)) if d.size else float("nan")
+    same = (groups[2:] == groups[1:-1]) & (groups[1:-1] == groups[:-2])
+    d = (r[2:] - 2 * r[1:-1] + r[:-2])[same]
+    return float(np.sqrt(np.mean(d**2) / 6)) if d.size else float("nan")
 
 
 def noise_floor(test, r: np.ndarray) -> NoiseFloor:
@@ -138,7 +141,8 @@ def signatures(data, residuals: list[np.ndarray], anchoring: list[float | None],
                 m = test.level == lev
                 lo, hi = test.length[m].min(), test.length[m].max()
                 s[m] = (test.length[m] - lo) / max(hi - lo, 1e-12)
-            add("stroke_ends", r, np.column_stack([levels * ((1 - s) ** 4)[:, None], levels * (s**4)[:, None]]),
+            ends = np.column_stack([levels * ((1 - s) ** 4)[:, None], levels * (s**4)[:, None]])
+            add("stroke_ends", r, ends,
                 levels)
         else:
             after = (test.pressure > (p_anchor if p_anchor is not None else 0.0)).astype(float)
@@ -159,7 +163,8 @@ def signatures(data, residuals: list[np.ndarray], anchoring: list[float | None],
             score = ss / max(k, 1)
             out.append(Signature(name, float("nan"), float(score), int(rows)))
         else:
-            out.append(Signature(name, float(np.sqrt(max(ss, 0.0) / max(rows, 1))), float(_score(ss, k, sigma)),
+            rms = float(np.sqrt(max(ss, 0.0) / max(rows, 1)))
+            out.append(Signature(name, rms, float(_score(ss, k, sigma)),
                                  int(rows)))
     return out
 

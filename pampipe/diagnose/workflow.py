@@ -89,7 +89,8 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     rows = rows_of(data)
     n = rows.n
     if n <= 4 * (DEGREE + 1) + 4:
-        raise InputError(f"{data.source}: {n} data rows are too few to diagnose a {4 * (DEGREE + 1)}-parameter "
+        raise InputError(f"{data.source}: {n} data rows are too few to diagnose a "
+                         f"{4 * (DEGREE + 1)}-parameter "
                          "model; record more points.")
     refitter = Refitter(data, rows, degree=DEGREE)
     theta0, source = _initial_theta(data, say)
@@ -133,7 +134,8 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
         {"effect": c.effect, "delta_bic": c.delta_bic,
          "cv_ratio": None if c.cv_rmse is None else c.cv_rmse / base_cv} for c in ranked])
     timings["total_s"] = time.perf_counter() - started
-    return DiagnoseResult(data.source, data.pam, baseline, tuple(ranked), chosen, reason, confounded, noise, sigs,
+    return DiagnoseResult(data.source, data.pam, baseline, tuple(ranked), chosen, reason, confounded, noise,
+                          sigs,
                           regs, anchoring, source, timings, data)
 
 

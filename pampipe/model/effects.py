@@ -172,7 +172,8 @@ class EndEffects(Effect):
 
     def axial_increment(self, state, values):
         n2 = turns(state.geometry) ** 2
-        return -3 * values["volume_taper"] * state.pressure * state.diameter * state.length / (4 * math.pi * n2)
+        taper = values["volume_taper"]
+        return -3 * taper * state.pressure * state.diameter * state.length / (4 * math.pi * n2)
 
     def radial_increment(self, state, values):
         g = state.geometry
@@ -192,8 +193,10 @@ class ContactStiffening(Effect):
     summary = "the bladder stiffens after it touches the pipe (the paper's own diagnosis, Fig. 9/10)"
     signature = "contact"
     parameters = (
-        Parameter("axial_increment", "MPa", "pressure", 1e6, -20e6, 20e6, 0.0, "ΔE₁ per P_ref above anchoring"),
-        Parameter("hoop_increment", "MPa", "pressure", 1e6, -20e6, 20e6, 0.0, "ΔE₂ per P_ref above anchoring"),
+        Parameter("axial_increment", "MPa", "pressure", 1e6, -20e6, 20e6, 0.0,
+                  "ΔE₁ per P_ref above anchoring"),
+        Parameter("hoop_increment", "MPa", "pressure", 1e6, -20e6, 20e6, 0.0,
+                  "ΔE₂ per P_ref above anchoring"),
     )
     tests = frozenset({"radial"})
 
@@ -407,6 +410,30 @@ def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pre
         return ops.fmax(unclipped, 0)
     # softplus s·log(1 + exp(u/s)), written so that it never overflows
     return ops.fmax(unclipped, 0) + smoothing * ops.log1p(ops.exp(-ops.fabs(unclipped) / smoothing))
+
+
+def anchoring_pressure_with_effects(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,
+                                    contact_theta=None, effects: Active | None = None, *,
+                                    upper: float = 1e7, iterations: int = 60) -> float:
+    """Measured pressure [Pa] at which F_r first becomes positive, with ``effects`` (floats only).
+
+    Bisection on [0, ``upper``] of the sign of :func:`radial_force_with_effects`; 0 if the muscle
+    already presses on the wall at 0 Pa, ``upper`` if it never does. Without effects this agrees
+    with the closed form :func:`pampipe.model.muscle.anchoring_pressure` to ``upper``/2^iterations.
+    """
+    def pressing(p):
+        return float(radial_force_with_effects(p, diameter, geometry, theta, reference_pressure, axial_load,
+                                               contact_theta, effects)) > 0
+
+    if pressing(0.0):
+        return 0.0
+    low, high = 0.0, upper
+    if not pressing(high):
+        return upper
+    for _ in range(iterations):
+        mid = 0.5 * (low + high)
+        low, high = (low, mid) if pressing(mid) else (mid, high)
+    return 0.5 * (low + high)
 
 
 def _vector(entries, *, like):

@@ -104,12 +104,15 @@ class Moduli:
 
 @dataclass(frozen=True)
 class Pam:
-    """A named muscle: geometry, optional moduli and optional fit covariance.
+    """A named muscle: geometry, optional moduli, optional fit covariance and optional effects.
 
     ``covariance`` is the covariance of :meth:`Moduli.as_vector` [Pa²], written by ``identify``.
+    ``effects`` maps effect names of :mod:`pampipe.model.effects` to their parameters (SI), e.g.
+    ``{"braid_friction": {"f0": 12.0, "f1": 3e-5}}``, written by ``diagnose``; None: the baseline.
     """
 
     name: str
     geometry: Geometry
     moduli: Moduli | None = None
     covariance: np.ndarray | None = field(default=None, compare=False)
+    effects: dict[str, dict[str, float]] | None = field(default=None, hash=False)
