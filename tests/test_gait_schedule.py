@@ -109,8 +109,8 @@ def test_problem_is_built_once_and_warm_started(demo_gaits):
     """A second mission with the same structure reuses the NLP and starts from the last solution."""
     size = _problem.cache_info().currsize
     downhill = load_mission(DOWNHILL)
-    seq = sequential_gait(downhill, "drop")
-    best = optimal_gait(downhill, "drop", baseline=seq)
+    seq = sequential_gait(downhill, "entry")
+    best = optimal_gait(downhill, "entry", baseline=seq)
     assert _problem.cache_info().currsize == size
     assert best.solver["warm_start"] is True
     assert best.cycle_time <= seq.cycle_time * (1 + 1e-9)

@@ -9,6 +9,8 @@ fixed by the role: rise/prefill fill, fall vents, hold/off keep the valve closed
 * No slip: at every node of phase k, each holder satisfies μπF_r(P, D_p, κW) ≥ SF·W, written as
   μπA(F_ax(P, L_p) − κW + ΔF_contact) − SF·W ≥ 0 (equal to the clipped model wherever it holds);
   the rising segment satisfies it at the end of its phase, before any other segment may let go.
+  The condition is imposed at P − 200 Pa (``HOLD_BACKOFF``), so that the exact re-simulation of the
+  controls also holds despite the RK4 error (tens of Pa where a fill crosses the wall contact).
 * A falling segment is deflated (P ≤ vented_pressure) at the end of its phase; a pre-filling one
   stays ``contact_margin`` below its contact pressure; the middle segment stays deflated while the
   two end segments may both touch the wall (so the stride L₀ − L(D_p) is kept).
@@ -41,7 +43,7 @@ from pampipe.model import braid, muscle
 from pampipe.model.pam import Geometry
 
 SCALE = 1e5  # pressure scaling [Pa]: the states are P / 1e5
-HOLD_BACKOFF = 1e-4  # holders keep μπF_r ≥ (1 + 10⁻⁴)·SF·W: covers the RK4 error in the exact re-simulation
+HOLD_BACKOFF = 200.0  # [Pa] holders satisfy no slip at P − 200 Pa: covers the RK4 error (tens of Pa)
 GLOBALS = 8  # supply, p_atm, T, n, C, b, vented, contact margin
 
 
@@ -212,7 +214,7 @@ def _problem(walls: tuple[str, ...], degrees: tuple[int, ...], intervals: int, s
                 deflated.append(last)
         holds = sorted(set(holds))
         hold = _holding_function(walls[i], degrees[i]).map(len(holds))
-        constrain(hold(x[i, holds] * SCALE, ca.repmat(muscle_p[i], 1, len(holds))), HOLD_BACKOFF,
+        constrain(hold(x[i, holds] * SCALE - HOLD_BACKOFF, ca.repmat(muscle_p[i], 1, len(holds))), 0,
                   np.inf)
         anchoring = muscle_p[i][2] / SCALE
         constrain(x[i, sorted(set(prefill))] - (anchoring - margin), -np.inf, 0)
