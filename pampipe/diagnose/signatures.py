@@ -4,9 +4,9 @@ All residuals are r = F_model − F_data [N].
 
 **Noise floor** (per test). Two estimates that ignore slow, systematic residuals:
 ``repeats``: rows sorted by their signature variables (axial: level, leg, length; radial: level,
-pressure), σ² = mean((r_{i−1} − 2r_i + r_{i+1})²)/6 over neighbours: with repeated cycles the
-neighbours are repeats of the same point, and a systematic part that is locally linear in
-(P, L, leg) cancels.
+pressure); each row is compared with the line through its two neighbours (see
+:func:`_neighbour_sigma`): with repeated cycles the neighbours are repeats of the same point, and
+a systematic part that is locally linear in (P, L, leg) cancels.
 ``high_frequency``: the same in recorded order within each pressure level. The floor is the
 ``repeats`` value.
 
@@ -64,26 +64,35 @@ class Region:
     score: float  # |mean|√n/σ
 
 
-def _neighbour_sigma(r: np.ndarray, order: np.ndarray, groups: np.ndarray) -> float:
-    """σ from second differences of neighbours in one group: E[(r₋ − 2r + r₊)²] = 6σ² for white
-    noise, and a residual that is locally linear in the sort variable cancels."""
-    r, groups = r[order], groups[order]
+def _neighbour_sigma(r: np.ndarray, x: np.ndarray, order: np.ndarray, groups: np.ndarray) -> float:
+    """σ from each row's deviation from the line through its two neighbours (sorted by ``x``).
+
+    e_i = r_i − (w₋r_{i−1} + w₊r_{i+1}) with linear-interpolation weights in x (½, ½ when the
+    neighbours share x); Var e_i = σ²(1 + w₋² + w₊²) for white noise, and a residual that is locally
+    linear in x cancels, also with repeated x (repeated cycles).
+    """
+    r, x, groups = r[order], x[order], groups[order]
     same = (groups[2:] == groups[1:-1]) & (groups[1:-1] == groups[:-2])
-    d = (r[2:] - 2 * r[1:-1] + r[:-2])[same]
-    return float(np.sqrt(np.mean(d**2) / 6)) if d.size else float("nan")
+    span = x[2:] - x[:-2]
+    safe = np.where(span > 0, span, 1.0)
+    w_next = np.where(span > 0, (x[1:-1] - x[:-2]) / safe, 0.5)
+    w_prev = 1 - w_next
+    e = r[1:-1] - w_prev * r[:-2] - w_next * r[2:]
+    scaled = (e**2 / (1 + w_prev**2 + w_next**2))[same]
+    return float(np.sqrt(np.mean(scaled))) if scaled.size else float("nan")
 
 
 def noise_floor(test, r: np.ndarray) -> NoiseFloor:
     """Both estimates of σ [N] for one test (``test`` is a :class:`pampipe.data.TestData`)."""
     recorded = np.arange(r.size)
-    hf = _neighbour_sigma(r, recorded, test.level)
+    hf = _neighbour_sigma(r, recorded.astype(float), recorded, test.level)
     if test.kind == "axial":
         order = np.lexsort((test.length, test.leg, test.level))
-        group = test.level * 3 + (test.leg + 1)
+        group, x = test.level * 3 + (test.leg + 1), test.length
     else:
         order = np.lexsort((test.pressure, test.level))
-        group = test.level
-    return NoiseFloor(test.name, _neighbour_sigma(r, order, group), hf)
+        group, x = test.level, test.pressure
+    return NoiseFloor(test.name, _neighbour_sigma(r, x, order, group), hf)
 
 
 def _fit_part(r: np.ndarray, features: np.ndarray) -> tuple[float, int]:
