@@ -25,7 +25,7 @@ SI_UNITS = {
     "area": "m**2",
     "volume": "m**3",
     "velocity": "m/s",
-    "mass_flow_per_pressure": "m**3/(s*Pa)",  # ISO 6358 sonic conductance C
+    "sonic conductance": "m**3/(s*Pa)",  # ISO 6358 C: volume flow per upstream pressure
     "temperature": "K",
     "compliance": "1/N",  # fibre strain per newton (physics.md §9b braid extensibility)
 }
@@ -92,7 +92,7 @@ def _example(dimension: str) -> str:
         "angle": "65.92 deg",
         "time": "2 s",
         "dimensionless": "0.3",
-        "mass_flow_per_pressure": "1e-8 m**3/(s*Pa)",
+        "sonic conductance": "0.5 dm**3/(s*bar)",
         "temperature": "293 K",
     }.get(dimension, "1")
 

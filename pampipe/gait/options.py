@@ -28,7 +28,7 @@ from pydantic import Field
 
 from pampipe.config import Strict, _validate, quantity
 
-Conductance = quantity("mass_flow_per_pressure", gt=0, le=1e-5, unit="m³/(s·Pa)")
+Conductance = quantity("sonic conductance", gt=0, le=1e-5, unit="m³/(s·Pa)")
 Ratio = quantity("dimensionless", ge=0, lt=1)
 Temperature = quantity("temperature", gt=150, le=500, unit="K")
 GaugePressure = quantity("pressure", gt=0, le=1e6, unit="Pa")
