@@ -53,19 +53,21 @@ def _interrupted(signum, frame):
 def main(argv: list[str] | None = None) -> int:
     """Run one command; return its exit code."""
     signal.signal(signal.SIGTERM, _interrupted)
-    parser = build_parser()
+    command = "pampipe"
     try:
-        args = parser.parse_args(argv)
-    except SystemExit as exc:  # --help, --version and usage errors
-        return int(exc.code or 0)
-    try:
+        parser = build_parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:  # --help, --version and usage errors
+            return int(exc.code or 0)
+        command = f"pampipe {args.command}"
         return args.run(args)
     except PampipeError as exc:
         kind = "error" if isinstance(exc, InputError) else "no solution"
-        print(f"pampipe {args.command}: {kind}: {exc}", file=sys.stderr)
+        print(f"{command}: {kind}: {exc}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
-        print(f"pampipe {args.command}: interrupted; no partial output was written.", file=sys.stderr)
+        print(f"{command}: interrupted; no partial output was written.", file=sys.stderr)
         return 130
     except BrokenPipeError:
         return 0

@@ -1,0 +1,44 @@
+"""An interrupted run (SIGINT, SIGTERM) exits 130 with one line and leaves no output file (issue 7)."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from tests.conftest import PROBLEMS, ROOT
+
+
+@pytest.fixture(scope="module")
+def big_experiment(tmp_path_factory):
+    """An axial experiment of 10⁶ rows (the bundled test tiled), slow enough to interrupt mid-read."""
+    folder = tmp_path_factory.mktemp("big")
+    source = PROBLEMS / "experiments" / "data" / "paper-protocol" / "axial.csv"
+    header, *rows = source.read_text().splitlines()
+    body = "\n".join(rows)
+    repeats = 10**6 // len(rows) + 1
+    (folder / "axial.csv").write_text(header + "\n" + "\n".join([body] * repeats) + "\n")
+    pam = (PROBLEMS / "pams" / "paper-radial-pam.yaml").read_text().split("moduli:")[0]
+    (folder / "pam.yaml").write_text(pam)
+    (folder / "experiment.yaml").write_text(
+        "pam: pam.yaml\ntests:\n  - {name: axial, kind: axial, data: axial.csv}\n")
+    return folder
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_interrupt_leaves_no_partial_output(big_experiment, signum, tmp_path):
+    target = tmp_path / "fit.yaml"
+    process = subprocess.Popen([sys.executable, "-m", "pampipe", "identify",
+                                str(big_experiment / "experiment.yaml"), "-o", str(target)],
+                               stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True, cwd=ROOT)
+    first = process.stderr.readline()  # the first progress line: the run is under way
+    assert "reading axial.csv" in first
+    process.send_signal(signum)
+    _, rest = process.communicate(timeout=120)
+    assert process.returncode == 130
+    assert rest.strip().splitlines() == ["pampipe identify: interrupted; no partial output was written."]
+    assert "Traceback" not in rest
+    assert not target.exists()
+    assert not list(tmp_path.iterdir())  # no temporary file left behind either
