@@ -17,7 +17,6 @@ import numpy as np
 from pampipe.errors import SolverError
 from pampipe.model.braid import diameter_at_length
 from pampipe.model.functions import free_length
-from pampipe.plan.payload import SectionPayload
 from pampipe.plan.problem import Elements
 from pampipe.plan.solve import Solution
 
@@ -28,12 +27,14 @@ def element_feasible(elements: Elements, solution: Solution, supply: float) -> n
 
 
 def section_reasons(mission, elements: Elements, solution: Solution,
-                    payloads: tuple[SectionPayload, ...], *, confidence: float | None = None
-                    ) -> list[str | None]:
-    """One sentence per section, ``None`` where the section is feasible."""
-    feasible = element_feasible(elements, solution, mission.supply_pressure)
-    return [None if feasible[s].all() else _reason(mission, s, elements, solution, payloads[s], confidence)
-            for s in range(len(mission.route))]
+                    payloads: np.ndarray, *, confidence: float | None = None) -> list[str | None]:
+    """One sentence per section, ``None`` where the section is feasible.
+
+    ``payloads`` are the element payload limits [kg] of :func:`pampipe.plan.payload.element_payloads`.
+    """
+    feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1).tolist()
+    return [None if ok else _reason(mission, s, elements, solution, payloads[s], confidence)
+            for s, ok in enumerate(feasible)]
 
 
 def _names(mission, mask) -> str:
@@ -43,7 +44,7 @@ def _names(mission, mask) -> str:
     return " and ".join(names)
 
 
-def _reason(mission, s: int, e: Elements, solution: Solution, payload: SectionPayload,
+def _reason(mission, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
             confidence: float | None) -> str:
     sec, supply = mission.route[s], mission.supply_pressure
     pipe = f"the {sec.diameter * 1e3:.4g} mm pipe"
@@ -80,8 +81,9 @@ def _reason(mission, s: int, e: Elements, solution: Solution, payload: SectionPa
             f"{supply / 1e3:.4g} kPa supply")
     if confidence is not None:
         return hold + "."
-    if payload.payload >= 0:
-        return f"{hold}; at the supply the robot can carry at most {payload.payload:.3g} kg of payload here."
+    payload = float(payloads[s].min())
+    if payload >= 0:
+        return f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of payload here."
     return f"{hold}; at the supply it cannot even carry its own weight here, with no payload."
 
 

@@ -11,10 +11,10 @@ from pampipe.model import muscle, slip
 from pampipe.plan.checks import cross_check
 from pampipe.plan.confidence import confidence_pressure
 from pampipe.plan.feasibility import element_feasible, section_reasons
+from pampipe.plan.payload import element_payloads
 from pampipe.plan.payload import max_payload as route_max_payload
-from pampipe.plan.payload import section_payloads
 from pampipe.plan.problem import Elements, build_elements
-from pampipe.plan.result import MissionPlan, SectionPlan, SegmentPlan
+from pampipe.plan.result import MissionPlan, PlanArrays
 from pampipe.plan.solve import Solution, solve
 from pampipe.simulate import require_moduli
 
@@ -49,36 +49,29 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
         pressure = confidence_pressure(mission, nominal, confidence)
         solution = dataclasses.replace(solution, pressure=pressure,
                                        slip_active=solution.slip_active | (pressure > nominal))
-    payloads = section_payloads(mission, elements)
+    payloads = element_payloads(mission, elements)
     reasons = section_reasons(mission, elements, solution, payloads, confidence=confidence)
-    sections = _sections(mission, elements, solution, reasons, nominal)
+    arrays = _arrays(mission, elements, solution, reasons, nominal)
     limit = route_max_payload(mission) if with_max_payload else None
-    return MissionPlan(feasible=all(s.feasible for s in sections), sections=sections,
+    return MissionPlan(feasible=all(r is None for r in reasons), arrays=arrays,
                        mission=str(mission.source), supply_pressure=mission.supply_pressure,
                        safety_factor=mission.safety_factor, load_path=mission.load_path,
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
                        checks=checks, confidence=confidence, max_payload=limit)
 
 
-def _sections(mission, e: Elements, solution: Solution, reasons, nominal) -> tuple[SectionPlan, ...]:
-    feasible = element_feasible(e, solution, mission.supply_pressure)
-    columns = [_evaluate(mission, e, solution.pressure, i) for i in range(len(mission.segments))]
-    sections = []
-    for s, sec in enumerate(mission.route):
-        segments = ()
-        if e.valid[s].all() and np.isfinite(solution.pressure[s]).all():
-            segments = tuple(
-                SegmentPlan(seg.name, float(solution.pressure[s, i]), float(e.free_anchoring[s, i]),
-                            float(e.load[s, i]), float(columns[i][0][s]), float(columns[i][1][s]),
-                            float(columns[i][2][s]), loaded_anchoring_pressure=float(e.anchoring[s, i]),
-                            air_volume=float(e.volume[s, i]),
-                            binding="no_slip" if solution.slip_active[s, i] else "contact",
-                            feasible=bool(feasible[s, i]),
-                            nominal_pressure=None if nominal is None else float(nominal[s, i]))
-                for i, seg in enumerate(mission.segments))
-        sections.append(SectionPlan(sec.name, reasons[s] is None, reasons[s], segments, sec.length,
-                                    sec.diameter, sec.incline, sec.friction))
-    return tuple(sections)
+def _arrays(mission, e: Elements, solution: Solution, reasons, nominal) -> PlanArrays:
+    capacity, radial, contact = (np.stack(c, axis=1) for c in zip(
+        *(_evaluate(mission, e, solution.pressure, i) for i in range(len(mission.segments))), strict=True))
+    complete = e.valid.all(axis=1) & np.isfinite(solution.pressure).all(axis=1)
+    return PlanArrays(
+        pressure=solution.pressure, anchoring_pressure=e.free_anchoring,
+        loaded_anchoring_pressure=e.anchoring,
+        required_hold=e.load, holding_capacity=capacity, radial_force=radial, contact_pressure=contact,
+        air_volume=e.volume, slip_active=solution.slip_active,
+        feasible=element_feasible(e, solution, mission.supply_pressure), complete=complete,
+        nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
+        route=mission.route, reasons=tuple(reasons))
 
 
 def _evaluate(mission, e: Elements, pressure: np.ndarray, i: int):

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
 
 from pampipe.plan.payload import PayloadLimit
 
@@ -69,11 +72,38 @@ class SectionPlan:
 
 
 @dataclass(frozen=True)
+class PlanArrays:
+    """The whole plan as (sections, segments) arrays [SI], for long routes and vectorised use.
+
+    ``complete[s]`` is False where the pipe itself is impassable (no per-segment numbers).
+    """
+
+    pressure: np.ndarray  # [Pa]
+    anchoring_pressure: np.ndarray  # [Pa], unloaded
+    loaded_anchoring_pressure: np.ndarray  # [Pa]
+    required_hold: np.ndarray  # [N]
+    holding_capacity: np.ndarray  # [N]
+    radial_force: np.ndarray  # [N]
+    contact_pressure: np.ndarray  # [Pa]
+    air_volume: np.ndarray  # [m³]
+    slip_active: np.ndarray  # bool
+    feasible: np.ndarray  # bool
+    complete: np.ndarray  # bool, per section
+    nominal_pressure: np.ndarray | None  # [Pa], with --confidence
+    segment_names: tuple[str, ...]
+    route: tuple  # the mission's Section objects
+    reasons: tuple[str | None, ...]
+
+
+@dataclass(frozen=True)
 class MissionPlan:
-    """The anchoring pressures of a whole mission; ``feasible`` only if every section is."""
+    """The anchoring pressures of a whole mission; ``feasible`` only if every section is.
+
+    ``sections`` (SectionPlan objects) are built on first use from ``arrays``.
+    """
 
     feasible: bool
-    sections: tuple[SectionPlan, ...]
+    arrays: PlanArrays = field(repr=False)
     mission: str  # source file
     supply_pressure: float  # [Pa]
     safety_factor: float
@@ -85,10 +115,35 @@ class MissionPlan:
     confidence: float | None = None
     max_payload: PayloadLimit | None = None
 
+    @cached_property
+    def sections(self) -> tuple[SectionPlan, ...]:
+        """One SectionPlan per route section, in travel order."""
+        a = self.arrays
+        columns = [x.tolist() for x in (a.pressure, a.anchoring_pressure, a.required_hold, a.holding_capacity,
+                                        a.radial_force, a.contact_pressure, a.loaded_anchoring_pressure,
+                                        a.air_volume, a.slip_active, a.feasible)]
+        nominal = None if a.nominal_pressure is None else a.nominal_pressure.tolist()
+        out = []
+        rows = zip(a.route, a.complete.tolist(), a.reasons, strict=True)
+        for s, (sec, complete, reason) in enumerate(rows):
+            segments = ()
+            if complete:
+                p, pa, w, cap, fr, pc, pl, vol, active, ok = (c[s] for c in columns)
+                segments = tuple(
+                    SegmentPlan(name, p[i], pa[i], w[i], cap[i], fr[i], pc[i],
+                                loaded_anchoring_pressure=pl[i], air_volume=vol[i],
+                                binding="no_slip" if active[i] else "contact", feasible=ok[i],
+                                nominal_pressure=None if nominal is None else nominal[s][i])
+                    for i, name in enumerate(a.segment_names))
+            out.append(SectionPlan(sec.name, reason is None, reason, segments, sec.length, sec.diameter,
+                                   sec.incline, sec.friction))
+        return tuple(out)
+
     @property
     def reasons(self) -> list[str]:
         """'section: reason' for every infeasible section."""
-        return [f"{s.name}: {s.reason}" for s in self.sections if not s.feasible]
+        return [f"{sec.name}: {r}" for sec, r in zip(self.arrays.route, self.arrays.reasons, strict=True)
+                if r is not None]
 
     def as_document(self) -> dict:
         doc = {"feasible": self.feasible, "sections": [s.as_document() for s in self.sections],
