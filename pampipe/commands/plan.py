@@ -17,7 +17,23 @@ NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
 
 
+EPILOG = """\
+Every segment is the only anchor in some gait step, so in each section each segment must hold the whole
+load W = g(M|sin(incline)| + friction cos(incline)(M - m_segment)) + tether_drag alone, with
+friction*pi*F_r >= safety_factor*W (physics.md section 8). The plan is the least such pressure, never
+below the pressure at which the loaded muscle touches the wall.
+
+examples:
+  pampipe plan problems/missions/vertical-climb-3in.yaml
+  pampipe plan MISSION.yaml --max-payload --json -o plan.json --plots plots/
+  pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95
+
+exit codes: 0 every section planned; 2 bad input; 3 some section infeasible (one reason per section)."""
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.epilog = EPILOG
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.add_argument("mission", type=Path, metavar="MISSION.yaml", help="mission file (interfaces.md §4)")
     parser.add_argument("-o", "--output", type=Path, metavar="PLAN.json",
                         help="also write the JSON plan to this file (atomically)")

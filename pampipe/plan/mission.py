@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
-from pampipe.errors import SolverError
+from pampipe.errors import InputError, SolverError
 from pampipe.model import muscle, slip
 from pampipe.plan.checks import cross_check
 from pampipe.plan.confidence import confidence_pressure
@@ -33,6 +34,8 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     for i, seg in enumerate(mission.segments):
         require_moduli(seg.pam, source=f"{mission.source}: robot.segments[{i}].pam")
     if payload is not None:
+        if not (math.isfinite(payload) and payload >= 0):
+            raise InputError(f"payload: {payload!r} kg must be a finite mass of at least 0 kg.")
         mission = dataclasses.replace(mission, payload=float(payload))
     elements = build_elements(mission)
     solution = solve(elements, mission.supply_pressure, method=method)
