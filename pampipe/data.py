@@ -32,6 +32,9 @@ from pampipe.units import column_factor
 
 #: Lines parsed per chunk: bounds the text held in memory (≈ 10 MB for 3-column files).
 CHUNK_ROWS = 262_144
+#: Rows one file may hold. identify keeps the numbers in memory (≈ 170 bytes a row at its peak,
+#: measured: 1.7 GB for 10⁷ rows), so this cap keeps a run under ≈ 5 GB on a 24 GB machine.
+MAX_ROWS = 30_000_000
 #: Known column names and their dimensions.
 DIMENSIONS = {"pressure": "pressure", "length": "length", "force": "force", "time": "time"}
 #: Columns each test kind needs.
@@ -215,6 +218,10 @@ def _read_open(path, handle, required, progress) -> dict[str, np.ndarray]:
         if block.size:
             chunks.append(block)
             rows += block.shape[0]
+        if rows > MAX_ROWS:
+            raise InputError(f"{path}: more than {MAX_ROWS:,} data rows; pampipe holds the data in memory "
+                             "(about 170 bytes a row), so thin the file out (every k-th row keeps the "
+                             "statistics) or split it into several tests.")
         first_line += len(lines)
         if progress is not None and rows >= CHUNK_ROWS:
             progress(f"reading {path.name}: {rows:,} rows")

@@ -106,3 +106,13 @@ def test_legs_and_cycles_of_a_triangle_wave():
     assert np.all(leg[1:19] == -1) and np.all(leg[21:39] == 1)
     assert set(np.unique(cycle)) == {0, 1, 2}
     assert np.all(cycle[:19] == 0) and np.all(cycle[-15:] == 2)
+
+
+def test_oversized_file_is_refused_not_loaded(tmp_path, monkeypatch):
+    """Issue 7: a file beyond the row cap is refused with a clear message (cap lowered for the test)."""
+    monkeypatch.setattr(data_module, "MAX_ROWS", 1000)
+    monkeypatch.setattr(data_module, "CHUNK_ROWS", 256)
+    path = tmp_path / "big.csv"
+    path.write_text("pressure [kPa], force [N]\n" + "100, 5\n" * 1300)
+    with pytest.raises(InputError, match="more than 1,000 data rows"):
+        read_csv(path, required=("pressure", "force"))
