@@ -31,7 +31,7 @@ def random_mission(rng, pam, sections=5, *, contact=False) -> Mission:
     if contact:
         theta = pam.moduli.as_vector()
         delta = np.zeros_like(theta)
-        delta[8] = 0.8e6  # a stiffer hoop law once anchored (physics.md §9d) [Pa]
+        delta[8] = 4e6  # a much stiffer hoop law once anchored (physics.md §9d) [Pa]
         pam = dataclasses.replace(pam, moduli=Moduli.from_vector(theta, contact=delta))
     segments = tuple(Segment(f"PAM{i + 1}", pam, rng.uniform(0.0, 1.5)) for i in range(3))
     route = tuple(Section(f"s{k}", 1.0, rng.uniform(2.9, 3.8) * INCH, rng.uniform(-math.pi / 2, math.pi / 2),

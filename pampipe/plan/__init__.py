@@ -7,12 +7,13 @@ Library API::
 
     plan = plan_mission(load_mission("mission.yaml"))          # -> MissionPlan
     plan.feasible, plan.sections[0].segments[0].pressure       # SI units
+    plan.arrays.pressure                                       # (sections, 3) array, for long routes
     limit = max_payload(mission)                               # -> PayloadLimit (kg, limiting section)
 """
 
 from pampipe.plan.mission import plan_mission
 from pampipe.plan.payload import PayloadLimit, SectionPayload, max_payload
-from pampipe.plan.result import MissionPlan, SectionPlan, SegmentPlan
+from pampipe.plan.result import MissionPlan, PlanArrays, SectionPlan, SegmentPlan
 
-__all__ = ["MissionPlan", "PayloadLimit", "SectionPayload", "SectionPlan", "SegmentPlan", "max_payload",
-           "plan_mission"]
+__all__ = ["MissionPlan", "PayloadLimit", "PlanArrays", "SectionPayload", "SectionPlan", "SegmentPlan",
+           "max_payload", "plan_mission"]

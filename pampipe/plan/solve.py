@@ -8,7 +8,8 @@ The NLP is separable and each g_e increases with P_e (F₁ > 0), so its KKT poin
 P_e* = max(P_lb, g_e⁻¹(0)) with multiplier λ_e = V_e/g_e'(P_e*) ≥ 0 when the no-slip constraint is
 active. ``"kkt"`` (the default) solves these conditions directly by safeguarded Newton on all elements
 at once; ``"ipopt"`` hands the same NLP, built once as a CasADi block of fixed size whose parameters
-are the element coefficients, to IPOPT (general, but about 10× slower).
+are the element coefficients, to IPOPT (general, but ~100× slower on long routes: ~2·10⁴ vs
+~10⁶ elements/s, benchmarks/bench_plan.py).
 
 The upper bound is the supply pressure where the supply suffices; elsewhere it is the model's limit
 (100 MPa), so the solution is the pressure the element *would need*, for the infeasibility report.
