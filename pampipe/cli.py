@@ -25,7 +25,8 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParser:
+    """The argument parser with the given command modules registered (all by default)."""
     parser = _Parser(
         prog="pampipe",
         description="Plan the inflation pressures of a pneumatic-muscle pipe-crawling robot.",
@@ -33,7 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
                "130 interrupted.")
     parser.add_argument("--version", action="version", version=f"pampipe {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for name in COMMANDS:
+    for name in commands:
         try:
             module = importlib.import_module(f"pampipe.commands.{name}")
         except ModuleNotFoundError as exc:
@@ -54,8 +55,11 @@ def main(argv: list[str] | None = None) -> int:
     """Run one command; return its exit code."""
     signal.signal(signal.SIGTERM, _interrupted)
     command = "pampipe"
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # import only the chosen command's module: start-up then skips the others' heavy imports
+    chosen = next((a for a in argv if not a.startswith("-")), None)
     try:
-        parser = build_parser()
+        parser = build_parser((chosen,) if chosen in COMMANDS else COMMANDS)
         try:
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help, --version and usage errors
