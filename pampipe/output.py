@@ -59,22 +59,29 @@ def atomic_write_text(target: Path, text: str) -> None:
 JSON_DIGITS = 12
 
 
-def _clean(value, key: str = "result"):
-    """JSON-ready copy of ``value``; a NaN or infinite number is an error, never printed."""
+def _clean(value, key: str = "result", timings: bool = True):
+    """JSON-ready copy of ``value``; a NaN or infinite number is an error, never printed.
+
+    With ``timings=False`` every ``*_time_s`` entry (a wall-clock measurement) is written as 0.
+    """
     if isinstance(value, float):
         if not math.isfinite(value):
             raise SolverError(f"{key} came out as {value}: the computation left the model's valid "
                               "domain; please report the input that caused it", status="non_finite")
         return float(f"{value:.{JSON_DIGITS}g}")
     if isinstance(value, dict):
-        return {str(k): _clean(v, f"{key}.{k}") for k, v in value.items()}
+        return {str(k): 0.0 if not timings and str(k).endswith("_time_s") else _clean(v, f"{key}.{k}", timings)
+                for k, v in value.items()}
     if isinstance(value, list | tuple):
-        return [_clean(v, f"{key}[{i}]") for i, v in enumerate(value)]
+        return [_clean(v, f"{key}[{i}]", timings) for i, v in enumerate(value)]
     if hasattr(value, "item") and hasattr(value, "dtype"):  # numpy scalar
-        return _clean(value.item(), key)
+        return _clean(value.item(), key, timings)
     return value
 
 
-def to_json(document: dict) -> str:
-    """Deterministic JSON: sorted keys, 12-digit floats; NaN or inf raises SolverError (exit 3)."""
-    return json.dumps(_clean(document), sort_keys=True, indent=2, allow_nan=False) + "\n"
+def to_json(document: dict, *, timings: bool = True) -> str:
+    """Deterministic JSON: sorted keys, 12-digit floats; NaN or inf raises SolverError (exit 3).
+
+    ``timings=False`` writes wall-clock ``*_time_s`` entries as 0, for byte-identical output.
+    """
+    return json.dumps(_clean(document, timings=timings), sort_keys=True, indent=2, allow_nan=False) + "\n"

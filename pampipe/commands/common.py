@@ -28,6 +28,9 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
     """--json and (for commands that draw) --plots DIR."""
     parser.add_argument("--json", action="store_true",
                         help="print exactly one JSON document on stdout; human text goes to stderr")
+    parser.add_argument("--reproducible", action="store_true",
+                        help="write wall-clock timings (*_time_s) as 0 in JSON, so that the same inputs give "
+                             "byte-identical JSON")
     if plots:
         parser.add_argument("--plots", metavar="DIR", type=Path,
                             help="write PNG plots into DIR (created if missing)")
@@ -47,12 +50,12 @@ def emit(args: argparse.Namespace, document: dict, text: str) -> None:
     """Print the JSON document (under --json) or the text report."""
     if getattr(args, "json", False):
         print(text, file=sys.stderr, flush=True)
-        sys.stdout.write(to_json(document))
+        sys.stdout.write(to_json(document, timings=not args.reproducible))
         sys.stdout.flush()
     else:
         print(text, flush=True)
 
 
-def write_json(path: Path, document: dict) -> None:
-    """Write the JSON document to ``path`` atomically."""
-    atomic_write_text(path, to_json(document))
+def write_json(path: Path, document: dict, args: argparse.Namespace) -> None:
+    """Write the JSON document to ``path`` atomically (honouring --reproducible)."""
+    atomic_write_text(path, to_json(document, timings=not args.reproducible))

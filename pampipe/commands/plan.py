@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     document["solver"]["wall_time_s"] = time.perf_counter() - start
     emit(args, document, _text(plan))
     if args.output is not None:
-        write_json(args.output, document)
+        write_json(args.output, document, args)
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.plan import plot_plan
