@@ -70,8 +70,8 @@ def _clean(value, key: str = "result", timings: bool = True):
                               "domain; please report the input that caused it", status="non_finite")
         return float(f"{value:.{JSON_DIGITS}g}")
     if isinstance(value, dict):
-        return {str(k): 0.0 if not timings and str(k).endswith("_time_s") else _clean(v, f"{key}.{k}", timings)
-                for k, v in value.items()}
+        return {str(k): 0.0 if not timings and str(k).endswith("_time_s")
+                else _clean(v, f"{key}.{k}", timings) for k, v in value.items()}
     if isinstance(value, list | tuple):
         return [_clean(v, f"{key}[{i}]", timings) for i, v in enumerate(value)]
     if hasattr(value, "item") and hasattr(value, "dtype"):  # numpy scalar
