@@ -125,5 +125,5 @@ def report(result) -> str:
         [(t.name, t.rmse, after[t.name], noise[t.name].sigma, after[t.name] / noise[t.name].sigma)
          for t in base.tests])
         + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}; "
-        f"total time {result.timings['total_s']:.1f} s")
+        f"total time {result.timings['total_time_s']:.1f} s")
     return "\n\n".join(parts)

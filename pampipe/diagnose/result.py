@@ -122,7 +122,7 @@ class DiagnoseResult:
                          "length_m": None if r.length is None else list(r.length), "anchored": r.anchored,
                          "mean_residual_N": r.mean, "rmse_N": r.rmse, "rows": r.rows, "score": r.score}
                         for r in self.regions],
-            "timings_s": dict(self.timings),
+            "timings": dict(self.timings),
             "source": str(self.source),
         }
 
