@@ -50,7 +50,13 @@ def z_value(confidence: float) -> float:
 
 
 def check_uncertainty(mission) -> None:
-    """--confidence needs at least one source of uncertainty."""
+    """--confidence needs at least one source of uncertainty, and muscles without diagnosed effects."""
+    diagnosed = [seg.pam.name for seg in mission.segments if seg.pam.effects]
+    if diagnosed:
+        raise InputError(
+            f"{mission.source}: --confidence does not yet propagate uncertainty through diagnosed effects; "
+            f"the PAM(s) {', '.join(sorted(set(diagnosed)))} carry an 'effects:' block. Plan without "
+            "--confidence, or use the PAM file written by `pampipe identify`.")
     if all(seg.pam.covariance is None for seg in mission.segments) and all(
             s.friction_sd == 0 for s in mission.route):
         raise InputError(

@@ -9,6 +9,7 @@ import numpy as np
 
 from pampipe.errors import InputError, SolverError
 from pampipe.model import muscle, slip
+from pampipe.plan import diagnosed
 from pampipe.plan.checks import cross_check
 from pampipe.plan.confidence import confidence_pressure
 from pampipe.plan.feasibility import element_feasible, section_reasons
@@ -46,6 +47,13 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
         if worst > CHECK_TOLERANCE:
             raise SolverError(f"the planning NLP disagrees with its cross-checks by {worst:.3g} "
                               f"(relative): {checks}", status="cross_check_failed")
+    effect_segments = diagnosed.diagnosed_segments(mission)
+    if effect_segments:  # the NLP was checked on the baseline model; now the diagnosed one
+        pressure = solution.pressure.copy()
+        for i in effect_segments:
+            pressure[:, i] = np.where(elements.valid[:, i], diagnosed.least_pressure(mission, i, elements),
+                                      solution.pressure[:, i])
+        solution = dataclasses.replace(solution, pressure=pressure)
     nominal = None
     if confidence is not None:
         nominal = solution.pressure
@@ -86,6 +94,10 @@ def _evaluate(mission, e: Elements, pressure: np.ndarray, i: int):
     d = np.where(e.valid[:, i], e.diameter[:, i], 0.5 * (geometry.initial_diameter
                                                          + geometry.largest_diameter))
     load = e.load[:, i]
+    if mission.segments[i].pam.effects:
+        radial = diagnosed.radial_force(mission, i, p, d, mission.kappa * load)
+        capacity = e.friction[:, i] * math.pi * radial
+        return capacity, radial, muscle.contact_pressure(radial, d, e.length[:, i])
     radial = muscle.radial_force(p, d, geometry, theta, pref, mission.kappa * load, contact)
     capacity = slip.holding_capacity(p, d, geometry, theta, pref, load, mission.kappa, e.friction[:, i],
                                      contact)

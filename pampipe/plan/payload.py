@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pampipe.plan.diagnosed import diagnosed_segments
+from pampipe.plan.diagnosed import largest_load as diagnosed_largest_load
 from pampipe.plan.problem import Elements, build_elements, largest_load
 
 
@@ -48,6 +50,8 @@ class PayloadLimit:
 def element_payloads(mission, elements: Elements) -> np.ndarray:
     """Largest payload [kg] of every element at the mission's supply pressure, shape (S, 3)."""
     held = largest_load(mission.supply_pressure, elements)
+    for i in diagnosed_segments(mission):
+        held[:, i] = diagnosed_largest_load(mission, i, elements, mission.supply_pressure)
     usable = elements.valid & (elements.slope > 0) & (held >= 0)
     per_kg = np.where(usable, elements.load_per_payload, 1.0)  # > 0 where valid (μ > 0)
     payload = mission.payload + (held - elements.load) / per_kg
