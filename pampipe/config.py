@@ -234,6 +234,13 @@ class Experiment:
     pam: Pam
     tests: tuple[TestSpec, ...]
     fit: dict[str, Any]
+    pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
+
+    @property
+    def input_files(self) -> list[Path]:
+        """Every file the experiment reads: itself, its PAM file and its CSV files."""
+        own = [self.source] + ([self.pam_file] if self.pam_file is not None else [])
+        return own + [t.data for t in self.tests]
 
 
 # ---------------------------------------------------------------------------------------- mission
@@ -328,7 +335,8 @@ def load_experiment(path: str | Path) -> Experiment:
             raise InputError(f"{path}: tests[{i}].name: duplicate test name {t.name!r}.")
         names.add(t.name)
         tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load))
-    return Experiment(path, pam, tuple(tests), dict(schema.fit or {}))
+    pam_file = _relative(path, schema.pam) if isinstance(schema.pam, str) else None
+    return Experiment(path, pam, tuple(tests), dict(schema.fit or {}), pam_file)
 
 
 def load_mission(path: str | Path) -> Mission:

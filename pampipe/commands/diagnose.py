@@ -44,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--folds {args.folds}: need at least 2 folds for cross-validation.")
     experiment = load_experiment(args.experiment)
     if args.output is not None:
-        check_not_input(args.output, _inputs(experiment), option="-o")
+        check_not_input(args.output, experiment.input_files, option="-o")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
     emit(args, result.as_document(), report(result))
@@ -66,11 +66,6 @@ def say_err(args, text: str) -> None:
     import sys
 
     print(f"diagnose: {text}", file=sys.stderr, flush=True)
-
-
-def _inputs(experiment) -> list[Path]:
-    paths = [experiment.source, *(t.data for t in experiment.tests)]
-    return paths
 
 
 def _parameters(candidate) -> str:

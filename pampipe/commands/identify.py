@@ -15,7 +15,6 @@ from pampipe.identify import identify, parse_fit_options
 from pampipe.identify.pamfile import write_pam
 from pampipe.output import check_not_input
 from pampipe.report import table
-from pampipe.yamlio import load_mapping
 
 NAME = "identify"
 HELP = "fit the bladder moduli to axial and radial test data (IPOPT, Drucker-stable, with uncertainty)"
@@ -48,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
         mode=args.mode, objective=args.objective, degree=args.degree, average_legs=args.average_legs,
         drucker=args.drucker, max_iterations=args.max_iterations)
     if args.output is not None:
-        check_not_input(args.output, _inputs(experiment), option="-o")
+        check_not_input(args.output, experiment.input_files, option="-o")
 
     def progress(text: str) -> None:
         print(f"pampipe identify: {text}", file=sys.stderr, flush=True)
@@ -69,16 +68,6 @@ def run(args: argparse.Namespace) -> int:
         for path in plot_identification(data, result, args.plots):
             say(args, f"wrote {path}")
     return 0
-
-
-def _inputs(experiment) -> list[Path]:
-    """Every file the command reads: the experiment, its PAM file and its CSV files."""
-    inputs = [experiment.source, *(t.data for t in experiment.tests)]
-    raw = load_mapping(experiment.source, what="experiment file").get("pam")
-    if isinstance(raw, str):
-        ref = Path(raw).expanduser()
-        inputs.append(ref if ref.is_absolute() else experiment.source.parent / ref)
-    return inputs
 
 
 def report(result, source: str) -> str:
