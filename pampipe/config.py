@@ -286,6 +286,7 @@ class Segment:
     name: str
     pam: Pam
     mass: float  # [kg]
+    pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
 
 
 @dataclass(frozen=True)
@@ -309,6 +310,11 @@ class Mission:
     tether_drag: float  # [N]
     route: tuple[Section, ...]
     gait: dict[str, Any]
+
+    @property
+    def input_files(self) -> list[Path]:
+        """Every file the mission reads: itself and the PAM files its segments name."""
+        return [self.source, *(seg.pam_file for seg in self.segments if seg.pam_file is not None)]
 
     @property
     def kappa(self) -> float:
@@ -343,7 +349,8 @@ def load_mission(path: str | Path) -> Mission:
     """Read and validate a mission file and the PAM files it names."""
     path = Path(path)
     schema = _validate(path, MissionSchema, load_mapping(path, what="mission file"))
-    segments = tuple(Segment(s.name, _resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass)
+    segments = tuple(Segment(s.name, _resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
+                             _relative(path, s.pam) if isinstance(s.pam, str) else None)
                      for i, s in enumerate(schema.robot.segments))
     if len({s.name for s in segments}) != len(segments):
         raise InputError(f"{path}: robot.segments: segment names must be unique, got "

@@ -67,8 +67,7 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     mission = load_mission(args.mission)
     if args.output is not None:
-        inputs = [mission.source, *(_pam_sources(args.mission))]
-        check_not_input(args.output, inputs, option="-o")
+        check_not_input(args.output, mission.input_files, option="-o")
     plan = plan_mission(mission, payload=args.payload, confidence=args.confidence, method=args.solver,
                         with_max_payload=args.max_payload)
     document = plan.as_document()
@@ -87,15 +86,6 @@ def run(args: argparse.Namespace) -> int:
         raise InfeasibleError(f"{len(bad)} of {len(plan.sections)} sections cannot be planned "
                               f"({', '.join(bad)}); the reasons are listed above.")
     return 0
-
-
-def _pam_sources(mission_path: Path) -> list[Path]:
-    """PAM files a mission names (so -o cannot overwrite them)."""
-    from pampipe.yamlio import load_mapping
-
-    raw = load_mapping(mission_path, what="mission file")
-    refs = [s.get("pam") for s in raw.get("robot", {}).get("segments", []) if isinstance(s, dict)]
-    return [mission_path.parent / r for r in refs if isinstance(r, str)]
 
 
 def _text(plan) -> str:
