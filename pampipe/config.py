@@ -178,6 +178,7 @@ def build_pam(schema: PamSchema) -> Pam:
     if schema.moduli is not None:
         m = schema.moduli
         scale = to_si(f"1 {m.unit}", "pressure", where="moduli.unit")
+        _check_moduli_magnitude(m, scale)
         contact = None
         if m.contact is not None:
             contact = scale * np.concatenate([m.contact.axial.a, m.contact.axial.b,
@@ -192,6 +193,22 @@ def build_pam(schema: PamSchema) -> Pam:
                 raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
             covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
     return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects))
+
+
+#: Largest moduli coefficient accepted [Pa]: 1 TPa, far above any elastomer (latex ≈ 1 MPa) or fibre.
+MODULI_LIMIT = 1e12
+
+
+def _check_moduli_magnitude(m: ModuliSchema, scale: float) -> None:
+    laws = {"axial": m.axial, "hoop": m.hoop}
+    if m.contact is not None:
+        laws |= {"contact.axial": m.contact.axial, "contact.hoop": m.contact.hoop}
+    for name, law in laws.items():
+        for part in ("a", "b"):
+            for j, value in enumerate(getattr(law, part)):
+                if abs(value) * scale > MODULI_LIMIT:
+                    raise ValueError(f"moduli.{name}.{part}[{j}]: {value:g} {m.unit} is not a plausible "
+                                     f"modulus; coefficients must be within ±{MODULI_LIMIT:g} Pa")
 
 
 # ------------------------------------------------------------------------------------- experiment
