@@ -107,7 +107,7 @@ class ContactSchema(Strict):
 
 class ModuliSchema(Strict):
     unit: str = "MPa"
-    reference_pressure: PositivePressure = 1e6
+    reference_pressure: quantity("pressure", ge=1e3, le=1e8, unit="Pa") = 1e6  # P_ref: 1 kPa .. 100 MPa
     axial: LawSchema
     hoop: LawSchema
     contact: ContactSchema | None = None
