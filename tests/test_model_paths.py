@@ -83,3 +83,14 @@ def test_angle_conventions_give_one_muscle():
     b = Geometry(0.314325, 0.05715, np.radians(24.08), 0.003175)
     assert a.braid_length == pytest.approx(b.braid_length, rel=1e-12)
     assert a.turns == pytest.approx(b.turns, rel=1e-12)
+
+
+def test_smoothed_contact_switch_never_overflows(radial_pam):
+    """softplus s·log(1 + e^(u/s)) stays finite for u/s ≫ 700 and tends to max(0, u) as s → 0."""
+    g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
+    pressures = np.array([0.0, 50e3, 400e3, 7e5])
+    exact = muscle.radial_force(pressures, 0.0762, g, theta)
+    smooth = muscle.radial_force(pressures, 0.0762, g, theta, smoothing=1e-3)  # u/s up to ~1e7
+    assert np.all(np.isfinite(smooth))
+    # the softplus exceeds max(0, u) by at most s·log 2 (at u = 0), here 7e-4 N
+    np.testing.assert_allclose(smooth, exact, rtol=0, atol=1e-3 * np.log(2) + 1e-9)

@@ -35,6 +35,7 @@ import casadi as ca
 import numpy as np
 
 from pampipe.identify.statistics import SUB_BINS
+from pampipe.model.ops import softplus
 
 #: Width of the softplus in (x − x_a)₊, in units of P_ref (1e-3 → 1 kPa at P_ref = 1 MPa).
 SMOOTH_X = 1e-3
@@ -141,11 +142,6 @@ class Problem:
     n_x: int
     n_g: int
     n_nodes: int  # symbolic size of the objective (independent of the row count)
-
-
-def softplus(t):
-    """log(1 + eˣ), overflow-free."""
-    return ca.fmax(t, 0) + ca.log1p(ca.exp(-ca.fabs(t)))
 
 
 def sigmoid(t):

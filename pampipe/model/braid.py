@@ -44,9 +44,14 @@ def dlength_ddiameter(diameter, geometry):
     return -(n_pi**2) * diameter / length_at_diameter(diameter, geometry)
 
 
-def amplification_factor(diameter, geometry):
-    """A(D) = 2πN²D / L(D) = 2N tan α = (2/π)(−dL/dD) [-] (physics.md §5.3, §5.5)."""
-    return 2 * math.pi * turns(geometry) ** 2 * diameter / length_at_diameter(diameter, geometry)
+def amplification_factor(diameter, geometry, length=None):
+    """A(D) = 2πN²D / L(D) = 2N tan α = (2/π)(−dL/dD) [-] (physics.md §5.3, §5.5).
+
+    ``length`` replaces L(D) where the anchored length differs (a stretching braid, physics.md §9b).
+    """
+    if length is None:
+        length = length_at_diameter(diameter, geometry)
+    return 2 * math.pi * turns(geometry) ** 2 * diameter / length
 
 
 def enclosed_volume(length, geometry):

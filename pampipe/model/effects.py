@@ -27,7 +27,7 @@ from typing import Any, ClassVar
 
 from pampipe.model import ops
 from pampipe.model.bladder import split_moduli, strains, stress
-from pampipe.model.braid import braid_length, diameter_at_length, turns
+from pampipe.model.braid import amplification_factor, braid_length, diameter_at_length, turns
 from pampipe.model.muscle import (
     anchoring_pressure,
     axial_levers,
@@ -259,8 +259,8 @@ class WallFriction(Effect):
     tests = frozenset({"radial"})
 
     def radial_factor(self, state, values):
-        return 1 / (1 + values["lock"] * math.pi * _amplification(state.diameter, state.length,
-                                                                 state.geometry))
+        amp = amplification_factor(state.diameter, state.geometry, state.length)
+        return 1 / (1 + values["lock"] * math.pi * amp)
 
 
 #: The registry: every effect the package knows, by name (interfaces.md §6 names).
@@ -315,11 +315,6 @@ def _stretch(active, tension):
         if term is not None:
             total = term if total is None else total + term
     return total
-
-
-def _amplification(diameter, length, geometry):
-    """A = 2πN²D/L [-] (physics.md §5.3) at an explicit anchored length."""
-    return 2 * math.pi * turns(geometry) ** 2 * diameter / length
 
 
 def _levers(length, diameter, geometry, stretched):
@@ -400,7 +395,7 @@ def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pre
                                                     reference_pressure, anchoring)
     state = State(pressure, length, diameter, geometry, theta, reference_pressure, load, in_pipe=True)
     holding = _sum(active, "axial_increment", state, holding)
-    unclipped = _amplification(diameter, length, geometry) * holding
+    unclipped = amplification_factor(diameter, geometry, length) * holding
     for effect, values in active:
         factor = effect.radial_factor(state, values)
         if factor is not None:
@@ -408,8 +403,7 @@ def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pre
     unclipped = _sum(active, "radial_increment", state, unclipped)
     if smoothing is None:
         return ops.fmax(unclipped, 0)
-    # softplus s·log(1 + exp(u/s)), written so that it never overflows
-    return ops.fmax(unclipped, 0) + smoothing * ops.log1p(ops.exp(-ops.fabs(unclipped) / smoothing))
+    return smoothing * ops.softplus(unclipped / smoothing)
 
 
 def anchoring_pressure_with_effects(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,

@@ -146,7 +146,7 @@ def radial_force(pressure, diameter, geometry, theta, reference_pressure=1e6, ax
     unclipped = amplification_factor(diameter, geometry) * holding
     if smoothing is None:
         return ops.fmax(unclipped, 0)
-    return smoothing * ops.log1p(ops.exp(unclipped / smoothing))
+    return smoothing * ops.softplus(unclipped / smoothing)
 
 
 def radial_force_terms(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):

@@ -32,3 +32,8 @@ fmax = _pick(np.maximum, ca.fmax)
 fmin = _pick(np.minimum, ca.fmin)
 sin = _pick(np.sin, ca.sin)
 fabs = _pick(np.abs, ca.fabs)
+
+
+def softplus(x):
+    """log(1 + eˣ), written as max(x, 0) + log1p(e^−|x|) so that it never overflows."""
+    return fmax(x, 0) + log1p(exp(-fabs(x)))
