@@ -1,6 +1,6 @@
 """Command-line entry point: argument parsing and exit codes, no physics.
 
-Exit codes (interfaces.md §5): 0 success, 2 bad input, 3 no solution (infeasible or solver
+Exit codes (docs/commands.md §5): 0 success, 2 bad input, 3 no solution (infeasible or solver
 failure), 130 interrupted. A user mistake never prints a Python traceback.
 """
 

@@ -1,4 +1,4 @@
-"""Strict pydantic schemas for the PAM, experiment and mission files (interfaces.md §1-§4).
+"""Strict pydantic schemas for the PAM, experiment and mission files (docs/formats.md §1-§4).
 
 Each ``load_*`` function reads a YAML file, validates it (unknown keys, units, ranges) and returns
 frozen SI objects. Any problem raises :class:`InputError` naming the file, the key, the value and
@@ -135,7 +135,7 @@ class PamSchema(Strict):
     geometry: GeometrySchema
     moduli: ModuliSchema | None = None
     uncertainty: UncertaintySchema | None = None
-    effects: dict[str, dict[str, Any]] | None = None  # physics.md §9; checked by build_effects
+    effects: dict[str, dict[str, Any]] | None = None  # docs/physics.md §9; checked by build_effects
 
 
 def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, float]] | None:
@@ -335,7 +335,7 @@ class Mission:
 
     @property
     def kappa(self) -> float:
-        """κ of the no-slip condition (physics.md §8)."""
+        """κ of the no-slip condition (docs/physics.md §8)."""
         return LOAD_PATH_KAPPA[self.load_path]
 
 

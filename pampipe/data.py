@@ -1,6 +1,6 @@
 """Experiment data: CSV files → SI arrays, with errors that name the file, the line and the column.
 
-CSV format (interfaces.md §3): one header row, every column named ``quantity [unit]``
+CSV format (docs/formats.md §3): one header row, every column named ``quantity [unit]``
 (``pressure [kPa]``, ``length [mm]``, ``force [N]``, ``time [s]``); rows in recorded order; blank
 lines are ignored. Columns with other names are allowed (they must still be numeric) and ignored.
 

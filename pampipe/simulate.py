@@ -1,4 +1,4 @@
-"""Forward simulation of one muscle anchored in a pipe (physics.md §5-§7): the `simulate` command's core."""
+"""Forward simulation of one muscle anchored in a pipe (docs/physics.md §5-§7): `simulate`'s core."""
 
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ class AnchoredCase:
         return self.pressures > self.anchoring_pressure
 
     def as_document(self) -> dict:
-        """The `simulate` JSON document of interfaces.md §6."""
+        """The `simulate` JSON document of docs/commands.md §6."""
         points = []
         for i, p in enumerate(self.pressures):
             points.append({
@@ -65,7 +65,7 @@ def require_moduli(pam: Pam, *, source: str = "PAM file") -> None:
 
 def simulate_anchored(pam: Pam, *, pipe_diameter: float, axial_load: float = 0.0,
                       pressures=PAPER_PRESSURES, paper_literal: bool = False) -> AnchoredCase:
-    """Anchoring pressure, anchored length, A, and F_r, f_r, p_c at each pressure (physics.md §5)."""
+    """Anchoring pressure, anchored length, A, and F_r, f_r, p_c at each pressure (docs/physics.md §5)."""
     require_moduli(pam)
     geometry, theta = pam.geometry, pam.moduli.as_vector()
     pref, contact = pam.moduli.reference_pressure, pam.moduli.contact_vector()
@@ -75,7 +75,7 @@ def simulate_anchored(pam: Pam, *, pipe_diameter: float, axial_load: float = 0.0
     length = float(braid.length_at_diameter(pipe_diameter, geometry))
     amp = float(braid.amplification_factor(pipe_diameter, geometry))
     contact = contact if np.any(contact) else None
-    if pam.effects:  # physics.md §9 effects written by `diagnose`
+    if pam.effects:  # docs/physics.md §9 effects written by `diagnose`
         anchoring = float(effects.anchoring_pressure_with_effects(pipe_diameter, geometry, theta, pref,
                                                                   axial_load, contact, pam.effects))
         radial = effects.radial_force_with_effects(pressures, pipe_diameter, geometry, theta, pref,

@@ -27,7 +27,7 @@ SI_UNITS = {
     "velocity": "m/s",
     "sonic conductance": "m**3/(s*Pa)",  # ISO 6358 C: volume flow per upstream pressure
     "temperature": "K",
-    "compliance": "1/N",  # fibre strain per newton (physics.md §9b braid extensibility)
+    "compliance": "1/N",  # fibre strain per newton (docs/physics.md §9b braid extensibility)
 }
 
 

@@ -16,13 +16,13 @@ PROBLEMS = ROOT / "problems"
 
 @pytest.fixture(scope="session")
 def radial_pam():
-    """The paper's radial-test muscle with the demo moduli (physics.md §7)."""
+    """The paper's radial-test muscle with the demo moduli (docs/physics.md §7)."""
     return load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
 
 
 @pytest.fixture(scope="session")
 def axial_load_pam():
-    """The paper's axial-load test muscle (physics.md §5.8)."""
+    """The paper's axial-load test muscle (docs/physics.md §5.8)."""
     return load_pam(PROBLEMS / "pams" / "paper-axial-load-pam.yaml")
 
 

@@ -1,4 +1,5 @@
-"""The effect library (physics.md §9): exact null reduction, closed forms, two evaluation paths, PAM files."""
+"""The effect library (docs/physics.md §9): exact null reduction, closed forms, two evaluation paths,
+PAM files."""
 
 from __future__ import annotations
 
@@ -86,7 +87,7 @@ def test_braid_friction_adds_the_coulomb_band(radial_pam):
 
 
 def test_axial_preload_shifts_force_and_anchoring_by_the_closed_forms(radial_pam):
-    """§9g: F_r shifts by −A·F_a,eff change and P_anchor by ΔF_a/∂_P F_ax (physics.md §5.8, §7)."""
+    """§9g: F_r shifts by −A·F_a,eff change and P_anchor by ΔF_a/∂_P F_ax (docs/physics.md §5.8, §7)."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     v = VALUES["axial_preload"]
     for d in PIPES:

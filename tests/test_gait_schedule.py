@@ -36,7 +36,7 @@ def demo_gaits(demo):
 
 
 def _ideal_stride(result):
-    need = result.needs[1]  # the middle segment sets the stride (physics.md §8)
+    need = result.needs[1]  # the middle segment sets the stride (docs/physics.md §8)
     return need.rest_length - need.anchored_length
 
 

@@ -1,6 +1,6 @@
 """Moduli identification: recovery from generated data, uncertainty coverage, Drucker, modes, build size.
 
-Data come from :mod:`pampipe.synth` with known moduli (the demo moduli of physics.md §7) and known
+Data come from :mod:`pampipe.synth` with known moduli (the demo moduli of docs/physics.md §7) and known
 Gaussian force noise σ, so every expected answer is known independently of the fitting code.
 """
 
@@ -140,7 +140,7 @@ def test_per_pipe_fits_radial_only_data_to_the_noise(radial_pam):
     result = identify(data, FitOptions(mode="per_pipe"))
     for test in result.tests:  # 440 rows each: ±10 % is 3 SE of σ̂
         assert 0.9 * SIGMA <= test.rmse <= 1.1 * SIGMA
-    # two numbers per (pipe, load) line, physics.md §6: 2 pipes x 2 loads share 2 x 2 slopes/offsets
+    # two numbers per (pipe, load) line, docs/physics.md §6: 2 pipes x 2 loads share 2 x 2 slopes/offsets
     assert result.uncertainty.rank_deficient
     assert result.uncertainty.rank <= 4
     assert any("determine only" in w for w in result.warnings)
@@ -148,7 +148,8 @@ def test_per_pipe_fits_radial_only_data_to_the_noise(radial_pam):
 
 
 def test_contact_increments_are_recovered(radial_pam):
-    """Data with contact stiffening ΔE2 = 0.8 MPa (physics.md §9d): contact mode finds it, shared cannot."""
+    """Data with contact stiffening ΔE2 = 0.8 MPa (docs/physics.md §9d): contact mode finds it,
+    shared cannot."""
     k = radial_pam.moduli.degree + 1
     delta = np.zeros(4 * k)
     delta[2 * k] = 0.8e6

@@ -63,7 +63,7 @@ def test_output_pam_file_round_trips_and_simulates(fitted):
     assert pam.covariance is not None and pam.covariance.shape == (16, 16)
     simulated = run_cli("simulate", out, "--pipe-diameter", "3 in", "--json")
     assert simulated.returncode == 0, simulated.stderr
-    # the generating moduli anchor at 117.0 kPa in the 3 in pipe (physics.md §7); the fit is close
+    # the generating moduli anchor at 117.0 kPa in the 3 in pipe (docs/physics.md §7); the fit is close
     assert json.loads(simulated.stdout)["anchoring_pressure_Pa"] == pytest.approx(117e3, rel=0.01)
 
 

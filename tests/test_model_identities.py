@@ -1,4 +1,4 @@
-"""Model identities: two derivations of one quantity must agree (physics.md §3, §4.4, §5.3, §5.7, §7)."""
+"""Model identities: two derivations of one quantity must agree (docs/physics.md §3, §4.4, §5.3, §5.7, §7)."""
 
 from __future__ import annotations
 

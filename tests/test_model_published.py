@@ -1,4 +1,4 @@
-"""The model against numbers printed in physics.md (§4.4, §5.5, §7, §8), all from the paper's muscles.
+"""The model against numbers printed in docs/physics.md (§4.4, §5.5, §7, §8), all from the paper's muscles.
 
 Tolerances are half a unit of the last digit printed in the spec, unless stated otherwise.
 """

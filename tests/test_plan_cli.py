@@ -1,4 +1,5 @@
-"""`pampipe plan` end to end: table, JSON (interfaces.md §6), -o, --plots, exit 3 reasons, exit 2 errors."""
+"""`pampipe plan` end to end: table, JSON (docs/commands.md §6), -o, --plots, exit 3 reasons,
+exit 2 errors."""
 
 from __future__ import annotations
 
@@ -87,7 +88,7 @@ def test_each_infeasibility_reason_and_exit_3():
     assert "reach at the 300 kPa supply" in reasons["wide-run"]
     assert "can ever open" in reasons["header"]
     assert "friction is zero" in reasons["oily-bend"]
-    # the pressure that touches the 4.5 in wall, from the closed form of physics.md §7
+    # the pressure that touches the 4.5 in wall, from the closed form of docs/physics.md §7
     pam = load_mission(SURVEY).segments[0].pam
     touch = muscle.anchoring_pressure(4.5 * 0.0254, pam.geometry, pam.moduli.as_vector(), 1e6)
     assert f"needs {touch / 1e3:.4g} kPa" in reasons["wide-run"]

@@ -1,7 +1,8 @@
 """`pampipe.plan` as a library: the NLP against the closed form and root finding, limits, monotonicity.
 
-Independent references: the closed form of physics.md §8 (P_req = [W(SF/(μπA) + κ) − F_ax(0, L_p)]/∂_P F_ax),
-scipy's brentq on the full model's holding capacity, and the published anchoring pressures of physics.md §7.
+Independent references: the closed form of docs/physics.md §8
+(P_req = [W(SF/(μπA) + κ) − F_ax(0, L_p)]/∂_P F_ax), scipy's brentq on the full model's holding
+capacity, and the published anchoring pressures of docs/physics.md §7.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ def random_mission(rng, pam, sections=5, *, contact=False) -> Mission:
     if contact:
         theta = pam.moduli.as_vector()
         delta = np.zeros_like(theta)
-        delta[8] = 4e6  # a much stiffer hoop law once anchored (physics.md §9d) [Pa]
+        delta[8] = 4e6  # a much stiffer hoop law once anchored (docs/physics.md §9d) [Pa]
         pam = dataclasses.replace(pam, moduli=Moduli.from_vector(theta, contact=delta))
     segments = tuple(Segment(f"PAM{i + 1}", pam, rng.uniform(0.0, 1.5)) for i in range(3))
     route = tuple(Section(f"s{k}", 1.0, rng.uniform(2.9, 3.8) * INCH, rng.uniform(-math.pi / 2, math.pi / 2),
@@ -41,7 +42,7 @@ def random_mission(rng, pam, sections=5, *, contact=False) -> Mission:
 
 
 def closed_form(mission, s, i):
-    """max(P_req, P_a(κW)) from physics.md §8 / §7 for segment i in section s."""
+    """max(P_req, P_a(κW)) from docs/physics.md §8 / §7 for segment i in section s."""
     sec, seg = mission.route[s], mission.segments[i]
     m = seg.pam.moduli
     total = sum(x.mass for x in mission.segments) + mission.payload
@@ -115,7 +116,8 @@ def test_capacity_equals_safety_factor_times_hold_where_slip_binds():
 
 
 def test_limit_case_needs_only_the_anchoring_pressure():
-    """Horizontal, massless, no payload or tether: W = 0, so P = P_anchor (117, 165 kPa; physics.md §7)."""
+    """Horizontal, massless, no payload or tether: W = 0, so P = P_anchor (117, 165 kPa;
+    docs/physics.md §7)."""
     base = load_mission(DEMO)
     segments = tuple(dataclasses.replace(s, mass=0.0) for s in base.segments)
     route = tuple(dataclasses.replace(s, incline=0.0) for s in base.route)
@@ -125,7 +127,7 @@ def test_limit_case_needs_only_the_anchoring_pressure():
         for seg in sec.segments:
             assert seg.required_hold == 0.0
             assert seg.binding == "contact"
-            # physics.md §7 prints the two anchoring pressures to 0.01 kPa
+            # docs/physics.md §7 prints the two anchoring pressures to 0.01 kPa
             assert seg.pressure == pytest.approx(published, abs=10.0)
             assert seg.pressure == pytest.approx(seg.anchoring_pressure, rel=1e-12)
 

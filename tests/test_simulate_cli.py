@@ -19,7 +19,7 @@ AXIAL = PROBLEMS / "pams" / "paper-axial-load-pam.yaml"
 
 
 def test_simulate_json_document(axial_load_pam):
-    """The issue's 'done when' command prints the interfaces.md §6 document with the model's numbers."""
+    """The issue's 'done when' command prints the docs/commands.md §6 document with the model's numbers."""
     out = run_cli("simulate", AXIAL, "--pipe-diameter", "3 in", "--axial-load", "1024.74 N",
                   "--pressure", "400 kPa", "--json")
     assert out.returncode == 0, out.stderr
@@ -32,7 +32,7 @@ def test_simulate_json_document(axial_load_pam):
     g, theta = axial_load_pam.geometry, axial_load_pam.moduli.as_vector()
     length = braid.length_at_diameter(0.0762, g)
     assert doc["pipe_diameter_m"] == pytest.approx(0.0762, rel=1e-11)
-    assert doc["anchored_length_m"] == pytest.approx(288.88e-3, abs=0.005e-3)  # physics.md §7
+    assert doc["anchored_length_m"] == pytest.approx(288.88e-3, abs=0.005e-3)  # docs/physics.md §7
     expected = muscle.radial_force(4e5, 0.0762, g, theta, 1e6, 1024.74)
     # JSON carries 12 significant digits (pampipe.output.JSON_DIGITS): compare to 1e-11 relative
     assert point["radial_force_N"] == pytest.approx(expected, rel=1e-11)

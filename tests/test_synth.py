@@ -23,7 +23,7 @@ def test_protocol_shape_and_noise_free_values(radial_pam):
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     model = muscle.axial_force(axial["pressure"], axial["length"], g, theta)
     np.testing.assert_allclose(axial["force"], model)
-    # each leg spans L0 .. L_free(P); at 689 kPa the demo muscle contracts to 209.3 mm (physics.md §7)
+    # each leg spans L0 .. L_free(P); at 689 kPa the demo muscle contracts to 209.3 mm (docs/physics.md §7)
     top = axial["pressure"] == axial["pressure"].max()
     assert axial["length"][top].max() == pytest.approx(g.initial_length)
     shortest = free_length(Protocol().pressures[-1], g, theta)[0]

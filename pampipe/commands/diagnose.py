@@ -20,7 +20,7 @@ HELP = "name the effect missing from the model of an experiment, refit with it, 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("experiment", type=Path, metavar="EXPERIMENT.yaml",
-                        help="experiment file (interfaces.md §3): a PAM and its axial and radial tests")
+                        help="experiment file (docs/formats.md §3): a PAM and its axial and radial tests")
     parser.add_argument("-o", "--output", type=Path, metavar="PAM_OUT.yaml",
                         help="write the augmented PAM file (refitted moduli: and the selected effects: "
                              "block), "
@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--folds", type=int, default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
-    parser.epilog = ("Effects (physics.md §9): "
+    parser.epilog = ("Effects (docs/physics.md §9): "
                      + "; ".join(f"{e.name}: {e.summary}" for e in LIBRARY.values())
                      + ". Exit codes: 0 success (including 'none'), 2 bad input, 3 solver failure.")
 

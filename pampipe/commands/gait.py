@@ -22,7 +22,7 @@ HELP = ("the 7-step peristaltic schedule of a mission section: steps, pressures,
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("mission", type=Path, metavar="MISSION.yaml",
-                        help="mission file (interfaces.md §4); its optional gait: block sets the valves")
+                        help="mission file (docs/formats.md §4); its optional gait: block sets the valves")
     parser.add_argument("--section", metavar="NAME", help="route section to walk (default: the first)")
     parser.add_argument("--optimal", action="store_true",
                         help="also solve the minimum-time gait (CasADi/IPOPT) and compare the speeds")

@@ -1,4 +1,4 @@
-"""`pampipe plan`: minimum anchoring pressure per route section and segment (physics.md §8)."""
+"""`pampipe plan`: minimum anchoring pressure per route section and segment (docs/physics.md §8)."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ HELP = "minimum anchoring pressure per route section and segment, with reasons w
 EPILOG = """\
 Every segment is the only anchor in some gait step, so in each section each segment must hold the whole
 load W = g(M|sin(incline)| + friction cos(incline)(M - m_segment)) + tether_drag alone, with
-friction*pi*F_r >= safety_factor*W (physics.md section 8). The plan is the least such pressure, never
+friction*pi*F_r >= safety_factor*W (docs/physics.md section 8). The plan is the least such pressure, never
 below the pressure at which the loaded muscle touches the wall.
 
 examples:
@@ -34,7 +34,8 @@ exit codes: 0 every section planned; 2 bad input; 3 some section infeasible (one
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.epilog = EPILOG
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
-    parser.add_argument("mission", type=Path, metavar="MISSION.yaml", help="mission file (interfaces.md §4)")
+    parser.add_argument("mission", type=Path, metavar="MISSION.yaml",
+                        help="mission file (docs/formats.md §4)")
     parser.add_argument("-o", "--output", type=Path, metavar="PLAN.json",
                         help="also write the JSON plan to this file (atomically)")
     parser.add_argument("--payload", type=quantity_type("mass", "--payload"), metavar="M",

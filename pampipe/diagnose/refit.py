@@ -7,8 +7,8 @@ mean squared force residual over the rows with non-zero weight,
 
 with F_model from :func:`pampipe.model.effects.axial_force_with_effects` (axial rows) and
 :func:`~pampipe.model.effects.radial_force_with_effects` (radial rows, softplus contact switch of
-width ``smoothing``). Bounds as in physics.md §6 (a_k0 ∈ [0, 50] MPa, others ±50 MPa) plus each
-parameter's own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a (P, L) grid (physics.md §6).
+width ``smoothing``). Bounds as in docs/physics.md §6 (a_k0 ∈ [0, 50] MPa, others ±50 MPa) plus each
+parameter's own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a (P, L) grid (docs/physics.md §6).
 
 Built once per (effect, wall, degree, rows): a per-row residual ``casadi.Function`` is mapped over
 the rows with ``.map(n)``, so the build size does not grow with n; every row value, the weights,
@@ -162,7 +162,7 @@ def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_ra
 
 @cache
 def _drucker_function(wall: str, degree: int) -> ca.Function:
-    """(P, L, θ_MPa, g, P_ref) -> [E₁ᵗ, E₂ᵗ] [MPa] (per-direction Drucker, physics.md §6)."""
+    """(P, L, θ_MPa, g, P_ref) -> [E₁ᵗ, E₂ᵗ] [MPa] (per-direction Drucker, docs/physics.md §6)."""
     pressure, length, pref = ca.SX.sym("P"), ca.SX.sym("L"), ca.SX.sym("pref")
     theta = ca.SX.sym("theta", 4 * (degree + 1))
     g, geometry = symbolic_geometry(wall)

@@ -1,4 +1,4 @@
-"""Frozen results of `diagnose` and their JSON document (interfaces.md §6)."""
+"""Frozen results of `diagnose` and their JSON document (docs/commands.md §6)."""
 
 from __future__ import annotations
 
@@ -132,7 +132,7 @@ def _number(value: float) -> str:
 
 
 def pam_text(pam: Pam, *, header: str = "") -> str:
-    """A PAM file (interfaces.md §2) with ``moduli:`` and the ``effects:`` block, full precision."""
+    """A PAM file (docs/formats.md §2) with ``moduli:`` and the ``effects:`` block, full precision."""
     g, m = pam.geometry, pam.moduli
     k = m.degree + 1
     theta = m.as_vector() / MPA

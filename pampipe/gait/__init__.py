@@ -1,6 +1,6 @@
 """`pampipe gait`: the peristaltic schedule, its pneumatic timing, and the time-optimal gait.
 
-* :func:`sequential_gait`: one transition at a time, valves fully open (physics.md §8).
+* :func:`sequential_gait`: one transition at a time, valves fully open (docs/physics.md §8).
 * :func:`optimal_gait`: the minimum-time cycle that never lets go of the wall (:mod:`.optimal`).
 """
 

@@ -4,8 +4,8 @@ Works on floats, numpy arrays and CasADi symbols (the optimal-control problem us
 Pressures named ``pressure`` are gauge [Pa]; the gas law uses absolute pressure p = P + p_atm.
 
 * **Chamber volume** V(P) [m³] is the gas volume inside the braid, V = πD²L/4 − V_b (incompressible
-  bladder, physics.md §4.3). Below the anchoring pressure P_a the muscle is free and follows the
-  free-contraction curve L_free(P) (physics.md §7); above it the braid is held by the pipe, so
+  bladder, docs/physics.md §4.3). Below the anchoring pressure P_a the muscle is free and follows the
+  free-contraction curve L_free(P) (docs/physics.md §7); above it the braid is held by the pipe, so
   L = L(D_p) and V = V_p is constant. V(P) = V_p − (V_p − V₀)·q(z), z = max(0, 1 − P/P_a), where q is
   a polynomial with q(0) = 0 and q(1) = 1 fitted (least squares) to the exact free-contraction volume.
   The corner of max at contact is rounded over w = 0.4 % of P_a, z = ½(y + √(y² + w²)), so that the

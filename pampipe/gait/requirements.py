@@ -1,7 +1,7 @@
 """What each muscle must do in one pipe section: contact pressure, no-slip pressure, planned target.
 
 The planned pressures (and the reason a section cannot be crossed) come from the planner,
-:func:`pampipe.plan.plan_mission`; the thresholds from the model (physics.md §7-§8): contact
+:func:`pampipe.plan.plan_mission`; the thresholds from the model (docs/physics.md §7-§8): contact
 (anchoring) at P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
 """
 

@@ -1,4 +1,4 @@
-"""The 7-step peristaltic gait (physics.md §8): its phases, their simulation and the worm's positions.
+"""The 7-step peristaltic gait (docs/physics.md §8): its phases, their simulation and the worm's positions.
 
 Segments are indexed 0, 1, 2 = PAM1 (rear), PAM2, PAM3 (front). A gait is a :class:`ControlPlan`:
 six phases (the transitions into steps II…VII; step I is the state a cycle starts from), each
@@ -12,7 +12,7 @@ u < 0 vents). In each phase every segment has one role:
 * ``off``: the idle middle segment: valve closed (deflated, rigid at L₀, between two anchors).
 
 Positions come from the pressures alone: a segment touching the wall (P ≥ P_a) keeps both ends
-fixed (no slip), a free one has its free-contraction length L_free(P) (physics.md §7), and the
+fixed (no slip), a free one has its free-contraction length L_free(P) (docs/physics.md §7), and the
 chain rear–PAM1–PAM2–PAM3–front is rebuilt from an anchor that persists between two samples.
 """
 
@@ -30,7 +30,7 @@ from pampipe.gait.requirements import MuscleNeed
 from pampipe.model.functions import free_length
 
 STEPS = ("I", "II", "III", "IV", "V", "VI", "VII")
-#: anchored segments in each step (physics.md §8, paper Fig. 18)
+#: anchored segments in each step (docs/physics.md §8, paper Fig. 18)
 ANCHORS = ((1,), (0, 1), (0,), (0, 2), (2,), (1, 2), (1,))
 POSITION_KEYS = ("rear", "joint_12", "joint_23", "front")
 MIDDLE = 1
@@ -170,7 +170,7 @@ def positions(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> tuple[np.
 
 def sequential_plan(needs: tuple[MuscleNeed, ...], *, supply: float, options: GaitOptions) -> ControlPlan:
     """One thing at a time, valves fully open: fill each new anchor to its planned pressure, then
-    vent the released one below ``vented_pressure`` (physics.md §8: T_cycle = Σ of the six steps).
+    vent the released one below ``vented_pressure`` (docs/physics.md §8: T_cycle = Σ of the six steps).
     """
     off = options.vented_pressure
     level = np.array([off, needs[MIDDLE].target_pressure, off])

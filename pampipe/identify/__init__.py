@@ -1,4 +1,4 @@
-"""Moduli identification (physics.md §6): `identify(data, options) -> IdentifyResult`.
+"""Moduli identification (docs/physics.md §6): `identify(data, options) -> IdentifyResult`.
 
 Modules: :mod:`.options` (the ``fit:`` block), :mod:`.statistics` (data → sufficient statistics),
 :mod:`.nlp` (the cached IPOPT problem), :mod:`.uncertainty`, :mod:`.predict` (model forces and

@@ -48,7 +48,7 @@ LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
 
 
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
-    """Fit the moduli of ``data.pam`` to the experiment's tests (physics.md §6)."""
+    """Fit the moduli of ``data.pam`` to the experiment's tests (docs/physics.md §6)."""
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
     _check(data, options)
@@ -350,7 +350,8 @@ def _warnings(status, u, names, margin, options, structure) -> list[str]:
         out.append(f"IPOPT stopped with {status}: the solution is acceptable but not fully converged.")
     if u.rank_deficient:
         out.append(f"the data determine only {u.rank} of {len(names)} parameter combinations; individual "
-                   "coefficients without an interval are not identifiable from these tests (physics.md §6); "
+                   "coefficients without an interval are not identifiable from these tests "
+                   "(docs/physics.md §6); "
                    "see the identifiable combinations, or add a prior (fit.prior).")
     bound = [name for name, flag in zip(names, u.at_bound, strict=True) if flag]
     if bound:

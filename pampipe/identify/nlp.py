@@ -1,4 +1,4 @@
-"""The identification NLP (physics.md §6), built once per problem structure and cached.
+"""The identification NLP (docs/physics.md §6), built once per problem structure and cached.
 
 Everything that depends on the data enters through the parameter vector p (the sufficient
 statistics of :mod:`pampipe.identify.statistics`, the Drucker grid rows, scales); the symbolic
@@ -16,7 +16,7 @@ Sum of squares:
   SSE_b = n(m − ȳ)² + w[2(m − ȳ)u₂Σd² + u₁²Σd² + u₂²Σd⁴ + 2u₁u₂Σd³ − 2u₁Σde − 2u₂Σd²e] + Σe²,
   exact (= Σ(u(x_i) − y_i)²) in a bin wholly above anchoring (w = 1) and (= Σy_i²) wholly below
   (w = 0); only a bin that straddles the anchoring pressure is smoothed.
-  Above anchoring u = c₀ + c₁x, plus, with contact increments (physics.md §9d),
+  Above anchoring u = c₀ + c₁x, plus, with contact increments (docs/physics.md §9d),
   (x − x_a)₊(e₀ + e₁x) where x_a = −c₀/c₁ is the anchoring pressure; (·)₊ is a softplus of width
   ``SMOOTH_X`` (1 kPa).
 

@@ -17,7 +17,7 @@ fit:
   max_iterations: 1000
   tolerance: 1.0e-10
 ```
-Bounds follow physics.md §6: constant-term coefficients a_k0 ∈ [0, 50] MPa, all others ∈ [−50, 50] MPa.
+Bounds follow docs/physics.md §6: constant-term coefficients a_k0 ∈ [0, 50] MPa, all others ∈ [−50, 50] MPa.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Writing the fitted muscle as a PAM file (interfaces.md §2) that `simulate` and `plan` read."""
+"""Writing the fitted muscle as a PAM file (docs/formats.md §2) that `simulate` and `plan` read."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """The model's forces for recorded test rows, and fit quality per test and pressure level.
 
 Used by ``identify`` for its report and by anything that needs residuals (``diagnose``): the
-exact, unsmoothed model of physics.md §4.3 (axial tests) and §5.3 (radial tests, contact switch and
+exact, unsmoothed model of docs/physics.md §4.3 (axial tests) and §5.3 (radial tests, contact switch and
 contact increments included).
 """
 

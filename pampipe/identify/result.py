@@ -92,7 +92,7 @@ class IdentifyResult:
         return Pam(base.name, base.geometry, moduli, None)
 
     def as_document(self) -> dict:
-        """The ``identify`` JSON document (interfaces.md §6), with extra keys.
+        """The ``identify`` JSON document (docs/commands.md §6), with extra keys.
 
         Undetermined quantities (intervals of unidentifiable coefficients, the Drucker margin
         with ``drucker: none``) are null.

@@ -2,21 +2,21 @@
 
 Units inside the fit: θ in MPa, forces in N, pressures as x = P/P_ref (P_ref = 1 MPa by default).
 
-**Axial tests** (physics.md §4.3): F_ax = offset(P, L) + φ(P, L)·θ is linear in θ. For each group
+**Axial tests** (docs/physics.md §4.3): F_ax = offset(P, L) + φ(P, L)·θ is linear in θ. For each group
 (test × pressure level) the rows [Φ | y], y = F − offset, are reduced by a chunked QR (TSQR) to
 R (p×p), z (p) and the residual ``rest`` with ‖Φθ − y‖² = ‖Rθ − z‖² + rest exactly; QR rather than
 ΦᵀΦ keeps the conditioning of Φ, not its square. With ``average_legs`` each level's rows are first
 averaged in ``average_bins`` length bins (regressors and forces alike: the mean model of a bin is
 φ̄·θ exactly), the paper's averaged load line.
 
-**Radial tests** (physics.md §5.3): at the pipe the strains are frozen, so above anchoring
+**Radial tests** (docs/physics.md §5.3): at the pipe the strains are frozen, so above anchoring
 u(x) = A(F_ax(x, L_p) − F_a) = c₀ + c₁x with c₀ = A(φ₀·θ − F_a), c₁ = A(area·P_ref + φ₁·θ), and the
 model is F_r = max(0, u). Each pressure level is split into ``SUB_BINS`` equal-count pressure bins,
 and every bin keeps n, x̄, ȳ and the centred moments Σd², Σd³, Σd⁴, Σde, Σd²e, Σe² (d = x − x̄,
 e = y − ȳ). With these the sum of squares of a bin is exact for any model quadratic in x on
 the bin (see :mod:`pampipe.identify.nlp`), whatever the number of rows.
 
-**Drucker grid** (physics.md §6): the tangent moduli are linear in θ, so the constraints are rows
+**Drucker grid** (docs/physics.md §6): the tangent moduli are linear in θ, so the constraints are rows
 C with C·θ ≥ 0 (MPa), one per direction and grid point, or one per point in the ``sum`` form.
 """
 
@@ -225,7 +225,7 @@ def drucker_rows(geometry: Geometry, degree: int, pressures, lengths, *, form: s
                  ) -> np.ndarray:
     """Rows C [MPa per MPa of θ] with C·θ ≥ 0 ⇔ Drucker stability at every (P, L) of the grid.
 
-    ``tangent``: E₁ᵗ(ε₁(L), P) ≥ 0 and E₂ᵗ(ε₂(D(L)), P) ≥ 0 separately (physics.md §6 default);
+    ``tangent``: E₁ᵗ(ε₁(L), P) ≥ 0 and E₂ᵗ(ε₂(D(L)), P) ≥ 0 separately (docs/physics.md §6 default);
     ``sum``: E₁ᵗ(∂ε₁/∂L)² + E₂ᵗ(∂ε₂/∂L)² ≥ 0, scaled by L₀². Each row is scaled to unit max-norm.
     """
     pp, ll = np.meshgrid(np.asarray(pressures, float), np.asarray(lengths, float), indexing="ij")

@@ -6,7 +6,7 @@ the residual vector, so H comes from the sufficient statistics; the smoothed con
 the contact increments add their (small) curvature, i.e. H is the observed information.
 σ² = SSE/(n − k) with k free parameters, and Cov = σ² H⁺.
 
-Identifiability (physics.md §6): with D = diag(√H_jj), the scaled matrix D⁻¹HD⁻¹ = VΛVᵀ is the
+Identifiability (docs/physics.md §6): with D = diag(√H_jj), the scaled matrix D⁻¹HD⁻¹ = VΛVᵀ is the
 Gram matrix of the column-scaled Jacobian, whose singular values are √λ_i. The combination
 c_i = Σ_j V_ji D_j θ_j (weights ``V_ji D_j`` [N/MPa], value [N]) has standard error σ/√λ_i. It is
 called *identifiable* if its 95 % half-width is below ``IDENTIFIABLE`` (10 %) of the half-range

@@ -1,4 +1,4 @@
-"""Bladder strains, the nonlinear moduli law and the Drucker stability expressions (physics.md §4, §6).
+"""Bladder strains, the nonlinear moduli law and the Drucker stability expressions (docs/physics.md §4, §6).
 
 The moduli vector θ = [a₁, b₁, a₂, b₂] (each of length degree + 1, in Pa) gives the secant moduli
 E_k = Σ_j (a_kj + b_kj P/P_ref) ε_k^j, so σ_k = E_k ε_k. Floats and CasADi symbols alike.
@@ -47,7 +47,7 @@ def tangent_modulus(strain, pressure, a, b, reference_pressure):
 
 
 def drucker_tangent_moduli(pressure, length, diameter, geometry, theta, reference_pressure):
-    """(E₁ᵗ, E₂ᵗ) [Pa]: the per-direction Drucker stability requires both ≥ 0 (physics.md §6)."""
+    """(E₁ᵗ, E₂ᵗ) [Pa]: the per-direction Drucker stability requires both ≥ 0 (docs/physics.md §6)."""
     a1, b1, a2, b2 = split_moduli(theta)
     eps_axial, eps_hoop = strains(length, diameter, geometry)
     return (tangent_modulus(eps_axial, pressure, a1, b1, reference_pressure),
@@ -55,7 +55,7 @@ def drucker_tangent_moduli(pressure, length, diameter, geometry, theta, referenc
 
 
 def drucker_second_order_work(pressure, length, diameter, geometry, theta, reference_pressure):
-    """E₁ᵗ(∂ε₁/∂L)² + E₂ᵗ(∂ε₂/∂L)² [Pa/m²], ≥ 0 for stability along the braid path (physics.md §6).
+    """E₁ᵗ(∂ε₁/∂L)² + E₂ᵗ(∂ε₂/∂L)² [Pa/m²], ≥ 0 for stability along the braid path (docs/physics.md §6).
 
     ∂ε₁/∂L = 1/L₀ and ∂ε₂/∂L = −L/((Nπ)² D D₀).
     """

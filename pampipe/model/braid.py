@@ -1,4 +1,4 @@
-"""Braid kinematics and the Gaylord force (physics.md §2-§3, Eqs. 1-5).
+"""Braid kinematics and the Gaylord force (docs/physics.md §2-§3, Eqs. 1-5).
 
 Every function works on floats and on CasADi SX/MX alike. ``geometry`` is a
 :class:`pampipe.model.pam.Geometry` whose fields may be floats or symbols. SI units.
@@ -45,9 +45,9 @@ def dlength_ddiameter(diameter, geometry):
 
 
 def amplification_factor(diameter, geometry, length=None):
-    """A(D) = 2πN²D / L(D) = 2N tan α = (2/π)(−dL/dD) [-] (physics.md §5.3, §5.5).
+    """A(D) = 2πN²D / L(D) = 2N tan α = (2/π)(−dL/dD) [-] (docs/physics.md §5.3, §5.5).
 
-    ``length`` replaces L(D) where the anchored length differs (a stretching braid, physics.md §9b).
+    ``length`` replaces L(D) where the anchored length differs (a stretching braid, docs/physics.md §9b).
     """
     if length is None:
         length = length_at_diameter(diameter, geometry)

@@ -1,7 +1,7 @@
 """Domain checks: inputs outside the model's physical range raise :class:`InputError`, never NaN.
 
 The braid model is valid for lengths in (B/√3, B) and for a pipe between the rest diameter D₀ and
-the widest diameter the muscle can pull itself open to, D(B/√3) (physics.md §2, §12).
+the widest diameter the muscle can pull itself open to, D(B/√3) (docs/physics.md §2, §12).
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
-"""Optional physical effects missing from the paper's model (physics.md §9): a pluggable library.
+"""Optional physical effects missing from the paper's model (docs/physics.md §9): a pluggable library.
 
 Each effect is a small strategy object (in the style of pysindy's feature libraries): a name, named
 bounded parameters with units and a null value, and one or more *hooks* that modify a stage of the
 forward model. At its null value every hook is the identity, so the model reduces exactly to the
-baseline (physics.md §4-§7). Hooks work on floats, numpy arrays and CasADi symbols alike.
+baseline (docs/physics.md §4-§7). Hooks work on floats, numpy arrays and CasADi symbols alike.
 
 Stages of the forward model, in order (hooks of several effects compose):
 
@@ -12,7 +12,7 @@ Stages of the forward model, in order (hooks of several effects compose):
 3. ``braid_strain(T)``: fibre strain under the total braid tension T (B = B₀(1 + strain), N fixed);
 4. ``axial_increment(state)``: ΔF [N] added to the muscle's axial force F_ax (free and anchored);
 5. ``radial_factor(state)`` and ``radial_increment(state)``: u ← u·factor + ΔF_r before the contact
-   clip F_r = max(0, u), u = A(F_ax − F_a) (physics.md §5.3).
+   clip F_r = max(0, u), u = A(F_ax − F_a) (docs/physics.md §5.3).
 
 Adding an effect: subclass :class:`Effect`, declare ``name``, ``parameters`` and override the hooks
 it needs, then list it in :data:`LIBRARY`. Parameter values are SI inside (``values[name]``).
@@ -37,7 +37,7 @@ from pampipe.model.muscle import (
     wall_section,
 )
 
-#: Fixed-point iterations on the braid tension for an extensible braid (physics.md §9b); the
+#: Fixed-point iterations on the braid tension for an extensible braid (docs/physics.md §9b); the
 #: error contracts by the factor ≈ c_B·∂T/∂B·B per iteration (< 10⁻² for realistic compliances).
 TENSION_ITERATIONS = 3
 
@@ -61,7 +61,7 @@ class Parameter:
 
     @property
     def json_key(self) -> str:
-        """The JSON key with its SI unit suffix (interfaces.md §1), e.g. ``f0_N``."""
+        """The JSON key with its SI unit suffix (docs/formats.md §1), e.g. ``f0_N``."""
         return f"{self.name}_{self.si_suffix}" if self.si_suffix else self.name
 
     @property
@@ -89,7 +89,7 @@ class Effect:
     """Base class: every hook is the identity, so a bare Effect is the baseline model."""
 
     name: ClassVar[str] = ""
-    section: ClassVar[str] = ""  # physics.md section
+    section: ClassVar[str] = ""  # docs/physics.md section
     summary: ClassVar[str] = ""
     signature: ClassVar[str] = ""  # the residual signature (diagnose) that points to this effect
     parameters: ClassVar[tuple[Parameter, ...]] = ()
@@ -263,7 +263,7 @@ class WallFriction(Effect):
         return 1 / (1 + values["lock"] * math.pi * amp)
 
 
-#: The registry: every effect the package knows, by name (interfaces.md §6 names).
+#: The registry: every effect the package knows, by name (docs/commands.md §6 names).
 LIBRARY: dict[str, Effect] = {e.name: e for e in (
     BraidFriction(), BraidExtensibility(), EndEffects(), ContactStiffening(), PressureOffset(),
     AxialPreload(), WallFriction())}

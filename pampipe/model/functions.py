@@ -51,7 +51,7 @@ def axial_force_function(wall: Wall, degree: int) -> ca.Function:
 
 def free_length(pressure, geometry: Geometry, theta, reference_pressure: float = 1e6,
                 *, axial_load: float = 0.0, grid: int = 400, iterations: int = 60) -> np.ndarray:
-    """L_free(P) [m]: the largest root of F_ax(P, L) = F_a in (B/√3, L₀] (physics.md §7).
+    """L_free(P) [m]: the largest root of F_ax(P, L) = F_a in (B/√3, L₀] (docs/physics.md §7).
 
     ``axial_load`` F_a [N] is a tension hanging on the free muscle (0: free contraction).
     Vectorized over pressures: a downward scan from L₀ brackets the first sign change, then

@@ -1,4 +1,4 @@
-"""Axial force balance, anchoring and the radial (split-pipe) force (physics.md §4.3, §5, §7).
+"""Axial force balance, anchoring and the radial (split-pipe) force (docs/physics.md §4.3, §5, §7).
 
 Floats and CasADi symbols alike. ``theta`` is the moduli vector [a₁, b₁, a₂, b₂] in Pa
 (see :mod:`pampipe.model.bladder`); ``reference_pressure`` is P_ref [Pa]. SI units throughout.
@@ -87,7 +87,7 @@ def axial_force(pressure, length, geometry, theta, reference_pressure=1e6, *, di
 
 
 def axial_force_affine(length, geometry, theta, reference_pressure=1e6):
-    """(F_ax(0, L), ∂F_ax/∂P) at fixed L [N, N/Pa]: F_ax is affine in P (physics.md §7)."""
+    """(F_ax(0, L), ∂F_ax/∂P) at fixed L [N, N/Pa]: F_ax is affine in P (docs/physics.md §7)."""
     area, _, _ = axial_levers(length, geometry)
     at_zero = bladder_force(0.0, length, geometry, theta, reference_pressure)
     slope = area + (bladder_force(reference_pressure, length, geometry, theta, reference_pressure)
@@ -111,7 +111,7 @@ def axial_force_regressors(pressure, length, geometry, degree, reference_pressur
 
 
 def anchoring_pressure(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):
-    """P_anchor(D_p, F_a) = (F_a − F_ax(0, L_p)) / ∂_P F_ax(L_p) [Pa] (physics.md §7).
+    """P_anchor(D_p, F_a) = (F_a − F_ax(0, L_p)) / ∂_P F_ax(L_p) [Pa] (docs/physics.md §7).
 
     The pressure at which the free-contraction curve reaches the pipe wall, L_free(P) = L(D_p).
     """
@@ -121,7 +121,7 @@ def anchoring_pressure(diameter, geometry, theta, reference_pressure=1e6, axial_
 
 
 def contact_force_increment(pressure, length, geometry, contact_theta, reference_pressure, anchoring):
-    """ΔF_ax [N] from contact stiffening (physics.md §9d): ((P − P_anchor)₊/P_ref) × bladder terms of Δθ.
+    """ΔF_ax [N] from contact stiffening (docs/physics.md §9d): ((P − P_anchor)₊/P_ref) × bladder terms of Δθ.
 
     Zero at the anchoring pressure, so stresses are compatible there by construction.
     """
@@ -131,10 +131,10 @@ def contact_force_increment(pressure, length, geometry, contact_theta, reference
 
 def radial_force(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,
                  contact_theta=None, smoothing=None):
-    """F_r = max(0, A·(F_ax(P, L_p) − F_a)) [N] (physics.md §5.3): the split-pipe separating force.
+    """F_r = max(0, A·(F_ax(P, L_p) − F_a)) [N] (docs/physics.md §5.3): the split-pipe separating force.
 
     ``smoothing`` [N], if given, replaces max by the softplus s·log(1 + exp(x/s)) for
-    gradient-based fitting across the anchoring point (physics.md §12).
+    gradient-based fitting across the anchoring point (docs/physics.md §12).
     """
     length = length_at_diameter(diameter, geometry)
     holding = (axial_force(pressure, length, geometry, theta, reference_pressure, diameter=diameter)
@@ -172,7 +172,7 @@ def radial_force_terms(pressure, diameter, geometry, theta, reference_pressure=1
 
 
 def contact_pressure(radial, diameter, length, paper_literal=False):
-    """Mean wall contact pressure [Pa]: p_c = F_r/(D·L) (physics.md §5.6), or F_r/(πDL) if paper_literal."""
+    """Mean wall contact pressure [Pa]: p_c = F_r/(D·L) (docs/physics.md §5.6); F_r/(πDL) if paper_literal."""
     projected = diameter * length
     return radial / (math.pi * projected) if paper_literal else radial / projected
 
@@ -183,5 +183,5 @@ def force_per_length(radial, length):
 
 
 def total_normal_force(radial):
-    """N_tot = ∮p_c dA = π F_r [N] (physics.md §5.4): what wall friction acts on."""
+    """N_tot = ∮p_c dA = π F_r [N] (docs/physics.md §5.4): what wall friction acts on."""
     return math.pi * radial

@@ -18,7 +18,7 @@ Wall = Literal["thick", "thin"]
 
 @dataclass(frozen=True)
 class Geometry:
-    """Rest geometry of a contractile McKibben muscle (physics.md §1-§2), SI units.
+    """Rest geometry of a contractile McKibben muscle (docs/physics.md §1-§2), SI units.
 
     ``braid_angle`` is α₀, measured from the PAM axis (the paper quotes β₀ = 90° − α₀).
     """
@@ -64,9 +64,9 @@ class Geometry:
 
 @dataclass(frozen=True)
 class Moduli:
-    """Secant-moduli law E_k = Σ_j (a_kj + b_kj P/P_ref) ε_k^j, coefficients in Pa (physics.md §4.2).
+    """Secant-moduli law E_k = Σ_j (a_kj + b_kj P/P_ref) ε_k^j, coefficients in Pa (docs/physics.md §4.2).
 
-    ``contact`` holds optional increments applied once the muscle is anchored (physics.md §9d),
+    ``contact`` holds optional increments applied once the muscle is anchored (docs/physics.md §9d),
     in the same order as :meth:`as_vector`; ``None`` means zero.
     """
 
@@ -83,7 +83,7 @@ class Moduli:
         return len(self.axial_a) - 1
 
     def as_vector(self) -> np.ndarray:
-        """θ = [a₁, b₁, a₂, b₂] [Pa], the ordering of physics.md §6."""
+        """θ = [a₁, b₁, a₂, b₂] [Pa], the ordering of docs/physics.md §6."""
         return np.concatenate([self.axial_a, self.axial_b, self.hoop_a, self.hoop_b]).astype(float)
 
     def contact_vector(self) -> np.ndarray:

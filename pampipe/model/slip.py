@@ -1,11 +1,11 @@
-"""No-slip requirement of an anchored segment (physics.md §8 and the plan issue). Floats and symbols.
+"""No-slip requirement of an anchored segment (docs/physics.md §8 and the plan issue). Floats and symbols.
 
 * Load on the single anchor in a section of incline φ and wall friction μ, with M the robot's
   total mass (segments + payload) and m_anchor the anchoring segment's mass:
   W = g·(M·|sin φ| + μ·cos φ·(M − m_anchor)) + tether_drag  [N].
   The second term is the sliding friction of the parts that move while resting on the wall.
 * No slip: μ·π·F_r(P, D, κW) ≥ SF·W, where F_r = A·(F_ax(P, L_p) − κW) is the split-pipe force and
-  π·F_r the total normal force on the wall (physics.md §5.4).
+  π·F_r the total normal force on the wall (docs/physics.md §5.4).
 * Closed form: P_req = [W·(SF/(μπA) + κ) − F_ax(0, L_p)] / ∂_P F_ax.
 """
 

@@ -1,4 +1,4 @@
-"""`pampipe plan`: the least anchoring pressure per route section and segment (physics.md §5, §7, §8).
+"""`pampipe plan`: the least anchoring pressure per route section and segment (docs/physics.md §5, §7, §8).
 
 Library API::
 

@@ -1,6 +1,6 @@
 """Independent cross-checks of the planning NLP's solution (the plan issue, item 2).
 
-* Closed form (physics.md §8, :func:`pampipe.model.slip.required_pressure`), for muscles without
+* Closed form (docs/physics.md §8, :func:`pampipe.model.slip.required_pressure`), for muscles without
   contact increments: P* = max(P_req, P_a(κW)).
 * Bisection on the full model: the least P with μπF_r(P, D, κW) ≥ SF·W and F_ax(P, L_p) ≥ κW
   (the muscle touches the wall), evaluated with :func:`pampipe.model.slip.holding_capacity` and

@@ -1,4 +1,4 @@
-"""Planning with a diagnosed muscle model: PAM files that carry an ``effects:`` block (physics.md §9).
+"""Planning with a diagnosed muscle model: PAM files that carry an ``effects:`` block (docs/physics.md §9).
 
 `pampipe diagnose -o` writes the effects it found into the PAM file. With them the radial force is
 :func:`pampipe.model.effects.radial_force_with_effects` and no longer affine in P (braid

@@ -3,9 +3,9 @@
 Reasons, checked in this order for each section (the first that applies is reported):
 1. zero wall friction: no anchor can grip;
 2. the pipe is narrower than a muscle at rest (D_p ≤ D₀);
-3. the pipe is wider than the braid can ever reach (D_p ≥ D(B/√3), physics.md §2);
+3. the pipe is wider than the braid can ever reach (D_p ≥ D(B/√3), docs/physics.md §2);
 4. the pipe is wider than the muscle reaches at supply pressure (L_free(P_supply) > L(D_p),
-   i.e. the unloaded anchoring pressure exceeds the supply, physics.md §7);
+   i.e. the unloaded anchoring pressure exceeds the supply, docs/physics.md §7);
 5. no pressure up to the model's 100 MPa limit holds the load;
 6. the pressure needed to hold the load exceeds the supply (with the largest payload it allows).
 """

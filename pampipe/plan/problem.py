@@ -1,13 +1,13 @@
-"""The planning problem of one mission, as per-element arrays (physics.md §5, §7, §8).
+"""The planning problem of one mission, as per-element arrays (docs/physics.md §5, §7, §8).
 
-An *element* is one (section s, segment i) pair. The gait of physics.md §8 anchors, in steps
+An *element* is one (section s, segment i) pair. The gait of docs/physics.md §8 anchors, in steps
 I…VII, the segments {2}, {1,2}, {1}, {1,3}, {3}, {2,3}, {2}: every segment is the only anchor in
 some step, so in every section each segment must hold the section's whole load alone.
 
 * Load on the single anchor i in section s (incline φ, wall friction μ, M = segment masses + payload):
   W = g·(M·|sin φ| + μ·cos φ·(M − m_i)) + tether_drag  [N]  (:func:`pampipe.model.slip.anchor_load`).
-* At the anchored length L_p = L(D_s) the free-muscle force is affine in P (physics.md §7):
-  F_ax(P, L_p) = F₀ + F₁·P, and the contact increment of physics.md §9d is
+* At the anchored length L_p = L(D_s) the free-muscle force is affine in P (docs/physics.md §7):
+  F_ax(P, L_p) = F₀ + F₁·P, and the contact increment of docs/physics.md §9d is
   ΔF = ((P − P_a)₊/P_ref)·(C₀ + C₁·P), with P_a = (κW − F₀)/F₁ the anchoring pressure under the load.
 * No slip: g(P) = μπA·(F₀ + F₁P + ΔF(P) − κW) − SF·W ≥ 0 (holding capacity ≥ SF × required hold).
 
@@ -39,7 +39,7 @@ class Elements:
     volume: np.ndarray  # V(L_p) = πD²L/4 [m³], the air the segment takes per pascal
     at_zero: np.ndarray  # F₀ = F_ax(0, L_p) [N]
     slope: np.ndarray  # F₁ = ∂F_ax/∂P [N/Pa]
-    contact_at_zero: np.ndarray  # C₀ [N] (contact increments, physics.md §9d)
+    contact_at_zero: np.ndarray  # C₀ [N] (contact increments, docs/physics.md §9d)
     contact_slope: np.ndarray  # C₁ [N/Pa]
     reference_pressure: np.ndarray  # P_ref [Pa]
     load: np.ndarray  # W [N], required hold
@@ -133,7 +133,7 @@ def largest_load(pressure, elements: Elements) -> np.ndarray:
 
     Above anchoring, P − P_a(κW) = (F_ax(P) − κW)/F₁, so the contact increment scales the holding
     force by k = 1 + (C₀ + C₁P)/(P_ref F₁), and μπA·k·(F_ax(P) − κW) = SF·W gives
-    W_max = μπA·k·F_ax(P) / (SF + κ·μπA·k)   (physics.md §8 with k = 1 without contact increments).
+    W_max = μπA·k·F_ax(P) / (SF + κ·μπA·k)   (docs/physics.md §8 with k = 1 without contact increments).
     Negative where the unloaded muscle does not reach the wall at P.
     """
     e = elements

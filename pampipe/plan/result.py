@@ -1,4 +1,4 @@
-"""Frozen results of `plan`, and their JSON document (interfaces.md §6 `plan`). SI units inside."""
+"""Frozen results of `plan`, and their JSON document (docs/commands.md §6 `plan`). SI units inside."""
 
 from __future__ import annotations
 

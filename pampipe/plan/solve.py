@@ -1,4 +1,4 @@
-"""The anchoring-pressure NLP (physics.md §8) and its two solvers.
+"""The anchoring-pressure NLP (docs/physics.md §8) and its two solvers.
 
     minimise   Σ_e V_e·P_e                       (the air used; V_e = πD²L/4 at the anchored length)
     subject to g_e(P_e) ≥ 0                      (no slip, :func:`pampipe.plan.problem.slip_margin`)
