@@ -12,10 +12,10 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
-from pampipe.config import load_experiment
-from pampipe.data import load_experiment_data
 from pampipe.diagnose.workflow import diagnose
 from pampipe.identify import identify, parse_fit_options
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
 from pampipe.report import table
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -12,9 +12,9 @@ import dataclasses
 import time
 from pathlib import Path
 
-from pampipe.config import load_mission
 from pampipe.gait import optimal_gait, sequential_gait
 from pampipe.gait.optimal import _problem
+from pampipe.io.config import load_mission
 
 DEMO = Path(__file__).resolve().parent.parent / "problems" / "missions" / "vertical-climb-3in.yaml"
 

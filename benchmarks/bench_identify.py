@@ -28,12 +28,12 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import LinearConstraint, least_squares, minimize
 
-from pampipe.config import load_pam
-from pampipe.data import ExperimentData, make_test_data
+from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.identify import FitOptions, identify, predict
 from pampipe.identify.fit import _decision_names_and_bounds, _initial_guess, _reference_theta
 from pampipe.identify.nlp import Structure, build_problem
 from pampipe.identify.statistics import drucker_rows, reduce_experiment
+from pampipe.io.config import load_pam
 from pampipe.model.pam import Moduli, Pam
 from pampipe.synth import Protocol, generate
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.config import load_pam
+from pampipe.io.config import load_pam
 from pampipe.model import muscle
 from pampipe.model.functions import radial_force_function
 

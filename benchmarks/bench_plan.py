@@ -25,7 +25,8 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from pampipe.config import Section, load_mission
+from pampipe.io.config import load_mission
+from pampipe.mission import Section
 from pampipe.model import muscle, slip
 from pampipe.plan import plan_mission
 from pampipe.plan.problem import build_elements

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from pampipe.output import atomic_write
+from pampipe.io.files import atomic_write
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> str:

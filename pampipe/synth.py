@@ -21,12 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.config import TestSpec
 from pampipe.errors import InputError
+from pampipe.experiment import TestSpec
+from pampipe.io.files import atomic_write, atomic_write_text
 from pampipe.model import muscle
 from pampipe.model.functions import free_length
 from pampipe.model.pam import Pam
-from pampipe.output import atomic_write, atomic_write_text
 from pampipe.simulate import PAPER_PRESSURES, require_moduli
 
 #: The paper's pipes [m] and hanging load [N].

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from pampipe.config import load_pam
+from pampipe.io.config import load_pam
 
 ROOT = Path(__file__).resolve().parent.parent
 PROBLEMS = ROOT / "problems"

@@ -1,13 +1,14 @@
-"""CSV loading (pampipe.data): SI conversion, row/column-precise errors, chunking, levels and legs."""
+"""CSV loading (io.csvfile, experiment): SI conversion, precise errors, chunking, levels and legs."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from pampipe import data as data_module
-from pampipe.data import legs_and_cycles, pressure_levels, read_csv
 from pampipe.errors import InputError
+from pampipe.experiment import legs_and_cycles, pressure_levels
+from pampipe.io import csvfile as data_module
+from pampipe.io.csvfile import read_csv
 
 AXIAL = ("pressure", "length", "force")
 

@@ -12,13 +12,13 @@ import json
 import numpy as np
 import pytest
 
-from pampipe.config import load_pam
-from pampipe.data import make_test_data
 from pampipe.diagnose import selection, signatures
 from pampipe.diagnose.hidden import MAGNITUDES, hidden_experiment
 from pampipe.diagnose.refit import build_problem
 from pampipe.diagnose.result import pam_text
 from pampipe.diagnose.workflow import diagnose
+from pampipe.experiment import make_test_data
+from pampipe.io.config import load_pam
 from pampipe.simulate import simulate_anchored
 from tests.conftest import PROBLEMS, run_cli
 
@@ -108,7 +108,7 @@ def test_clean_data_says_none(radial_pam_module):
 # ------------------------------------------------------------------------------------ parts
 def _axial_test(noise, trend, seed=0):
     """A fake axial test of 2 cycles × 5 levels × 2 legs × 40 lengths (structure only)."""
-    from pampipe.config import TestSpec
+    from pampipe.experiment import TestSpec
 
     rng = np.random.default_rng(seed)
     lengths = np.concatenate([np.linspace(0.31, 0.25, 40), np.linspace(0.25, 0.31, 40)])

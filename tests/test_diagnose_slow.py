@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import pytest
 
-from pampipe.config import load_pam
 from pampipe.diagnose.hidden import MAGNITUDES, hidden_experiment
 from pampipe.diagnose.workflow import diagnose
+from pampipe.io.config import load_pam
 from tests.conftest import PROBLEMS
 
 SIGMA = 2.0

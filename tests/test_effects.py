@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import yaml
 
-from pampipe.config import load_pam
 from pampipe.errors import InputError
+from pampipe.io.config import load_pam
 from pampipe.model import braid, muscle
 from pampipe.model.effects import (
     LIBRARY,

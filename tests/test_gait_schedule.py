@@ -6,10 +6,10 @@ import dataclasses
 
 import pytest
 
-from pampipe.config import load_mission
 from pampipe.gait import gait_options, optimal_gait, sequential_gait
 from pampipe.gait.optimal import _problem
 from pampipe.gait.schedule import ANCHORS
+from pampipe.io.config import load_mission
 from pampipe.model.functions import free_length
 from tests.conftest import PROBLEMS
 

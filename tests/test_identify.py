@@ -9,12 +9,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pampipe.config import load_experiment
-from pampipe.data import ExperimentData, load_experiment_data, make_test_data
 from pampipe.errors import SolverError
+from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.identify import FitOptions, identify, predict
 from pampipe.identify.fit import LAW_NAMES
 from pampipe.identify.nlp import build_problem
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
 from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli, Pam
 from pampipe.synth import Protocol, generate

@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from pampipe.cli import main
-from pampipe.config import load_mission
+from pampipe.io.config import load_mission
 from pampipe.model import muscle
 from tests.conftest import PROBLEMS, run_cli
 

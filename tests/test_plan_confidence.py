@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from pampipe.config import load_mission
 from pampipe.errors import InputError
+from pampipe.io.config import load_mission
 from pampipe.model import slip
 from pampipe.plan import plan_mission
 from tests.conftest import PROBLEMS

@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from pampipe.cli import main
-from pampipe.config import load_mission
+from pampipe.io.config import load_mission
 from pampipe.model import braid, muscle, slip
 from pampipe.plan import max_payload, plan_mission
 from tests.conftest import PROBLEMS

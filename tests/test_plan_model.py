@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pampipe.config import Mission, Section, Segment, load_mission
 from pampipe.errors import InputError
+from pampipe.io.config import load_mission
+from pampipe.mission import Mission, Section, Segment
 from pampipe.model import muscle, slip
 from pampipe.model.pam import Moduli
 from pampipe.plan import max_payload, plan_mission

@@ -34,7 +34,7 @@ def test_simulate_json_document(axial_load_pam):
     assert doc["pipe_diameter_m"] == pytest.approx(0.0762, rel=1e-11)
     assert doc["anchored_length_m"] == pytest.approx(288.88e-3, abs=0.005e-3)  # docs/physics.md §7
     expected = muscle.radial_force(4e5, 0.0762, g, theta, 1e6, 1024.74)
-    # JSON carries 12 significant digits (pampipe.output.JSON_DIGITS): compare to 1e-11 relative
+    # JSON carries 12 significant digits (pampipe.io.files.JSON_DIGITS): compare to 1e-11 relative
     assert point["radial_force_N"] == pytest.approx(expected, rel=1e-11)
     # independent: F_r/(D L), F_r/L, and A(F_ax − F_a) from the unclipped force balance
     assert point["contact_pressure_Pa"] == pytest.approx(expected / (0.0762 * length), rel=1e-11)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from pampipe.cli import main
-from pampipe.config import load_experiment
-from pampipe.data import load_experiment_data
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
 from pampipe.model import muscle
 from pampipe.model.functions import free_length
 from pampipe.synth import PAPER_LOAD, PAPER_PIPES, Protocol, generate, write_experiment

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from pampipe.errors import InputError
-from pampipe.output import atomic_write_text, to_json
+from pampipe.io.files import atomic_write_text, to_json
 from pampipe.units import to_si
 
 

@@ -6,12 +6,12 @@ import argparse
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.config import load_experiment
-from pampipe.data import load_experiment_data
 from pampipe.diagnose.result import pam_text
 from pampipe.diagnose.selection import FOLDS
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.files import atomic_write_text, check_not_input
 from pampipe.model.effects import LIBRARY, get_effect
-from pampipe.output import atomic_write_text, check_not_input
 from pampipe.report import table
 
 NAME = "diagnose"

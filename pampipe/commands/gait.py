@@ -8,11 +8,11 @@ import sys
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.config import load_mission
 from pampipe.gait import optimal_gait, sequential_gait
 from pampipe.gait.options import gait_options
 from pampipe.gait.result import GaitResult
 from pampipe.gait.schedule import POSITION_KEYS
+from pampipe.io.config import load_mission
 from pampipe.report import table
 
 NAME = "gait"

@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.config import load_experiment
-from pampipe.data import load_experiment_data
 from pampipe.identify import identify, parse_fit_options
 from pampipe.identify.pamfile import write_pam
-from pampipe.output import check_not_input
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.files import check_not_input
 from pampipe.report import table
 
 NAME = "identify"

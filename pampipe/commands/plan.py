@@ -8,9 +8,9 @@ import time
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
-from pampipe.config import load_mission
 from pampipe.errors import InfeasibleError
-from pampipe.output import check_not_input
+from pampipe.io.config import load_mission
+from pampipe.io.files import check_not_input
 from pampipe.report import table
 
 NAME = "plan"

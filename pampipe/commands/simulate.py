@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say
-from pampipe.config import load_pam
 from pampipe.errors import InputError
+from pampipe.io.config import load_pam
 from pampipe.report import table
 from pampipe.simulate import PAPER_PRESSURES, simulate_anchored
 

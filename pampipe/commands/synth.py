@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type
-from pampipe.config import load_pam
 from pampipe.errors import InputError
+from pampipe.io.config import load_pam
 from pampipe.synth import Protocol, write_experiment
 
 NAME = "synth"

@@ -18,10 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.data import ExperimentData, make_test_data
+from pampipe.experiment import ExperimentData, make_test_data
+from pampipe.io.files import atomic_write_text
 from pampipe.model.effects import axial_force_with_effects, get_effect, radial_force_with_effects
 from pampipe.model.pam import Pam
-from pampipe.output import atomic_write_text
 from pampipe.synth import PAPER_LOAD, Protocol, generate, write_csv
 
 #: Realistic magnitudes (SI) at which each effect is hidden; see the module docstring of

@@ -68,7 +68,7 @@ class Rows:
 
 
 def rows_of(data) -> Rows:
-    """Rows of an :class:`pampipe.data.ExperimentData`."""
+    """Rows of an :class:`pampipe.experiment.ExperimentData`."""
     a_parts, r_parts, a_test, r_test, a_lev, r_lev, a_cyc = [], [], [], [], [], [], []
     for index, t in enumerate(data.tests):
         ones = np.ones(t.points)

@@ -83,7 +83,7 @@ def _neighbour_sigma(r: np.ndarray, x: np.ndarray, order: np.ndarray, groups: np
 
 
 def noise_floor(test, r: np.ndarray) -> NoiseFloor:
-    """Both estimates of σ [N] for one test (``test`` is a :class:`pampipe.data.TestData`)."""
+    """Both estimates of σ [N] for one test (``test`` is a :class:`pampipe.experiment.TestData`)."""
     recorded = np.arange(r.size)
     hf = _neighbour_sigma(r, recorded.astype(float), recorded, test.level)
     if test.kind == "axial":

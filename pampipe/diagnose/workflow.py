@@ -15,11 +15,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pampipe.data import ExperimentData
 from pampipe.diagnose import selection, signatures
 from pampipe.diagnose.refit import MPA, Fit, Refitter, rows_of
 from pampipe.diagnose.result import Candidate, DiagnoseResult, TestRmse
 from pampipe.errors import InputError, PampipeError
+from pampipe.experiment import ExperimentData
 from pampipe.model import muscle
 from pampipe.model.effects import LIBRARY, get_effect
 

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from pampipe.config import Mission
 from pampipe.gait.optimal import solve_optimal
 from pampipe.gait.options import GaitOptions, gait_options
 from pampipe.gait.requirements import find_section, section_needs
 from pampipe.gait.result import GaitResult, evaluate
 from pampipe.gait.schedule import ControlPlan, sequential_plan, simulate
+from pampipe.mission import Mission
 
 __all__ = ["GaitOptions", "GaitResult", "gait_options", "optimal_gait", "sequential_gait"]
 

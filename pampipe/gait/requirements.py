@@ -13,10 +13,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import brentq
 
-from pampipe.config import Mission, Section
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.gait.options import GaitOptions
 from pampipe.gait.pneumatics import Chamber
+from pampipe.mission import Mission, Section
 from pampipe.model import braid, muscle, slip
 from pampipe.model.pam import Pam
 from pampipe.plan import plan_mission

@@ -18,8 +18,8 @@ import casadi as ca
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from pampipe.data import ExperimentData
 from pampipe.errors import InputError, SolverError
+from pampipe.experiment import ExperimentData
 from pampipe.identify.nlp import Structure, build_problem
 from pampipe.identify.options import FitOptions, parse_fit_options
 from pampipe.identify.predict import evaluate_tests

@@ -28,7 +28,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from pampipe.config import Strict, _validate, quantity
+from pampipe.io.config import Strict, _validate, quantity
 
 Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
 

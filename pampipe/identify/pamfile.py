@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.identify.result import MPA, IdentifyResult
+from pampipe.io.files import atomic_write_text
 from pampipe.model.pam import Pam
-from pampipe.output import atomic_write_text
 
 
 def pam_yaml(base: Pam, result: IdentifyResult, *, source: Path | str) -> str:

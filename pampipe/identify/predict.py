@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pampipe.data import ExperimentData, TestData
+from pampipe.experiment import ExperimentData, TestData
 from pampipe.identify.result import LevelFit, TestFit
 from pampipe.model import muscle
 from pampipe.model.pam import Moduli, Pam

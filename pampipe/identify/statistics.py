@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from pampipe.data import ExperimentData, TestData
+from pampipe.experiment import ExperimentData, TestData
 from pampipe.model import braid, muscle
 from pampipe.model.bladder import strains
 from pampipe.model.pam import Geometry

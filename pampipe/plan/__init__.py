@@ -2,7 +2,7 @@
 
 Library API::
 
-    from pampipe.config import load_mission
+    from pampipe.io.config import load_mission
     from pampipe.plan import plan_mission, max_payload
 
     plan = plan_mission(load_mission("mission.yaml"))          # -> MissionPlan

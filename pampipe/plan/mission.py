@@ -26,7 +26,7 @@ CHECK_TOLERANCE = 1e-6
 
 def plan_mission(mission, *, payload: float | None = None, confidence: float | None = None,
                  method: str = "kkt", check: bool = True, with_max_payload: bool = False) -> MissionPlan:
-    """Plan ``mission`` (a :class:`pampipe.config.Mission`); ``payload`` [kg] overrides its payload.
+    """Plan ``mission`` (a :class:`pampipe.mission.Mission`); ``payload`` [kg] overrides its payload.
 
     ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C (first order, see
     :mod:`pampipe.plan.confidence`). ``check`` compares the NLP's pressures with the closed form and

@@ -8,7 +8,6 @@ what is allowed.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -17,11 +16,13 @@ import pydantic
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.experiment import Experiment, TestSpec
+from pampipe.io.yamlfile import load_mapping
+from pampipe.mission import Mission, Section, Segment
 from pampipe.model.domain import check_geometry
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.units import to_si
-from pampipe.yamlio import load_mapping
 
 
 def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,
@@ -234,32 +235,6 @@ class ExperimentSchema(Strict):
     fit: dict[str, Any] | None = None  # options of `identify`; validated there
 
 
-@dataclass(frozen=True)
-class TestSpec:
-    """One test of an experiment: its kind, conditions and resolved CSV path (SI)."""
-
-    name: str
-    kind: str
-    data: Path
-    pipe_diameter: float | None
-    axial_load: float
-
-
-@dataclass(frozen=True)
-class Experiment:
-    source: Path
-    pam: Pam
-    tests: tuple[TestSpec, ...]
-    fit: dict[str, Any]
-    pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
-
-    @property
-    def input_files(self) -> list[Path]:
-        """Every file the experiment reads: itself, its PAM file and its CSV files."""
-        own = [self.source] + ([self.pam_file] if self.pam_file is not None else [])
-        return own + [t.data for t in self.tests]
-
-
 # ---------------------------------------------------------------------------------------- mission
 class SegmentSchema(Strict):
     name: str = Field(min_length=1)
@@ -293,50 +268,6 @@ class MissionSchema(Strict):
     tether_drag: NonNegativeForce = 0.0
     route: list[SectionSchema] = Field(min_length=1)
     gait: dict[str, Any] | None = None  # options of `gait`; validated there
-
-
-LOAD_PATH_KAPPA = {"through_anchor": 1.0, "distributed": 0.5, "none": 0.0}
-
-
-@dataclass(frozen=True)
-class Segment:
-    name: str
-    pam: Pam
-    mass: float  # [kg]
-    pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
-
-
-@dataclass(frozen=True)
-class Section:
-    name: str
-    length: float  # [m]
-    diameter: float  # inner diameter [m]
-    incline: float  # [rad] above horizontal
-    friction: float  # braid-wall Coulomb coefficient
-    friction_sd: float  # its standard deviation (0 = known exactly)
-
-
-@dataclass(frozen=True)
-class Mission:
-    source: Path
-    segments: tuple[Segment, ...]
-    payload: float  # [kg]
-    supply_pressure: float  # [Pa] gauge
-    safety_factor: float
-    load_path: str
-    tether_drag: float  # [N]
-    route: tuple[Section, ...]
-    gait: dict[str, Any]
-
-    @property
-    def input_files(self) -> list[Path]:
-        """Every file the mission reads: itself and the PAM files its segments name."""
-        return [self.source, *(seg.pam_file for seg in self.segments if seg.pam_file is not None)]
-
-    @property
-    def kappa(self) -> float:
-        """κ of the no-slip condition (docs/physics.md §8)."""
-        return LOAD_PATH_KAPPA[self.load_path]
 
 
 # ---------------------------------------------------------------------------------------- loaders
