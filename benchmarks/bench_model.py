@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.io.config import load_pam
-from pampipe.model import muscle
+from pampipe.model import forces
 from pampipe.model.functions import radial_force_function
 
 PAM = Path(__file__).resolve().parent.parent / "problems" / "pams" / "paper-radial-pam.yaml"
@@ -90,7 +90,7 @@ def main() -> None:
     p, d, fa = rng.uniform(0, 7e5, n), rng.uniform(0.06, 0.095, n), rng.uniform(0, 1500, n)
     geo = (g.initial_length, g.initial_diameter, g.braid_angle, g.bladder_thickness)
 
-    t_pampipe, f_pampipe = best_of(3, lambda: muscle.radial_force(p, d, g, theta, pref, fa))
+    t_pampipe, f_pampipe = best_of(3, lambda: forces.radial_force(p, d, g, theta, pref, fa))
     function = radial_force_function("thick", pam.moduli.degree)
     zeros = np.zeros_like(theta)
     t_casadi, f_casadi = best_of(1, lambda: np.asarray(

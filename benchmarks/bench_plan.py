@@ -27,7 +27,7 @@ from scipy.optimize import brentq
 
 from pampipe.io.config import load_mission
 from pampipe.mission import Section
-from pampipe.model import muscle, slip
+from pampipe.model import forces, slip
 from pampipe.plan import plan_mission
 from pampipe.plan.problem import build_elements
 from pampipe.plan.solve import solve
@@ -53,7 +53,7 @@ def brentq_plan(mission, indices) -> np.ndarray:
             m = seg.pam.moduli
             args = (seg.pam.geometry, m.as_vector(), m.reference_pressure)
             load = slip.anchor_load(total, seg.mass, sec.incline, sec.friction, mission.tether_drag)
-            start = float(muscle.anchoring_pressure(sec.diameter, *args, mission.kappa * load))
+            start = float(forces.anchoring_pressure(sec.diameter, *args, mission.kappa * load))
 
             def margin(p, sec=sec, args=args, load=load):
                 return (slip.holding_capacity(p, sec.diameter, *args, load, mission.kappa, sec.friction)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.model import braid, effects, muscle
+from pampipe.model import braid, effects, forces
 from pampipe.model.domain import check_pipe_diameter, check_pressure
 from pampipe.model.functions import free_length
 from pampipe.model.pam import Pam
@@ -81,15 +81,15 @@ def simulate_anchored(pam: Pam, *, pipe_diameter: float, axial_load: float = 0.0
         radial = effects.radial_force_with_effects(pressures, pipe_diameter, geometry, theta, pref,
                                                    axial_load, contact, pam.effects)
     else:
-        anchoring = float(muscle.anchoring_pressure(pipe_diameter, geometry, theta, pref, axial_load))
-        radial = muscle.radial_force(pressures, pipe_diameter, geometry, theta, pref, axial_load, contact)
+        anchoring = float(forces.anchoring_pressure(pipe_diameter, geometry, theta, pref, axial_load))
+        radial = forces.radial_force(pressures, pipe_diameter, geometry, theta, pref, axial_load, contact)
     radial = np.asarray(radial, dtype=float) * np.ones_like(pressures)
     lengths = np.maximum(free_length(pressures, geometry, theta, pref, axial_load=axial_load), length)
-    terms = muscle.radial_force_terms(pressures, pipe_diameter, geometry, theta, pref, axial_load)
+    terms = forces.radial_force_terms(pressures, pipe_diameter, geometry, theta, pref, axial_load)
     terms = {k: np.asarray(v, dtype=float) * np.ones_like(pressures) for k, v in terms.items()}
     return AnchoredCase(
         pipe_diameter=float(pipe_diameter), axial_load=float(axial_load), anchored_length=length,
         amplification_factor=amp, anchoring_pressure=anchoring, pressures=pressures,
-        radial_force=radial, force_per_length=muscle.force_per_length(radial, length),
-        contact_pressure=muscle.contact_pressure(radial, pipe_diameter, length, paper_literal),
+        radial_force=radial, force_per_length=forces.force_per_length(radial, length),
+        contact_pressure=forces.contact_pressure(radial, pipe_diameter, length, paper_literal),
         free_length=lengths, terms=terms)

@@ -24,7 +24,7 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.experiment import TestSpec
 from pampipe.io.files import atomic_write, atomic_write_text
-from pampipe.model import muscle
+from pampipe.model import forces
 from pampipe.model.functions import free_length
 from pampipe.model.pam import Pam
 from pampipe.simulate import PAPER_PRESSURES, require_moduli
@@ -64,7 +64,7 @@ def generate(pam: Pam, protocol: Protocol = Protocol(), *, seed: int = 0
         for load in protocol.loads:
             name = f"radial-{pipe * 1e3:.1f}mm-{load:.0f}N"
             pressure = np.repeat(np.asarray(protocol.radial_pressures, dtype=float), protocol.radial_points)
-            force = muscle.radial_force(pressure, pipe, geometry, theta, pref, load, contact)
+            force = forces.radial_force(pressure, pipe, geometry, theta, pref, load, contact)
             tests.append((TestSpec(name, "radial", Path(f"data/{name}.csv"), pipe, load),
                           _noisy(pressure, np.asarray(force, dtype=float), None, protocol, rng)))
     return tests
@@ -84,7 +84,7 @@ def _axial(pam: Pam, protocol: Protocol, rng) -> dict[str, np.ndarray]:
         parts_l.append(path)
         parts_p.append(np.full(path.size, pressure))
     pressure, length = np.concatenate(parts_p), np.concatenate(parts_l)
-    force = np.asarray(muscle.axial_force(pressure, length, geometry, theta, pref), dtype=float)
+    force = np.asarray(forces.axial_force(pressure, length, geometry, theta, pref), dtype=float)
     return _noisy(pressure, force, length, protocol, rng)
 
 

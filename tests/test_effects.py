@@ -12,7 +12,7 @@ import yaml
 
 from pampipe.errors import InputError
 from pampipe.io.config import load_pam
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.effects import (
     LIBRARY,
     anchoring_pressure_with_effects,
@@ -46,11 +46,11 @@ def test_null_value_is_exactly_the_baseline(radial_pam, name):
     null = {name: {}}
     for leg in (-1.0, 1.0):
         assert np.array_equal(axial_force_with_effects(4e5, LENGTHS, g, theta, 1e6, null, leg=leg),
-                              muscle.axial_force(4e5, LENGTHS, g, theta, 1e6))
+                              forces.axial_force(4e5, LENGTHS, g, theta, 1e6))
     for d in PIPES:
         for load in LOADS:
             assert np.array_equal(radial_force_with_effects(PRESSURES, d, g, theta, 1e6, load, None, null),
-                                  muscle.radial_force(PRESSURES, d, g, theta, 1e6, load))
+                                  forces.radial_force(PRESSURES, d, g, theta, 1e6, load))
 
 
 @pytest.mark.parametrize("name", list(LIBRARY))
@@ -77,13 +77,13 @@ def test_braid_friction_adds_the_coulomb_band(radial_pam):
     """§9a: F = F_ax + sgn(L̇)(f₀ + f₁P) on the free muscle; nothing in the pipe (quiescent)."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     v = VALUES["braid_friction"]
-    base = muscle.axial_force(3e5, LENGTHS, g, theta)
+    base = forces.axial_force(3e5, LENGTHS, g, theta)
     for leg in (-1.0, 1.0):
         got = axial_force_with_effects(3e5, LENGTHS, g, theta, 1e6, {"braid_friction": v}, leg=leg)
         np.testing.assert_allclose(got - base, leg * (8.0 + 20e-6 * 3e5), rtol=1e-12)
     np.testing.assert_array_equal(
         radial_force_with_effects(PRESSURES, 0.0762, g, theta, 1e6, 0.0, None, {"braid_friction": v}),
-        muscle.radial_force(PRESSURES, 0.0762, g, theta))
+        forces.radial_force(PRESSURES, 0.0762, g, theta))
 
 
 def test_axial_preload_shifts_force_and_anchoring_by_the_closed_forms(radial_pam):
@@ -96,12 +96,12 @@ def test_axial_preload_shifts_force_and_anchoring_by_the_closed_forms(radial_pam
             amp = braid.amplification_factor(d, g)
             high = PRESSURES[PRESSURES > 3e5]
             got = radial_force_with_effects(high, d, g, theta, 1e6, load, None, {"axial_preload": v})
-            np.testing.assert_allclose(got, muscle.radial_force(high, d, g, theta, 1e6, load) - amp * extra,
+            np.testing.assert_allclose(got, forces.radial_force(high, d, g, theta, 1e6, load) - amp * extra,
                                        rtol=1e-12)
-            _, slope = muscle.axial_force_affine(braid.length_at_diameter(d, g), g, theta)
+            _, slope = forces.axial_force_affine(braid.length_at_diameter(d, g), g, theta)
             anchor = anchoring_pressure_with_effects(d, g, theta, 1e6, load, None, {"axial_preload": v})
             # bisection to 1e7/2^60 Pa; the closed form is exact
-            assert anchor == pytest.approx(muscle.anchoring_pressure(d, g, theta, 1e6, load) + extra / slope,
+            assert anchor == pytest.approx(forces.anchoring_pressure(d, g, theta, 1e6, load) + extra / slope,
                                            abs=1e-3)
 
 
@@ -111,7 +111,7 @@ def test_wall_friction_divides_by_one_plus_lock_pi_a(radial_pam):
     amp = braid.amplification_factor(0.0889, g)
     got = radial_force_with_effects(PRESSURES, 0.0889, g, theta, 1e6, 0.0, None,
                                     {"wall_friction": {"lock": 0.01}})
-    expected = muscle.radial_force(PRESSURES, 0.0889, g, theta) / (1 + 0.01 * math.pi * amp)
+    expected = forces.radial_force(PRESSURES, 0.0889, g, theta) / (1 + 0.01 * math.pi * amp)
     np.testing.assert_allclose(got, expected, rtol=1e-12)
 
 
@@ -122,10 +122,10 @@ def test_pressure_offset_evaluates_the_model_at_the_true_pressure(radial_pam):
     true = 1.03 * PRESSURES + 9e3
     np.testing.assert_allclose(
         radial_force_with_effects(PRESSURES, 0.0762, g, theta, 1e6, 0.0, None, {"pressure_offset": v}),
-        muscle.radial_force(true, 0.0762, g, theta), rtol=1e-12)
+        forces.radial_force(true, 0.0762, g, theta), rtol=1e-12)
     np.testing.assert_allclose(
         axial_force_with_effects(2e5, LENGTHS, g, theta, 1e6, {"pressure_offset": v}),
-        muscle.axial_force(1.03 * 2e5 + 9e3, LENGTHS, g, theta), rtol=1e-12)
+        forces.axial_force(1.03 * 2e5 + 9e3, LENGTHS, g, theta), rtol=1e-12)
 
 
 def test_contact_stiffening_equals_the_models_contact_increments(radial_pam):
@@ -138,7 +138,7 @@ def test_contact_stiffening_equals_the_models_contact_increments(radial_pam):
         for load in LOADS:
             np.testing.assert_allclose(
                 radial_force_with_effects(PRESSURES, d, g, theta, 1e6, load, None, {"contact_stiffening": v}),
-                muscle.radial_force(PRESSURES, d, g, theta, 1e6, load, delta), rtol=1e-12, atol=1e-9)
+                forces.radial_force(PRESSURES, d, g, theta, 1e6, load, delta), rtol=1e-12, atol=1e-9)
 
 
 def test_end_effect_volume_term_is_virtual_work_of_the_tapered_volume(radial_pam):
@@ -151,7 +151,7 @@ def test_end_effect_volume_term_is_virtual_work_of_the_tapered_volume(radial_pam
 
     expected = -pressure * (extra_volume(LENGTHS + h) - extra_volume(LENGTHS - h)) / (2 * h)
     got = (axial_force_with_effects(pressure, LENGTHS, g, theta, 1e6, {"end_effects": {"volume_taper": c_v}})
-           - muscle.axial_force(pressure, LENGTHS, g, theta))
+           - forces.axial_force(pressure, LENGTHS, g, theta))
     np.testing.assert_allclose(got, expected, rtol=1e-6)  # O(h²) truncation of the difference
 
 
@@ -162,7 +162,7 @@ def test_braid_extensibility_satisfies_the_stretched_kinematics(radial_pam):
     1e-4 mm (c_B T ≈ 2e-3, so the error contracts by ~1e-3 per iteration), and the force must grow
     with c_B as the muscle gets longer (more pressure area)."""
     from pampipe.model.bladder import split_moduli, strains, stress
-    from pampipe.model.muscle import bladder_volume, wall_section
+    from pampipe.model.forces import bladder_volume, wall_section
 
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     c_b, d, load, pressure = 0.5e-6, 0.0762, 1024.74, 6e5
@@ -175,7 +175,7 @@ def test_braid_extensibility_satisfies_the_stretched_kinematics(radial_pam):
         tension = (pressure * math.pi * r_i**2 - sigma1 * bladder_volume(g) / length + load) * b0 / length
         length = math.sqrt((b0 * (1 + c_b * tension)) ** 2 - (n_pi * d) ** 2)
     amp = 2 * math.pi * braid.turns(g) ** 2 * d / length
-    expected = amp * (muscle.axial_force(pressure, length, g, theta, diameter=d) - load)
+    expected = amp * (forces.axial_force(pressure, length, g, theta, diameter=d) - load)
     got = radial_force_with_effects(pressure, d, g, theta, 1e6, load, None,
                                     {"braid_extensibility": {"compliance": c_b}})
     assert got == pytest.approx(expected, rel=1e-6)
@@ -220,6 +220,6 @@ def test_simulate_uses_the_effects_of_the_pam(tmp_path, radial_pam):
     loaded = simulate_anchored(pam, pipe_diameter=0.0762, pressures=[4e5, 6e5])
     np.testing.assert_allclose(plain.radial_force - loaded.radial_force, plain.amplification_factor * 50.0,
                                rtol=1e-9)
-    _, slope = muscle.axial_force_affine(plain.anchored_length, radial_pam.geometry,
+    _, slope = forces.axial_force_affine(plain.anchored_length, radial_pam.geometry,
                                          radial_pam.moduli.as_vector())
     assert loaded.anchoring_pressure - plain.anchoring_pressure == pytest.approx(50.0 / slope, abs=1e-3)

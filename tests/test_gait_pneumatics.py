@@ -17,7 +17,7 @@ from pampipe.gait.pneumatics import (
     mass_flow,
     transition_time,
 )
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.functions import free_length
 
 ATM = 101325.0
@@ -62,14 +62,14 @@ def test_chamber_volume_follows_the_free_contraction_curve(radial_pam):
     chamber = Chamber.of_muscle(geometry, theta, 1e6, pipe)
     pressures = np.linspace(0.0, 0.97 * chamber.anchoring_pressure, 57)
     exact = (braid.enclosed_volume(free_length(pressures, geometry, theta, 1e6), geometry)
-             - muscle.bladder_volume(geometry))
+             - forces.bladder_volume(geometry))
     # quintic fit of a smooth curve: 0.1 % of the anchored volume is a loose bound (fit error ~1e-4)
     assert np.max(np.abs(chamber.volume(pressures) - exact)) < 1e-3 * chamber.anchored_volume
     # above contact the braid is held: the anchored volume, from L(D_p) directly; the rounded
     # contact corner (w = 0.004) leaves c₁·w²/(4·0.2)·(V_p − V₀) ≈ 1.5e-5 V_p at 1.2 P_a
     anchored = braid.enclosed_volume(braid.length_at_diameter(pipe, geometry), geometry)
     assert chamber.volume(1.2 * chamber.anchoring_pressure) == pytest.approx(
-        anchored - muscle.bladder_volume(geometry), rel=5e-5)
+        anchored - forces.bladder_volume(geometry), rel=5e-5)
     # compliance = derivative of the volume (central differences, step 1 Pa: error ~1e-7)
     mid = pressures[5:-5]
     numeric = (chamber.volume(mid + 1.0) - chamber.volume(mid - 1.0)) / 2.0

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pampipe.model import bladder, braid, muscle
+from pampipe.model import bladder, braid, forces
 from pampipe.model.functions import free_length
 from pampipe.model.pam import Geometry
 
@@ -52,8 +52,8 @@ def test_thin_wall_force_balance_equals_virtual_work(seed):
             eps1, eps2 = bladder.strains(length, d, geometry)
             s1, s2 = bladder.stress(eps1, pressure, a1, b1, 1e6), bladder.stress(eps2, pressure, a2, b2, 1e6)
             work = (-pressure * float(dv(length))
-                    + muscle.bladder_volume(geometry) * (s1 / length + s2 * float(dd(length)) / d))
-            balance = muscle.axial_force(pressure, length, geometry, theta)
+                    + forces.bladder_volume(geometry) * (s1 / length + s2 * float(dd(length)) / d))
+            balance = forces.axial_force(pressure, length, geometry, theta)
             assert balance == pytest.approx(work, rel=ROUND_OFF, abs=1e-9)
 
 
@@ -61,7 +61,7 @@ def test_zero_moduli_thin_wall_axial_force_is_gaylord():
     """§3/§4.3: with zero moduli the thin-wall F_ax is exactly the Gaylord force."""
     geometry = Geometry(0.3143, 0.05715, math.radians(24.08), 3.175e-3, "thin")
     for length in np.linspace(0.22, 0.31, 7):
-        assert muscle.axial_force(4e5, length, geometry, np.zeros(16)) == pytest.approx(
+        assert forces.axial_force(4e5, length, geometry, np.zeros(16)) == pytest.approx(
             braid.gaylord_force(4e5, length, geometry), rel=ROUND_OFF)
 
 
@@ -71,7 +71,7 @@ def test_zero_moduli_thick_wall_tends_to_gaylord():
     gaps = []
     for thickness in (1e-3, 1e-4, 1e-5):
         geometry = Geometry(0.3143, 0.05715, math.radians(24.08), thickness, "thick")
-        force = muscle.axial_force(4e5, lengths, geometry, np.zeros(16))
+        force = forces.axial_force(4e5, lengths, geometry, np.zeros(16))
         gaps.append(np.max(np.abs(force / braid.gaylord_force(4e5, lengths, geometry) - 1)))
     # first order in t₀: each tenfold thinner wall shrinks the gap about tenfold (allow 8x..12x)
     assert 8 < gaps[0] / gaps[1] < 12 and 8 < gaps[1] / gaps[2] < 12
@@ -85,10 +85,10 @@ def test_eq14_terms_sum_to_identity(wall, load):
     geometry, theta = _geometry(wall), _random_moduli(7)
     for diameter in (0.0762, 0.0889):
         for pressure in (1e5, 4e5, 7e5):
-            terms = muscle.radial_force_terms(pressure, diameter, geometry, theta, axial_load=load)
+            terms = forces.radial_force_terms(pressure, diameter, geometry, theta, axial_load=load)
             length = braid.length_at_diameter(diameter, geometry)
             identity = braid.amplification_factor(diameter, geometry) * (
-                muscle.axial_force(pressure, length, geometry, theta) - load)
+                forces.axial_force(pressure, length, geometry, theta) - load)
             assert sum(terms.values()) == pytest.approx(identity, rel=ROUND_OFF, abs=1e-8)
 
 
@@ -106,10 +106,10 @@ def test_radial_virtual_work_equals_force_balance(load):
         eps1, eps2 = bladder.strains(lp, diameter, geometry)
         for pressure in (2e5, 5e5):
             s1, s2 = bladder.stress(eps1, pressure, a1, b1, 1e6), bladder.stress(eps2, pressure, a2, b2, 1e6)
-            work = (2 / math.pi) * (pressure * dv - muscle.bladder_volume(geometry)
+            work = (2 / math.pi) * (pressure * dv - forces.bladder_volume(geometry)
                                     * (s1 * dl / lp + s2 / diameter) + load * dl)
             identity = braid.amplification_factor(diameter, geometry) * (
-                muscle.axial_force(pressure, lp, geometry, theta) - load)
+                forces.axial_force(pressure, lp, geometry, theta) - load)
             assert work == pytest.approx(identity, rel=ROUND_OFF)
 
 
@@ -132,9 +132,9 @@ def test_closed_form_anchoring_equals_free_length_root(radial_pam, load):
         if load == 0.0:
             root = brentq(lambda p, t=target: free_length(p, g, theta)[0] - t, 1e3, 689e3, xtol=1e-6)
         else:  # with a load the anchoring point is where F_ax(P, L_p) = F_a
-            root = brentq(lambda p, t=target: muscle.axial_force(p, t, g, theta) - load, 1e3, 2e6, xtol=1e-6)
+            root = brentq(lambda p, t=target: forces.axial_force(p, t, g, theta) - load, 1e3, 2e6, xtol=1e-6)
         # 1e-3 Pa: free_length bisects to ~1e-15 m; dL/dP ≈ 4e-7 m/Pa converts that to well under 1e-3 Pa
-        assert muscle.anchoring_pressure(diameter, g, theta, axial_load=load) == pytest.approx(root, abs=1e-3)
+        assert forces.anchoring_pressure(diameter, g, theta, axial_load=load) == pytest.approx(root, abs=1e-3)
 
 
 def test_free_length_is_the_largest_root(radial_pam):
@@ -142,6 +142,6 @@ def test_free_length_is_the_largest_root(radial_pam):
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     for pressure in (50e3, 300e3, 689e3):
         lf = free_length(pressure, g, theta)[0]
-        assert abs(muscle.axial_force(pressure, lf, g, theta)) < 1e-6
+        assert abs(forces.axial_force(pressure, lf, g, theta)) < 1e-6
         above = np.linspace(lf + 1e-6, g.initial_length, 500)
-        assert np.all(muscle.axial_force(pressure, above, g, theta) > 0)
+        assert np.all(forces.axial_force(pressure, above, g, theta) > 0)

@@ -6,7 +6,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.functions import axial_force_function, radial_force_function
 
 
@@ -17,9 +17,9 @@ def test_float_array_and_casadi_paths_agree(radial_pam):
     pressures = rng.uniform(0, 7e5, 200)
     diameters = rng.uniform(0.06, 0.095, 200)
     loads = rng.uniform(-200, 1500, 200)
-    floats = np.array([muscle.radial_force(float(p), float(d), g, theta, 1e6, float(f))
+    floats = np.array([forces.radial_force(float(p), float(d), g, theta, 1e6, float(f))
                        for p, d, f in zip(pressures, diameters, loads, strict=True)])
-    arrays = muscle.radial_force(pressures, diameters, g, theta, 1e6, loads)
+    arrays = forces.radial_force(pressures, diameters, g, theta, 1e6, loads)
     function = radial_force_function("thick", 3)
     symbolic = np.asarray(function(pressures[None, :], diameters[None, :], loads[None, :],
                                    g.as_vector(), theta, np.zeros(16), 1e6)).ravel()
@@ -36,7 +36,7 @@ def test_axial_function_matches_regressor_form(radial_pam):
     theta = theta + rng.uniform(-2e5, 2e5, 16)
     f = axial_force_function("thick", 3)
     for pressure, length in zip(rng.uniform(0, 7e5, 20), rng.uniform(0.22, 0.31, 20), strict=True):
-        offset, row = muscle.axial_force_regressors(pressure, length, g, 3)
+        offset, row = forces.axial_force_regressors(pressure, length, g, 3)
         assert float(f(pressure, length, g.as_vector(), theta, 1e6)) == pytest.approx(
             offset + np.dot(row, theta), rel=1e-10)
 
@@ -47,7 +47,7 @@ def test_casadi_derivatives_match_finite_differences(radial_pam):
     p, d, f = ca.SX.sym("p"), ca.SX.sym("d"), ca.SX.sym("f")
     th = ca.SX.sym("th", 16)
     x = ca.vertcat(p, d, f, th)
-    expr = muscle.radial_force(p, d, g, th, 1e6, f)
+    expr = forces.radial_force(p, d, g, th, 1e6, f)
     grad = ca.Function("grad", [x], [expr, ca.gradient(expr, x)])
     point = np.concatenate([[4e5, 0.08, 300.0], theta])
     value, exact = (np.asarray(v).ravel() for v in grad(point))
@@ -89,8 +89,8 @@ def test_smoothed_contact_switch_never_overflows(radial_pam):
     """softplus s·log(1 + e^(u/s)) stays finite for u/s ≫ 700 and tends to max(0, u) as s → 0."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     pressures = np.array([0.0, 50e3, 400e3, 7e5])
-    exact = muscle.radial_force(pressures, 0.0762, g, theta)
-    smooth = muscle.radial_force(pressures, 0.0762, g, theta, smoothing=1e-3)  # u/s up to ~1e7
+    exact = forces.radial_force(pressures, 0.0762, g, theta)
+    smooth = forces.radial_force(pressures, 0.0762, g, theta, smoothing=1e-3)  # u/s up to ~1e7
     assert np.all(np.isfinite(smooth))
     # the softplus exceeds max(0, u) by at most s·log 2 (at u = 0), here 7e-4 N
     np.testing.assert_allclose(smooth, exact, rtol=0, atol=1e-3 * np.log(2) + 1e-9)

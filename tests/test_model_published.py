@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.model import bladder, braid, muscle, slip
+from pampipe.model import bladder, braid, forces, slip
 from pampipe.model.functions import free_length
 
 PIPES = {0.0762: dict(anchor=117.00e3, length=286.77e-3, amp=0.951, drop=974.2, slope=16.6),
@@ -22,7 +22,7 @@ def test_demo_muscle_anchors_where_the_paper_says(radial_pam, diameter):
     """Issue 2: anchoring at 117.0 / 165.0 kPa (±0.5 kPa) at free lengths 286.77 / 265.43 mm (±0.05 mm)."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     expected = PIPES[diameter]
-    anchoring = muscle.anchoring_pressure(diameter, g, theta)
+    anchoring = forces.anchoring_pressure(diameter, g, theta)
     assert anchoring == pytest.approx(expected["anchor"], abs=0.5e3)
     assert free_length(anchoring, g, theta)[0] == pytest.approx(expected["length"], abs=0.05e-3)
     assert braid.length_at_diameter(diameter, g) == pytest.approx(expected["length"], abs=0.05e-3)
@@ -34,8 +34,8 @@ def test_amplification_and_load_drop(radial_pam, diameter):
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     expected = PIPES[diameter]
     assert braid.amplification_factor(diameter, g) == pytest.approx(expected["amp"], abs=5e-4)
-    unloaded = muscle.radial_force(500e3, diameter, g, theta)
-    loaded = muscle.radial_force(500e3, diameter, g, theta, axial_load=1024.74)
+    unloaded = forces.radial_force(500e3, diameter, g, theta)
+    loaded = forces.radial_force(500e3, diameter, g, theta, axial_load=1024.74)
     assert unloaded - loaded == pytest.approx(expected["drop"], abs=0.05)
 
 
@@ -44,8 +44,8 @@ def test_radial_slope_is_unchanged_by_load(radial_pam, diameter):
     """§5.8/§7: dF_r/dP = A ∂F_ax/∂P = 16.6 / 15.7 N/kPa, with or without axial load (F_r affine in P)."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     for load in (0.0, 1024.74):
-        f1 = muscle.radial_force(400e3, diameter, g, theta, axial_load=load)
-        f2 = muscle.radial_force(600e3, diameter, g, theta, axial_load=load)
+        f1 = forces.radial_force(400e3, diameter, g, theta, axial_load=load)
+        f2 = forces.radial_force(600e3, diameter, g, theta, axial_load=load)
         assert (f2 - f1) / 200.0 == pytest.approx(PIPES[diameter]["slope"], abs=0.05)
 
 
@@ -60,9 +60,9 @@ def test_state_at_anchoring_in_3in_pipe(radial_pam):
     sigma1, sigma2 = bladder.stress(eps1, 0, a1, b1, 1e6), bladder.stress(eps2, 0, a2, b2, 1e6)
     assert sigma1 == pytest.approx(-0.115e6, abs=0.5e3)
     assert sigma2 == pytest.approx(1.30e6, abs=0.005e6)
-    assert muscle.wall_section(length, g)[2] == pytest.approx(2.52e-3, abs=0.005e-3)
-    anchoring = muscle.anchoring_pressure(0.0762, g, theta)
-    area, lever1, lever2 = muscle.axial_levers(length, g)
+    assert forces.wall_section(length, g)[2] == pytest.approx(2.52e-3, abs=0.005e-3)
+    anchoring = forces.anchoring_pressure(0.0762, g, theta)
+    area, lever1, lever2 = forces.axial_levers(length, g)
     assert anchoring * area == pytest.approx(2046, abs=0.5)
     assert sigma1 * lever1 == pytest.approx(-67, abs=0.5)
     assert -sigma2 * lever2 == pytest.approx(-1979, abs=0.5)
@@ -85,8 +85,8 @@ def test_free_contraction_range_and_drucker_margin(radial_pam):
 def test_bladder_volume_and_thick_wall_radial_force(radial_pam):
     """§7: V_b = 167.3 cm³; §4.4: the thick force balance gives 4705 N at 400 kPa in the 76.2 mm pipe."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
-    assert muscle.bladder_volume(g) == pytest.approx(167.3e-6, abs=0.05e-6)
-    assert muscle.radial_force(400e3, 0.0762, g, theta) == pytest.approx(4705, abs=1.0)
+    assert forces.bladder_volume(g) == pytest.approx(167.3e-6, abs=0.05e-6)
+    assert forces.radial_force(400e3, 0.0762, g, theta) == pytest.approx(4705, abs=1.0)
 
 
 def test_axial_load_pam_amplification_crosses_one_just_below_3in(axial_load_pam):
@@ -126,8 +126,8 @@ def test_axial_load_shifts_anchoring(radial_pam, diameter, shift):
     """§7: a 1024.74 N load shifts anchoring by +58.6 / +78.3 kPa, both by the closed form and by
     the loaded free-contraction root L_free(P; F_a) = L(D_p)."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
-    base = muscle.anchoring_pressure(diameter, g, theta)
-    loaded = muscle.anchoring_pressure(diameter, g, theta, axial_load=1024.74)
+    base = forces.anchoring_pressure(diameter, g, theta)
+    loaded = forces.anchoring_pressure(diameter, g, theta, axial_load=1024.74)
     assert loaded - base == pytest.approx(shift, abs=0.05e3)
     assert free_length(loaded, g, theta, axial_load=1024.74)[0] == pytest.approx(
         braid.length_at_diameter(diameter, g), abs=1e-9)

@@ -11,7 +11,7 @@ import yaml
 
 from pampipe.cli import main
 from pampipe.io.config import load_mission
-from pampipe.model import muscle
+from pampipe.model import forces
 from tests.conftest import PROBLEMS, run_cli
 
 MISSIONS = PROBLEMS / "missions"
@@ -90,7 +90,7 @@ def test_each_infeasibility_reason_and_exit_3():
     assert "friction is zero" in reasons["oily-bend"]
     # the pressure that touches the 4.5 in wall, from the closed form of docs/physics.md §7
     pam = load_mission(SURVEY).segments[0].pam
-    touch = muscle.anchoring_pressure(4.5 * 0.0254, pam.geometry, pam.moduli.as_vector(), 1e6)
+    touch = forces.anchoring_pressure(4.5 * 0.0254, pam.geometry, pam.moduli.as_vector(), 1e6)
     assert f"needs {touch / 1e3:.4g} kPa" in reasons["wide-run"]
 
 

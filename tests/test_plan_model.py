@@ -17,7 +17,7 @@ from scipy.optimize import brentq
 from pampipe.errors import InputError
 from pampipe.io.config import load_mission
 from pampipe.mission import Mission, Section, Segment
-from pampipe.model import muscle, slip
+from pampipe.model import forces, slip
 from pampipe.model.pam import Moduli
 from pampipe.plan import max_payload, plan_mission
 from pampipe.plan.solve import block_solver
@@ -51,7 +51,7 @@ def closed_form(mission, s, i):
     args = (seg.pam.geometry, m.as_vector(), m.reference_pressure)
     required = slip.required_pressure(sec.diameter, *args, load, mission.kappa, sec.friction,
                                       mission.safety_factor)
-    return max(required, muscle.anchoring_pressure(sec.diameter, *args, mission.kappa * load)), load
+    return max(required, forces.anchoring_pressure(sec.diameter, *args, mission.kappa * load)), load
 
 
 def brentq_pressure(mission, s, i):
@@ -62,7 +62,7 @@ def brentq_pressure(mission, s, i):
     load = slip.anchor_load(total, seg.mass, sec.incline, sec.friction, mission.tether_drag)
     contact = m.contact_vector() if np.any(m.contact_vector()) else None
     args = (seg.pam.geometry, m.as_vector(), m.reference_pressure)
-    start = muscle.anchoring_pressure(sec.diameter, *args, mission.kappa * load)
+    start = forces.anchoring_pressure(sec.diameter, *args, mission.kappa * load)
 
     def margin(p):
         return (slip.holding_capacity(p, sec.diameter, *args, load, mission.kappa, sec.friction, contact)

@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from pampipe.errors import InputError
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.domain import check_length, check_pipe_diameter, check_pressure
 from tests.conftest import PROBLEMS, run_cli
 
@@ -33,7 +33,7 @@ def test_simulate_json_document(axial_load_pam):
     length = braid.length_at_diameter(0.0762, g)
     assert doc["pipe_diameter_m"] == pytest.approx(0.0762, rel=1e-11)
     assert doc["anchored_length_m"] == pytest.approx(288.88e-3, abs=0.005e-3)  # docs/physics.md §7
-    expected = muscle.radial_force(4e5, 0.0762, g, theta, 1e6, 1024.74)
+    expected = forces.radial_force(4e5, 0.0762, g, theta, 1e6, 1024.74)
     # JSON carries 12 significant digits (pampipe.io.files.JSON_DIGITS): compare to 1e-11 relative
     assert point["radial_force_N"] == pytest.approx(expected, rel=1e-11)
     # independent: F_r/(D L), F_r/L, and A(F_ax − F_a) from the unclipped force balance
@@ -159,5 +159,5 @@ def test_domain_checks_raise_instead_of_nan(radial_pam):
     theta = radial_pam.moduli.as_vector()
     diameters = np.linspace(g.initial_diameter * 1.0001, g.largest_diameter * 0.9999, 200)
     check_pipe_diameter(g, diameters)
-    values = muscle.radial_force(np.linspace(0, 1e7, 200), diameters, g, theta, 1e6, 1e4)
+    values = forces.radial_force(np.linspace(0, 1e7, 200), diameters, g, theta, 1e6, 1e4)
     assert np.all(np.isfinite(values))

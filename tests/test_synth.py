@@ -8,7 +8,7 @@ import pytest
 from pampipe.cli import main
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.model import muscle
+from pampipe.model import forces
 from pampipe.model.functions import free_length
 from pampipe.synth import PAPER_LOAD, PAPER_PIPES, Protocol, generate, write_experiment
 
@@ -21,7 +21,7 @@ def test_protocol_shape_and_noise_free_values(radial_pam):
     spec, axial = tests[0]
     assert axial["force"].size == 10 * 3 * 2 * 50  # pressures x cycles x legs x points
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
-    model = muscle.axial_force(axial["pressure"], axial["length"], g, theta)
+    model = forces.axial_force(axial["pressure"], axial["length"], g, theta)
     np.testing.assert_allclose(axial["force"], model)
     # each leg spans L0 .. L_free(P); at 689 kPa the demo muscle contracts to 209.3 mm (docs/physics.md §7)
     top = axial["pressure"] == axial["pressure"].max()
@@ -31,7 +31,7 @@ def test_protocol_shape_and_noise_free_values(radial_pam):
     assert axial["length"][top].min() == pytest.approx(0.2093, abs=2e-4)
     for spec, radial in tests[1:]:
         assert spec.pipe_diameter in PAPER_PIPES and spec.axial_load in (0.0, PAPER_LOAD)
-        expected = muscle.radial_force(radial["pressure"], spec.pipe_diameter, g, theta, 1e6, spec.axial_load)
+        expected = forces.radial_force(radial["pressure"], spec.pipe_diameter, g, theta, 1e6, spec.axial_load)
         np.testing.assert_allclose(radial["force"], expected)
     # below the anchoring pressure (117 kPa in the 3 in pipe without load) the force is zero
     radial = tests[1][1]

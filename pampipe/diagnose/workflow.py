@@ -20,7 +20,7 @@ from pampipe.diagnose.refit import MPA, Fit, Refitter, rows_of
 from pampipe.diagnose.result import Candidate, DiagnoseResult, TestRmse
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
-from pampipe.model import muscle
+from pampipe.model import forces
 from pampipe.model.effects import LIBRARY, get_effect
 
 DEGREE = 3
@@ -102,7 +102,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     noise = tuple(signatures.noise_floor(t, r) for t, r in zip(data.tests, baseline.residuals, strict=True))
     pooled = float(np.sqrt(sum(f.sigma**2 * t.points for f, t in zip(noise, data.tests, strict=True)) / n))
     theta_si = refitter.moduli_si(base_fit.x)
-    anchoring = tuple(float(muscle.anchoring_pressure(t.spec.pipe_diameter, data.pam.geometry, theta_si, MPA,
+    anchoring = tuple(float(forces.anchoring_pressure(t.spec.pipe_diameter, data.pam.geometry, theta_si, MPA,
                                                       t.spec.axial_load)) if t.kind == "radial" else None
                       for t in data.tests)
     sigs = tuple(signatures.signatures(data, list(baseline.residuals), list(anchoring), pooled))

@@ -39,7 +39,7 @@ from pampipe.gait.options import GaitOptions, Gas, Valve
 from pampipe.gait.pneumatics import SHAPE_DEGREE, Chamber, pressure_rate
 from pampipe.gait.requirements import MuscleNeed
 from pampipe.gait.schedule import PHASES, ControlPlan
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.pam import Geometry
 
 SCALE = 1e5  # pressure scaling [Pa]: the states are P / 1e5
@@ -97,9 +97,9 @@ def _holding_excess(pressure, s: _MuscleSymbols):
     """(μπA(F_ax(P, L_p) − κW + ΔF_contact) − SF·W) / max(SF·W, 1 N): ≥ 0 means no slip."""
     length = braid.length_at_diameter(s.diameter, s.geometry)
     load = s.kappa * s.load
-    holding = muscle.axial_force(pressure, length, s.geometry, s.theta, s.reference_pressure) - load
-    anchoring = muscle.anchoring_pressure(s.diameter, s.geometry, s.theta, s.reference_pressure, load)
-    holding += muscle.contact_force_increment(pressure, length, s.geometry, s.contact,
+    holding = forces.axial_force(pressure, length, s.geometry, s.theta, s.reference_pressure) - load
+    anchoring = forces.anchoring_pressure(s.diameter, s.geometry, s.theta, s.reference_pressure, load)
+    holding += forces.contact_force_increment(pressure, length, s.geometry, s.contact,
                                               s.reference_pressure, anchoring)
     grip = s.friction * np.pi * braid.amplification_factor(s.diameter, s.geometry)
     return (grip * holding - s.safety_factor * s.load) * s.hold_scale

@@ -31,7 +31,7 @@ from scipy.integrate import solve_ivp
 
 from pampipe.errors import SolverError
 from pampipe.gait.options import Gas, Valve
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.functions import free_length
 
 GAS_CONSTANT = 287.05  # R of dry air [J/(kg·K)]
@@ -70,8 +70,8 @@ class Chamber:
     @classmethod
     def of_muscle(cls, geometry, theta, reference_pressure: float, pipe_diameter: float) -> Chamber:
         """Fit V(P) to the exact free-contraction volume V(L_free(P)) of the braid model."""
-        anchoring = float(muscle.anchoring_pressure(pipe_diameter, geometry, theta, reference_pressure))
-        bladder = muscle.bladder_volume(geometry)
+        anchoring = float(forces.anchoring_pressure(pipe_diameter, geometry, theta, reference_pressure))
+        bladder = forces.bladder_volume(geometry)
         anchored = float(braid.enclosed_volume(braid.length_at_diameter(pipe_diameter, geometry),
                                                geometry)) - bladder
         rest = float(braid.enclosed_volume(geometry.initial_length, geometry)) - bladder

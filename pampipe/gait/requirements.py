@@ -17,7 +17,7 @@ from pampipe.errors import InfeasibleError, InputError
 from pampipe.gait.options import GaitOptions
 from pampipe.gait.pneumatics import Chamber
 from pampipe.mission import Mission, Section
-from pampipe.model import braid, muscle, slip
+from pampipe.model import braid, forces, slip
 from pampipe.model.pam import Pam
 from pampipe.plan import plan_mission
 from pampipe.simulate import require_moduli
@@ -81,7 +81,7 @@ def section_needs(mission: Mission, section: Section, options: GaitOptions) -> t
         geometry, theta, pref = pam.geometry, pam.moduli.as_vector(), pam.moduli.reference_pressure
         load = float(slip.anchor_load(total_mass, segment.mass, section.incline, section.friction,
                                       mission.tether_drag))
-        contact = float(muscle.anchoring_pressure(d, geometry, theta, pref))
+        contact = float(forces.anchoring_pressure(d, geometry, theta, pref))
         need = MuscleNeed(segment.name, pam, d, contact, math.nan, target, load, section.friction,
                           mission.kappa, mission.safety_factor,
                           Chamber.of_muscle(geometry, theta, pref, d),
@@ -103,7 +103,7 @@ def _required_pressure(need: MuscleNeed, supply: float) -> float:
         return float(slip.required_pressure(need.pipe_diameter, need.pam.geometry, moduli.as_vector(),
                                             moduli.reference_pressure, need.load, need.kappa,
                                             need.friction, need.safety_factor))
-    low = float(muscle.anchoring_pressure(need.pipe_diameter, need.pam.geometry, moduli.as_vector(),
+    low = float(forces.anchoring_pressure(need.pipe_diameter, need.pam.geometry, moduli.as_vector(),
                                           moduli.reference_pressure, need.kappa * need.load))
     return float(brentq(lambda p: float(need.holding_ratio(p)) - 1.0, low, 2 * supply + low,
                         xtol=1e-6))

@@ -11,7 +11,7 @@ import numpy as np
 
 from pampipe.experiment import ExperimentData, TestData
 from pampipe.identify.result import LevelFit, TestFit
-from pampipe.model import muscle
+from pampipe.model import forces
 from pampipe.model.pam import Moduli, Pam
 from pampipe.simulate import require_moduli
 
@@ -22,10 +22,10 @@ def predict(pam: Pam, test: TestData) -> np.ndarray:
     moduli = pam.moduli
     theta, pref = moduli.as_vector(), moduli.reference_pressure
     if test.kind == "axial":
-        force = muscle.axial_force(test.pressure, test.length, pam.geometry, theta, pref)
+        force = forces.axial_force(test.pressure, test.length, pam.geometry, theta, pref)
     else:
         contact = moduli.contact_vector()
-        force = muscle.radial_force(test.pressure, test.spec.pipe_diameter, pam.geometry, theta, pref,
+        force = forces.radial_force(test.pressure, test.spec.pipe_diameter, pam.geometry, theta, pref,
                                     test.spec.axial_load, contact if np.any(contact) else None)
     return np.asarray(force, dtype=float) * np.ones(test.points)
 

@@ -29,7 +29,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from pampipe.experiment import ExperimentData, TestData
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.bladder import strains
 from pampipe.model.pam import Geometry
 
@@ -126,7 +126,7 @@ def _reduce(data, degree, reference_pressure, average_legs, average_bins) -> Sta
 
 def _regressors(pressure, length, geometry, degree, pref):
     """(offset [N], Φ [N/MPa]) of F_ax = offset + Φ·θ_MPa."""
-    offset, row = muscle.axial_force_regressors(pressure, length, geometry, degree, pref)
+    offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, pref)
     phi = np.column_stack([np.broadcast_to(np.asarray(c, dtype=float), pressure.shape) for c in row])
     return np.asarray(offset, dtype=float), phi * MPA
 
@@ -182,8 +182,8 @@ def radial_coefficients(pipe_diameter, axial_load, geometry, degree, pref):
     """(A·φ₀, A·φ₁, A·area·P_ref, A·F_a) of u(x) = c₀ + c₁x at the pipe (N/MPa, N)."""
     length = braid.length_at_diameter(pipe_diameter, geometry)
     amp = float(braid.amplification_factor(pipe_diameter, geometry))
-    off0, row0 = muscle.axial_force_regressors(0.0, length, geometry, degree, pref)
-    off1, row1 = muscle.axial_force_regressors(pref, length, geometry, degree, pref)
+    off0, row0 = forces.axial_force_regressors(0.0, length, geometry, degree, pref)
+    off1, row1 = forces.axial_force_regressors(pref, length, geometry, degree, pref)
     phi0 = np.array([float(v) for v in row0]) * MPA
     phi1 = np.array([float(v) for v in row1]) * MPA - phi0
     return amp * phi0, amp * phi1, amp * float(off1 - off0), amp * axial_load

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.model.muscle import wall_section
+from pampipe.model.forces import wall_section
 from pampipe.model.pam import Geometry
 
 

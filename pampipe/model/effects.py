@@ -28,7 +28,7 @@ from typing import Any, ClassVar
 from pampipe.model import ops
 from pampipe.model.bladder import split_moduli, strains, stress
 from pampipe.model.braid import amplification_factor, braid_length, diameter_at_length, turns
-from pampipe.model.muscle import (
+from pampipe.model.forces import (
     anchoring_pressure,
     axial_levers,
     bladder_force,
@@ -348,7 +348,7 @@ def axial_force_with_effects(pressure, length, geometry, theta, reference_pressu
     """F [N] a test machine measures on the free muscle at (P_meas, L), with ``effects`` switched on.
 
     ``leg`` is the sign of the length rate (+1 lengthening, −1 shortening). Without effects this is
-    exactly :func:`pampipe.model.muscle.axial_force` (Eq. 9).
+    exactly :func:`pampipe.model.forces.axial_force` (Eq. 9).
     """
     active = _resolved(effects)
     pressure = _compose(active, "pressure", pressure)
@@ -373,7 +373,7 @@ def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pre
 
     u = A(L)·(F_ax(P, L, D) + Σ ΔF_ax − F_a)·Π factor + Σ ΔF_r, F_r = max(0, u) (or the softplus of
     width ``smoothing`` [N]). L = L(D) unless the braid stretches. Without effects this is exactly
-    :func:`pampipe.model.muscle.radial_force`.
+    :func:`pampipe.model.forces.radial_force`.
     """
     active = _resolved(effects)
     pressure = _compose(active, "pressure", pressure)
@@ -413,7 +413,7 @@ def anchoring_pressure_with_effects(diameter, geometry, theta, reference_pressur
 
     Bisection on [0, ``upper``] of the sign of :func:`radial_force_with_effects`; 0 if the muscle
     already presses on the wall at 0 Pa, ``upper`` if it never does. Without effects this agrees
-    with the closed form :func:`pampipe.model.muscle.anchoring_pressure` to ``upper``/2^iterations.
+    with the closed form :func:`pampipe.model.forces.anchoring_pressure` to ``upper``/2^iterations.
     """
     def pressing(p):
         return float(radial_force_with_effects(p, diameter, geometry, theta, reference_pressure, axial_load,

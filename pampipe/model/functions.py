@@ -13,7 +13,7 @@ import casadi as ca
 import numpy as np
 
 from pampipe.errors import SolverError
-from pampipe.model import muscle
+from pampipe.model import forces
 from pampipe.model.pam import Geometry, Wall
 
 
@@ -31,7 +31,7 @@ def radial_force_function(wall: Wall, degree: int) -> ca.Function:
     g, geometry = symbolic_geometry(wall)
     n = 4 * (degree + 1)
     theta, contact = ca.SX.sym("theta", n), ca.SX.sym("contact", n)
-    radial = muscle.radial_force(pressure, diameter, geometry, theta, pref, load, contact)
+    radial = forces.radial_force(pressure, diameter, geometry, theta, pref, load, contact)
     return ca.Function("radial_force", [pressure, diameter, load, g, theta, contact, pref], [radial],
                        ["pressure", "diameter", "axial_load", "geometry", "theta", "contact",
                         "reference_pressure"], ["radial_force"])
@@ -43,7 +43,7 @@ def axial_force_function(wall: Wall, degree: int) -> ca.Function:
     pressure, length, pref = ca.SX.sym("pressure"), ca.SX.sym("length"), ca.SX.sym("reference_pressure")
     g, geometry = symbolic_geometry(wall)
     theta = ca.SX.sym("theta", 4 * (degree + 1))
-    force = muscle.axial_force(pressure, length, geometry, theta, pref)
+    force = forces.axial_force(pressure, length, geometry, theta, pref)
     return ca.Function("axial_force", [pressure, length, g, theta, pref], [force],
                        ["pressure", "length", "geometry", "theta", "reference_pressure"],
                        ["axial_force"])
@@ -60,7 +60,7 @@ def free_length(pressure, geometry: Geometry, theta, reference_pressure: float =
     pressure = np.atleast_1d(np.asarray(pressure, dtype=float))
     top, bottom = geometry.initial_length, geometry.shortest_length * (1 + 1e-9)
     lengths = np.linspace(top, bottom, grid)
-    at_zero, slope = muscle.axial_force_affine(lengths, geometry, theta, reference_pressure)
+    at_zero, slope = forces.axial_force_affine(lengths, geometry, theta, reference_pressure)
     force = at_zero[None, :] + pressure[:, None] * slope[None, :] - axial_load  # pressures × lengths
     negative = force < 0
     negative[:, 0] = False  # the scan starts at the rest length L₀
@@ -75,7 +75,7 @@ def free_length(pressure, geometry: Geometry, theta, reference_pressure: float =
     low = lengths[first]
     for _ in range(iterations):
         mid = 0.5 * (high + low)
-        f0, f1 = muscle.axial_force_affine(mid, geometry, theta, reference_pressure)
+        f0, f1 = forces.axial_force_affine(mid, geometry, theta, reference_pressure)
         positive = f0 + pressure * f1 - axial_load >= 0
         high = np.where(positive, mid, high)
         low = np.where(positive, low, mid)

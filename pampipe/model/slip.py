@@ -15,7 +15,7 @@ import math
 
 from pampipe.model import ops
 from pampipe.model.braid import amplification_factor, length_at_diameter
-from pampipe.model.muscle import axial_force_affine, radial_force
+from pampipe.model.forces import axial_force_affine, radial_force
 
 STANDARD_GRAVITY = 9.80665  # [m/s²]
 

@@ -4,7 +4,7 @@
   contact increments: P* = max(P_req, P_a(κW)).
 * Bisection on the full model: the least P with μπF_r(P, D, κW) ≥ SF·W and F_ax(P, L_p) ≥ κW
   (the muscle touches the wall), evaluated with :func:`pampipe.model.slip.holding_capacity` and
-  :func:`pampipe.model.muscle.axial_force`, which share no code with the NLP's coefficients.
+  :func:`pampipe.model.forces.axial_force`, which share no code with the NLP's coefficients.
 
 Each check returns the largest relative difference |ΔP| / max(P, 1 kPa) over the elements it covers.
 """
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pampipe.model import braid, muscle, slip
+from pampipe.model import braid, forces, slip
 from pampipe.plan.problem import Elements
 
 PRESSURE_FLOOR = 1e3  # [Pa] floor of the relative difference, so P ≈ 0 cannot blow it up
@@ -30,7 +30,7 @@ def closed_form_pressure(mission, elements: Elements) -> np.ndarray:
         d, w, mu = e.diameter[col, i], e.load[col, i], e.friction[col, i]
         args = (seg.pam.geometry, m.as_vector(), m.reference_pressure)
         required = slip.required_pressure(d, *args, w, mission.kappa, mu, mission.safety_factor)
-        contact = muscle.anchoring_pressure(d, *args, mission.kappa * w)
+        contact = forces.anchoring_pressure(d, *args, mission.kappa * w)
         out[col, i] = np.maximum(np.maximum(required, contact), 0.0)
     return out
 
@@ -49,7 +49,7 @@ def bisection_pressure(mission, elements: Elements, upper: np.ndarray, *, iterat
         def holds(p, d=d, w=w, mu=mu, length=length, geometry=geometry, theta=theta, pref=pref,
                   contact=contact):
             capacity = slip.holding_capacity(p, d, geometry, theta, pref, w, mission.kappa, mu, contact)
-            touching = muscle.axial_force(p, length, geometry, theta, pref) >= mission.kappa * w
+            touching = forces.axial_force(p, length, geometry, theta, pref) >= mission.kappa * w
             return (capacity >= mission.safety_factor * w) & touching
 
         low, high = np.zeros_like(d), upper[col, i].copy()

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from pampipe.errors import InputError, SolverError
-from pampipe.model import muscle, slip
+from pampipe.model import forces, slip
 from pampipe.plan import diagnosed
 from pampipe.plan.checks import cross_check
 from pampipe.plan.confidence import confidence_pressure
@@ -97,8 +97,8 @@ def _evaluate(mission, e: Elements, pressure: np.ndarray, i: int):
     if mission.segments[i].pam.effects:
         radial = diagnosed.radial_force(mission, i, p, d, mission.kappa * load)
         capacity = e.friction[:, i] * math.pi * radial
-        return capacity, radial, muscle.contact_pressure(radial, d, e.length[:, i])
-    radial = muscle.radial_force(p, d, geometry, theta, pref, mission.kappa * load, contact)
+        return capacity, radial, forces.contact_pressure(radial, d, e.length[:, i])
+    radial = forces.radial_force(p, d, geometry, theta, pref, mission.kappa * load, contact)
     capacity = slip.holding_capacity(p, d, geometry, theta, pref, load, mission.kappa, e.friction[:, i],
                                      contact)
-    return capacity, radial, muscle.contact_pressure(radial, d, e.length[:, i])
+    return capacity, radial, forces.contact_pressure(radial, d, e.length[:, i])

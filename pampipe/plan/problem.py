@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.slip import STANDARD_GRAVITY, anchor_load
 
 #: Largest gauge pressure the model accepts [Pa] (pampipe.model.domain.check_pressure).
@@ -109,10 +109,10 @@ def build_elements(mission, *, payload: float | None = None) -> Elements:
         valid = (diameter > g.initial_diameter) & (diameter < g.largest_diameter) & (friction > 0)
         safe = np.where(valid, diameter, 0.5 * (g.initial_diameter + g.largest_diameter))
         length = braid.length_at_diameter(safe, g)
-        at_zero, slope = muscle.axial_force_affine(length, g, theta, pref)
+        at_zero, slope = forces.axial_force_affine(length, g, theta, pref)
         if np.any(contact):
-            c0 = muscle.bladder_force(0.0, length, g, contact, pref)
-            c1 = (muscle.bladder_force(pref, length, g, contact, pref) - c0) / pref
+            c0 = forces.bladder_force(0.0, length, g, contact, pref)
+            c1 = (forces.bladder_force(pref, length, g, contact, pref) - c0) / pref
         else:
             c0 = c1 = np.zeros_like(length)
         load = anchor_load(total_mass, seg.mass, incline, friction, mission.tether_drag)

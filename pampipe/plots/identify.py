@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.identify.predict import predict
-from pampipe.model import bladder, braid, muscle
+from pampipe.model import bladder, braid, forces
 from pampipe.model.pam import Pam
 from pampipe.report import new_figure, save_figure
 
@@ -46,7 +46,7 @@ def _axial(tests, pam: Pam, folder: Path) -> Path:
         for lev, pressure in enumerate(test.level_pressure):
             mine = test.level == lev
             lengths = np.linspace(test.length[mine].min(), test.length[mine].max(), 100)
-            model = muscle.axial_force(pressure, lengths, pam.geometry, theta, pref)
+            model = forces.axial_force(pressure, lengths, pam.geometry, theta, pref)
             ax.plot(lengths * 1e3, model, color=colors[lev], lw=1.5, label=f"{pressure / 1e3:.0f} kPa")
         ax.set(xlabel="length L [mm]", ylabel="axial force F_ax [N]",
                title=f"{test.name}: measured (dots) and fitted model (lines)")
@@ -65,7 +65,7 @@ def _radial(tests, base: Pam, result, folder: Path) -> Path:
         color = f"C{i % 10}"
         ax.plot(test.pressure[rows] / 1e3, test.force[rows], ".", ms=3, alpha=0.35, color=color)
         grid = np.linspace(min(0.0, test.pressure.min()), test.pressure.max(), 300)
-        model = muscle.radial_force(grid, test.spec.pipe_diameter, pam.geometry, theta, pref,
+        model = forces.radial_force(grid, test.spec.pipe_diameter, pam.geometry, theta, pref,
                                     test.spec.axial_load, contact if np.any(contact) else None)
         ax.plot(grid / 1e3, model, color=color, lw=1.5,
                 label=f"{test.name} (RMSE {result.tests[_index(result, test.name)].rmse:.3g} N)")

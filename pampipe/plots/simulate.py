@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.model import braid, muscle
+from pampipe.model import braid, forces
 from pampipe.model.functions import free_length
 from pampipe.report import new_figure, save_figure
 
@@ -22,7 +22,7 @@ def plot_simulation(pam, cases, folder: Path) -> list[Path]:
 
     fig, ax = new_figure(figsize=(7, 4.5))
     for c in cases:
-        radial = muscle.radial_force(grid, c.pipe_diameter, geometry, theta, pref, c.axial_load,
+        radial = forces.radial_force(grid, c.pipe_diameter, geometry, theta, pref, c.axial_load,
                                      contact if np.any(contact) else None)
         line, = ax.plot(grid / 1e3, radial, label=f"D_p = {c.pipe_diameter * 1e3:.1f} mm, "
                                                    f"F_a = {c.axial_load:.0f} N")
