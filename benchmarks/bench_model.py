@@ -16,11 +16,12 @@ import math
 import time
 from pathlib import Path
 
+import casadi as ca
 import numpy as np
 
 from pampipe.io.config import load_pam
 from pampipe.model import forces
-from pampipe.model.functions import radial_force_function
+from pampipe.model.muscle import Muscle, Structure
 
 PAM = Path(__file__).resolve().parent.parent / "problems" / "pams" / "paper-radial-pam.yaml"
 
@@ -91,10 +92,12 @@ def main() -> None:
     geo = (g.initial_length, g.initial_diameter, g.braid_angle, g.bladder_thickness)
 
     t_pampipe, f_pampipe = best_of(3, lambda: forces.radial_force(p, d, g, theta, pref, fa))
-    function = radial_force_function("thick", pam.moduli.degree)
-    zeros = np.zeros_like(theta)
+    sym = Muscle.symbolic(Structure("thick", pam.moduli.degree))
+    ps, ds, fs = ca.SX.sym("p"), ca.SX.sym("d"), ca.SX.sym("f")
+    function = ca.Function("radial", [ps, ds, fs, sym.p], [sym.muscle.radial_force(ps, ds, fs)])
+    packed = sym.pack(Muscle.from_pam(pam))
     t_casadi, f_casadi = best_of(1, lambda: np.asarray(
-        function(p[None, :], d[None, :], fa[None, :], g.as_vector(), theta, zeros, pref)).ravel())
+        function(p[None, :], d[None, :], fa[None, :], packed)).ravel())
     t_numpy, f_numpy = best_of(3, lambda: numpy_radial_force(p, d, fa, *geo, theta, pref))
     m = min(args.loop_points, n)
     t_loop, f_loop = best_of(1, lambda: np.array([scalar_radial_force(p[i], d[i], fa[i], *geo, theta, pref)

@@ -1,7 +1,7 @@
 """Benchmark of `pampipe plan` (the plan issue): a 10⁵-section route, 3 segments.
 
 Compares the planner (the NLP solved through its KKT conditions, all elements at once) with a
-per-section scipy ``brentq`` on the same model (:func:`pampipe.model.slip.holding_capacity` on
+per-section scipy ``brentq`` on the same model (:func:`pampipe.model.forces.radial_force` on
 floats). brentq is timed on a random subset of sections (``--baseline-sections``) and its rate
 extrapolated; the largest disagreement is measured on that subset. Also times the IPOPT path on a
 subset, and ``pampipe plan`` on the demo mission in a fresh interpreter (import included).
@@ -29,7 +29,7 @@ from pampipe.io.config import load_mission
 from pampipe.mission import Section
 from pampipe.model import forces, slip
 from pampipe.plan import plan_mission
-from pampipe.plan.problem import build_elements
+from pampipe.plan.problem import build_elements, mission_muscles
 from pampipe.plan.solve import solve
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -56,8 +56,8 @@ def brentq_plan(mission, indices) -> np.ndarray:
             start = float(forces.anchoring_pressure(sec.diameter, *args, mission.kappa * load))
 
             def margin(p, sec=sec, args=args, load=load):
-                return (slip.holding_capacity(p, sec.diameter, *args, load, mission.kappa, sec.friction)
-                        - mission.safety_factor * load)
+                radial = forces.radial_force(p, sec.diameter, *args, mission.kappa * load)
+                return sec.friction * math.pi * radial - mission.safety_factor * load
 
             out[row, i] = start if margin(start) >= 0 else brentq(margin, start, 1e8, xtol=1e-9,
                                                                   rtol=1e-14)
@@ -87,7 +87,8 @@ def main() -> int:
     print(f"route: {args.sections} sections x {len(mission.segments)} segments = {n} section-segments",
           file=sys.stderr)
 
-    core, solution = timed(lambda: solve(build_elements(mission), mission.supply_pressure))
+    muscles = mission_muscles(mission)
+    core, solution = timed(lambda: solve(muscles, build_elements(mission, muscles), mission.supply_pressure))
     full, plan = timed(lambda: plan_mission(mission, check=False), repeat=1)
     objects, _ = timed(lambda: plan_mission(mission, check=False).sections, repeat=1)
     checked, plan_c = timed(lambda: plan_mission(mission), repeat=1)
@@ -102,8 +103,8 @@ def main() -> int:
     disagreement = float(np.max(np.abs(pressures[subset] - base) / base))
 
     small = dataclasses.replace(mission, route=mission.route[:args.ipopt_sections])
-    ipopt_time, ipopt = timed(lambda: solve(build_elements(small), small.supply_pressure, method="ipopt"),
-                              repeat=1)
+    ipopt_time, ipopt = timed(lambda: solve(muscles, build_elements(small, muscles), small.supply_pressure,
+                                            method="ipopt"), repeat=1)
     ipopt_diff = float(np.max(np.abs(ipopt.pressure - pressures[:args.ipopt_sections])
                               / pressures[:args.ipopt_sections]))
 
@@ -114,11 +115,11 @@ def main() -> int:
         demo_times.append(time.perf_counter() - t)
 
     rows = [
-        ("pampipe KKT solve (elements + NLP)", n, core, n / core, "-"),
+        ("pampipe KKT point (elements + closed form)", n, core, n / core, "-"),
         ("pampipe plan_mission (arrays, reasons)", n, full, n / full, "-"),
         ("pampipe plan_mission + all SectionPlan objects", n, objects, n / objects, "-"),
         ("pampipe plan_mission (+ cross-checks)", n, checked, n / checked,
-         f"{max(v for v in plan_c.checks.values() if v is not None):.2e}"),
+         f"{plan_c.checks['bisection_max_rel_diff']:.2e}"),
         (f"pampipe IPOPT path ({args.ipopt_sections} sections)", ipopt.pressure.size, ipopt_time,
          ipopt.pressure.size / ipopt_time, f"{ipopt_diff:.2e}"),
         (f"scipy brentq per section ({subset.size} sections)", base.size, base_time, base_rate,

@@ -1,4 +1,4 @@
-"""Forward simulation of one muscle anchored in a pipe (docs/physics.md §5-§7): `simulate`'s core."""
+"""Forward simulation of one muscle anchored in pipes (docs/physics.md §5-§7): `simulate`'s core."""
 
 from __future__ import annotations
 
@@ -6,14 +6,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.errors import InputError
-from pampipe.model import braid, effects, forces
 from pampipe.model.domain import check_pipe_diameter, check_pressure
-from pampipe.model.functions import free_length
+from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 
 #: The paper's test pressures, 69…689 kPa in 69 kPa steps (10 psi steps).
 PAPER_PRESSURES = tuple(68947.57 * k for k in range(1, 11))
+#: Points of the curves drawn by the plots.
+CURVE_POINTS = 300
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class AnchoredCase:
         return self.pressures > self.anchoring_pressure
 
     def as_document(self) -> dict:
-        """The `simulate` JSON document of docs/commands.md §6."""
+        """The `simulate` JSON document of docs/commands.md §6 for this case."""
         points = []
         for i, p in enumerate(self.pressures):
             points.append({
@@ -56,40 +56,71 @@ class AnchoredCase:
                 "anchoring_pressure_Pa": self.anchoring_pressure, "points": points}
 
 
-def require_moduli(pam: Pam, *, source: str = "PAM file") -> None:
-    """A muscle without identified moduli cannot be simulated or planned."""
-    if pam.moduli is None:
-        raise InputError(f"{source}: the PAM '{pam.name}' has no 'moduli:' block; run "
-                         "`pampipe identify EXPERIMENT.yaml -o PAM.yaml` first, or add the block by hand.")
+@dataclass(frozen=True)
+class Curves:
+    """What the plots draw, computed by the same muscle as the cases (SI)."""
+
+    pressure: np.ndarray  # grid [Pa]
+    radial_force: tuple[np.ndarray, ...]  # per case, on the grid [N]
+    free_length: dict[float, np.ndarray]  # per axial load [N], on the grid [m]
+    diameter: np.ndarray  # D₀ … 0.98·D(B/√3) [m]
+    amplification_factor: np.ndarray  # A(D) on that grid [-]
 
 
-def simulate_anchored(pam: Pam, *, pipe_diameter: float, axial_load: float = 0.0,
+@dataclass(frozen=True)
+class SimulateResult:
+    """One muscle in one or more pipes and under one or more loads."""
+
+    pam: str
+    cases: tuple[AnchoredCase, ...]
+    curves: Curves
+
+    def to_dict(self) -> dict:
+        """The `simulate` JSON document: the first case's keys, ``pam``, and ``cases`` when several."""
+        document = dict(self.cases[0].as_document())
+        document["pam"] = self.pam
+        if len(self.cases) > 1:
+            document["cases"] = [c.as_document() for c in self.cases]
+        return document
+
+
+def simulate_anchored(muscle: Muscle, *, pipe_diameter: float, axial_load: float = 0.0,
                       pressures=PAPER_PRESSURES, paper_literal: bool = False) -> AnchoredCase:
     """Anchoring pressure, anchored length, A, and F_r, f_r, p_c at each pressure (docs/physics.md §5)."""
-    require_moduli(pam)
-    geometry, theta = pam.geometry, pam.moduli.as_vector()
-    pref, contact = pam.moduli.reference_pressure, pam.moduli.contact_vector()
-    check_pipe_diameter(geometry, pipe_diameter)
+    check_pipe_diameter(muscle.geometry, pipe_diameter)
     pressures = np.asarray(pressures, dtype=float)
     check_pressure(pressures)
-    length = float(braid.length_at_diameter(pipe_diameter, geometry))
-    amp = float(braid.amplification_factor(pipe_diameter, geometry))
-    contact = contact if np.any(contact) else None
-    if pam.effects:  # docs/physics.md §9 effects written by `diagnose`
-        anchoring = float(effects.anchoring_pressure_with_effects(pipe_diameter, geometry, theta, pref,
-                                                                  axial_load, contact, pam.effects))
-        radial = effects.radial_force_with_effects(pressures, pipe_diameter, geometry, theta, pref,
-                                                   axial_load, contact, pam.effects)
-    else:
-        anchoring = float(forces.anchoring_pressure(pipe_diameter, geometry, theta, pref, axial_load))
-        radial = forces.radial_force(pressures, pipe_diameter, geometry, theta, pref, axial_load, contact)
-    radial = np.asarray(radial, dtype=float) * np.ones_like(pressures)
-    lengths = np.maximum(free_length(pressures, geometry, theta, pref, axial_load=axial_load), length)
-    terms = forces.radial_force_terms(pressures, pipe_diameter, geometry, theta, pref, axial_load)
-    terms = {k: np.asarray(v, dtype=float) * np.ones_like(pressures) for k, v in terms.items()}
+    length = float(muscle.anchored_length(pipe_diameter))
+    anchoring = float(muscle.anchoring_pressure(pipe_diameter, axial_load))
+    radial = np.asarray(muscle.radial_force(pressures, pipe_diameter, axial_load), dtype=float)
+    radial = radial * np.ones_like(pressures)
+    lengths = np.maximum(muscle.free_length(pressures, axial_load=axial_load), length)
+    terms = {k: np.asarray(v, dtype=float) * np.ones_like(pressures)
+             for k, v in muscle.radial_force_terms(pressures, pipe_diameter, axial_load).items()}
     return AnchoredCase(
         pipe_diameter=float(pipe_diameter), axial_load=float(axial_load), anchored_length=length,
-        amplification_factor=amp, anchoring_pressure=anchoring, pressures=pressures,
-        radial_force=radial, force_per_length=forces.force_per_length(radial, length),
-        contact_pressure=forces.contact_pressure(radial, pipe_diameter, length, paper_literal),
+        amplification_factor=float(muscle.amplification_factor(pipe_diameter)),
+        anchoring_pressure=anchoring, pressures=pressures, radial_force=radial,
+        force_per_length=radial / length,
+        contact_pressure=muscle.contact_pressure(radial, pipe_diameter, paper_literal=paper_literal),
         free_length=lengths, terms=terms)
+
+
+def simulate(pam: Pam, *, pipe_diameters, axial_loads=(0.0,), pressures=PAPER_PRESSURES,
+             paper_literal: bool = False) -> SimulateResult:
+    """Every (pipe, load) case of one muscle, and the curves its plots draw."""
+    muscle = Muscle.from_pam(pam)
+    cases = tuple(simulate_anchored(muscle, pipe_diameter=d, axial_load=f, pressures=pressures,
+                                    paper_literal=paper_literal)
+                  for d in pipe_diameters for f in axial_loads)
+    top = max(max(c.pressures.max() for c in cases),
+              1.2 * max(c.anchoring_pressure for c in cases if np.isfinite(c.anchoring_pressure)))
+    grid = np.linspace(0.0, top, CURVE_POINTS)
+    g = muscle.geometry
+    diameters = np.linspace(g.initial_diameter, 0.98 * g.largest_diameter, CURVE_POINTS)
+    radial = tuple(np.asarray(muscle.radial_force(grid, c.pipe_diameter, c.axial_load), dtype=float)
+                   * np.ones_like(grid) for c in cases)
+    curves = Curves(grid, radial,
+                    {load: muscle.free_length(grid, axial_load=load) for load in sorted(set(axial_loads))},
+                    diameters, np.asarray(muscle.amplification_factor(diameters), dtype=float))
+    return SimulateResult(pam.name, cases, curves)

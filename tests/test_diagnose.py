@@ -15,10 +15,11 @@ import pytest
 from pampipe.diagnose import selection, signatures
 from pampipe.diagnose.hidden import MAGNITUDES, hidden_experiment
 from pampipe.diagnose.refit import build_problem
-from pampipe.diagnose.result import pam_text
 from pampipe.diagnose.workflow import diagnose
 from pampipe.experiment import make_test_data
 from pampipe.io.config import load_pam
+from pampipe.io.pamfile import write_pam
+from pampipe.model.muscle import Muscle
 from pampipe.simulate import simulate_anchored
 from tests.conftest import PROBLEMS, run_cli
 
@@ -86,15 +87,15 @@ def test_quick_hidden_effect_subset(radial_pam_module, effect, tmp_path):
         assert test.rmse <= RATIO * SIGMA, test
     # augmented model through the PAM file → simulate reproduces the refit's predictions
     path = tmp_path / "pam.yaml"
-    path.write_text(pam_text(result.augmented_pam()))
+    write_pam(path, result.augmented_pam())
     pam = load_pam(path)
     for test, residual in zip(data.tests, result.chosen.residuals, strict=True):
         if test.kind != "radial":
             continue
         predicted = test.force + residual  # the refit's model force at every recorded row
         pressed = predicted > 50.0  # away from the 1 N softplus switch used in the fit
-        case = simulate_anchored(pam, pipe_diameter=test.spec.pipe_diameter, axial_load=test.spec.axial_load,
-                                 pressures=test.pressure[pressed])
+        case = simulate_anchored(Muscle.from_pam(pam), pipe_diameter=test.spec.pipe_diameter,
+                                 axial_load=test.spec.axial_load, pressures=test.pressure[pressed])
         # 17-digit YAML round trip: agreement to round-off (1e-9 relative)
         np.testing.assert_allclose(case.radial_force, predicted[pressed], rtol=1e-9)
 

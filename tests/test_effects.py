@@ -15,10 +15,10 @@ from pampipe.io.config import load_pam
 from pampipe.model import braid, forces
 from pampipe.model.effects import (
     LIBRARY,
-    anchoring_pressure_with_effects,
     axial_force_with_effects,
     radial_force_with_effects,
 )
+from pampipe.model.muscle import Muscle
 from pampipe.simulate import simulate_anchored
 from tests.conftest import PROBLEMS
 
@@ -99,8 +99,8 @@ def test_axial_preload_shifts_force_and_anchoring_by_the_closed_forms(radial_pam
             np.testing.assert_allclose(got, forces.radial_force(high, d, g, theta, 1e6, load) - amp * extra,
                                        rtol=1e-12)
             _, slope = forces.axial_force_affine(braid.length_at_diameter(d, g), g, theta)
-            anchor = anchoring_pressure_with_effects(d, g, theta, 1e6, load, None, {"axial_preload": v})
-            # bisection to 1e7/2^60 Pa; the closed form is exact
+            anchor = Muscle(g, theta, 1e6, effects={"axial_preload": v}).anchoring_pressure(d, load)
+            # bisection to 1e8/2^80 Pa; the closed form is exact
             assert anchor == pytest.approx(forces.anchoring_pressure(d, g, theta, 1e6, load) + extra / slope,
                                            abs=1e-3)
 
@@ -216,8 +216,8 @@ def test_pam_file_effects_errors_name_key_value_and_allowed(tmp_path, effects, w
 def test_simulate_uses_the_effects_of_the_pam(tmp_path, radial_pam):
     """`simulate` with an axial preload: F_r drops by A·F₀ and P_anchor rises by F₀/∂_P F_ax."""
     pam = load_pam(_pam_with(tmp_path, {"axial_preload": {"preload": "50 N"}}))
-    plain = simulate_anchored(radial_pam, pipe_diameter=0.0762, pressures=[4e5, 6e5])
-    loaded = simulate_anchored(pam, pipe_diameter=0.0762, pressures=[4e5, 6e5])
+    plain = simulate_anchored(Muscle.from_pam(radial_pam), pipe_diameter=0.0762, pressures=[4e5, 6e5])
+    loaded = simulate_anchored(Muscle.from_pam(pam), pipe_diameter=0.0762, pressures=[4e5, 6e5])
     np.testing.assert_allclose(plain.radial_force - loaded.radial_force, plain.amplification_factor * 50.0,
                                rtol=1e-9)
     _, slope = forces.axial_force_affine(plain.anchored_length, radial_pam.geometry,

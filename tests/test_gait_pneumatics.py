@@ -18,7 +18,7 @@ from pampipe.gait.pneumatics import (
     transition_time,
 )
 from pampipe.model import braid, forces
-from pampipe.model.functions import free_length
+from pampipe.model.muscle import Muscle
 
 ATM = 101325.0
 
@@ -59,9 +59,9 @@ def test_chamber_volume_follows_the_free_contraction_curve(radial_pam):
     """V(P) fitted from the braid model matches πD²L/4 − V_b along L_free(P), and V′ is its slope."""
     geometry, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     pipe = 0.0762
-    chamber = Chamber.of_muscle(geometry, theta, 1e6, pipe)
+    chamber = Chamber.of_muscle(Muscle(geometry, theta, 1e6), pipe)
     pressures = np.linspace(0.0, 0.97 * chamber.anchoring_pressure, 57)
-    exact = (braid.enclosed_volume(free_length(pressures, geometry, theta, 1e6), geometry)
+    exact = (braid.enclosed_volume(Muscle(geometry, theta, 1e6).free_length(pressures), geometry)
              - forces.bladder_volume(geometry))
     # quintic fit of a smooth curve: 0.1 % of the anchored volume is a loose bound (fit error ~1e-4)
     assert np.max(np.abs(chamber.volume(pressures) - exact)) < 1e-3 * chamber.anchored_volume
@@ -78,7 +78,7 @@ def test_chamber_volume_follows_the_free_contraction_curve(radial_pam):
 
 def test_filling_and_venting_take_longer_with_a_smaller_valve(radial_pam):
     """Time scales as 1/C exactly (the flow law is proportional to C)."""
-    chamber = Chamber.of_muscle(radial_pam.geometry, radial_pam.moduli.as_vector(), 1e6, 0.0762)
+    chamber = Chamber.of_muscle(Muscle.from_pam(radial_pam), 0.0762)
     times = []
     for c in (4e-9, 8e-9):
         valve = Valve(sonic_conductance=c)

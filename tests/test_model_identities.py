@@ -10,7 +10,7 @@ import pytest
 from scipy.optimize import brentq
 
 from pampipe.model import bladder, braid, forces
-from pampipe.model.functions import free_length
+from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 
 ROUND_OFF = 1e-9  # relative: both sides are O(10³) N sums of O(10³) N terms in double precision
@@ -130,7 +130,7 @@ def test_closed_form_anchoring_equals_free_length_root(radial_pam, load):
     for diameter in (0.0762, 0.0889):
         target = braid.length_at_diameter(diameter, g)
         if load == 0.0:
-            root = brentq(lambda p, t=target: free_length(p, g, theta)[0] - t, 1e3, 689e3, xtol=1e-6)
+            root = brentq(lambda p, t=target: Muscle(g, theta).free_length(p)[0] - t, 1e3, 689e3, xtol=1e-6)
         else:  # with a load the anchoring point is where F_ax(P, L_p) = F_a
             root = brentq(lambda p, t=target: forces.axial_force(p, t, g, theta) - load, 1e3, 2e6, xtol=1e-6)
         # 1e-3 Pa: free_length bisects to ~1e-15 m; dL/dP ≈ 4e-7 m/Pa converts that to well under 1e-3 Pa
@@ -141,7 +141,7 @@ def test_free_length_is_the_largest_root(radial_pam):
     """L_free solves F_ax = 0, and F_ax > 0 on (L_free, L₀]: no larger root exists."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     for pressure in (50e3, 300e3, 689e3):
-        lf = free_length(pressure, g, theta)[0]
+        lf = Muscle(g, theta).free_length(pressure)[0]
         assert abs(forces.axial_force(pressure, lf, g, theta)) < 1e-6
         above = np.linspace(lf + 1e-6, g.initial_length, 500)
         assert np.all(forces.axial_force(pressure, above, g, theta) > 0)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pampipe.model import braid, forces
-from pampipe.model.functions import axial_force_function, radial_force_function
+from pampipe.model.muscle import Muscle, Structure
 
 
 def test_float_array_and_casadi_paths_agree(radial_pam):
@@ -20,9 +20,11 @@ def test_float_array_and_casadi_paths_agree(radial_pam):
     floats = np.array([forces.radial_force(float(p), float(d), g, theta, 1e6, float(f))
                        for p, d, f in zip(pressures, diameters, loads, strict=True)])
     arrays = forces.radial_force(pressures, diameters, g, theta, 1e6, loads)
-    function = radial_force_function("thick", 3)
+    sym = Muscle.symbolic(Structure("thick", 3))
+    p, d, f = ca.SX.sym("p"), ca.SX.sym("d"), ca.SX.sym("f")
+    function = ca.Function("radial", [p, d, f, sym.p], [sym.muscle.radial_force(p, d, f)])
     symbolic = np.asarray(function(pressures[None, :], diameters[None, :], loads[None, :],
-                                   g.as_vector(), theta, np.zeros(16), 1e6)).ravel()
+                                   sym.pack(Muscle.from_pam(radial_pam)))).ravel()
     # identical operations in a different order (CasADi's VM vs numpy): agree to round-off
     np.testing.assert_allclose(arrays, floats, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(symbolic, floats, rtol=1e-9, atol=1e-7)
@@ -34,11 +36,13 @@ def test_axial_function_matches_regressor_form(radial_pam):
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     rng = np.random.default_rng(1)
     theta = theta + rng.uniform(-2e5, 2e5, 16)
-    f = axial_force_function("thick", 3)
+    sym = Muscle.symbolic(Structure("thick", 3))
+    p, length_sym = ca.SX.sym("p"), ca.SX.sym("length")
+    f = ca.Function("axial", [p, length_sym, sym.p], [sym.muscle.axial_force(p, length_sym)])
+    parameters = Muscle(g, theta, 1e6).parameter_vector()
     for pressure, length in zip(rng.uniform(0, 7e5, 20), rng.uniform(0.22, 0.31, 20), strict=True):
         offset, row = forces.axial_force_regressors(pressure, length, g, 3)
-        assert float(f(pressure, length, g.as_vector(), theta, 1e6)) == pytest.approx(
-            offset + np.dot(row, theta), rel=1e-10)
+        assert float(f(pressure, length, parameters)) == pytest.approx(offset + np.dot(row, theta), rel=1e-10)
 
 
 def test_casadi_derivatives_match_finite_differences(radial_pam):

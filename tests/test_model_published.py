@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.model import bladder, braid, forces, slip
-from pampipe.model.functions import free_length
+from pampipe.model import bladder, braid, forces
+from pampipe.model.muscle import Muscle
 
 PIPES = {0.0762: dict(anchor=117.00e3, length=286.77e-3, amp=0.951, drop=974.2, slope=16.6),
          0.0889: dict(anchor=165.00e3, length=265.43e-3, amp=1.198, drop=1228.0, slope=15.7)}
@@ -24,7 +24,7 @@ def test_demo_muscle_anchors_where_the_paper_says(radial_pam, diameter):
     expected = PIPES[diameter]
     anchoring = forces.anchoring_pressure(diameter, g, theta)
     assert anchoring == pytest.approx(expected["anchor"], abs=0.5e3)
-    assert free_length(anchoring, g, theta)[0] == pytest.approx(expected["length"], abs=0.05e-3)
+    assert Muscle(g, theta).free_length(anchoring)[0] == pytest.approx(expected["length"], abs=0.05e-3)
     assert braid.length_at_diameter(diameter, g) == pytest.approx(expected["length"], abs=0.05e-3)
 
 
@@ -72,7 +72,7 @@ def test_free_contraction_range_and_drucker_margin(radial_pam):
     """§7: L_free falls monotonically from 310.7 mm to 209.3 mm at 689 kPa; min tangent modulus 1.32 MPa."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     pressures = np.linspace(0, 689e3, 50)
-    lengths = free_length(pressures, g, theta)
+    lengths = Muscle(g, theta).free_length(pressures)
     assert lengths[0] == pytest.approx(310.7e-3, abs=0.05e-3)
     assert lengths[-1] == pytest.approx(209.3e-3, abs=0.05e-3)
     assert np.all(np.diff(lengths) < 0)
@@ -99,10 +99,11 @@ def test_axial_load_pam_amplification_crosses_one_just_below_3in(axial_load_pam)
 def test_holding_load_example(radial_pam):
     """§8: demo PAM at 345 kPa in the 76.2 mm pipe, μ = 0.3, κ = 1 holds W_max = 1884 N."""
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
-    w_max = slip.largest_load(345e3, 0.0762, g, theta, 1e6, 1.0, 0.3, 1.0)
+    muscle = Muscle(g, theta, 1e6)
+    w_max = muscle.largest_load(345e3, 0.0762, kappa=1.0, friction=0.3, safety_factor=1.0)
     assert w_max == pytest.approx(1884, abs=0.5)
     # at exactly W_max the friction capacity equals the load (independent check of the algebra)
-    assert slip.holding_capacity(345e3, 0.0762, g, theta, 1e6, w_max, 1.0, 0.3) == pytest.approx(w_max)
+    assert muscle.holding_capacity(345e3, 0.0762, w_max, kappa=1.0, friction=0.3) == pytest.approx(w_max)
 
 
 def test_stride_table(radial_pam, axial_load_pam):
@@ -129,5 +130,5 @@ def test_axial_load_shifts_anchoring(radial_pam, diameter, shift):
     base = forces.anchoring_pressure(diameter, g, theta)
     loaded = forces.anchoring_pressure(diameter, g, theta, axial_load=1024.74)
     assert loaded - base == pytest.approx(shift, abs=0.05e3)
-    assert free_length(loaded, g, theta, axial_load=1024.74)[0] == pytest.approx(
+    assert Muscle(g, theta).free_length(loaded, axial_load=1024.74)[0] == pytest.approx(
         braid.length_at_diameter(diameter, g), abs=1e-9)

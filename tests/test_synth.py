@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 
 from pampipe.cli import main
+from pampipe.errors import InputError
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.pamfile import write_experiment
 from pampipe.model import forces
-from pampipe.model.functions import free_length
-from pampipe.synth import PAPER_LOAD, PAPER_PIPES, Protocol, generate, write_experiment
+from pampipe.model.muscle import Muscle
+from pampipe.synth import PAPER_LOAD, PAPER_PIPES, Protocol, generate
 
 
 def test_protocol_shape_and_noise_free_values(radial_pam):
@@ -26,7 +28,7 @@ def test_protocol_shape_and_noise_free_values(radial_pam):
     # each leg spans L0 .. L_free(P); at 689 kPa the demo muscle contracts to 209.3 mm (docs/physics.md §7)
     top = axial["pressure"] == axial["pressure"].max()
     assert axial["length"][top].max() == pytest.approx(g.initial_length)
-    shortest = free_length(Protocol().pressures[-1], g, theta)[0]
+    shortest = Muscle(g, theta).free_length(Protocol().pressures[-1])[0]
     assert axial["length"][top].min() == pytest.approx(shortest, abs=1e-9)
     assert axial["length"][top].min() == pytest.approx(0.2093, abs=2e-4)
     for spec, radial in tests[1:]:
@@ -50,7 +52,8 @@ def test_noise_has_the_requested_size_and_seed(radial_pam):
 
 
 def test_written_experiment_loads_back(tmp_path, radial_pam):
-    target = write_experiment(tmp_path, radial_pam, name="demo", protocol=Protocol(points_per_leg=10), seed=2)
+    tests = generate(radial_pam, Protocol(points_per_leg=10), seed=2)
+    target = write_experiment(tmp_path, "demo", radial_pam, tests)
     data = load_experiment_data(load_experiment(target))
     generated = generate(radial_pam, Protocol(points_per_leg=10), seed=2)
     for test, (spec, columns) in zip(data.tests, generated, strict=True):
@@ -61,8 +64,8 @@ def test_written_experiment_loads_back(tmp_path, radial_pam):
         if test.kind == "axial":
             np.testing.assert_allclose(test.length, columns["length"], atol=6e-9)
     assert data.pam.geometry.braid_angle == pytest.approx(radial_pam.geometry.braid_angle, rel=1e-8)
-    with pytest.raises(Exception, match="already exists"):
-        write_experiment(tmp_path, radial_pam, name="demo")
+    with pytest.raises(InputError, match="already exists"):
+        write_experiment(tmp_path, "demo", radial_pam, tests)
 
 
 def test_synth_cli(tmp_path, capsys):

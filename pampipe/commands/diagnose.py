@@ -6,11 +6,11 @@ import argparse
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.diagnose.result import pam_text
 from pampipe.diagnose.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.io.files import atomic_write_text, check_not_input
+from pampipe.io.files import check_not_input
+from pampipe.io.pamfile import write_pam
 from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.report import table
 
@@ -49,9 +49,10 @@ def run(args: argparse.Namespace) -> int:
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
     emit(args, result.as_document(), report(result))
     if args.output is not None:
-        header = (f"Written by `pampipe diagnose` from {experiment.source}.\n"
-                  f"Moduli refitted in shared mode together with the selected effect: {result.selected}.")
-        atomic_write_text(args.output, pam_text(result.augmented_pam(), header=header))
+        write_pam(args.output, result.augmented_pam(),
+                  comments=[f"Written by `pampipe diagnose` from {experiment.source}.",
+                            "Moduli refitted in shared mode together with the selected effect: "
+                            f"{result.selected}."])
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.diagnose import plot_diagnosis

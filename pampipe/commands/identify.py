@@ -10,10 +10,10 @@ import numpy as np
 
 from pampipe.commands.common import add_output_options, emit, say
 from pampipe.identify import identify, parse_fit_options
-from pampipe.identify.pamfile import write_pam
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_not_input
+from pampipe.io.pamfile import write_pam
 from pampipe.report import table
 
 NAME = "identify"
@@ -57,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
     document = result.as_document()
     document["experiment"] = str(experiment.source)
     if args.output is not None:
-        write_pam(args.output, experiment.pam, result, source=experiment.source)
+        write_pam(args.output, result.fitted_pam(experiment.pam),
+                  comments=result.pam_comments(experiment.source))
         document["output"] = str(args.output)
     emit(args, document, report(result, str(experiment.source)))
     if args.output is not None:

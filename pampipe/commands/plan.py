@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plots:
         from pampipe.plots.plan import plot_plan
 
-        for path in plot_plan(mission, plan, args.plots):
+        for path in plot_plan(plan, args.plots):
             say(args, f"wrote {path}")
     if not plan.feasible:
         bad = [s.name for s in plan.sections if not s.feasible]

@@ -11,7 +11,7 @@ from pampipe.commands.common import add_output_options, emit, quantity_type, say
 from pampipe.errors import InputError
 from pampipe.io.config import load_pam
 from pampipe.report import table
-from pampipe.simulate import PAPER_PRESSURES, simulate_anchored
+from pampipe.simulate import PAPER_PRESSURES, simulate
 
 NAME = "simulate"
 HELP = "anchoring pressure, anchored length, amplification and radial force of a PAM in a pipe"
@@ -35,25 +35,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     pam = load_pam(args.pam)
-    loads = args.axial_load or [0.0]
-    pressures = args.pressure or list(PAPER_PRESSURES)
-    cases = []
-    for diameter in args.pipe_diameter:
-        for load in loads:
-            try:
-                cases.append(simulate_anchored(pam, pipe_diameter=diameter, axial_load=load,
-                                               pressures=pressures, paper_literal=args.paper_literal))
-            except InputError as exc:
-                raise InputError(f"{args.pam}: {exc}") from None
-    document = dict(cases[0].as_document())
-    document["pam"] = pam.name
-    if len(cases) > 1:
-        document["cases"] = [c.as_document() for c in cases]
-    emit(args, document, _text(pam.name, cases))
+    try:
+        result = simulate(pam, pipe_diameters=args.pipe_diameter, axial_loads=args.axial_load or [0.0],
+                          pressures=args.pressure or list(PAPER_PRESSURES), paper_literal=args.paper_literal)
+    except InputError as exc:
+        raise InputError(f"{args.pam}: {exc}") from None
+    emit(args, result.to_dict(), _text(pam.name, result.cases))
     if args.plots:
         from pampipe.plots.simulate import plot_simulation
 
-        for path in plot_simulation(pam, cases, args.plots):
+        for path in plot_simulation(result, args.plots):
             say(args, f"wrote {path}")
     return 0
 

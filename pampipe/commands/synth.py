@@ -8,7 +8,9 @@ from pathlib import Path
 from pampipe.commands.common import add_output_options, emit, quantity_type
 from pampipe.errors import InputError
 from pampipe.io.config import load_pam
-from pampipe.synth import Protocol, write_experiment
+from pampipe.io.files import check_not_input
+from pampipe.io.pamfile import write_experiment
+from pampipe.synth import Protocol, comments, generate
 
 NAME = "synth"
 HELP = "generate a synthetic experiment (paper protocol, known moduli, noise, seed) for identify"
@@ -47,8 +49,9 @@ def run(args: argparse.Namespace) -> int:
     protocol = Protocol(cycles=args.cycles, points_per_leg=args.points_per_leg,
                         radial_points=args.radial_points, force_noise=args.force_noise,
                         pressure_noise=args.pressure_noise)
-    target = write_experiment(args.out_dir, pam, name=args.name, protocol=protocol, seed=args.seed,
-                              overwrite=args.force)
+    check_not_input(args.out_dir / f"{args.name}.yaml", [args.pam or DEFAULT_PAM], option="OUT_DIR")
+    target = write_experiment(args.out_dir, args.name, pam, generate(pam, protocol, seed=args.seed),
+                              comments=comments(pam, protocol, args.seed), overwrite=args.force)
     document = {"experiment": str(target), "seed": args.seed, "force_noise_N": args.force_noise,
                 "pressure_noise_Pa": args.pressure_noise, "pam": pam.name,
                 "true_moduli_MPa": [v / 1e6 for v in pam.moduli.as_vector()]}

@@ -5,8 +5,8 @@ mean squared force residual over the rows with non-zero weight,
 
   J(x) = Σ_i w_i (F_model,i(x) − F_i)² / Σ_i w_i,
 
-with F_model from :func:`pampipe.model.effects.axial_force_with_effects` (axial rows) and
-:func:`~pampipe.model.effects.radial_force_with_effects` (radial rows, softplus contact switch of
+with F_model from :meth:`pampipe.model.muscle.Muscle.axial_force` (axial rows) and
+:meth:`~pampipe.model.muscle.Muscle.radial_force` (radial rows, softplus contact switch of
 width ``smoothing``). Bounds as in docs/physics.md §6 (a_k0 ∈ [0, 50] MPa, others ±50 MPa) plus each
 parameter's own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a (P, L) grid (docs/physics.md §6).
 
@@ -24,20 +24,16 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
-from pampipe.errors import SolverError
-from pampipe.model.bladder import drucker_tangent_moduli
-from pampipe.model.braid import diameter_at_length
-from pampipe.model.effects import axial_force_with_effects, get_effect, radial_force_with_effects
-from pampipe.model.functions import symbolic_geometry
+from pampipe.model.effects import get_effect
+from pampipe.model.muscle import Muscle, Structure
+from pampipe.nlp import nlpsol, solve
 
 MPA = 1e6
 #: Drucker grid size (pressures × lengths), fixed so that it never changes the build.
 GRID = (6, 15)
 #: Softplus width of the contact switch [N] (as `identify`'s default contact_smoothing).
 SMOOTHING = 1.0
-IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.tol": 1e-9,
-                 "ipopt.mu_strategy": "adaptive",
-                 "ipopt.acceptable_tol": 1e-8, "ipopt.max_iter": 500}
+IPOPT_OPTIONS = {"tol": 1e-9, "acceptable_tol": 1e-8, "max_iter": 500, "bound_relax_factor": 1e-8}
 
 
 @dataclass(frozen=True)
@@ -112,14 +108,14 @@ def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_ra
     n_theta = 4 * (degree + 1)
     params = get_effect(effect).parameters if effect else ()
     theta, eta = ca.SX.sym("theta", n_theta), ca.SX.sym("eta", len(params))
-    row, pref, smooth = ca.SX.sym("row", 5), ca.SX.sym("pref"), ca.SX.sym("smooth")
-    g, geometry = symbolic_geometry(wall)
-    theta_si = theta * MPA  # b coefficients at P_ref (always 1 MPa in the fit)
+    row, smooth = ca.SX.sym("row", 5), ca.SX.sym("smooth")
+    sym = Muscle.symbolic(Structure(wall, degree))
+    geometry, pref, g = sym.muscle.geometry, sym.muscle.reference_pressure, sym.p[:4]
     values = {p.name: eta[i] * p.scale for i, p in enumerate(params)}
-    active = {effect: values} if effect else {}
-    axial = axial_force_with_effects(row[0], row[1], geometry, theta_si, pref, active, leg=row[2])
-    radial = radial_force_with_effects(row[0], row[1], geometry, theta_si, pref, row[2], None, active,
-                                       smoothing=smooth)
+    # θ in MPa (b at P_ref, always 1 MPa in the fit) and η in display units are the decision variables
+    muscle = Muscle(geometry, theta * MPA, pref, effects={effect: values} if effect else None)
+    axial = muscle.axial_force(row[0], row[1], leg=row[2])
+    radial = muscle.radial_force(row[0], row[1], row[2], smoothing=smooth)
     xs = ca.vertcat(theta, eta)
     inputs = [row, xs, g, pref, smooth]
     # per-row residual and its gradient, in SX (cheap), then mapped over the rows
@@ -153,8 +149,8 @@ def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_ra
                           [ca.triu(lam_f * 2 * ca.mtimes(weighted_jac, jac_t.T) / total)])
     grad_f = ca.Function("grad_f", [x, p], [objective, gradient])
     nlp = {"x": x, "p": p, "f": objective, "g": constraints}
-    solver = ca.nlpsol(f"refit_{effect or 'baseline'}", "ipopt", nlp,
-                       {**IPOPT_OPTIONS, "hess_lag": hessian, "grad_f": grad_f})
+    solver = nlpsol(f"refit_{effect or 'baseline'}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian,
+                    grad_f=grad_f)
     residuals = ca.Function("residuals", [x, p], [res.T])
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
     return Problem(solver, residuals, jacobian, n_theta, len(params), time.perf_counter() - started)
@@ -163,13 +159,13 @@ def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_ra
 @cache
 def _drucker_function(wall: str, degree: int) -> ca.Function:
     """(P, L, θ_MPa, g, P_ref) -> [E₁ᵗ, E₂ᵗ] [MPa] (per-direction Drucker, docs/physics.md §6)."""
-    pressure, length, pref = ca.SX.sym("P"), ca.SX.sym("L"), ca.SX.sym("pref")
+    pressure, length = ca.SX.sym("P"), ca.SX.sym("L")
     theta = ca.SX.sym("theta", 4 * (degree + 1))
-    g, geometry = symbolic_geometry(wall)
-    theta_si = theta * MPA
-    e1, e2 = drucker_tangent_moduli(pressure, length, diameter_at_length(length, geometry), geometry,
-                                    theta_si, pref)
-    return ca.Function("drucker", [pressure, length, theta, g, pref], [ca.vertcat(e1, e2) / MPA])
+    sym = Muscle.symbolic(Structure(wall, degree))
+    muscle = Muscle(sym.muscle.geometry, theta * MPA, sym.muscle.reference_pressure)
+    e1, e2 = muscle.drucker_tangent_moduli(pressure, length)
+    return ca.Function("drucker", [pressure, length, theta, sym.p[:4], sym.muscle.reference_pressure],
+                       [ca.vertcat(e1, e2) / MPA])
 
 
 @dataclass(frozen=True)
@@ -231,20 +227,14 @@ class Refitter:
         eta0 = self.null_eta(effect) if eta0 is None else eta0
         x0 = np.clip(np.concatenate([theta0, eta0]), low, high)
         p = self.parameters(rows)
-        started = time.perf_counter()
-        sol = problem.solver(x0=x0, p=p, lbx=low, ubx=high, lbg=0, ubg=ca.inf)
-        wall = time.perf_counter() - started
-        stats = problem.solver.stats()
-        status = str(stats.get("return_status", "unknown"))
-        if not stats.get("success", False) and status != "Solved_To_Acceptable_Level":
-            raise SolverError(f"the {effect or 'baseline'} refit did not converge (IPOPT status {status}).",
-                              status=status)
+        sol, stats = solve(problem.solver, what=f"the {effect or 'baseline'} refit", accept_acceptable=True,
+                           x0=x0, p=p, lbx=low, ubx=high, lbg=0, ubg=ca.inf)
         x = np.clip(np.asarray(sol["x"], dtype=float).ravel(), low, high)  # IPOPT relaxes bounds by 1e-8
         res = np.asarray(problem.residuals(x, p), dtype=float).ravel()
         n_a = self.rows.axial.shape[1]
         jac = np.asarray(problem.jacobian(x, p), dtype=float) if jacobian else None
-        return Fit(effect, x, res[:n_a], res[n_a:], float(sol["f"]), status,
-                   int(stats.get("iter_count", -1)), wall, jac)
+        return Fit(effect, x, res[:n_a], res[n_a:], float(sol["f"]), stats.status, stats.iterations,
+                   stats.wall_time, jac)
 
     def moduli_si(self, x: np.ndarray) -> np.ndarray:
         """θ in Pa (b at P_ref) from the NLP's MPa vector."""

@@ -125,39 +125,3 @@ class DiagnoseResult:
             "timings": dict(self.timings),
             "source": str(self.source),
         }
-
-
-def _number(value: float) -> str:
-    return f"{value:.17g}"
-
-
-def pam_text(pam: Pam, *, header: str = "") -> str:
-    """A PAM file (docs/formats.md §2) with ``moduli:`` and the ``effects:`` block, full precision."""
-    g, m = pam.geometry, pam.moduli
-    k = m.degree + 1
-    theta = m.as_vector() / MPA
-
-    def law(block):
-        a = ", ".join(_number(v) for v in theta[2 * block * k:(2 * block + 1) * k])
-        b = ", ".join(_number(v) for v in theta[(2 * block + 1) * k:(2 * block + 2) * k])
-        return f"{{a: [{a}], b: [{b}]}}"
-
-    lines = [f"# {line}" for line in header.splitlines()] + [
-        f"name: {pam.name}", "geometry:",
-        f"  initial_length: {_number(g.initial_length * 1e3)} mm",
-        f"  initial_diameter: {_number(g.initial_diameter * 1e3)} mm",
-        f"  braid_angle_from_axis: {_number(np.degrees(g.braid_angle))} deg",
-        f"  bladder_thickness: {_number(g.bladder_thickness * 1e3)} mm",
-        f"  wall: {g.wall}", "moduli:", "  unit: MPa",
-        f"  reference_pressure: {_number(m.reference_pressure / 1e3)} kPa",
-        f"  axial: {law(0)}", f"  hoop: {law(1)}"]
-    if pam.effects:
-        lines.append("effects:")
-        for name, values in pam.effects.items():
-            cells = []
-            for p in get_effect(name).parameters:
-                if p.name in values:
-                    shown = _number(values[p.name] / p.scale)
-                    cells.append(f"{p.name}: {shown}" if p.unit == "-" else f'{p.name}: "{shown} {p.unit}"')
-            lines.append(f"  {name}: {{{', '.join(cells)}}}")
-    return "\n".join(lines) + "\n"

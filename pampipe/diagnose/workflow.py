@@ -20,8 +20,8 @@ from pampipe.diagnose.refit import MPA, Fit, Refitter, rows_of
 from pampipe.diagnose.result import Candidate, DiagnoseResult, TestRmse
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
-from pampipe.model import forces
 from pampipe.model.effects import LIBRARY, get_effect
+from pampipe.model.muscle import Muscle
 
 DEGREE = 3
 #: Generic start when neither identify nor the PAM gives moduli: E₁ = 1.5 MPa, E₂ = 4.4 MPa.
@@ -101,10 +101,9 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
 
     noise = tuple(signatures.noise_floor(t, r) for t, r in zip(data.tests, baseline.residuals, strict=True))
     pooled = float(np.sqrt(sum(f.sigma**2 * t.points for f, t in zip(noise, data.tests, strict=True)) / n))
-    theta_si = refitter.moduli_si(base_fit.x)
-    anchoring = tuple(float(forces.anchoring_pressure(t.spec.pipe_diameter, data.pam.geometry, theta_si, MPA,
-                                                      t.spec.axial_load)) if t.kind == "radial" else None
-                      for t in data.tests)
+    fitted = Muscle(data.pam.geometry, refitter.moduli_si(base_fit.x), MPA)
+    anchoring = tuple(float(fitted.anchoring_pressure(t.spec.pipe_diameter, t.spec.axial_load))
+                      if t.kind == "radial" else None for t in data.tests)
     sigs = tuple(signatures.signatures(data, list(baseline.residuals), list(anchoring), pooled))
     regs = tuple(signatures.regions(data, list(baseline.residuals), list(anchoring), pooled))
 

@@ -6,9 +6,11 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-from pampipe.gait.optimal import solve_optimal
+from pampipe.gait.optimal import WarmStart, solve_optimal
 from pampipe.gait.options import GaitOptions, gait_options
 from pampipe.gait.requirements import find_section, section_needs
 from pampipe.gait.result import GaitResult, evaluate
@@ -30,9 +32,11 @@ def sequential_gait(mission: Mission, section: str | None = None, *,
 
 
 def optimal_gait(mission: Mission, section: str | None = None, *, options: GaitOptions | None = None,
-                 baseline: GaitResult | None = None, refine: int = 10) -> GaitResult:
+                 baseline: GaitResult | None = None, refine: int = 10,
+                 warm_start: WarmStart | None = None) -> GaitResult:
     """The time-optimal gait in ``section``, re-simulated exactly on a grid ``refine``× finer than
-    the optimiser's. ``baseline`` (the sequential gait) is the first initial guess.
+    the optimiser's. ``baseline`` (the sequential gait) is the initial guess, unless ``warm_start``
+    (``GaitResult.warm_start`` of an earlier optimal gait of the same structure) is given.
     """
     options = options or gait_options(mission.gait, source=mission.source)
     baseline = baseline or sequential_gait(mission, section, options=options)
@@ -41,6 +45,8 @@ def optimal_gait(mission: Mission, section: str | None = None, *, options: GaitO
     guess = ControlPlan(baseline.plan.durations, np.repeat(baseline.plan.commands, n, axis=1),
                         baseline.plan.start)
     nodes = simulate(needs, guess, supply=mission.supply_pressure, options=options, samples=1).pressures
-    plan, info = solve_optimal(needs, guess, nodes, supply=mission.supply_pressure, options=options)
-    return evaluate(baseline.section, "optimal", needs, plan, supply=mission.supply_pressure,
-                    options=options, samples=refine, solver=info)
+    plan, info, after = solve_optimal(needs, guess, nodes, supply=mission.supply_pressure, options=options,
+                                      warm_start=warm_start)
+    result = evaluate(baseline.section, "optimal", needs, plan, supply=mission.supply_pressure,
+                      options=options, samples=refine, solver=info)
+    return replace(result, warm_start=after)

@@ -34,31 +34,33 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
-from pampipe.errors import SolverError
 from pampipe.gait.options import GaitOptions, Gas, Valve
 from pampipe.gait.pneumatics import SHAPE_DEGREE, Chamber, pressure_rate
 from pampipe.gait.requirements import MuscleNeed
 from pampipe.gait.schedule import PHASES, ControlPlan
-from pampipe.model import braid, forces
-from pampipe.model.pam import Geometry
+from pampipe.model.muscle import Muscle, Structure
+from pampipe.nlp import nlpsol, solve
 
 SCALE = 1e5  # pressure scaling [Pa]: the states are P / 1e5
 HOLD_BACKOFF = 200.0  # [Pa] holders satisfy no slip at P − 200 Pa: covers the RK4 error (tens of Pa)
 GLOBALS = 8  # supply, p_atm, T, n, C, b, vented, contact margin
 
 
-def _muscle_parameter_size(degree: int) -> int:
-    # chamber (V_p, V₀, P_a, c) + D_p, W, κ, μ, SF, hold scale, geometry (4), θ, Δθ, P_ref
-    return 3 + SHAPE_DEGREE + 6 + 4 + 8 * (degree + 1) + 1
+#: Per-segment parameters ahead of the muscle's own: the chamber (V_p, V₀, P_a, shape) and
+#: D_p, W, κ, μ, SF and the hold scale 1/max(SF·W, 1 N).
+_NEED = 3 + SHAPE_DEGREE + 6
+
+
+def _muscle_parameter_size(structure: Structure) -> int:
+    return _NEED + structure.size
 
 
 def _muscle_parameters(need: MuscleNeed) -> np.ndarray:
-    ch, moduli = need.chamber, need.pam.moduli
+    ch = need.chamber
     return np.concatenate([[ch.anchored_volume, ch.rest_volume, ch.anchoring_pressure], ch.shape,
                            [need.pipe_diameter, need.load, need.kappa, need.friction,
                             need.safety_factor, 1.0 / max(need.safety_factor * need.load, 1.0)],
-                           need.pam.geometry.as_vector(), moduli.as_vector(), moduli.contact_vector(),
-                           [moduli.reference_pressure]])
+                           need.muscle.parameter_vector()])
 
 
 def _global_parameters(supply: float, options: GaitOptions) -> np.ndarray:
@@ -68,41 +70,20 @@ def _global_parameters(supply: float, options: GaitOptions) -> np.ndarray:
                      options.vented_pressure, options.contact_margin])
 
 
-@dataclass(frozen=True)
-class _MuscleSymbols:
-    chamber: Chamber
-    diameter: ca.SX
-    load: ca.SX
-    kappa: ca.SX
-    friction: ca.SX
-    safety_factor: ca.SX
-    hold_scale: ca.SX
-    geometry: Geometry
-    theta: ca.SX
-    contact: ca.SX
-    reference_pressure: ca.SX
+@cache
+def _holding_function(structure: Structure) -> ca.Function:
+    """excess(P, segment parameters) = (μπF_r(P, D_p, κW) − SF·W)/max(SF·W, 1 N), ≥ 0: no slip.
 
-
-def _unpack_muscle(p: ca.SX, wall: str, degree: int) -> _MuscleSymbols:
-    n = 4 * (degree + 1)
-    k = 3 + SHAPE_DEGREE
-    chamber = Chamber(p[0], p[1], p[2], tuple(p[3 + j] for j in range(SHAPE_DEGREE)))
-    g = p[k + 6:k + 10]
-    return _MuscleSymbols(chamber, p[k], p[k + 1], p[k + 2], p[k + 3], p[k + 4], p[k + 5],
-                          Geometry(g[0], g[1], g[2], g[3], wall), p[k + 10:k + 10 + n],
-                          p[k + 10 + n:k + 10 + 2 * n], p[k + 10 + 2 * n])
-
-
-def _holding_excess(pressure, s: _MuscleSymbols):
-    """(μπA(F_ax(P, L_p) − κW + ΔF_contact) − SF·W) / max(SF·W, 1 N): ≥ 0 means no slip."""
-    length = braid.length_at_diameter(s.diameter, s.geometry)
-    load = s.kappa * s.load
-    holding = forces.axial_force(pressure, length, s.geometry, s.theta, s.reference_pressure) - load
-    anchoring = forces.anchoring_pressure(s.diameter, s.geometry, s.theta, s.reference_pressure, load)
-    holding += forces.contact_force_increment(pressure, length, s.geometry, s.contact,
-                                              s.reference_pressure, anchoring)
-    grip = s.friction * np.pi * braid.amplification_factor(s.diameter, s.geometry)
-    return (grip * holding - s.safety_factor * s.load) * s.hold_scale
+    F_r is the symbolic :class:`Muscle`'s radial force without the contact clip (smooth; equal to
+    the clipped model wherever it holds).
+    """
+    pressure = ca.SX.sym("pressure")
+    need = ca.SX.sym("need", _NEED)
+    sym = Muscle.symbolic(structure)
+    diameter, load, kappa, friction, safety_factor, hold_scale = (need[_NEED - 6 + j] for j in range(6))
+    radial = sym.muscle.radial_force(pressure, diameter, kappa * load, clip=False)
+    excess = (friction * np.pi * radial - safety_factor * load) * hold_scale
+    return ca.Function("holding_excess", [pressure, ca.vertcat(need, sym.p)], [excess])
 
 
 def _rk4_step(substeps: int, subsonic_index: float):
@@ -131,7 +112,7 @@ def _rk4_step(substeps: int, subsonic_index: float):
     return ca.Function("interval", [x, u, h, direction, chamber_p, gp], [state])
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Problem:
     solver: ca.Function
     lbx: np.ndarray
@@ -139,7 +120,16 @@ class _Problem:
     lbg: np.ndarray
     ubg: np.ndarray
     intervals: int
-    last: dict | None = None  # the previous solution (x, lam_x, lam_g): the warm start
+
+
+@dataclass(frozen=True)
+class WarmStart:
+    """A solution (primal and multipliers) to start the next solve of the same structure from."""
+
+    key: tuple  # (structures, intervals, substeps, subsonic index)
+    x: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
 
 
 def _layout(intervals: int):
@@ -148,19 +138,10 @@ def _layout(intervals: int):
 
 
 @cache
-def _holding_function(wall: str, degree: int) -> ca.Function:
-    """excess(P, muscle parameters): the scaled no-slip margin of :func:`_holding_excess`."""
-    pressure = ca.SX.sym("pressure")
-    params = ca.SX.sym("muscle", _muscle_parameter_size(degree))
-    excess = _holding_excess(pressure, _unpack_muscle(params, wall, degree))
-    return ca.Function("holding_excess", [pressure, params], [excess])
-
-
-@cache
-def _problem(walls: tuple[str, ...], degrees: tuple[int, ...], intervals: int, substeps: int,
+def _problem(structures: tuple[Structure, ...], intervals: int, substeps: int,
              subsonic_index: float) -> _Problem:
-    """Build the NLP once for this structure (MX graph of mapped SX functions)."""
-    sizes = [_muscle_parameter_size(d) for d in degrees]
+    """Build the NLP once for these muscle structures (MX graph of mapped SX functions)."""
+    sizes = [_muscle_parameter_size(s) for s in structures]
     p = ca.MX.sym("p", GLOBALS + sum(sizes))
     gp = p[:GLOBALS]
     offsets = np.cumsum([GLOBALS, *sizes])
@@ -213,7 +194,7 @@ def _problem(walls: tuple[str, ...], degrees: tuple[int, ...], intervals: int, s
             elif role == "fall":
                 deflated.append(last)
         holds = sorted(set(holds))
-        hold = _holding_function(walls[i], degrees[i]).map(len(holds))
+        hold = _holding_function(structures[i]).map(len(holds))
         constrain(hold(x[i, holds] * SCALE - HOLD_BACKOFF, ca.repmat(muscle_p[i], 1, len(holds))), 0,
                   np.inf)
         anchoring = muscle_p[i][2] / SCALE
@@ -223,58 +204,49 @@ def _problem(walls: tuple[str, ...], degrees: tuple[int, ...], intervals: int, s
     constrain(ca.vec(x) - supply, -np.inf, 0)  # within the supply
     decision = ca.vertcat(durations, ca.vec(x), ca.vec(u))
     nlp = {"x": decision, "p": p, "f": ca.sum1(durations), "g": ca.vertcat(*g)}
-    opts = {"ipopt": {"print_level": 0, "sb": "yes", "tol": 1e-8, "max_iter": 500,
-                      "mu_strategy": "adaptive",
-                      "hessian_approximation": "limited-memory",
-                      "warm_start_init_point": "yes", "warm_start_bound_push": 1e-6,
-                      "warm_start_mult_bound_push": 1e-6}, "print_time": False}
-    solver = ca.nlpsol("optimal_gait", "ipopt", nlp, opts)
+    solver = nlpsol("optimal_gait", nlp, ipopt={
+        "tol": 1e-8, "max_iter": 500, "bound_relax_factor": 1e-8, "hessian_approximation": "limited-memory",
+        "warm_start_init_point": "yes", "warm_start_bound_push": 1e-6, "warm_start_mult_bound_push": 1e-6})
     lbx = np.concatenate([np.full(phases, 1e-3), np.zeros(3 * nodes), lbu.T.ravel()])
     ubx = np.concatenate([np.full(phases, 1e3), np.full(3 * nodes, np.inf), ubu.T.ravel()])
     return _Problem(solver, lbx, ubx, np.concatenate(lbg), np.concatenate(ubg), intervals)
 
 
 def solve_optimal(needs: tuple[MuscleNeed, ...], guess: ControlPlan, guess_nodes: np.ndarray, *,
-                  supply: float, options: GaitOptions) -> tuple[ControlPlan, dict]:
-    """Solve the time-optimal gait; warm-start from the last solution of this structure if any,
-    else from ``guess`` (a plan on the same grid) and its node pressures ``guess_nodes`` (nodes × 3).
+                  supply: float, options: GaitOptions, warm_start: WarmStart | None = None
+                  ) -> tuple[ControlPlan, dict, WarmStart]:
+    """Solve the time-optimal gait from ``warm_start`` (a previous solution of the same structure) if
+    given, else from ``guess`` (a plan on the same grid) and its node pressures ``guess_nodes``
+    (nodes × 3). Returns the plan, solver facts and the warm start for the next solve.
     """
-    walls = tuple(n.pam.geometry.wall for n in needs)
-    degrees = tuple(n.pam.moduli.degree for n in needs)
+    key = (tuple(n.muscle.structure for n in needs), options.intervals, options.substeps,
+           options.valve.subsonic_index)
     started = time.perf_counter()
     built = _problem.cache_info().currsize
-    problem = _problem(walls, degrees, options.intervals, options.substeps,
-                       options.valve.subsonic_index)
+    problem = _problem(*key)
     build_time = time.perf_counter() - started
     rebuilt = _problem.cache_info().currsize > built
     p = np.concatenate([_global_parameters(supply, options), *(_muscle_parameters(n) for n in needs)])
     phases, nodes, _ = _layout(options.intervals)
-    warm = problem.last is not None
+    warm = warm_start is not None and warm_start.key == key
     if warm:
-        x0, extra = problem.last["x"], {"lam_x0": problem.last["lam_x"], "lam_g0": problem.last["lam_g"]}
+        x0, extra = warm_start.x, {"lam_x0": warm_start.lam_x, "lam_g0": warm_start.lam_g}
     else:
         magnitude = np.abs(guess.commands.reshape(-1, 3))
         x0 = np.concatenate([guess.durations, (guess_nodes / SCALE).ravel(), magnitude.ravel()])
         extra = {}
-    started = time.perf_counter()
-    sol = problem.solver(x0=x0, p=p, lbx=problem.lbx, ubx=problem.ubx, lbg=problem.lbg,
-                         ubg=problem.ubg, **extra)
-    solve_time = time.perf_counter() - started
-    stats = problem.solver.stats()
-    if not stats["success"]:
-        problem.last = None
-        raise SolverError(f"the time-optimal gait was not found (IPOPT: {stats['return_status']}); "
-                          "the sequential schedule is still valid", status=stats["return_status"])
+    sol, stats = solve(problem.solver, what="the time-optimal gait (the sequential schedule is still valid)",
+                       x0=x0, p=p, lbx=problem.lbx, ubx=problem.ubx, lbg=problem.lbg, ubg=problem.ubg,
+                       **extra)
     z = np.asarray(sol["x"]).ravel()
-    problem.last = {"x": z, "lam_x": np.asarray(sol["lam_x"]).ravel(),
-                    "lam_g": np.asarray(sol["lam_g"]).ravel()}
+    after = WarmStart(key, z, np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel())
     durations = z[:phases]
     states = z[phases:phases + 3 * nodes].reshape(nodes, 3) * SCALE
     magnitude = z[phases + 3 * nodes:].reshape(nodes - 1, 3)
     sign = np.array([[-1.0 if role == "fall" else 1.0 for role in phase.roles] for phase in PHASES])
     commands = magnitude.reshape(phases, options.intervals, 3) * sign[:, None, :]
-    info = {"status": stats["return_status"], "iterations": int(stats["iter_count"]),
-            "solve_time_s": solve_time, "build_time_s": build_time if rebuilt else 0.0,
+    info = {"status": stats.status, "iterations": stats.iterations,
+            "solve_time_s": stats.wall_time, "build_time_s": build_time if rebuilt else 0.0,
             "warm_start": warm, "intervals_per_phase": options.intervals,
             "rk4_substeps": options.substeps}
-    return ControlPlan(durations, commands, states[0]), info
+    return ControlPlan(durations, commands, states[0]), info, after

@@ -31,8 +31,7 @@ from scipy.integrate import solve_ivp
 
 from pampipe.errors import SolverError
 from pampipe.gait.options import Gas, Valve
-from pampipe.model import braid, forces
-from pampipe.model.functions import free_length
+from pampipe.model import forces
 
 GAS_CONSTANT = 287.05  # R of dry air [J/(kg·K)]
 ISO_DENSITY = 1.185  # ρ₀ [kg/m³] (ISO 6358 reference air)
@@ -68,16 +67,15 @@ class Chamber:
         return cls(volume, volume, 1.0, (1.0,) + (0.0,) * (SHAPE_DEGREE - 1))
 
     @classmethod
-    def of_muscle(cls, geometry, theta, reference_pressure: float, pipe_diameter: float) -> Chamber:
-        """Fit V(P) to the exact free-contraction volume V(L_free(P)) of the braid model."""
-        anchoring = float(forces.anchoring_pressure(pipe_diameter, geometry, theta, reference_pressure))
+    def of_muscle(cls, muscle, pipe_diameter: float) -> Chamber:
+        """Fit V(P) to the exact free-contraction volume V(L_free(P)) of a :class:`Muscle`."""
+        geometry = muscle.geometry
+        anchoring = float(muscle.anchoring_pressure(pipe_diameter))
         bladder = forces.bladder_volume(geometry)
-        anchored = float(braid.enclosed_volume(braid.length_at_diameter(pipe_diameter, geometry),
-                                               geometry)) - bladder
-        rest = float(braid.enclosed_volume(geometry.initial_length, geometry)) - bladder
+        anchored = float(muscle.enclosed_volume(muscle.anchored_length(pipe_diameter))) - bladder
+        rest = float(muscle.enclosed_volume(geometry.initial_length)) - bladder
         pressures = np.linspace(0.0, anchoring, 200)
-        volumes = braid.enclosed_volume(free_length(pressures, geometry, theta, reference_pressure),
-                                        geometry) - bladder
+        volumes = muscle.enclosed_volume(muscle.free_length(pressures)) - bladder
         z = 1 - pressures / anchoring
         q = (anchored - volumes) / (anchored - rest)
         basis = np.stack([z**j for j in range(1, SHAPE_DEGREE + 1)], axis=1)

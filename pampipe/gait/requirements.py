@@ -7,31 +7,28 @@ The planned pressures (and the reason a section cannot be crossed) come from the
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.gait.options import GaitOptions
 from pampipe.gait.pneumatics import Chamber
 from pampipe.mission import Mission, Section
-from pampipe.model import braid, forces, slip
-from pampipe.model.pam import Pam
+from pampipe.model import slip
+from pampipe.model.muscle import Muscle
 from pampipe.plan import plan_mission
-from pampipe.simulate import require_moduli
 
 
 @dataclass(frozen=True)
 class MuscleNeed:
-    """One segment in one section (SI): its thresholds, its load and its chamber."""
+    """One segment in one section (SI): its muscle, thresholds, load and chamber."""
 
     name: str
-    pam: Pam
+    muscle: Muscle
     pipe_diameter: float  # D_p [m]
     contact_pressure: float  # P_a [Pa]: the braid touches the wall (no load)
-    required_pressure: float  # [Pa]: least pressure with μπF_r ≥ SF·W (no slip)
+    required_pressure: float  # [Pa]: least pressure with μπF_r ≥ SF·W (no slip), as plan computes it
     target_pressure: float  # [Pa]: the planned pressure of this segment
     load: float  # W [N] it must hold alone
     friction: float
@@ -42,16 +39,12 @@ class MuscleNeed:
 
     @property
     def rest_length(self) -> float:
-        return self.pam.geometry.initial_length
+        return self.muscle.geometry.initial_length
 
     def holding_ratio(self, pressure):
         """μπF_r(P, D_p, κW) / (SF·W): ≥ 1 means the segment holds alone with the safety factor."""
-        theta = self.pam.moduli.as_vector()
-        contact = self.pam.moduli.contact_vector()
-        capacity = slip.holding_capacity(np.asarray(pressure, dtype=float), self.pipe_diameter,
-                                         self.pam.geometry, theta, self.pam.moduli.reference_pressure,
-                                         self.load, self.kappa, self.friction,
-                                         contact if np.any(contact) else None)
+        capacity = self.muscle.holding_capacity(np.asarray(pressure, dtype=float), self.pipe_diameter,
+                                                self.load, kappa=self.kappa, friction=self.friction)
         return capacity / max(self.safety_factor * self.load, 1e-9)
 
 
@@ -71,42 +64,27 @@ def section_needs(mission: Mission, section: Section, options: GaitOptions) -> t
 
     Raises :class:`InfeasibleError` with the reason when the section cannot be crossed.
     """
-    for i, segment in enumerate(mission.segments):
-        require_moduli(segment.pam, source=f"{mission.source}: robot.segments[{i}]")
+    muscles = tuple(Muscle.from_pam(segment.pam, where=f"{mission.source}: robot.segments[{i}]")
+                    for i, segment in enumerate(mission.segments))
     targets = _planned_pressures(mission, section)
     total_mass = sum(s.mass for s in mission.segments) + mission.payload
     needs = []
-    for segment, target in zip(mission.segments, targets, strict=True):
-        pam, d = segment.pam, section.diameter
-        geometry, theta, pref = pam.geometry, pam.moduli.as_vector(), pam.moduli.reference_pressure
+    for segment, muscle, target in zip(mission.segments, muscles, targets, strict=True):
+        d = section.diameter
         load = float(slip.anchor_load(total_mass, segment.mass, section.incline, section.friction,
                                       mission.tether_drag))
-        contact = float(forces.anchoring_pressure(d, geometry, theta, pref))
-        need = MuscleNeed(segment.name, pam, d, contact, math.nan, target, load, section.friction,
-                          mission.kappa, mission.safety_factor,
-                          Chamber.of_muscle(geometry, theta, pref, d),
-                          float(braid.length_at_diameter(d, geometry)))
-        required = _required_pressure(need, mission.supply_pressure)
+        contact = float(muscle.anchoring_pressure(d))
+        required = float(muscle.least_holding_pressure(d, load, kappa=mission.kappa,
+                                                       friction=section.friction,
+                                                       safety_factor=mission.safety_factor))
         if options.vented_pressure >= contact:
             raise InputError(f"{mission.source}: gait.vented_pressure: {options.vented_pressure:.6g} Pa "
                              f"must be below the contact pressure of {segment.name} "
                              f"({contact:.6g} Pa) in section {section.name!r}.")
-        needs.append(replace(need, required_pressure=required,
-                             target_pressure=max(need.target_pressure, required)))
+        needs.append(MuscleNeed(segment.name, muscle, d, contact, required, max(target, required), load,
+                                section.friction, mission.kappa, mission.safety_factor,
+                                Chamber.of_muscle(muscle, d), float(muscle.anchored_length(d))))
     return tuple(needs)
-
-
-def _required_pressure(need: MuscleNeed, supply: float) -> float:
-    """Least P with holding_ratio(P) = 1: closed form without contact increments, else a root."""
-    moduli = need.pam.moduli
-    if not np.any(moduli.contact_vector()):
-        return float(slip.required_pressure(need.pipe_diameter, need.pam.geometry, moduli.as_vector(),
-                                            moduli.reference_pressure, need.load, need.kappa,
-                                            need.friction, need.safety_factor))
-    low = float(forces.anchoring_pressure(need.pipe_diameter, need.pam.geometry, moduli.as_vector(),
-                                          moduli.reference_pressure, need.kappa * need.load))
-    return float(brentq(lambda p: float(need.holding_ratio(p)) - 1.0, low, 2 * supply + low,
-                        xtol=1e-6))
 
 
 def _planned_pressures(mission: Mission, section: Section) -> list[float]:

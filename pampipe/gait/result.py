@@ -53,6 +53,7 @@ class GaitResult:
     hold_margin: np.ndarray = field(repr=False)  # (n,) best capacity/required hold among anchors
     kinematic_slip: float  # [m] largest mismatch between persisting anchors (0: consistent)
     solver: dict[str, Any] | None = None
+    warm_start: Any = field(default=None, repr=False)  # optimal gait: the solution to start the next from
 
     @property
     def speed(self) -> float:

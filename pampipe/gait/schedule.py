@@ -27,7 +27,6 @@ from pampipe.errors import SolverError
 from pampipe.gait.options import GaitOptions
 from pampipe.gait.pneumatics import pressure_rate, transition_time
 from pampipe.gait.requirements import MuscleNeed
-from pampipe.model.functions import free_length
 
 STEPS = ("I", "II", "III", "IV", "V", "VI", "VII")
 #: anchored segments in each step (docs/physics.md §8, paper Fig. 18)
@@ -139,9 +138,7 @@ def lengths(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> np.ndarray:
     """Segment lengths [m], (n, 3): L(D_p) once touching the wall, L_free(P) below."""
     out = np.empty_like(pressures, dtype=float)
     for i, need in enumerate(needs):
-        moduli = need.pam.moduli
-        free = free_length(np.maximum(pressures[:, i], 0.0), need.pam.geometry, moduli.as_vector(),
-                           moduli.reference_pressure)
+        free = need.muscle.free_length(np.maximum(pressures[:, i], 0.0))
         out[:, i] = np.where(pressures[:, i] >= need.contact_pressure, need.anchored_length,
                              np.maximum(free, need.anchored_length))
     return out

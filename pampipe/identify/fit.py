@@ -28,21 +28,15 @@ from pampipe.identify.statistics import Statistics, drucker_rows, reduce_experim
 from pampipe.identify.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
-from pampipe.model.functions import free_length
+from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
+from pampipe.nlp import solve
 
-#: IPOPT return statuses, in words (for SolverError messages).
-IPOPT_STATUS = {
+#: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
+FIT_HINTS = {
     "Maximum_Iterations_Exceeded": "IPOPT stopped at the iteration limit (raise fit.max_iterations)",
-    "Maximum_CpuTime_Exceeded": "IPOPT ran out of time",
     "Infeasible_Problem_Detected": "no moduli satisfy the bounds and the Drucker constraints together "
                                    "(widen fit.bounds or check the data)",
-    "Restoration_Failed": "IPOPT could not return to a feasible point (restoration failed)",
-    "Error_In_Step_Computation": "IPOPT could not compute a step (badly conditioned problem)",
-    "Invalid_Number_Detected": "the model produced NaN or infinity during the fit",
-    "Search_Direction_Becomes_Too_Small": "IPOPT's steps became too small to make progress",
-    "Diverging_Iterates": "the iterates diverged",
-    "User_Requested_Stop": "the fit was interrupted",
 }
 LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
 
@@ -97,15 +91,9 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     p = problem.layout.pack(values)
 
     say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
-    solve_started = time.perf_counter()
-    solution = problem.solver(x0=x0, p=p, lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
-    wall = time.perf_counter() - solve_started
-    stats_ipopt = problem.solver.stats()
-    status = str(stats_ipopt.get("return_status", "unknown"))
-    if not stats_ipopt.get("success", False):
-        words = IPOPT_STATUS.get(status, "IPOPT did not converge")
-        raise SolverError(f"the moduli fit failed: {words} (IPOPT status {status}); no result was "
-                          "written.", status=status)
+    solution, stats_ipopt = solve(problem.solver, what="the moduli fit (no result was written)",
+                                  hints=FIT_HINTS, x0=x0, p=p, lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
+    status = stats_ipopt.status
     x = np.asarray(solution["x"], dtype=float).ravel()
 
     moduli, pipe_moduli, blocks = _moduli(structure, stats, x, pref)
@@ -118,8 +106,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     return IdentifyResult(
         success=True, status=status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
-        solver=SolverInfo(status, True, int(stats_ipopt.get("iter_count", -1)), wall, build_time, reduce_time,
-                          float(solution["f"])),
+        solver=SolverInfo(status, True, stats_ipopt.iterations, stats_ipopt.wall_time, build_time,
+                          reduce_time, float(solution["f"])),
         uncertainty=uncertainty, drucker_margin=margin,
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, problem))
@@ -155,8 +143,7 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
                *(float(t.length.min()) for t in data.tests if t.kind == "axial")])
     if data.pam.moduli is not None:
         try:
-            low = min(low, float(free_length(p_max, geometry, data.pam.moduli.as_vector(),
-                                             data.pam.moduli.reference_pressure)[0]))
+            low = min(low, float(Muscle.from_pam(data.pam).free_length(p_max)[0]))
         except SolverError:
             pass
     low = max(low, geometry.shortest_length * 1.001)

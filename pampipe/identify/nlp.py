@@ -36,6 +36,7 @@ import numpy as np
 
 from pampipe.identify.statistics import SUB_BINS
 from pampipe.model.ops import softplus
+from pampipe.nlp import nlpsol
 
 #: Width of the softplus in (x − x_a)₊, in units of P_ref (1e-3 → 1 kPa at P_ref = 1 MPa).
 SMOOTH_X = 1e-3
@@ -191,10 +192,9 @@ def build_problem(structure: Structure) -> Problem:
         f = (sse + prior) / par["scale"]
     g = _drucker(structure, var, par, contact)
 
-    opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-            "ipopt.max_iter": structure.max_iterations, "ipopt.tol": structure.tolerance,
-            "ipopt.bound_relax_factor": 0.0}
-    solver = ca.nlpsol("identify", "ipopt", {"x": x, "p": p, "f": f, "g": g}, opts)
+    solver = nlpsol("identify", {"x": x, "p": p, "f": f, "g": g},
+                    ipopt={"max_iter": structure.max_iterations, "tol": structure.tolerance,
+                           "mu_strategy": "monotone"})
     sse_fn = ca.Function("sse", [x, p], [sse])
     hess, _ = ca.hessian((sse + prior) / 2, x)
     hess_fn = ca.Function("hessian", [x, p], [hess])

@@ -11,22 +11,17 @@ import numpy as np
 
 from pampipe.experiment import ExperimentData, TestData
 from pampipe.identify.result import LevelFit, TestFit
-from pampipe.model import forces
+from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli, Pam
-from pampipe.simulate import require_moduli
 
 
 def predict(pam: Pam, test: TestData) -> np.ndarray:
     """Model force [N] at every row of ``test``: F_ax(P, L) (axial) or F_r(P; D_p, F_a) (radial)."""
-    require_moduli(pam)
-    moduli = pam.moduli
-    theta, pref = moduli.as_vector(), moduli.reference_pressure
+    muscle = Muscle.from_pam(pam)
     if test.kind == "axial":
-        force = forces.axial_force(test.pressure, test.length, pam.geometry, theta, pref)
+        force = muscle.axial_force(test.pressure, test.length, leg=test.leg)
     else:
-        contact = moduli.contact_vector()
-        force = forces.radial_force(test.pressure, test.spec.pipe_diameter, pam.geometry, theta, pref,
-                                    test.spec.axial_load, contact if np.any(contact) else None)
+        force = muscle.radial_force(test.pressure, test.spec.pipe_diameter, test.spec.axial_load)
     return np.asarray(force, dtype=float) * np.ones(test.points)
 
 

@@ -86,6 +86,21 @@ class IdentifyResult:
         """``base`` with the fitted moduli and the θ covariance."""
         return Pam(base.name, base.geometry, self.moduli, self.theta_covariance())
 
+    def pam_comments(self, source) -> list[str]:
+        """Header lines of the PAM file written from this fit: how it was fitted and how well."""
+        u = self.uncertainty
+        lines = [f"Written by `pampipe identify` from {source}",
+                 f"mode {self.options.mode}, objective {self.options.objective}, "
+                 f"degree {self.moduli.degree}; "
+                 f"IPOPT {self.status} in {self.solver.iterations} iterations",
+                 f"RMSE {self.rmse:.4g} N over {self.points} rows; sum of RMSE per (test, pressure) "
+                 f"{self.sum_rmse:.4g} N; sigma {u.sigma:.4g} N",
+                 f"identifiable parameter combinations: {u.rank} of {len(self.names)}"]
+        if self.options.mode == "per_pipe":
+            lines.append("per_pipe: these are the muscle's (axial-test) moduli; the per-pipe sets are in the "
+                         "JSON output")
+        return lines
+
     def pam_for_pipe(self, base: Pam, pipe_diameter: float) -> Pam:
         """The muscle as used by the radial tests in ``pipe_diameter`` (per_pipe moduli if any)."""
         moduli = self.pipe_moduli.get(pipe_diameter, self.moduli)

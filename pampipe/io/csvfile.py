@@ -25,6 +25,7 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.experiment import Experiment, ExperimentData, make_test_data
+from pampipe.io.files import atomic_write
 from pampipe.units import column_factor
 
 #: Lines parsed per chunk: bounds the text held in memory (≈ 10 MB for 3-column files).
@@ -161,3 +162,16 @@ def _scan(path, lines, first_line, names, ncols) -> None:
 def _example_header(required) -> list[str]:
     units = {"pressure": "kPa", "length": "mm", "force": "N", "time": "s"}
     return [f"{name} [{units[name]}]" for name in required]
+
+
+# ---------------------------------------------------------------------------------------- writing
+def write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
+    """Write SI columns as CSV in lab units (kPa, mm, N, s), atomically."""
+    units = {"time": ("s", 1.0, "%.3f"), "pressure": ("kPa", 1e-3, "%.4f"),
+             "length": ("mm", 1e3, "%.5f"), "force": ("N", 1.0, "%.4f")}
+    order = [name for name in ("time", "pressure", "length", "force") if name in columns]
+    header = ",".join(f"{name} [{units[name][0]}]" for name in order)
+    table = np.column_stack([columns[name] * units[name][1] for name in order])
+    fmt = [units[name][2] for name in order]
+    atomic_write(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", fmt=fmt, header=header,
+                                              comments=""))

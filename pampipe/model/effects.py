@@ -34,6 +34,7 @@ from pampipe.model.forces import (
     bladder_force,
     bladder_volume,
     contact_force_increment,
+    contact_switch,
     wall_section,
 )
 
@@ -368,7 +369,8 @@ def axial_force_with_effects(pressure, length, geometry, theta, reference_pressu
 
 
 def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,
-                              contact_theta=None, effects: Active | None = None, *, smoothing=None):
+                              contact_theta=None, effects: Active | None = None, *, smoothing=None,
+                              clip=True):
     """F_r [N] of the muscle in a pipe of diameter D at measured pressure P, with ``effects`` on.
 
     u = A(L)·(F_ax(P, L, D) + Σ ΔF_ax − F_a)·Π factor + Σ ΔF_r, F_r = max(0, u) (or the softplus of
@@ -401,33 +403,7 @@ def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pre
         if factor is not None:
             unclipped = unclipped * factor
     unclipped = _sum(active, "radial_increment", state, unclipped)
-    if smoothing is None:
-        return ops.fmax(unclipped, 0)
-    return smoothing * ops.softplus(unclipped / smoothing)
-
-
-def anchoring_pressure_with_effects(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,
-                                    contact_theta=None, effects: Active | None = None, *,
-                                    upper: float = 1e7, iterations: int = 60) -> float:
-    """Measured pressure [Pa] at which F_r first becomes positive, with ``effects`` (floats only).
-
-    Bisection on [0, ``upper``] of the sign of :func:`radial_force_with_effects`; 0 if the muscle
-    already presses on the wall at 0 Pa, ``upper`` if it never does. Without effects this agrees
-    with the closed form :func:`pampipe.model.forces.anchoring_pressure` to ``upper``/2^iterations.
-    """
-    def pressing(p):
-        return float(radial_force_with_effects(p, diameter, geometry, theta, reference_pressure, axial_load,
-                                               contact_theta, effects)) > 0
-
-    if pressing(0.0):
-        return 0.0
-    low, high = 0.0, upper
-    if not pressing(high):
-        return upper
-    for _ in range(iterations):
-        mid = 0.5 * (low + high)
-        low, high = (low, mid) if pressing(mid) else (mid, high)
-    return 0.5 * (low + high)
+    return contact_switch(unclipped, smoothing, clip)
 
 
 def _vector(entries, *, like):

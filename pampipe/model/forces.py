@@ -129,12 +129,25 @@ def contact_force_increment(pressure, length, geometry, contact_theta, reference
     return engaged * bladder_force(pressure, length, geometry, contact_theta, reference_pressure)
 
 
+def contact_switch(unclipped, smoothing=None, clip=True):
+    """F_r = max(0, u) [N] (docs/physics.md §5.3): the wall pushes, it never pulls.
+
+    ``smoothing`` s [N] replaces max by the softplus s·log(1 + exp(u/s)) for gradient-based fitting
+    across the anchoring point (docs/physics.md §12); ``clip=False`` returns u itself (the holding
+    force of an anchored muscle, smooth, for constraints that only hold where the muscle presses).
+    """
+    if not clip:
+        return unclipped
+    if smoothing is None:
+        return ops.fmax(unclipped, 0)
+    return smoothing * ops.softplus(unclipped / smoothing)
+
+
 def radial_force(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0,
-                 contact_theta=None, smoothing=None):
+                 contact_theta=None, smoothing=None, *, clip=True):
     """F_r = max(0, A·(F_ax(P, L_p) − F_a)) [N] (docs/physics.md §5.3): the split-pipe separating force.
 
-    ``smoothing`` [N], if given, replaces max by the softplus s·log(1 + exp(x/s)) for
-    gradient-based fitting across the anchoring point (docs/physics.md §12).
+    ``smoothing`` and ``clip``: see :func:`contact_switch`.
     """
     length = length_at_diameter(diameter, geometry)
     holding = (axial_force(pressure, length, geometry, theta, reference_pressure, diameter=diameter)
@@ -143,10 +156,7 @@ def radial_force(pressure, diameter, geometry, theta, reference_pressure=1e6, ax
         anchoring = anchoring_pressure(diameter, geometry, theta, reference_pressure, axial_load)
         holding = holding + contact_force_increment(pressure, length, geometry, contact_theta,
                                                     reference_pressure, anchoring)
-    unclipped = amplification_factor(diameter, geometry) * holding
-    if smoothing is None:
-        return ops.fmax(unclipped, 0)
-    return smoothing * ops.softplus(unclipped / smoothing)
+    return contact_switch(amplification_factor(diameter, geometry) * holding, smoothing, clip)
 
 
 def radial_force_terms(pressure, diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):

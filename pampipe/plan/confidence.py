@@ -21,25 +21,20 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.model import slip
-from pampipe.model.functions import symbolic_geometry
-from pampipe.plan.problem import PRESSURE_LIMIT
+from pampipe.model.muscle import PRESSURE_LIMIT, Muscle, Structure
 
 
 @cache
-def margin_function(wall: str, degree: int) -> ca.Function:
-    """(P, D, φ, μ, M, m_anchor, tether, κ, SF, g, θ, Δθ, P_ref) → (g [N], ∂g/∂θ, ∂g/∂μ)."""
+def margin_function(structure: Structure) -> ca.Function:
+    """(P, D, φ, μ, M, m_anchor, tether, κ, SF, p_muscle) → (g [N], ∂g/∂θ, ∂g/∂μ), one muscle structure."""
     names = ("pressure", "diameter", "incline", "friction", "total_mass", "anchor_mass", "tether_drag",
-             "kappa", "safety_factor", "reference_pressure")
-    p, d, phi, mu, mass, m_anchor, tether, kappa, sf, pref = (ca.SX.sym(n) for n in names)
-    g, geometry = symbolic_geometry(wall)
-    n = 4 * (degree + 1)
-    theta, contact = ca.SX.sym("theta", n), ca.SX.sym("contact", n)
+             "kappa", "safety_factor")
+    p, d, phi, mu, mass, m_anchor, tether, kappa, sf = (ca.SX.sym(n) for n in names)
+    sym = Muscle.symbolic(structure)
     load = slip.anchor_load(mass, m_anchor, phi, mu, tether)
-    margin = (slip.holding_capacity(p, d, geometry, theta, pref, load, kappa, mu, contact)
-              - sf * load)
-    return ca.Function("slip_margin", [p, d, phi, mu, mass, m_anchor, tether, kappa, sf, g, theta,
-                                       contact, pref],
-                       [margin, ca.jacobian(margin, theta), ca.jacobian(margin, mu)])
+    margin = sym.muscle.holding_capacity(p, d, load, kappa=kappa, friction=mu) - sf * load
+    return ca.Function("slip_margin", [p, d, phi, mu, mass, m_anchor, tether, kappa, sf, sym.p],
+                       [margin, ca.jacobian(margin, sym.muscle.theta), ca.jacobian(margin, mu)])
 
 
 def z_value(confidence: float) -> float:
@@ -68,19 +63,17 @@ def check_uncertainty(mission) -> None:
 class _Segment:
     """Mapped margin of one segment over all sections, with its uncertainty."""
 
-    def __init__(self, mission, index: int):
+    def __init__(self, mission, muscle: Muscle, index: int):
         seg = mission.segments[index]
-        m = seg.pam.moduli
         route = mission.route
         self.sections = len(route)
-        self.function = margin_function(seg.pam.geometry.wall, m.degree).map(self.sections)
+        self.function = margin_function(muscle.structure).map(self.sections)
         self.row = lambda values: np.asarray(values, dtype=float).reshape(1, -1)
         total = sum(s.mass for s in mission.segments) + mission.payload
         self.fixed = [self.row([s.diameter for s in route]), self.row([s.incline for s in route]),
                       self.row([s.friction for s in route]), total, seg.mass, mission.tether_drag,
-                      mission.kappa, mission.safety_factor, seg.pam.geometry.as_vector(), m.as_vector(),
-                      m.contact_vector(), m.reference_pressure]
-        n = m.as_vector().size
+                      mission.kappa, mission.safety_factor, muscle.parameter_vector()]
+        n = muscle.structure.n_theta
         self.covariance = seg.pam.covariance if seg.pam.covariance is not None else np.zeros((n, n))
         self.friction_sd = np.array([s.friction_sd for s in route])
 
@@ -93,7 +86,7 @@ class _Segment:
         return margin.ravel() - z * np.sqrt(np.maximum(variance, 0.0))
 
 
-def confidence_pressure(mission, nominal: np.ndarray, confidence: float, *, iterations: int = 60):
+def confidence_pressure(mission, muscles, nominal: np.ndarray, confidence: float, *, iterations: int = 60):
     """Least P ≥ P_nominal [Pa] holding with probability C, per element (S, 3); inf if none ≤ 100 MPa."""
     z = z_value(confidence)
     check_uncertainty(mission)
@@ -102,7 +95,7 @@ def confidence_pressure(mission, nominal: np.ndarray, confidence: float, *, iter
         col = np.isfinite(nominal[:, i])
         if z == 0 or not col.any():
             continue
-        seg = _Segment(mission, i)
+        seg = _Segment(mission, muscles[i], i)
         low = np.where(col, nominal[:, i], 1.0)
         high = np.maximum(1.1 * low, low + 1e4)
         for _ in range(int(math.log2(PRESSURE_LIMIT / 1e4)) + 1):  # grow the bracket up to 100 MPa

@@ -16,7 +16,7 @@ import numpy as np
 
 from pampipe.errors import SolverError
 from pampipe.model.braid import diameter_at_length
-from pampipe.model.functions import free_length
+from pampipe.model.muscle import Muscle
 from pampipe.plan.problem import Elements
 from pampipe.plan.solve import Solution
 
@@ -26,14 +26,14 @@ def element_feasible(elements: Elements, solution: Solution, supply: float) -> n
     return elements.valid & np.isfinite(solution.pressure) & (solution.pressure <= supply)
 
 
-def section_reasons(mission, elements: Elements, solution: Solution,
+def section_reasons(mission, muscles, elements: Elements, solution: Solution,
                     payloads: np.ndarray, *, confidence: float | None = None) -> list[str | None]:
     """One sentence per section, ``None`` where the section is feasible.
 
     ``payloads`` are the element payload limits [kg] of :func:`pampipe.plan.payload.element_payloads`.
     """
     feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1).tolist()
-    return [None if ok else _reason(mission, s, elements, solution, payloads[s], confidence)
+    return [None if ok else _reason(mission, muscles, s, elements, solution, payloads[s], confidence)
             for s, ok in enumerate(feasible)]
 
 
@@ -44,7 +44,7 @@ def _names(mission, mask) -> str:
     return " and ".join(names)
 
 
-def _reason(mission, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
+def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
             confidence: float | None) -> str:
     sec, supply = mission.route[s], mission.supply_pressure
     pipe = f"the {sec.diameter * 1e3:.4g} mm pipe"
@@ -66,7 +66,7 @@ def _reason(mission, s: int, e: Elements, solution: Solution, payloads: np.ndarr
     if short.any():
         i = int(np.argmax(e.free_anchoring[s]))
         return (f"{pipe} is wider than {_names(mission, short)} reach{'es' if short.sum() == 1 else ''} "
-                f"at the {supply / 1e3:.4g} kPa supply{_free_diameter(pams[i], supply)}; "
+                f"at the {supply / 1e3:.4g} kPa supply{_free_diameter(muscles[i], supply)}; "
                 f"touching the wall needs {e.free_anchoring[s, i] / 1e3:.4g} kPa.")
     pressure = solution.pressure[s]
     stuck = ~np.isfinite(pressure)
@@ -87,11 +87,10 @@ def _reason(mission, s: int, e: Elements, solution: Solution, payloads: np.ndarr
     return f"{hold}; at the supply it cannot even carry its own weight here, with no payload."
 
 
-def _free_diameter(pam, supply: float) -> str:
+def _free_diameter(muscle: Muscle, supply: float) -> str:
     """' (it only opens to X mm)' from the free-contraction root, or '' if that root fails."""
-    m = pam.moduli
     try:
-        length = free_length([supply], pam.geometry, m.as_vector(), m.reference_pressure)[0]
+        length = muscle.free_length([supply])[0]
     except SolverError:
         return ""
-    return f" (it only opens to {diameter_at_length(length, pam.geometry) * 1e3:.4g} mm)"
+    return f" (it only opens to {diameter_at_length(length, muscle.geometry) * 1e3:.4g} mm)"

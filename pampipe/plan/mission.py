@@ -8,19 +8,16 @@ import math
 import numpy as np
 
 from pampipe.errors import InputError, SolverError
-from pampipe.model import forces, slip
-from pampipe.plan import diagnosed
 from pampipe.plan.checks import cross_check
 from pampipe.plan.confidence import confidence_pressure
 from pampipe.plan.feasibility import element_feasible, section_reasons
 from pampipe.plan.payload import element_payloads
 from pampipe.plan.payload import max_payload as route_max_payload
-from pampipe.plan.problem import Elements, build_elements
+from pampipe.plan.problem import Elements, build_elements, mission_muscles
 from pampipe.plan.result import MissionPlan, PlanArrays
 from pampipe.plan.solve import Solution, solve
-from pampipe.simulate import require_moduli
 
-#: Largest accepted relative disagreement between the NLP and its cross-checks.
+#: Largest accepted relative disagreement between the NLP and its cross-check.
 CHECK_TOLERANCE = 1e-6
 
 
@@ -29,51 +26,45 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     """Plan ``mission`` (a :class:`pampipe.mission.Mission`); ``payload`` [kg] overrides its payload.
 
     ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C (first order, see
-    :mod:`pampipe.plan.confidence`). ``check`` compares the NLP's pressures with the closed form and
-    a bisection on the model and raises :class:`SolverError` beyond a relative 1e-6.
+    :mod:`pampipe.plan.confidence`). ``check`` compares the NLP's pressures with a bisection on the
+    model (:mod:`pampipe.plan.checks`) and raises :class:`SolverError` beyond a relative 1e-6.
     """
-    for i, seg in enumerate(mission.segments):
-        require_moduli(seg.pam, source=f"{mission.source}: robot.segments[{i}].pam")
+    muscles = mission_muscles(mission)
     if payload is not None:
         if not (math.isfinite(payload) and payload >= 0):
             raise InputError(f"payload: {payload!r} kg must be a finite mass of at least 0 kg.")
         mission = dataclasses.replace(mission, payload=float(payload))
-    elements = build_elements(mission)
-    solution = solve(elements, mission.supply_pressure, method=method)
+    elements = build_elements(mission, muscles)
+    solution = solve(muscles, elements, mission.supply_pressure, method=method)
     checks = {}
     if check:
-        checks = cross_check(mission, elements, solution.pressure)
-        worst = max((v for v in checks.values() if v is not None), default=0.0)
+        checks = cross_check(muscles, elements, solution.pressure, mission.supply_pressure)
+        worst = checks["bisection_max_rel_diff"] or 0.0
         if worst > CHECK_TOLERANCE:
-            raise SolverError(f"the planning NLP disagrees with its cross-checks by {worst:.3g} "
+            raise SolverError(f"the planning NLP disagrees with its cross-check by {worst:.3g} "
                               f"(relative): {checks}", status="cross_check_failed")
-    effect_segments = diagnosed.diagnosed_segments(mission)
-    if effect_segments:  # the NLP was checked on the baseline model; now the diagnosed one
-        pressure = solution.pressure.copy()
-        for i in effect_segments:
-            pressure[:, i] = np.where(elements.valid[:, i], diagnosed.least_pressure(mission, i, elements),
-                                      solution.pressure[:, i])
-        solution = dataclasses.replace(solution, pressure=pressure)
     nominal = None
     if confidence is not None:
         nominal = solution.pressure
-        pressure = confidence_pressure(mission, nominal, confidence)
+        pressure = confidence_pressure(mission, muscles, nominal, confidence)
         solution = dataclasses.replace(solution, pressure=pressure,
                                        slip_active=solution.slip_active | (pressure > nominal))
-    payloads = element_payloads(mission, elements)
-    reasons = section_reasons(mission, elements, solution, payloads, confidence=confidence)
-    arrays = _arrays(mission, elements, solution, reasons, nominal)
+    payloads = element_payloads(mission, muscles, elements)
+    reasons = section_reasons(mission, muscles, elements, solution, payloads, confidence=confidence)
+    arrays = _arrays(mission, muscles, elements, solution, reasons, nominal)
     limit = route_max_payload(mission) if with_max_payload else None
     return MissionPlan(feasible=all(r is None for r in reasons), arrays=arrays,
                        mission=str(mission.source), supply_pressure=mission.supply_pressure,
                        safety_factor=mission.safety_factor, load_path=mission.load_path,
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
-                       checks=checks, confidence=confidence, max_payload=limit)
+                       checks=checks, confidence=confidence, max_payload=limit, muscles=muscles,
+                       kappa=elements.kappa)
 
 
-def _arrays(mission, e: Elements, solution: Solution, reasons, nominal) -> PlanArrays:
-    capacity, radial, contact = (np.stack(c, axis=1) for c in zip(
-        *(_evaluate(mission, e, solution.pressure, i) for i in range(len(mission.segments))), strict=True))
+def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, nominal) -> PlanArrays:
+    pressure = np.where(np.isfinite(solution.pressure) & e.valid, solution.pressure, 0.0)
+    capacity, radial, contact = (np.stack(c, axis=1) for c in zip(*(
+        _evaluate(m, e, pressure[:, i], i) for i, m in enumerate(muscles)), strict=True))
     complete = e.valid.all(axis=1) & np.isfinite(solution.pressure).all(axis=1)
     return PlanArrays(
         pressure=solution.pressure, anchoring_pressure=e.free_anchoring,
@@ -85,20 +76,9 @@ def _arrays(mission, e: Elements, solution: Solution, reasons, nominal) -> PlanA
         route=mission.route, reasons=tuple(reasons))
 
 
-def _evaluate(mission, e: Elements, pressure: np.ndarray, i: int):
-    """(holding capacity, F_r, p_c) of segment i in every section, from the model at the plan."""
-    m = mission.segments[i].pam.moduli
-    geometry, theta, pref = mission.segments[i].pam.geometry, m.as_vector(), m.reference_pressure
-    contact = m.contact_vector() if np.any(m.contact_vector()) else None
-    p = np.where(np.isfinite(pressure[:, i]) & e.valid[:, i], pressure[:, i], 0.0)
-    d = np.where(e.valid[:, i], e.diameter[:, i], 0.5 * (geometry.initial_diameter
-                                                         + geometry.largest_diameter))
-    load = e.load[:, i]
-    if mission.segments[i].pam.effects:
-        radial = diagnosed.radial_force(mission, i, p, d, mission.kappa * load)
-        capacity = e.friction[:, i] * math.pi * radial
-        return capacity, radial, forces.contact_pressure(radial, d, e.length[:, i])
-    radial = forces.radial_force(p, d, geometry, theta, pref, mission.kappa * load, contact)
-    capacity = slip.holding_capacity(p, d, geometry, theta, pref, load, mission.kappa, e.friction[:, i],
-                                     contact)
-    return capacity, radial, forces.contact_pressure(radial, d, e.length[:, i])
+def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
+    """(holding capacity, F_r, p_c) of segment i in every section, from its muscle at the plan."""
+    d, load = e.diameter[:, i], e.load[:, i]
+    radial = np.asarray(muscle.radial_force(pressure, d, e.kappa * load), dtype=float) * np.ones_like(d)
+    capacity = e.friction[:, i] * np.pi * radial
+    return capacity, radial, muscle.contact_pressure(radial, d)

@@ -1,9 +1,9 @@
 """The largest payload the robot carries through each section, and the route, at supply pressure.
 
 The anchor load is affine in the payload m: W(m) = W(m₀) + (m − m₀)·g(|sin φ| + μ cos φ), and each
-element holds at most W_max(P_supply) (:func:`pampipe.plan.problem.largest_load`), so the largest
-payload of an element is m₀ + (W_max − W(m₀)) / (g(|sin φ| + μ cos φ)); a section takes the least of
-its three segments, the route the least of its sections.
+element holds at most W_max(P_supply) (:meth:`pampipe.model.muscle.Muscle.largest_load`), so the
+largest payload of an element is m₀ + (W_max − W(m₀)) / (g(|sin φ| + μ cos φ)); a section takes the
+least of its segments, the route the least of its sections.
 """
 
 from __future__ import annotations
@@ -12,9 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.plan.diagnosed import diagnosed_segments
-from pampipe.plan.diagnosed import largest_load as diagnosed_largest_load
-from pampipe.plan.problem import Elements, build_elements, largest_load
+from pampipe.plan.problem import Elements, build_elements, mission_muscles
 
 
 @dataclass(frozen=True)
@@ -47,20 +45,21 @@ class PayloadLimit:
                              for s in self.sections]}
 
 
-def element_payloads(mission, elements: Elements) -> np.ndarray:
-    """Largest payload [kg] of every element at the mission's supply pressure, shape (S, 3)."""
-    held = largest_load(mission.supply_pressure, elements)
-    for i in diagnosed_segments(mission):
-        held[:, i] = diagnosed_largest_load(mission, i, elements, mission.supply_pressure)
-    usable = elements.valid & (elements.slope > 0) & (held >= 0)
-    per_kg = np.where(usable, elements.load_per_payload, 1.0)  # > 0 where valid (μ > 0)
-    payload = mission.payload + (held - elements.load) / per_kg
+def element_payloads(mission, muscles, elements: Elements) -> np.ndarray:
+    """Largest payload [kg] of every element at the mission's supply pressure, shape (S, segments)."""
+    e = elements
+    held = np.stack([m.largest_load(mission.supply_pressure, e.diameter[:, i], kappa=e.kappa,
+                                    friction=e.friction[:, i], safety_factor=e.safety_factor)
+                     for i, m in enumerate(muscles)], axis=1)
+    usable = e.valid & np.isfinite(e.free_anchoring) & (held >= 0)
+    per_kg = np.where(usable, e.load_per_payload, 1.0)  # > 0 where valid (μ > 0)
+    payload = mission.payload + (held - e.load) / per_kg
     return np.where(usable, payload, -np.inf)
 
 
-def section_payloads(mission, elements: Elements) -> tuple[SectionPayload, ...]:
+def section_payloads(mission, muscles, elements: Elements) -> tuple[SectionPayload, ...]:
     """Per section: the least element payload and its segment."""
-    payloads = element_payloads(mission, elements)
+    payloads = element_payloads(mission, muscles, elements)
     worst = np.argmin(payloads, axis=1)
     return tuple(SectionPayload(sec.name, float(payloads[s, worst[s]]), mission.segments[worst[s]].name)
                  for s, sec in enumerate(mission.route))
@@ -68,7 +67,8 @@ def section_payloads(mission, elements: Elements) -> tuple[SectionPayload, ...]:
 
 def max_payload(mission) -> PayloadLimit:
     """Largest payload [kg] the robot can carry through the whole route at supply pressure."""
-    sections = section_payloads(mission, build_elements(mission))
+    muscles = mission_muscles(mission)
+    sections = section_payloads(mission, muscles, build_elements(mission, muscles))
     limit = min(sections, key=lambda s: s.payload)
     value = limit.payload if limit.payload >= 0 else None
     return PayloadLimit(value, limit.name, limit.segment, mission.supply_pressure, sections)

@@ -114,6 +114,16 @@ class MissionPlan:
     checks: dict = field(default_factory=dict)  # largest relative differences to the cross-checks
     confidence: float | None = None
     max_payload: PayloadLimit | None = None
+    muscles: tuple = field(default=(), repr=False)  # the segments' Muscle objects, rear to front
+    kappa: float = 1.0  # κ of the load path
+
+    def capacity_curve(self, section: int, segment: int, pressures) -> np.ndarray:
+        """μπF_r(P, D, κW) [N] of one segment in one section over ``pressures``, from the plan's muscle."""
+        sec = self.arrays.route[section]
+        load = self.arrays.required_hold[section, segment]
+        capacity = self.muscles[segment].holding_capacity(np.asarray(pressures, dtype=float), sec.diameter,
+                                                          load, kappa=self.kappa, friction=sec.friction)
+        return np.asarray(capacity, dtype=float) * np.ones(np.shape(pressures))
 
     @cached_property
     def sections(self) -> tuple[SectionPlan, ...]:

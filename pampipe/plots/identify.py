@@ -6,9 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.identify.predict import predict
-from pampipe.model import bladder, braid, forces
-from pampipe.model.pam import Pam
+from pampipe.identify.curves import fit_curves
 from pampipe.report import new_figure, save_figure
 
 #: At most this many measured points per panel are drawn (a uniform subsample of the rows).
@@ -18,16 +16,16 @@ MAX_POINTS = 6000
 def plot_identification(data, result, folder: Path) -> list[Path]:
     """Write axial_fit.png, radial_fit.png, residuals.png and drucker_margin.png (those that apply)."""
     written = []
+    curves = fit_curves(data, result)
     axial = [t for t in data.tests if t.kind == "axial"]
     radial = [t for t in data.tests if t.kind == "radial"]
-    muscle_pam = Pam(data.pam.name, data.pam.geometry, result.moduli)
     if axial:
-        written.append(_axial(axial, muscle_pam, folder))
+        written.append(_axial(axial, curves, folder))
     if radial:
-        written.append(_radial(radial, data.pam, result, folder))
-    written.append(_residuals(data, result, folder))
-    if result.options.drucker != "none":
-        written.append(_drucker(muscle_pam, result, folder))
+        written.append(_radial(radial, curves, result, folder))
+    written.append(_residuals(data, curves, result, folder))
+    if curves.drucker is not None:
+        written.append(_drucker(curves.drucker, result, folder))
     return written
 
 
@@ -35,19 +33,16 @@ def _subsample(n: int) -> np.ndarray:
     return np.arange(n) if n <= MAX_POINTS else np.linspace(0, n - 1, MAX_POINTS).astype(int)
 
 
-def _axial(tests, pam: Pam, folder: Path) -> Path:
+def _axial(tests, curves, folder: Path) -> Path:
     fig, axes = new_figure(1, len(tests), figsize=(7.5 * len(tests), 5), squeeze=False)
-    theta, pref = pam.moduli.as_vector(), pam.moduli.reference_pressure
     for ax, test in zip(axes[0], tests, strict=True):
         colors = _level_colors(test.level_pressure.size)
         rows = _subsample(test.points)
         ax.scatter(test.length[rows] * 1e3, test.force[rows], s=4, c=colors[test.level[rows]], alpha=0.35,
                    linewidths=0)
-        for lev, pressure in enumerate(test.level_pressure):
-            mine = test.level == lev
-            lengths = np.linspace(test.length[mine].min(), test.length[mine].max(), 100)
-            model = forces.axial_force(pressure, lengths, pam.geometry, theta, pref)
-            ax.plot(lengths * 1e3, model, color=colors[lev], lw=1.5, label=f"{pressure / 1e3:.0f} kPa")
+        for curve in (c for c in curves.axial if c.test == test.name):
+            ax.plot(curve.length * 1e3, curve.force, color=colors[curve.level], lw=1.5,
+                    label=f"{curve.pressure / 1e3:.0f} kPa")
         ax.set(xlabel="length L [mm]", ylabel="axial force F_ax [N]",
                title=f"{test.name}: measured (dots) and fitted model (lines)")
         ax.grid(alpha=0.3)
@@ -55,19 +50,15 @@ def _axial(tests, pam: Pam, folder: Path) -> Path:
     return save_figure(fig, folder, "axial_fit.png")
 
 
-def _radial(tests, base: Pam, result, folder: Path) -> Path:
+def _radial(tests, curves, result, folder: Path) -> Path:
     fig, ax = new_figure(figsize=(8, 5.5))
+    model = {c.test: c for c in curves.radial}
     for i, test in enumerate(tests):
-        pam = result.pam_for_pipe(base, test.spec.pipe_diameter)
-        theta, pref = pam.moduli.as_vector(), pam.moduli.reference_pressure
-        contact = pam.moduli.contact_vector()
         rows = _subsample(test.points)
         color = f"C{i % 10}"
         ax.plot(test.pressure[rows] / 1e3, test.force[rows], ".", ms=3, alpha=0.35, color=color)
-        grid = np.linspace(min(0.0, test.pressure.min()), test.pressure.max(), 300)
-        model = forces.radial_force(grid, test.spec.pipe_diameter, pam.geometry, theta, pref,
-                                    test.spec.axial_load, contact if np.any(contact) else None)
-        ax.plot(grid / 1e3, model, color=color, lw=1.5,
+        curve = model[test.name]
+        ax.plot(curve.pressure / 1e3, curve.force, color=color, lw=1.5,
                 label=f"{test.name} (RMSE {result.tests[_index(result, test.name)].rmse:.3g} N)")
     ax.set(xlabel="gauge pressure P [kPa]", ylabel="radial (split-pipe) force F_r [N]",
            title="radial tests: measured (dots) and fitted model (lines)")
@@ -76,13 +67,11 @@ def _radial(tests, base: Pam, result, folder: Path) -> Path:
     return save_figure(fig, folder, "radial_fit.png")
 
 
-def _residuals(data, result, folder: Path) -> Path:
+def _residuals(data, curves, result, folder: Path) -> Path:
     has_axial = any(t.kind == "axial" for t in data.tests)
     fig, axes = new_figure(1, 2 if has_axial else 1, figsize=(13 if has_axial else 7, 4.8), squeeze=False)
     for i, test in enumerate(data.tests):
-        moduli = (result.moduli if test.kind == "axial"
-                  else result.pam_for_pipe(data.pam, test.spec.pipe_diameter).moduli)
-        residual = predict(Pam(data.pam.name, data.pam.geometry, moduli), test) - test.force
+        residual = curves.residuals[test.name]
         rows = _subsample(test.points)
         axes[0, 0].plot(test.pressure[rows] / 1e3, residual[rows], ".", ms=3, alpha=0.4, color=f"C{i % 10}",
                         label=test.name)
@@ -104,15 +93,10 @@ def _residuals(data, result, folder: Path) -> Path:
     return save_figure(fig, folder, "residuals.png")
 
 
-def _drucker(pam: Pam, result, folder: Path) -> Path:
+def _drucker(drucker, result, folder: Path) -> Path:
     grid = result.drucker_grid
-    geometry, theta, pref = pam.geometry, pam.moduli.as_vector(), pam.moduli.reference_pressure
-    pressures = np.linspace(min(grid["pressures"]), max(grid["pressures"]), 80)
-    lengths = np.linspace(min(grid["lengths"]), max(grid["lengths"]), 120)
-    pp, ll = np.meshgrid(pressures, lengths, indexing="ij")
-    e1, e2 = bladder.drucker_tangent_moduli(pp, ll, braid.diameter_at_length(ll, geometry), geometry, theta,
-                                            pref)
-    margin = np.minimum(e1, e2) / 1e6
+    pp, ll = np.meshgrid(drucker.pressure, drucker.length, indexing="ij")
+    margin = drucker.margin / 1e6
     fig, ax = new_figure(figsize=(7.5, 5))
     image = ax.pcolormesh(ll * 1e3, pp / 1e3, margin, shading="auto", cmap="viridis")
     fig.colorbar(image, ax=ax, label="min(E₁ᵗ, E₂ᵗ) [MPa]")

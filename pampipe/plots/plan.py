@@ -6,23 +6,25 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.model import slip
 from pampipe.report import new_figure, save_figure
 
 MAX_CURVES = 8  # sections drawn in the capacity plot (the first ones with a plan)
 
 
-def plot_plan(mission, plan, folder: Path) -> list[Path]:
-    """Write required_pressure.png and holding_capacity.png into ``folder``."""
-    return [_required_pressure(mission, plan, folder), _holding_capacity(mission, plan, folder)]
+def plot_plan(plan, folder: Path) -> list[Path]:
+    """Write required_pressure.png and holding_capacity.png into ``folder``.
+
+    Every number drawn comes from ``plan`` (a :class:`pampipe.plan.MissionPlan`), curves included.
+    """
+    return [_required_pressure(plan, folder), _holding_capacity(plan, folder)]
 
 
-def _required_pressure(mission, plan, folder: Path) -> Path:
+def _required_pressure(plan, folder: Path) -> Path:
     fig, ax = new_figure(figsize=(8, 4.5))
-    edges = np.concatenate([[0.0], np.cumsum([s.length for s in mission.route])])
-    for k, seg in enumerate(mission.segments):
+    edges = np.concatenate([[0.0], np.cumsum([s.length for s in plan.sections])])
+    for k, name in enumerate(plan.arrays.segment_names):
         values = [sec.segments[k].pressure / 1e3 if sec.segments else np.nan for sec in plan.sections]
-        ax.stairs(values, edges, baseline=None, lw=2.2 - 0.5 * k, label=f"{seg.name}: planned pressure")
+        ax.stairs(values, edges, baseline=None, lw=2.2 - 0.5 * k, label=f"{name}: planned pressure")
     anchoring = [max(s.anchoring_pressure for s in sec.segments) / 1e3 if sec.segments else np.nan
                  for sec in plan.sections]
     ax.stairs(anchoring, edges, baseline=None, color="grey", ls=":", lw=1.5,
@@ -46,23 +48,19 @@ def _required_pressure(mission, plan, folder: Path) -> Path:
     return save_figure(fig, folder, "required_pressure.png")
 
 
-def _holding_capacity(mission, plan, folder: Path) -> Path:
+def _holding_capacity(plan, folder: Path) -> Path:
     fig, ax = new_figure(figsize=(8, 4.8))
     drawn = [(s, sec) for s, sec in enumerate(plan.sections) if sec.segments][:MAX_CURVES]
     top = max([plan.supply_pressure] + [max(x.pressure for x in sec.segments) for _, sec in drawn])
     grid = np.linspace(0.0, 1.1 * top, 400)
     for n, (s, sec) in enumerate(drawn):
         k = int(np.argmax([x.pressure for x in sec.segments]))
-        point, seg, route = sec.segments[k], mission.segments[k], mission.route[s]
-        m = seg.pam.moduli
-        contact = m.contact_vector() if np.any(m.contact_vector()) else None
-        capacity = slip.holding_capacity(grid, route.diameter, seg.pam.geometry, m.as_vector(),
-                                         m.reference_pressure, point.required_hold, mission.kappa,
-                                         route.friction, contact)
+        point = sec.segments[k]
+        capacity = plan.capacity_curve(s, k, grid)
         color = f"C{n % 10}"
         capacity = np.where(capacity > 0, capacity, np.nan)  # zero before contact: off the log axis
         ax.plot(grid / 1e3, capacity, color=color, lw=1.5,
-                label=f"{sec.name} ({seg.name}, {route.diameter * 1e3:.1f} mm, "
+                label=f"{sec.name} ({point.name}, {sec.diameter * 1e3:.1f} mm, "
                       f"W = {point.required_hold:.3g} N)")
         ax.axhline(plan.safety_factor * point.required_hold, color=color, ls="--", lw=0.8)
         ax.plot(point.pressure / 1e3, point.holding_capacity, "o", color=color, ms=7,
@@ -71,7 +69,7 @@ def _holding_capacity(mission, plan, folder: Path) -> Path:
     needed = [plan.safety_factor * x.required_hold for _, sec in drawn for x in sec.segments]
     positive = [v for v in needed if v > 0] or [1.0]
     ax.set_yscale("log")
-    ax.set_ylim(0.3 * min(positive), 3 * max(max(positive), _capacity_at(mission, plan, drawn, top)))
+    ax.set_ylim(0.3 * min(positive), 3 * max(max(positive), _capacity_at(plan, drawn, top)))
     ax.set(xlabel="gauge pressure P [kPa]", ylabel="holding capacity μπF_r [N]",
            title=f"holding capacity vs pressure (dashed: {plan.safety_factor:g} × required hold; "
                  "dots: operating points)\n(curves start where the muscle touches the wall)")
@@ -80,15 +78,10 @@ def _holding_capacity(mission, plan, folder: Path) -> Path:
     return save_figure(fig, folder, "holding_capacity.png")
 
 
-def _capacity_at(mission, plan, drawn, pressure: float) -> float:
+def _capacity_at(plan, drawn, pressure: float) -> float:
     """Largest holding capacity [N] of the drawn elements at ``pressure`` (top of the log axis)."""
     best = 1.0
     for s, sec in drawn:
-        for k, point in enumerate(sec.segments):
-            seg, route = mission.segments[k], mission.route[s]
-            m = seg.pam.moduli
-            contact = m.contact_vector() if np.any(m.contact_vector()) else None
-            best = max(best, float(slip.holding_capacity(
-                pressure, route.diameter, seg.pam.geometry, m.as_vector(), m.reference_pressure,
-                point.required_hold, mission.kappa, route.friction, contact)))
+        for k in range(len(sec.segments)):
+            best = max(best, float(plan.capacity_curve(s, k, [pressure])[0]))
     return best

@@ -4,39 +4,32 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
-from pampipe.model import braid, forces
-from pampipe.model.functions import free_length
 from pampipe.report import new_figure, save_figure
 
 
-def plot_simulation(pam, cases, folder: Path) -> list[Path]:
-    """Write radial_force.png, free_contraction.png and amplification.png into ``folder``."""
-    geometry, theta = pam.geometry, pam.moduli.as_vector()
-    pref = pam.moduli.reference_pressure
-    contact = pam.moduli.contact_vector()
-    p_max = max(max(c.pressures.max() for c in cases), 1.2 * max(c.anchoring_pressure for c in cases))
-    grid = np.linspace(0, p_max, 300)
+def plot_simulation(result, folder: Path) -> list[Path]:
+    """Write radial_force.png, free_contraction.png and amplification.png into ``folder``.
+
+    Every number drawn comes from ``result`` (a :class:`pampipe.simulate.SimulateResult`).
+    """
+    cases, curves, name = result.cases, result.curves, result.pam
+    grid = curves.pressure
     written = []
 
     fig, ax = new_figure(figsize=(7, 4.5))
-    for c in cases:
-        radial = forces.radial_force(grid, c.pipe_diameter, geometry, theta, pref, c.axial_load,
-                                     contact if np.any(contact) else None)
+    for c, radial in zip(cases, curves.radial_force, strict=True):
         line, = ax.plot(grid / 1e3, radial, label=f"D_p = {c.pipe_diameter * 1e3:.1f} mm, "
                                                    f"F_a = {c.axial_load:.0f} N")
         ax.plot(c.pressures / 1e3, c.radial_force, "o", color=line.get_color(), ms=4)
         ax.axvline(c.anchoring_pressure / 1e3, color=line.get_color(), ls=":", lw=1)
     ax.set(xlabel="gauge pressure P [kPa]", ylabel="radial (split-pipe) force F_r [N]",
-           title=f"{pam.name}: radial force (dotted: anchoring pressure)")
+           title=f"{name}: radial force (dotted: anchoring pressure)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     written.append(save_figure(fig, folder, "radial_force.png"))
 
     fig, ax = new_figure(figsize=(7, 4.5))
-    for k, load in enumerate(sorted({c.axial_load for c in cases})):
-        lengths = free_length(grid, geometry, theta, pref, axial_load=load)
+    for k, (load, lengths) in enumerate(curves.free_length.items()):
         ax.plot(grid / 1e3, lengths * 1e3, "k-" if k == 0 else "k--", lw=1.5 if k == 0 else 1,
                 label=f"free contraction, F_a = {load:.0f} N")
     for c in cases:
@@ -45,21 +38,20 @@ def plot_simulation(pam, cases, folder: Path) -> list[Path]:
                 label=f"anchors in {c.pipe_diameter * 1e3:.1f} mm pipe, F_a = {c.axial_load:.0f} N: "
                       f"{c.anchoring_pressure / 1e3:.1f} kPa")
     ax.set(xlabel="gauge pressure P [kPa]", ylabel="length L [mm]",
-           title=f"{pam.name}: free contraction; anchoring where L_free = L(D_p) (dotted)")
+           title=f"{name}: free contraction; anchoring where L_free = L(D_p) (dotted)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     written.append(save_figure(fig, folder, "free_contraction.png"))
 
     fig, ax = new_figure(figsize=(7, 4.5))
-    diameters = np.linspace(geometry.initial_diameter, 0.98 * geometry.largest_diameter, 300)
-    ax.plot(diameters * 1e3, braid.amplification_factor(diameters, geometry), "k-")
+    ax.plot(curves.diameter * 1e3, curves.amplification_factor, "k-")
     ax.axhline(1.0, color="grey", lw=1, ls=":")
     for c in {c.pipe_diameter: c for c in cases}.values():
         ax.plot(c.pipe_diameter * 1e3, c.amplification_factor, "o", ms=7)
         ax.annotate(f"  A = {c.amplification_factor:.3f}", (c.pipe_diameter * 1e3, c.amplification_factor),
                     fontsize=8)
     ax.set(xlabel="pipe diameter D_p [mm]", ylabel="amplification factor A = 2πN²D/L [-]",
-           title=f"{pam.name}: amplification factor (A > 1 amplifies)")
+           title=f"{name}: amplification factor (A > 1 amplifies)")
     ax.grid(alpha=0.3)
     written.append(save_figure(fig, folder, "amplification.png"))
     return written

@@ -1,0 +1,104 @@
+"""A :class:`~pampipe.model.pam.Pam` → PAM file (docs/formats.md §2), and experiment files.
+
+Numbers are written at full precision (shortest round-trip floats) in the units of the format:
+lengths in mm, angles in deg, moduli in MPa, effect parameters in their display units.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from pampipe.experiment import TestSpec
+from pampipe.io import yamlwrite
+from pampipe.io.csvfile import write_csv
+from pampipe.model.effects import get_effect
+from pampipe.model.pam import Pam
+
+MPA = 1e6
+
+
+def _quantity(value: float, unit: str) -> str:
+    return f"{float(value)!r} {unit}"
+
+
+def geometry_document(pam: Pam) -> dict:
+    """The ``geometry:`` block (the braid angle from the axis)."""
+    g = pam.geometry
+    return {"initial_length": _quantity(g.initial_length * 1e3, "mm"),
+            "initial_diameter": _quantity(g.initial_diameter * 1e3, "mm"),
+            "braid_angle_from_axis": _quantity(math.degrees(g.braid_angle), "deg"),
+            "bladder_thickness": _quantity(g.bladder_thickness * 1e3, "mm"),
+            "wall": g.wall}
+
+
+def _law(vector: np.ndarray, k: int, block: int) -> dict:
+    values = np.asarray(vector, dtype=float) / MPA
+    return {"a": [float(v) for v in values[2 * block * k:(2 * block + 1) * k]],
+            "b": [float(v) for v in values[(2 * block + 1) * k:(2 * block + 2) * k]]}
+
+
+def pam_document(pam: Pam, *, with_moduli: bool = True) -> dict:
+    """The PAM file of ``pam`` as a dict: name, geometry, and (if any) moduli, uncertainty, effects."""
+    doc: dict = {"name": pam.name, "geometry": geometry_document(pam)}
+    m = pam.moduli
+    if m is None or not with_moduli:
+        return doc
+    k = m.degree + 1
+    theta = m.as_vector()
+    doc["moduli"] = {"unit": "MPa", "reference_pressure": _quantity(m.reference_pressure / 1e3, "kPa"),
+                     "axial": _law(theta, k, 0), "hoop": _law(theta, k, 1)}
+    if m.contact is not None:
+        contact = m.contact_vector()
+        doc["moduli"]["contact"] = {"axial": _law(contact, k, 0), "hoop": _law(contact, k, 1)}
+    if pam.covariance is not None:
+        doc["uncertainty"] = {"unit": "MPa", "covariance": [[float(v) for v in row]
+                                                           for row in np.asarray(pam.covariance) / MPA**2]}
+    if pam.effects:
+        doc["effects"] = {name: _effect_values(name, values) for name, values in pam.effects.items()}
+    return doc
+
+
+def _effect_values(name: str, values: dict) -> dict:
+    out = {}
+    for p in get_effect(name).parameters:
+        if p.name in values:
+            shown = float(values[p.name] / p.scale)
+            out[p.name] = shown if p.unit == "-" else _quantity(shown, p.unit)
+    return out
+
+
+def write_pam(target: Path, pam: Pam, *, comments: Sequence[str] = ()) -> None:
+    """Write ``pam`` as a PAM file, atomically (the caller checks ``target`` is not an input)."""
+    yamlwrite.write(target, pam_document(pam), comments=comments)
+
+
+def write_experiment(out_dir: Path, name: str, pam: Pam, tests: Sequence[tuple[TestSpec, dict]], *,
+                     comments: Sequence[str] = (), overwrite: bool = False) -> Path:
+    """Write ``out_dir/<name>.yaml`` (the PAM inline, without moduli) and ``out_dir/data/<name>/*.csv``.
+
+    ``tests`` pairs each test's spec with its SI columns (``time``, ``pressure``, ``force`` and,
+    for axial tests, ``length``). Returns the YAML path.
+    """
+    from pampipe.errors import InputError
+
+    out_dir = Path(out_dir)
+    target = out_dir / f"{name}.yaml"
+    csvs = [out_dir / "data" / name / f"{spec.name}.csv" for spec, _ in tests]
+    existing = [p for p in (target, *csvs) if p.exists()]
+    if existing and not overwrite:
+        raise InputError(f"{existing[0]}: already exists; choose another folder or name, or pass --force.")
+    entries = []
+    for (spec, columns), csv in zip(tests, csvs, strict=True):
+        write_csv(csv, columns)
+        entry = {"name": spec.name, "kind": spec.kind, "data": csv.relative_to(out_dir).as_posix()}
+        if spec.kind == "radial":
+            entry["pipe_diameter"] = _quantity(spec.pipe_diameter * 1e3, "mm")
+            entry["axial_load"] = _quantity(spec.axial_load, "N")
+        entries.append(entry)
+    yamlwrite.write(target, {"pam": pam_document(pam, with_moduli=False), "tests": entries},
+                    comments=comments)
+    return target
