@@ -1,0 +1,200 @@
+"""The repo documents itself.
+
+Every `docs/<page>.md §<section>` citation in README.md, pampipe/, benchmarks/, tests/, docs/ and
+problems/ names a page that exists and a heading of that page, links between the pages land on real
+headings, and nothing points at the private reference folder users never have.
+
+A heading's number is what starts it: `## 5. Radial expansion model` is §5, `### 5.3 Key identity` is §5.3,
+`### 9d. Bladder stiffening after contact` is §9d.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+PAGES = ("physics", "formats", "commands", "workflows")
+#: Where citations are looked for, and which files there are text worth scanning.
+SCANNED = ("README.md", "pampipe", "benchmarks", "tests", "docs", "problems")
+SUFFIXES = {".py", ".md", ".yaml", ".yml", ".txt", ".toml"}
+#: Where the private reference folder must not be mentioned (the issue's `grep` of README.md, pampipe, docs).
+PUBLIC = ("README.md", "pampipe", "docs")
+FORBIDDEN = ("../" + "shared", "shared" + "/spec", "shared" + "/design")
+
+_REF = r"\d+[a-z]?(?:\.\d+)*"
+#: `docs/physics.md §5.3`, `docs/physics.md (§4.4, §5.5)`, `docs/formats.md §1-§4`,
+#: `docs/physics.md section 8`.
+CITATION = re.compile(
+    rf"docs/(?P<page>[A-Za-z0-9_-]+)\.md"
+    rf"(?P<refs>\s*\(?\s*(?:§\s*|section\s+){_REF}(?:\s*(?:,|-|–|/|and)\s*§\s*{_REF})*)?")
+REFERENCE = re.compile(_REF)
+#: Inside docs/ a page names its siblings without the folder: `physics.md §5.3`, `[formats.md §2](...)`.
+SIBLING = re.compile(CITATION.pattern.replace("docs/", r"(?<![\w.])(?:docs/)?", 1))
+LOCAL = re.compile(rf"§\s*(?P<ref>{_REF})")
+HEADING = re.compile(rf"^#{{1,6}}\s+(?P<number>{_REF})[.)]?\s", re.MULTILINE)
+LINK = re.compile(r"\]\((?P<page>[A-Za-z0-9_./-]*?\.md)?(?:#(?P<anchor>[^)\s]+))?\)")
+
+
+def headings(text: str) -> set[str]:
+    """Section numbers of a Markdown page: '5', '5.3', '9d', ..."""
+    return {m.group("number") for m in HEADING.finditer(text)}
+
+
+def slugs(text: str) -> set[str]:
+    """GitHub-style anchors of every heading of a Markdown page."""
+    out = set()
+    for line in text.splitlines():
+        m = re.match(r"^#{1,6}\s+(.*?)\s*$", line)
+        if m:
+            title = re.sub(r"[^\w\- ]", "", m.group(1).strip().lower())
+            out.add(title.replace(" ", "-"))
+    return out
+
+
+def citations(text: str, *, pattern: re.Pattern = CITATION) -> list[tuple[str, list[str]]]:
+    """(page, [section, ...]) for every `docs/<page>.md` mention; an empty list when it cites no section."""
+    out = []
+    for m in pattern.finditer(text):
+        refs = REFERENCE.findall(m.group("refs") or "")
+        out.append((m.group("page"), refs))
+    return out
+
+
+def local_references(text: str) -> list[str]:
+    """Sections a docs page cites without naming a page (`see §5.3`): they refer to the page itself."""
+    named = [m.span() for m in SIBLING.finditer(text)]
+    return [m.group("ref") for m in LOCAL.finditer(text)
+            if not any(start <= m.start() < end for start, end in named)]
+
+
+def citation_problems(text: str, *, where: str, docs: Path = DOCS,
+                      pattern: re.Pattern = CITATION) -> list[str]:
+    """One sentence per citation in ``text`` whose page or section does not exist under ``docs``."""
+    problems = []
+    for page, refs in citations(text, pattern=pattern):
+        path = docs / f"{page}.md"
+        if not path.is_file():
+            problems.append(f"{where}: docs/{page}.md does not exist")
+            continue
+        known = headings(path.read_text(encoding="utf-8"))
+        problems += [f"{where}: docs/{page}.md has no heading numbered {ref} (cited as §{ref})"
+                     for ref in refs if ref not in known]
+    return problems
+
+
+def _files(names) -> list[Path]:
+    out = []
+    for name in names:
+        path = ROOT / name
+        if path.is_file():
+            out.append(path)
+        elif path.is_dir():
+            out += sorted(p for p in path.rglob("*") if p.is_file() and p.suffix in SUFFIXES
+                          and "__pycache__" not in p.parts)
+    return out
+
+
+def _read(path: Path) -> str:
+    return path.read_text(encoding="utf-8", errors="replace")
+
+
+def test_the_pages_exist():
+    for page in PAGES:
+        assert (DOCS / f"{page}.md").is_file(), f"docs/{page}.md is missing"
+
+
+def test_every_citation_points_to_an_existing_section():
+    problems, found = [], 0
+    for path in _files(SCANNED):
+        text = _read(path)
+        found += sum(len(refs) for _, refs in citations(text))
+        problems += citation_problems(text, where=str(path.relative_to(ROOT)))
+    assert not problems, "\n".join(problems)
+    assert found > 100, f"only {found} section citations found: the scanner is broken"
+
+
+_D = "docs/"  # fabricated bad citations are spelt with it, so that the repository scan does not find them
+
+
+@pytest.mark.parametrize("text", [
+    f"see {_D}physics.md §99",
+    f"see {_D}physics.md §9z for the details",
+    f"{_D}physics.md §5.3, §5.77",
+    f"{_D}formats.md §1-§42",
+    f"{_D}physics.md section 42",
+    f"{_D}nowhere.md §1",
+    f"{_D}nowhere.md",
+])
+def test_the_checker_catches_a_bad_citation(text):
+    assert citation_problems(text, where="fabricated"), f"{text!r} was accepted"
+
+
+@pytest.mark.parametrize(("text", "refs"), [
+    ("docs/physics.md §5.3: the split-pipe force", ["5.3"]),
+    ("(docs/physics.md §9d).", ["9d"]),
+    ("docs/physics.md §7.", ["7"]),
+    ("docs/physics.md (§4.4, §5.5, §7, §8), all", ["4.4", "5.5", "7", "8"]),
+    ("docs/physics.md §2-§3, Eqs. 1-5", ["2", "3"]),
+    ("docs/physics.md §8 / §7 for segment i", ["8", "7"]),
+    ("docs/physics.md section 8). The plan", ["8"]),
+    ("docs/commands.md §6 `plan`", ["6"]),
+    ("the pages docs/workflows.md and docs/formats.md", []),
+])
+def test_the_checker_reads_every_citation_style(text, refs):
+    (_page, found), = [c for c in citations(text) if c[1]] or [(None, [])]
+    assert found == refs
+    assert not citation_problems(text, where="fabricated")
+
+
+def test_docs_pages_cite_their_own_and_each_others_sections():
+    problems = []
+    for path in sorted(DOCS.glob("*.md")):
+        text = _read(path)
+        problems += citation_problems(text, where=path.name, pattern=SIBLING)
+        own = headings(text)
+        problems += [f"{path.name}: §{ref} is not a heading of this page" for ref in local_references(text)
+                     if ref not in own]
+    assert not problems, "\n".join(problems)
+
+
+def test_links_between_pages_land_on_headings():
+    problems = []
+    for path in [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]:
+        for m in LINK.finditer(_read(path)):
+            page, anchor = m.group("page"), m.group("anchor")
+            if page is None and anchor is None:
+                continue
+            target = path if page is None else (path.parent / page)
+            if not target.is_file():
+                problems.append(f"{path.name}: link to missing page {page}")
+            elif anchor is not None and anchor not in slugs(_read(target)):
+                problems.append(f"{path.name}: link to {page or ''}#{anchor}: no such heading")
+    assert not problems, "\n".join(problems)
+
+
+def private_mentions(text: str) -> list[str]:
+    """The forbidden paths that ``text`` mentions."""
+    return [word for word in FORBIDDEN if word in text]
+
+
+def test_nothing_points_at_the_private_reference():
+    hits = [f"{path.relative_to(ROOT)}: {word}" for path in _files(PUBLIC)
+            for word in private_mentions(_read(path))]
+    assert not hits, "\n".join(hits)
+
+
+@pytest.mark.parametrize("text", ["see " + "../" + "shared/spec/physics.md §5",
+                                  "the design notes (" + "shared" + "/design.md)"])
+def test_the_private_reference_check_can_fail(text):
+    assert private_mentions(text)
+
+
+def test_license_matches_pyproject():
+    pyproject = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    assert re.search(r'^license\s*=\s*"MIT"', pyproject, re.MULTILINE)
+    text = (ROOT / "LICENSE").read_text(encoding="utf-8")
+    assert text.startswith("MIT License") and "the pampipe developers" in text
