@@ -10,6 +10,7 @@ A heading's number is what starts it: `## 5. Radial expansion model` is §5, `##
 
 from __future__ import annotations
 
+import importlib
 import re
 from pathlib import Path
 
@@ -179,6 +180,43 @@ def test_links_between_pages_land_on_headings():
 def private_mentions(text: str) -> list[str]:
     """The forbidden paths that ``text`` mentions."""
     return [word for word in FORBIDDEN if word in text]
+
+
+DOTTED = re.compile(r"(?<![\w.])pampipe(?:\.[A-Za-z_]\w*)+")
+REPO_PATH = re.compile(r"(?<![\w./-])(?:pampipe|problems|tests|benchmarks)/[\w./-]*\w/?")
+
+
+def resolves(dotted: str) -> bool:
+    """Whether ``pampipe.a.b.c`` names an importable module or an attribute of one."""
+    parts = dotted.split(".")
+    for cut in range(len(parts), 0, -1):
+        try:
+            target = importlib.import_module(".".join(parts[:cut]))
+        except ImportError:
+            continue
+        for name in parts[cut:]:
+            if not hasattr(target, name):
+                return False
+            target = getattr(target, name)
+        return True
+    return False
+
+
+def test_code_the_docs_name_exists():
+    """Every `pampipe.module.function` and every repository path the pages mention is still there."""
+    problems = []
+    for path in [ROOT / "README.md", *sorted(DOCS.glob("*.md"))]:
+        text = _read(path)
+        problems += [f"{path.name}: {name} does not resolve" for name in sorted(set(DOTTED.findall(text)))
+                     if not resolves(name)]
+        problems += [f"{path.name}: {name} does not exist" for name in sorted(set(REPO_PATH.findall(text)))
+                     if not (ROOT / name).exists()]
+    assert not problems, "\n".join(problems)
+
+
+@pytest.mark.parametrize("name", ["pampipe.model.braid.no_such_function", "pampipe.no_such_module.thing"])
+def test_a_stale_code_name_is_caught(name):
+    assert not resolves(name)
 
 
 def test_nothing_points_at_the_private_reference():
