@@ -15,7 +15,7 @@ import math
 import time
 from pathlib import Path
 
-from pampipe.config import load_mission
+from pampipe.io.config import load_mission
 from pampipe.network import load_network, route_sections, whole_network
 from pampipe.plan import plan_mission
 

@@ -13,8 +13,8 @@ import pytest
 import yaml
 
 from pampipe.cli import main
-from pampipe.config import load_mission
 from pampipe.errors import InfeasibleError, InputError
+from pampipe.io.config import load_mission
 from pampipe.network import coverage, load_network, route_sections, whole_network
 from tests.conftest import PROBLEMS
 

@@ -7,14 +7,13 @@ import math
 import os
 from pathlib import Path
 
-import yaml
-
 from pampipe.commands.common import add_output_options, emit, quantity_type
-from pampipe.config import load_mission
 from pampipe.errors import InputError
-from pampipe.output import atomic_write_text, check_not_input
+from pampipe.io import yamlwrite
+from pampipe.io.config import load_mission
+from pampipe.io.files import check_not_input
+from pampipe.io.yamlfile import load_mapping
 from pampipe.report import table
-from pampipe.yamlio import load_mapping
 
 NAME = "route"
 HELP = "the shortest path between two nodes of an EPANET network, as a mission file (one section per pipe)"
@@ -78,8 +77,8 @@ def run(args: argparse.Namespace) -> int:
                   f"{len(sections)} pipes, {sections.length.sum():.1f} m, written by pampipe route.\n"
                   f"Every key but route is copied from {template}.\n"
                   f"Edit it by hand, then: pampipe plan {args.output}")
-        atomic_write_text(args.output, _mission_text(load_mapping(template, what="mission file"), template,
-                                                     args.output, sections.mission_route(), header))
+        yamlwrite.write(args.output, _mission(load_mapping(template, what="mission file"), template,
+                                              args.output, sections.mission_route()), comments=[header])
     document = {"network": net.name, "network_file": str(net.source), "from": args.from_node,
                 "to": args.to_node, "pipes": len(sections), "length_m": float(sections.length.sum()),
                 "rise_m": rise, "friction": friction, "template": str(template),
@@ -103,16 +102,14 @@ def _friction(given: float | None, mission) -> float:
     return next(iter(values))[0]
 
 
-def _mission_text(template: dict, template_path: Path, output: Path, route: list[dict], header: str) -> str:
+def _mission(template: dict, template_path: Path, output: Path, route: list[dict]) -> dict:
     """The template's keys but route, PAM paths made relative to ``output``, then the new route."""
     document = {key: value for key, value in template.items() if key != "route"}
     robot = dict(document["robot"])
     robot["segments"] = [_moved(segment, template_path, output) for segment in robot["segments"]]
     document["robot"] = robot
     document["route"] = route
-    comment = "".join(f"# {line}\n" for line in header.splitlines())
-    return comment + yaml.safe_dump(document, sort_keys=False, default_flow_style=None, allow_unicode=True,
-                                    width=110)
+    return document
 
 
 def _moved(segment: dict, template_path: Path, output: Path) -> dict:
