@@ -69,6 +69,8 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"-o {args.output}: the file exists (it may hold your edits); choose another "
                              "name or add --force to overwrite it.")
     low, high = args.min_bore or 0.0, math.inf if args.max_bore is None else args.max_bore
+    if low > high:
+        raise InputError(f"--min-bore {low * 1e3:g} mm is above --max-bore {high * 1e3:g} mm; no pipe fits.")
     sections = route_sections(net, args.from_node, args.to_node, friction=friction,
                               passable=lambda diameter: low <= diameter <= high)
     rise = float(net.elevation[net.node_index(args.to_node)] - net.elevation[net.node_index(args.from_node)])
@@ -140,6 +142,6 @@ def _text(net, args: argparse.Namespace, sections, template: Path) -> str:
         parts.append(f"note: {', '.join(sections.name[sections.clipped])}: the model's length is shorter "
                      "than the elevation difference; taken as vertical (±90 deg). Check these pipes.")
     if args.output is not None:
-        parts.append(f"wrote {args.output} (robot, supply, safety factor and load path from {template}); "
+        parts.append(f"wrote {args.output} (every key but route from {template}); "
                      f"edit it by hand, then: pampipe plan {args.output}")
     return "\n".join(parts)
