@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.errors import InputError, SolverError
-from pampipe.model import braid, effects, forces
+from pampipe.model import braid, effects, forces, ops
 from pampipe.model.bladder import drucker_tangent_moduli
 from pampipe.model.pam import Geometry, Pam
 
@@ -266,33 +266,41 @@ class Muscle:
         """μ·π·F_r(P, D_p, κW) [N] (docs/physics.md §8): the friction force the anchor develops."""
         return friction * math.pi * self.radial_force(pressure, diameter, kappa * load)
 
+    def required_pressure(self, diameter, load, *, kappa, friction, safety_factor):
+        """Closed-form least holding pressure P* [Pa] (baseline and contact increments; floats or symbols).
+
+        Above the loaded anchoring pressure P_a = (κW − F₀)/F₁ the holding force is
+        x·(F₁ + (C₀ + C₁P)/P_ref) with x = P − P_a (C: contact increments, docs/physics.md §9d), so
+        μπA·hold = SF·W gives x = 2R/(b + √(b² + 4aR)) with a = C₁/P_ref, b = F₁ + (C₀ + C₁P_a)/P_ref,
+        R = SF·W/(μπA), and P* = max(P_a + x, 0) (docs/physics.md §8). Valid where F₁ > 0, b > 0 and
+        μ > 0; :meth:`least_holding_pressure` checks that. The exported C code is generated from this.
+        """
+        c = self.affine_coefficients(diameter)
+        anchoring = (kappa * load - c.at_zero) / c.slope
+        target = safety_factor * load / (friction * math.pi * c.amplification)
+        a = c.contact_slope / self.reference_pressure
+        b = c.slope + (c.contact_at_zero + c.contact_slope * anchoring) / self.reference_pressure
+        return ops.fmax(anchoring + 2 * target / (b + ops.sqrt(b**2 + 4 * a * target)), 0.0)
+
     def least_holding_pressure(self, diameter, load, *, kappa, friction, safety_factor):
         """Least P [Pa] with μπF_r(P, D_p, κW) ≥ SF·W while pressing on the wall (docs/physics.md §8).
 
-        Without effects, the closed form: above the loaded anchoring pressure P_a = (κW − F₀)/F₁ the
-        holding force is x·(F₁ + (C₀ + C₁P)/P_ref) with x = P − P_a (C: contact increments), so
-        x = 2R/(b + √(b² + 4aR)) with a = C₁/P_ref, b = F₁ + (C₀ + C₁P_a)/P_ref, R = SF·W/(μπA);
-        P* = max(P_a + x, 0). With effects, bisection on the model. inf where no pressure up to
-        100 MPa holds. Numeric inputs (broadcast arrays) only.
+        Without effects the closed form :meth:`required_pressure`; with effects, bisection on the
+        model. inf where no pressure up to 100 MPa holds. Numeric inputs (broadcast arrays) only.
         """
         d, w, mu = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (diameter, load, friction)))
-        required = safety_factor * w
         if self.effects:
             anchoring = self.anchoring_pressure(d, kappa * w)
 
             def holds(p):
-                return self.holding_capacity(p, d, w, kappa=kappa, friction=mu) >= required
+                return self.holding_capacity(p, d, w, kappa=kappa, friction=mu) >= safety_factor * w
 
             return np.maximum(_least(holds, d.shape), anchoring)
         c = self.affine_coefficients(d)
-        anchoring = (kappa * w - c.at_zero) / c.slope
         with np.errstate(divide="ignore", invalid="ignore"):
-            target = required / (mu * math.pi * c.amplification)
-            a = c.contact_slope / self.reference_pressure
-            b = c.slope + (c.contact_at_zero + c.contact_slope * anchoring) / self.reference_pressure
-            root = np.sqrt(b**2 + 4 * a * target)
-            x = np.where(target > 0, 2 * target / (b + root), 0.0)
-            pressure = np.maximum(anchoring + x, 0.0)
+            pressure = self.required_pressure(d, w, kappa=kappa, friction=mu, safety_factor=safety_factor)
+            b = c.slope + (c.contact_at_zero + c.contact_slope * (kappa * w - c.at_zero) / c.slope
+                           ) / self.reference_pressure
         ok = (c.slope > 0) & (b > 0) & np.isfinite(pressure) & (pressure <= PRESSURE_LIMIT) & (mu > 0)
         return np.where(ok, pressure, np.inf)
 
