@@ -7,12 +7,10 @@ import math
 import sys
 from pathlib import Path
 
+from pampipe import api
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.gait import optimal_gait, sequential_gait
-from pampipe.gait.options import gait_options
 from pampipe.gait.result import GaitResult
 from pampipe.gait.schedule import POSITION_KEYS
-from pampipe.io.config import load_mission
 from pampipe.report import table
 
 NAME = "gait"
@@ -30,29 +28,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    mission = load_mission(args.mission)
-    options = gait_options(mission.gait, source=mission.source)
-    sequential = sequential_gait(mission, args.section, options=options)
+    report = api.gait(args.mission, section=args.section, optimal=args.optimal,
+                      progress=lambda text: print(text, file=sys.stderr, flush=True))
+    sequential, best = report.sequential, report.optimal
     text = [_header(sequential), _schedule_text(sequential)]
-    document = sequential.as_document()
-    results = [sequential]
-    if args.optimal:
-        print("solving the time-optimal gait (CasADi/IPOPT) ...", file=sys.stderr, flush=True)
-        best = optimal_gait(mission, args.section, options=options, baseline=sequential)
-        results.append(best)
-        gain = sequential.cycle_time / best.cycle_time - 1
+    if best is not None:
         text += [_schedule_text(best),
-                 f"speed gain of the optimal gait: {100 * gain:+.1f} % "
+                 f"speed gain of the optimal gait: {100 * report.speed_gain:+.1f} % "
                  f"({sequential.speed * 1e3:.4g} -> {best.speed * 1e3:.4g} mm/s; cycle "
                  f"{sequential.cycle_time:.3f} s -> {best.cycle_time:.3f} s)"]
-        document = best.as_document()
-        document["sequential"] = sequential.as_document()
-        document["speed_gain"] = gain
-    emit(args, document, "\n\n".join(text))
+    emit(args, report.to_dict(), "\n\n".join(text))
     if args.plots:
         from pampipe.plots.gait import plot_gait
 
-        for result in results:
+        for result in report.results:
             for path in plot_gait(result, args.plots):
                 say(args, f"wrote {path}")
     return 0

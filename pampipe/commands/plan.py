@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
 from pampipe.errors import InfeasibleError
-from pampipe.io.config import load_mission
 from pampipe.io.files import check_not_input
 from pampipe.report import table
 
@@ -63,16 +61,14 @@ def _probability(text: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pampipe.plan import plan_mission
+    from pampipe import api
 
-    start = time.perf_counter()
-    mission = load_mission(args.mission)
+    mission = api.load_mission(args.mission)
     if args.output is not None:
         check_not_input(args.output, mission.input_files, option="-o")
-    plan = plan_mission(mission, payload=args.payload, confidence=args.confidence, method=args.solver,
-                        with_max_payload=args.max_payload)
-    document = plan.as_document()
-    document["solver"]["wall_time_s"] = time.perf_counter() - start
+    plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
+                    max_payload=args.max_payload)
+    document = plan.to_dict()
     emit(args, document, _text(plan))
     if args.output is not None:
         write_json(args.output, document, args)

@@ -7,11 +7,9 @@ from pathlib import Path
 
 import numpy as np
 
+from pampipe import api
 from pampipe.commands.common import add_output_options, emit, quantity_type, say
-from pampipe.errors import InputError
-from pampipe.io.config import load_pam
 from pampipe.report import table
-from pampipe.simulate import PAPER_PRESSURES, simulate
 
 NAME = "simulate"
 HELP = "anchoring pressure, anchored length, amplification and radial force of a PAM in a pipe"
@@ -34,13 +32,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    pam = load_pam(args.pam)
-    try:
-        result = simulate(pam, pipe_diameters=args.pipe_diameter, axial_loads=args.axial_load or [0.0],
-                          pressures=args.pressure or list(PAPER_PRESSURES), paper_literal=args.paper_literal)
-    except InputError as exc:
-        raise InputError(f"{args.pam}: {exc}") from None
-    emit(args, result.to_dict(), _text(pam.name, result.cases))
+    result = api.simulate(args.pam, pipe_diameter=args.pipe_diameter, axial_load=args.axial_load or [0.0],
+                          pressure=args.pressure, paper_literal=args.paper_literal)
+    emit(args, result.to_dict(), _text(result.pam, result.cases))
     if args.plots:
         from pampipe.plots.simulate import plot_simulation
 

@@ -99,6 +99,10 @@ class DiagnoseResult:
         effects = {chosen.effect: dict(chosen.parameters)} if chosen.effect != "none" else None
         return Pam(self.pam.name, self.pam.geometry, moduli, None, effects)
 
+    def to_dict(self) -> dict:
+        """The `diagnose --json` document (docs/commands.md §6)."""
+        return self.as_document()
+
     def as_document(self) -> dict:
         chosen = self.chosen
         noise = {n.test: n for n in self.noise}

@@ -106,6 +106,10 @@ class IdentifyResult:
         moduli = self.pipe_moduli.get(pipe_diameter, self.moduli)
         return Pam(base.name, base.geometry, moduli, None)
 
+    def to_dict(self) -> dict:
+        """The `identify --json` document (docs/commands.md §6)."""
+        return self.as_document()
+
     def as_document(self) -> dict:
         """The ``identify`` JSON document (docs/commands.md §6), with extra keys.
 
@@ -145,6 +149,7 @@ class IdentifyResult:
                         "lengths_m": list(self.drucker_grid["lengths"])},
             "warnings": list(self.warnings),
             "provenance": self.provenance,
+            "experiment": self.provenance.get("experiment"),
         }
         if self.options.mode == "per_pipe":
             doc["per_pipe"] = [{"pipe_diameter_m": d, "moduli": moduli_document(m)}

@@ -271,16 +271,20 @@ class MissionSchema(Strict):
 
 
 # ---------------------------------------------------------------------------------------- loaders
-def load_pam(path: str | Path) -> Pam:
-    """Read and validate a PAM file."""
+def load_pam(path: str | Path, *, raw: dict | None = None) -> Pam:
+    """Read and validate a PAM file (``raw``: its content as a mapping instead; ``path`` names it)."""
     path = Path(path)
-    return _build(path, PamSchema, load_mapping(path, what="PAM file"), build_pam)
+    return _build(path, PamSchema, load_mapping(path, what="PAM file") if raw is None else raw, build_pam)
 
 
-def load_experiment(path: str | Path) -> Experiment:
-    """Read and validate an experiment file; CSV paths are resolved but not read here."""
+def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
+    """Read and validate an experiment file; CSV paths are resolved but not read here.
+
+    ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
+    """
     path = Path(path)
-    schema = _validate(path, ExperimentSchema, load_mapping(path, what="experiment file"))
+    schema = _validate(path, ExperimentSchema,
+                       load_mapping(path, what="experiment file") if raw is None else raw)
     pam = _resolve_pam(path, schema.pam, "pam")
     tests = []
     names = set()
@@ -293,10 +297,13 @@ def load_experiment(path: str | Path) -> Experiment:
     return Experiment(path, pam, tuple(tests), dict(schema.fit or {}), pam_file)
 
 
-def load_mission(path: str | Path) -> Mission:
-    """Read and validate a mission file and the PAM files it names."""
+def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
+    """Read and validate a mission file and the PAM files it names.
+
+    ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
+    """
     path = Path(path)
-    schema = _validate(path, MissionSchema, load_mapping(path, what="mission file"))
+    schema = _validate(path, MissionSchema, load_mapping(path, what="mission file") if raw is None else raw)
     segments = tuple(Segment(s.name, _resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
                              _relative(path, s.pam) if isinstance(s.pam, str) else None)
                      for i, s in enumerate(schema.robot.segments))

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -116,6 +116,15 @@ class MissionPlan:
     max_payload: PayloadLimit | None = None
     muscles: tuple = field(default=(), repr=False)  # the segments' Muscle objects, rear to front
     kappa: float = 1.0  # κ of the load path
+    wall_time: float = 0.0  # [s] from reading the mission to the plan (set by the API)
+
+    def timed(self, wall_time: float) -> MissionPlan:
+        """A copy that reports ``wall_time`` [s]."""
+        return replace(self, wall_time=wall_time)
+
+    def to_dict(self) -> dict:
+        """The `plan --json` document (docs/commands.md §6)."""
+        return self.as_document()
 
     def capacity_curve(self, section: int, segment: int, pressures) -> np.ndarray:
         """μπF_r(P, D, κW) [N] of one segment in one section over ``pressures``, from the plan's muscle."""
@@ -160,7 +169,8 @@ class MissionPlan:
                "mission": self.mission, "supply_pressure_Pa": self.supply_pressure,
                "safety_factor": self.safety_factor, "load_path": self.load_path,
                "payload_kg": self.payload, "confidence": self.confidence,
-               "solver": {"method": self.method, "iterations": self.iterations, **self.checks}}
+               "solver": {"method": self.method, "iterations": self.iterations, **self.checks,
+                          "wall_time_s": self.wall_time}}
         if self.max_payload is not None:
             doc["max_payload"] = self.max_payload.as_document()
         return doc

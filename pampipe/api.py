@@ -1,0 +1,195 @@
+"""The Python API (docs/commands.md §7.6): every command as a function, for scripts and notebooks.
+
+Each function takes a file path or a dict (the file's content; relative paths in it resolve
+beside ``base``, the current folder by default), the same options as the command line — physical
+values as numbers in SI or as unit strings (``payload="3 kg"``, ``pipe_diameter="3 in"``) — and
+returns a result whose ``.to_dict()`` is the command's ``--json`` document::
+
+    import pampipe
+    plan = pampipe.plan("problems/missions/vertical-climb-3in.yaml", payload="3 kg")
+    print(plan.sections[0].segments[0].pressure)          # Pa
+    plan.to_dict()["feasible"]
+
+The command-line interface is a thin layer over these functions.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from pampipe.units import to_si
+
+Source = str | os.PathLike | Mapping  # a file, or its content as a dict (or the loaded object itself)
+Progress = Callable[[str], None]
+
+
+def _file(source: Source, kind: str, base) -> tuple[Path, dict | None]:
+    """(path, raw): a path to read, or a stand-in path beside ``base`` for a dict's content."""
+    if isinstance(source, Mapping):
+        return Path(base or Path.cwd()) / f"<{kind} dict>", dict(source)
+    return Path(source), None
+
+
+def _si(value, dimension: str, name: str):
+    """SI float(s) of a number, a unit string or a sequence of them (None stays None)."""
+    if value is None:
+        return None
+    if isinstance(value, str | int | float):
+        return to_si(value, dimension, where=name)
+    return [to_si(v, dimension, where=name) for v in value]
+
+
+def load_pam(pam: Source, *, base=None):
+    """A :class:`~pampipe.model.pam.Pam` from a PAM file or dict (docs/formats.md §2); a Pam passes."""
+    from pampipe.io.config import load_pam as load
+    from pampipe.model.pam import Pam
+
+    if isinstance(pam, Pam):
+        return pam
+    path, raw = _file(pam, "PAM", base)
+    return load(path, raw=raw)
+
+
+def load_mission(mission: Source, *, base=None):
+    """A :class:`~pampipe.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself."""
+    from pampipe.io.config import load_mission as load
+    from pampipe.mission import Mission
+
+    if isinstance(mission, Mission):
+        return mission
+    path, raw = _file(mission, "mission", base)
+    return load(path, raw=raw)
+
+
+def load_experiment(experiment: Source, *, base=None, progress: Progress | None = None):
+    """(Experiment, ExperimentData): the experiment and its CSV data (docs/formats.md §3)."""
+    from pampipe.io.config import load_experiment as load
+    from pampipe.io.csvfile import load_experiment_data
+
+    path, raw = _file(experiment, "experiment", base)
+    spec = load(path, raw=raw)
+    return spec, load_experiment_data(spec, progress=progress)
+
+
+def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper_literal: bool = False,
+             base=None):
+    """One muscle in one or more pipes under one or more axial loads (`pampipe simulate`).
+
+    ``pipe_diameter`` and ``axial_load``: a value or a list; ``pressure``: a list (default: the
+    paper's 69…689 kPa). Returns a :class:`pampipe.simulate.SimulateResult`.
+    """
+    from pampipe.errors import InputError
+    from pampipe.simulate import PAPER_PRESSURES
+    from pampipe.simulate import simulate as run
+
+    model = load_pam(pam, base=base)
+    diameters = _as_list(_si(pipe_diameter, "length", "pipe_diameter"))
+    loads = _as_list(_si(axial_load, "force", "axial_load"))
+    pressures = _si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
+    try:
+        return run(model, pipe_diameters=diameters, axial_loads=loads, pressures=_as_list(pressures),
+                   paper_literal=paper_literal)
+    except InputError as exc:
+        source = pam if not isinstance(pam, Mapping) else "PAM"
+        raise InputError(f"{source}: {exc}") from None
+
+
+def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
+         max_payload: bool = False, base=None):
+    """The least anchoring pressure of every segment in every section (`pampipe plan`).
+
+    Returns a :class:`pampipe.plan.MissionPlan` (``to_dict()``: the JSON document).
+    """
+    from pampipe.plan import plan_mission
+
+    started = time.perf_counter()
+    result = plan_mission(load_mission(mission, base=base), payload=_si(payload, "mass", "payload"),
+                          confidence=confidence, method=solver, with_max_payload=max_payload)
+    return result.timed(time.perf_counter() - started)
+
+
+def gait(mission: Source, *, section: str | None = None, optimal: bool = False, base=None,
+         progress: Progress | None = None) -> GaitReport:
+    """The peristaltic schedule in one section; with ``optimal`` also the time-optimal gait (`gait`)."""
+    from pampipe.gait import gait_options, optimal_gait, sequential_gait
+
+    model = load_mission(mission, base=base)
+    options = gait_options(model.gait, source=model.source)
+    sequential = sequential_gait(model, section, options=options)
+    best = None
+    if optimal:
+        if progress is not None:
+            progress("solving the time-optimal gait (CasADi/IPOPT) ...")
+        best = optimal_gait(model, section, options=options, baseline=sequential)
+    return GaitReport(sequential, best)
+
+
+def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,
+             degree: int | None = None, average_legs: bool | None = None, drucker: str | None = None,
+             max_iterations: int | None = None, base=None, progress: Progress | None = None):
+    """Fit the bladder moduli to the experiment's tests (`pampipe identify`).
+
+    Options override the experiment's ``fit:`` block. Returns an
+    :class:`pampipe.identify.IdentifyResult`; its ``fitted_pam(pam)`` is the muscle to write.
+    """
+    from pampipe.identify import identify as run
+    from pampipe.identify import parse_fit_options
+
+    spec, data = load_experiment(experiment, base=base, progress=progress)
+    options = parse_fit_options(spec.fit, source=spec.source).with_overrides(
+        mode=mode, objective=objective, degree=degree, average_legs=average_legs, drucker=drucker,
+        max_iterations=max_iterations)
+    return run(data, options, progress=progress if data.points >= 100_000 else None)
+
+
+def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: int | None = None,
+             base=None, progress: Progress | None = None):
+    """Name the effect the model misses, refit with it, show the gap shrink (`pampipe diagnose`).
+
+    Returns a :class:`pampipe.diagnose.result.DiagnoseResult`; ``augmented_pam()`` is the muscle
+    with its effects.
+    """
+    from pampipe.diagnose.selection import FOLDS
+    from pampipe.diagnose.workflow import diagnose as run
+    from pampipe.errors import InputError
+
+    folds = FOLDS if folds is None else folds
+    if folds < 2:
+        raise InputError(f"folds: {folds} must be at least 2 for cross-validation.")
+    _, data = load_experiment(experiment, base=base, progress=progress)
+    return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
+
+
+@dataclass(frozen=True)
+class GaitReport:
+    """The sequential gait and, if asked for, the time-optimal one; ``to_dict()`` is `gait --json`."""
+
+    sequential: object  # pampipe.gait.GaitResult
+    optimal: object | None = None
+
+    @property
+    def results(self) -> tuple:
+        return (self.sequential,) if self.optimal is None else (self.sequential, self.optimal)
+
+    @property
+    def speed_gain(self) -> float | None:
+        """Relative speed gain of the optimal gait over the sequential one."""
+        if self.optimal is None:
+            return None
+        return self.sequential.cycle_time / self.optimal.cycle_time - 1
+
+    def to_dict(self) -> dict:
+        if self.optimal is None:
+            return self.sequential.as_document()
+        document = self.optimal.as_document()
+        document["sequential"] = self.sequential.as_document()
+        document["speed_gain"] = self.speed_gain
+        return document
+
+
+def _as_list(value) -> list:
+    return list(value) if isinstance(value, list | tuple) else [value]
