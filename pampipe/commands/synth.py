@@ -7,6 +7,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type
 from pampipe.errors import InputError
+from pampipe.io import bundled
 from pampipe.io.config import load_pam
 from pampipe.io.files import check_not_input
 from pampipe.io.pamfile import write_experiment
@@ -14,7 +15,6 @@ from pampipe.synth import Protocol, comments, generate
 
 NAME = "synth"
 HELP = "generate a synthetic experiment (paper protocol, known moduli, noise, seed) for identify"
-DEFAULT_PAM = Path(__file__).resolve().parents[2] / "problems" / "pams" / "paper-radial-pam.yaml"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -45,11 +45,12 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--force-noise and --pressure-noise must not be negative.")
     if not args.name or "/" in args.name or args.name.startswith("."):
         raise InputError(f"--name: {args.name!r} must be a plain file name.")
-    pam = load_pam(args.pam or DEFAULT_PAM)
+    pam_file = args.pam or bundled.default_pam()
+    pam = load_pam(pam_file)
     protocol = Protocol(cycles=args.cycles, points_per_leg=args.points_per_leg,
                         radial_points=args.radial_points, force_noise=args.force_noise,
                         pressure_noise=args.pressure_noise)
-    check_not_input(args.out_dir / f"{args.name}.yaml", [args.pam or DEFAULT_PAM], option="OUT_DIR")
+    check_not_input(args.out_dir / f"{args.name}.yaml", [pam_file], option="OUT_DIR")
     target = write_experiment(args.out_dir, args.name, pam, generate(pam, protocol, seed=args.seed),
                               comments=comments(pam, protocol, args.seed), overwrite=args.force)
     document = {"experiment": str(target), "seed": args.seed, "force_noise_N": args.force_noise,

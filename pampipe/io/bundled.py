@@ -1,0 +1,60 @@
+"""The bundled problems (the repository's ``problems/``, installed as ``pampipe/examples``).
+
+A wheel carries them as package data in ``pampipe/examples/`` (see ``setup.py``); a source
+checkout or an editable install reads ``problems/`` beside the package.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from pampipe.errors import InputError
+
+KINDS = ("missions", "pams", "experiments")
+
+
+def folder() -> Path:
+    """The folder of the bundled problems (pams/, missions/, experiments/)."""
+    package = Path(__file__).resolve().parent.parent
+    for candidate in (package / "examples", package.parent / "problems"):
+        if (candidate / "pams").is_dir():
+            return candidate
+    raise InputError("the bundled problems are missing from this installation of pampipe; reinstall it "
+                     "with `pip install pampipe`.")
+
+
+def catalogue() -> dict[str, list[str]]:
+    """Every bundled problem by kind: {'missions': [...], 'pams': [...], 'experiments': [...]}."""
+    root = folder()
+    return {kind: sorted(p.stem for p in (root / kind).glob("*.yaml")) for kind in KINDS}
+
+
+def find(name: str) -> Path:
+    """The bundled file called ``name`` (with or without .yaml), searched in every kind."""
+    stem = Path(name).name.removesuffix(".yaml")
+    root = folder()
+    hits = [root / kind / f"{stem}.yaml" for kind in KINDS if (root / kind / f"{stem}.yaml").is_file()]
+    if not hits:
+        known = ", ".join(n for names in catalogue().values() for n in names)
+        raise InputError(f"no bundled problem called {name!r}; the bundled problems are: {known}.")
+    return hits[0]
+
+
+def default_pam() -> Path:
+    """The paper's radial-test muscle with the demo moduli: the default of `pampipe synth`."""
+    return folder() / "pams" / "paper-radial-pam.yaml"
+
+
+def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> list[Path]:
+    """Copy bundled ``files`` into ``target``, keeping their layout (so relative references hold)."""
+    root = folder().resolve()
+    unique = dict.fromkeys(Path(f).resolve() for f in files)
+    pairs = [(f, Path(target) / f.relative_to(root)) for f in unique]
+    existing = [dest for _, dest in pairs if dest.exists()]
+    if existing and not overwrite:
+        raise InputError(f"{existing[0]}: already exists; choose another folder, or pass --force.")
+    for source, dest in pairs:
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(source, dest)
+    return [dest for _, dest in pairs]
