@@ -1,0 +1,79 @@
+"""One way to run independent tasks: a ``concurrent.futures`` executor, serial, local processes or Dask.
+
+:func:`executor` opens the executor a command asked for, :func:`run_all` maps a function over
+tasks and returns the results in task order, so a sweep gives the same answer on any executor
+when each task is deterministic (its own seed, plain data in and out). Used by ``design``'s
+multi-start; any other sweep (e.g. a Monte Carlo check) can use it the same way.
+
+* serial (the default): tasks run one after the other in this process;
+* ``workers=N``: N local processes (``spawn``, so no CasADi state is inherited through fork);
+* ``scheduler=ADDRESS``: a Dask cluster, ``distributed.Client(ADDRESS).get_executor()``; Dask is an
+  optional extra, ``pip install pampipe[dask]``.
+
+Tasks and results must pickle: CasADi SX does not, so a worker receives numbers and builds its own
+CasADi functions (cached per process).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from contextlib import contextmanager
+
+from pampipe.errors import InputError
+
+
+class SerialExecutor(Executor):
+    """An executor that runs each task at submission, in the calling process."""
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        future: Future = Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # handed to the caller through the future, as any executor does
+            future.set_exception(exc)
+        return future
+
+
+@contextmanager
+def executor(*, workers: int | None = None, scheduler: str | None = None) -> Iterator[Executor]:
+    """The executor for ``workers`` local processes or the Dask ``scheduler`` address (serial if neither)."""
+    if workers is not None and scheduler is not None:
+        raise InputError("--workers and --scheduler: give one of them, not both (--workers N runs on N "
+                         "local processes, --scheduler ADDRESS on a Dask cluster).")
+    if scheduler is not None:
+        with _dask(scheduler) as pool:
+            yield pool
+    elif workers is not None and workers > 1:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+            yield pool
+    else:
+        if workers is not None and workers < 1:
+            raise InputError(f"--workers: {workers} must be at least 1.")
+        yield SerialExecutor()
+
+
+def run_all(fn: Callable, tasks: Iterable, pool: Executor) -> list:
+    """[fn(task) for task in tasks] computed on ``pool``, in task order (the first error is raised)."""
+    futures: Sequence[Future] = [pool.submit(fn, task) for task in tasks]
+    return [f.result() for f in futures]
+
+
+@contextmanager
+def _dask(address: str) -> Iterator[Executor]:
+    try:
+        from distributed import Client
+    except ImportError:
+        raise InputError(f"--scheduler {address}: Dask is not installed; install the optional extra with "
+                         "`pip install pampipe[dask]`, or use --workers N for local processes.") from None
+    try:
+        client = Client(address, timeout=10, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(f"--scheduler {address}: cannot reach a Dask scheduler there ({exc}); give its "
+                         "address, e.g. tcp://127.0.0.1:8786.") from None
+    try:
+        with client.get_executor(pure=False) as pool:
+            yield pool
+    finally:
+        client.close()
