@@ -46,7 +46,8 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
         with _dask(scheduler) as pool:
             yield pool
     elif workers is not None and workers > 1:
-        with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
             yield pool
     else:
         if workers is not None and workers < 1:

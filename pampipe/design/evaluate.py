@@ -51,7 +51,7 @@ def evaluate_pipes(inventory: Inventory, geometry: tuple[float, float, float], p
                    ) -> PipeTable:
     """The numbers of the muscle of ``geometry`` (L₀, D₀, α₀) in every pipe of ``pipes``."""
     pipes = inventory.pipes if pipes is None else pipes
-    space, supply = inventory.space, inventory.supply_pressure
+    space = inventory.space
     muscle = Muscle.from_pam(designed_pam(inventory, geometry, "design"))
     g = muscle.geometry
     loads = segment_loads(inventory, pipes)
@@ -62,8 +62,8 @@ def evaluate_pipes(inventory: Inventory, geometry: tuple[float, float, float], p
         for bore in (pipes.diameter_low, pipes.diameter_high):
             inside = (bore > g.initial_diameter) & (bore < g.largest_diameter)
             safe = np.where(inside, bore, 0.5 * (g.initial_diameter + g.largest_diameter))
-            p = muscle.least_holding_pressure(safe[:, None], loads, kappa=kappa, friction=pipes.friction[:, None],
-                                              safety_factor=sf)
+            p = muscle.least_holding_pressure(safe[:, None], loads, kappa=kappa,
+                                              friction=pipes.friction[:, None], safety_factor=sf)
             pressure = np.maximum(pressure, np.where(inside[:, None], p, np.inf))
         nominal_ok = (pipes.diameter > g.initial_diameter) & (pipes.diameter < g.largest_diameter)
         nominal = np.where(nominal_ok, pipes.diameter, 0.5 * (g.initial_diameter + g.largest_diameter))

@@ -33,8 +33,9 @@ SMALLEST_BLOCK = 4
 def segment_loads(inventory: Inventory, pipes: Pipes | None = None) -> np.ndarray:
     """W_ij [N], shape (pipes, segments): the load each segment holds alone in each pipe."""
     pipes = inventory.pipes if pipes is None else pipes
-    return np.stack([anchor_load(inventory.total_mass, m, pipes.incline, pipes.friction, inventory.tether_drag)
-                     * np.ones(len(pipes)) for m in inventory.segment_masses], axis=1)
+    mass, tether = inventory.total_mass, inventory.tether_drag
+    return np.stack([anchor_load(mass, m, pipes.incline, pipes.friction, tether) * np.ones(len(pipes))
+                     for m in inventory.segment_masses], axis=1)
 
 
 @dataclass(frozen=True)

@@ -214,7 +214,8 @@ class MultiStart:
         return sum(r.success and abs(r.objective - best.objective) <= tol for r in self.results)
 
 
-def multistart(problem: Problem, *, starts: int, seed: int, pool, extra: np.ndarray | None = None) -> MultiStart:
+def multistart(problem: Problem, *, starts: int, seed: int, pool,
+               extra: np.ndarray | None = None) -> MultiStart:
     """Solve ``problem`` from ``starts`` Latin-hypercube points (after the ``extra`` points) on ``pool``."""
     points = start_points(problem, starts, seed)
     if extra is not None:

@@ -97,7 +97,8 @@ def group_rows(u, space, material, q, glob, structure: Structure):
 
     stride = g.initial_length - c.length
     reach = (1 - margin) * math.sqrt(2 / 3) * g.initial_diameter / ops.sin(g.braid_angle)
-    stable = [v / MODULI_SCALE for p in (0.0 * supply, supply) for v in muscle.drucker_tangent_moduli(p, c.length)]
+    stable = [v / MODULI_SCALE for p in (0.0 * supply, supply)
+              for v in muscle.drucker_tangent_moduli(p, c.length)]
     rows = [required(load_max) / supply, c.slope / diameter**2, grip(load_min), grip(load_max),
             reach / diameter - 1, (stride - min_stride) / g.initial_length,
             stable[0], stable[2], stable[1], stable[3]]

@@ -76,7 +76,8 @@ class DesignResult:
         pipes = self.inventory.pipes
         served = self.assignment >= 0
         return {"pipes_total": len(pipes), "pipes_served": int(served.sum()),
-                "length_total_m": float(pipes.length.sum()), "length_served_m": float(pipes.length[served].sum())}
+                "length_total_m": float(pipes.length.sum()),
+                "length_served_m": float(pipes.length[served].sum())}
 
     # ------------------------------------------------------------------------------- curves for plots
     def worst_load(self) -> tuple[float, float]:
@@ -152,7 +153,8 @@ class DesignResult:
                 "length_m": float(pipes.length[j]), "incline_deg": math.degrees(pipes.incline[j]),
                 "friction": float(pipes.friction[j]),
                 "stride_m": None if table is None else _finite(float(table.stride[j])),
-                "anchoring_pressure_Pa": None if table is None else _finite(float(table.anchoring_pressure[j])),
+                "anchoring_pressure_Pa": (None if table is None
+                                          else _finite(float(table.anchoring_pressure[j]))),
                 "material_pressure_Pa": _finite(float(self.material_table.largest[j]))})
         return out
 

@@ -94,8 +94,8 @@ def _check_clearance(inventory: Inventory, groups: Groups) -> None:
     top = groups.smallest_bore - space.clearance
     if top < space.initial_diameter[0]:
         raise DesignInfeasible(
-            f"binding constraint: clearance. The smallest bore {_mm(groups.smallest_bore)} less the clearance "
-            f"{_mm(space.clearance)} leaves {_mm(top)}, below the smallest allowed rest diameter "
+            f"binding constraint: clearance. The smallest bore {_mm(groups.smallest_bore)} less the "
+            f"clearance {_mm(space.clearance)} leaves {_mm(top)}, below the smallest allowed rest diameter "
             f"design.initial_diameter[0] = {_mm(space.initial_diameter[0])}: no muscle within the bounds "
             "passes it at rest. Lower that bound or the clearance, or leave the narrow pipes out.",
             "clearance")
@@ -108,9 +108,9 @@ def _check_reach(inventory: Inventory, groups: Groups) -> None:
     reach = (1 - space.contact_margin) * math.sqrt(2 / 3) * d0 / math.sin(space.braid_angle[0])
     if groups.widest_bore > reach:
         raise DesignInfeasible(
-            f"binding constraint: contact_margin. The widest bore {_mm(groups.widest_bore)} is beyond what any "
-            f"braid within the bounds opens to with the {space.contact_margin:.3g} contact margin: at most "
-            f"{_mm(reach)} = (1 - margin) D0 sqrt(2/3)/sin(alpha0) with D0 = {_mm(d0)} (the largest the "
+            f"binding constraint: contact_margin. The widest bore {_mm(groups.widest_bore)} is beyond what "
+            f"any braid within the bounds opens to with the {space.contact_margin:.3g} contact margin: at "
+            f"most {_mm(reach)} = (1 - margin) D0 sqrt(2/3)/sin(alpha0) with D0 = {_mm(d0)} (the largest the "
             f"clearance allows) and alpha0 = {math.degrees(space.braid_angle[0]):.4g} deg (the smallest "
             "allowed). Allow a smaller braid angle, or serve the wide and the narrow pipes with different "
             "sizes (design.sizes).", "contact_margin")
@@ -127,8 +127,8 @@ def _supply_message(inventory: Inventory, problem: Problem, x: np.ndarray, pipes
     return (f"binding constraint: supply_pressure. The least largest pressure any muscle within the bounds "
             f"needs is {x[3] * inventory.supply_pressure / 1e3:.4g} kPa (pipe {pipes.name[j]}, segment "
             f"{inventory.segment_names[i]}), more than the {inventory.supply_pressure / 1e3:.4g} kPa supply. "
-            f"That muscle: L0 = {_mm(length)}, D0 = {_mm(diameter)}, braid angle {math.degrees(angle):.4g} deg "
-            f"from the axis{at_bounds}.")
+            f"That muscle: L0 = {_mm(length)}, D0 = {_mm(diameter)}, braid angle "
+            f"{math.degrees(angle):.4g} deg from the axis{at_bounds}.")
 
 
 def _active_bounds(problem: Problem, x: np.ndarray) -> str:
@@ -158,11 +158,10 @@ def _deletion(inventory: Inventory, problem: Problem, pool, run: MultiStart) -> 
         if trial.best is not None:
             binding = " + ".join(dropped)
             why = "; ".join(_explain(family, inventory) for family in dropped)
-            together = "together " if len(dropped) > 1 else ""
-            return binding, (f"binding constraint: {binding}. No muscle within the bounds meets "
-                             f"{'them' if len(dropped) > 1 else 'it'} {together}in every pipe ({why}); without "
-                             f"{'them' if len(dropped) > 1 else 'it'} IPOPT finds a design. Widen the design "
-                             "bounds, or serve the pipes with several sizes (design.sizes).")
+            them = "them together" if len(dropped) > 1 else "it"
+            return binding, (f"binding constraint: {binding}. No muscle within the bounds meets {them} in "
+                             f"every pipe ({why}); without {them.split()[0]} IPOPT finds a design. Widen the "
+                             "design bounds, or serve the pipes with several sizes (design.sizes).")
     statuses = ", ".join(sorted({r.status for r in run.results}))
     return "no_valid_geometry", (
         f"binding constraint: none alone or in pairs. No start found a valid muscle within the bounds "
@@ -174,7 +173,8 @@ def _explain(family: str, inventory: Inventory) -> str:
     space = inventory.space
     return {
         "grip": "the holding force must rise with pressure at the anchored length",
-        "contact_margin": f"every bore within {1 - space.contact_margin:.3g} of the widest the braid opens to",
+        "contact_margin": f"every bore at most {1 - space.contact_margin:.3g} of the widest the braid opens "
+                          "to",
         "min_stride": f"a stride of at least {_mm(space.min_stride)} per cycle in every pipe",
         "material_stability": "the moduli law stable (tangent moduli >= 0, docs/physics.md §6) at the "
                               "anchored strain, from 0 to the supply pressure",

@@ -64,8 +64,8 @@ def choose_sizes(inventory: Inventory, k: int, pool) -> SizePlan:
         try:
             design_for(inventory, pipes.subset(which == 0), pool)
         except DesignInfeasible as exc:
-            raise DesignInfeasible(f"no muscle within the design bounds serves all the pipes of even one bore; "
-                                   f"for the narrowest, {bores[0] * 1e3:.4g} mm: {exc}", exc.binding,
+            raise DesignInfeasible("no muscle within the design bounds serves all the pipes of even one "
+                                   f"bore; for the narrowest, {bores[0] * 1e3:.4g} mm: {exc}", exc.binding,
                                    exc.best) from None
     designs = [design(i, j) for i, j in intervals]
     return _assign_and_refit(inventory, designs, pool, tuple(reach), bores)
@@ -106,7 +106,8 @@ def _assign_and_refit(inventory: Inventory, designs: list[SizeDesign], pool, rea
     tables = [evaluate_pipes(inventory, d.geometry) for d in designs]
     assignment = _assign(inventory, tables)
     rounds = 0
-    for rounds in range(1, MAX_ROUNDS + 1):
+    while rounds < MAX_ROUNDS:
+        rounds += 1
         refitted = []
         for s, d in enumerate(designs):
             mine = assignment == s

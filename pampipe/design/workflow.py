@@ -68,7 +68,8 @@ def design_inventory(inventory: Inventory, *, pool: Executor | None = None) -> D
         else:
             plan = choose_sizes(inventory, inventory.space.sizes, tally)
             served = np.array([(plan.assignment == k).any() for k in range(len(plan.designs))])
-            order = sorted(np.flatnonzero(served), key=lambda k: (-pipes.length[plan.assignment == k].sum(), k))
+            length = [pipes.length[plan.assignment == k].sum() for k in range(len(plan.designs))]
+            order = sorted(np.flatnonzero(served), key=lambda k: (-length[k], k))
             sizes = tuple(size_result(inventory, plan.designs[k], plan.tables[k], plan.assignment == k,
                                       f"{name}-size{n + 1}") for n, k in enumerate(order))
             relabel = {int(k): n for n, k in enumerate(order)}
@@ -78,7 +79,8 @@ def design_inventory(inventory: Inventory, *, pool: Executor | None = None) -> D
         best = ()
         if exc.best is not None:
             table = evaluate_pipes(inventory, exc.best.geometry)
-            best = (size_result(inventory, exc.best, table, np.zeros(len(pipes), dtype=bool), f"{name}-best"),)
+            none = np.zeros(len(pipes), dtype=bool)
+            best = (size_result(inventory, exc.best, table, none, f"{name}-best"),)
         return DesignResult(inventory, best, np.full(len(pipes), -1), material_table, feasible=False,
                             binding=exc.binding, reason=str(exc), solves=tally.solves,
                             iterations=tally.iterations, wall_time=time.perf_counter() - started)
