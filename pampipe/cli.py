@@ -15,7 +15,7 @@ from pampipe import __version__
 from pampipe.errors import InputError, PampipeError
 
 #: Command modules under pampipe.commands, in the order --help lists them.
-COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "example")
+COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -88,6 +88,11 @@ class Problem:
     ubg: np.ndarray
     space: np.ndarray  # [L_lo, L_hi, D_lo, D_hi, α_lo, α_hi]
     groups: Groups
+    scale: float  # the objective's unit per unit of the NLP's scaled objective f
+
+    def physical(self, f: float) -> float:
+        """The objective in its unit (Pa, J/m or 1/m) from the NLP's scaled f."""
+        return f * self.scale
 
     def geometry(self, x) -> tuple[float, float, float]:
         """(L₀ [m], D₀ [m], α₀ [rad]) at the scaled variables x."""
@@ -130,7 +135,9 @@ def make_problem(inventory: Inventory, groups: Groups, *, objective: Objective |
         lbx[3] = ubx[3] = 1.0  # every pressure ≤ supply
     elif not relaxed:
         ubx[3] = 1.0
-    return Problem(structure, objective, size, p, lbx, ubx, lbg, ubg, bounds, groups)
+    scales = {Objective.MAX_PRESSURE: supply, Objective.AIR: air_scale, Objective.SPEED: speed_scale}
+    scale = scales[objective]
+    return Problem(structure, objective, size, p, lbx, ubx, lbg, ubg, bounds, groups, scale)
 
 
 def clearance_fraction(space: DesignSpace, smallest_bore: float) -> float:

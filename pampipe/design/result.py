@@ -45,7 +45,8 @@ def starts_document(run: MultiStart) -> dict:
     best = run.best
     return {"total": len(run.results), "succeeded": sum(r.success for r in run.results),
             "reached_best": run.reached, "best_index": None if best is None else best.index,
-            "runs": [{"index": r.index, "status": r.status, "objective": _finite(r.objective),
+            "runs": [{"index": r.index, "status": r.status,
+                      "objective": _finite(run.problem.physical(r.objective)),
                       "iterations": r.iterations, "wall_time_s": r.wall_time} for r in run.results]}
 
 
