@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import multiprocessing
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from concurrent.futures import BrokenExecutor, Executor, Future, ProcessPoolExecutor
 from contextlib import contextmanager
 
-from pampipe.errors import InputError
+from pampipe.errors import InputError, SolverError
 
 
 class SerialExecutor(Executor):
@@ -56,9 +56,16 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
 
 
 def run_all(fn: Callable, tasks: Iterable, pool: Executor) -> list:
-    """[fn(task) for task in tasks] computed on ``pool``, in task order (the first error is raised)."""
-    futures: Sequence[Future] = [pool.submit(fn, task) for task in tasks]
-    return [f.result() for f in futures]
+    """[fn(task) for task in tasks] computed on ``pool``, in task order (the first error is raised).
+
+    A worker process that dies (killed, out of memory) is a :class:`SolverError` (exit 3).
+    """
+    try:
+        futures: Sequence[Future] = [pool.submit(fn, task) for task in tasks]
+        return [f.result() for f in futures]
+    except BrokenExecutor as exc:
+        raise SolverError(f"a worker process stopped before finishing its task ({exc}); run again, or "
+                          "without --workers.", status="worker_died") from None
 
 
 @contextmanager

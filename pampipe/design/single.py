@@ -56,8 +56,13 @@ class SizeDesign:
         return self.runs[-1]
 
 
-def design_for(inventory: Inventory, pipes: Pipes, pool, *, extra: np.ndarray | None = None) -> SizeDesign:
-    """The best muscle for ``pipes`` (all must be served), or :class:`DesignInfeasible`."""
+def design_for(inventory: Inventory, pipes: Pipes, pool, *, extra: np.ndarray | None = None,
+               diagnose: bool = True) -> SizeDesign:
+    """The best muscle for ``pipes`` (all must be served), or :class:`DesignInfeasible`.
+
+    ``extra`` is one more start (scaled geometry) tried first; ``diagnose=False`` skips the deletion
+    filter when only feasibility matters (the binding is then ``"unknown"``).
+    """
     space = inventory.space
     groups = make_groups(inventory, pipes)
     _check_clearance(inventory, groups)
@@ -67,6 +72,8 @@ def design_for(inventory: Inventory, pipes: Pipes, pool, *, extra: np.ndarray | 
                        extra=extra)
     best = first.best
     if best is None:
+        if not diagnose:
+            raise DesignInfeasible("no start found a valid muscle", "unknown")
         binding, message = _deletion(inventory, relaxed, pool, first)
         raise DesignInfeasible(message, binding)
     pressure = best.x[3] * inventory.supply_pressure

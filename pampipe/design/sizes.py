@@ -47,7 +47,8 @@ def choose_sizes(inventory: Inventory, k: int, pool) -> SizePlan:
     def design(i: int, j: int) -> SizeDesign | None:
         if (i, j) not in cache:
             try:
-                cache[i, j] = design_for(inventory, pipes.subset((which >= i) & (which <= j)), pool)
+                cache[i, j] = design_for(inventory, pipes.subset((which >= i) & (which <= j)), pool,
+                                         diagnose=False)
             except DesignInfeasible:
                 cache[i, j] = None
         return cache[i, j]
@@ -118,7 +119,8 @@ def _assign_and_refit(inventory: Inventory, designs: list[SizeDesign], pool, rea
                 x = d.run.problem.space
                 u = [(g - x[2 * c]) / (x[2 * c + 1] - x[2 * c]) if x[2 * c + 1] > x[2 * c] else 0.0
                      for c, g in enumerate(d.geometry)]
-                refitted.append(design_for(inventory, inventory.pipes.subset(mine), pool, extra=np.array(u)))
+                refitted.append(design_for(inventory, inventory.pipes.subset(mine), pool, extra=np.array(u),
+                                           diagnose=False))
             except DesignInfeasible:
                 refitted.append(d)
         new_tables = [evaluate_pipes(inventory, d.geometry) for d in refitted]
