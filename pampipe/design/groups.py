@@ -55,9 +55,10 @@ class Groups:
         return len(self.diameter)
 
     def block(self, size: int) -> np.ndarray:
-        """The (len(COLUMNS), size) parameter block, padded with copies of group 0."""
+        """The (len(COLUMNS), size) parameter block, padded with copies of group 0 of length 0."""
         rows = np.stack([getattr(self, c) for c in COLUMNS])
         pad = np.repeat(rows[:, :1], size - len(self), axis=1)
+        pad[COLUMNS.index("length")] = 0.0  # no weight in the objectives
         return np.concatenate([rows, pad], axis=1)
 
     @property
