@@ -91,7 +91,8 @@ def run(args: argparse.Namespace) -> int:
         for path in plot_design(result, args.plots):
             say(args, f"wrote {path}")
     if not result.feasible:
-        raise InfeasibleError(f"no muscle within the design bounds serves {args.inventory}: {result.reason}")
+        raise InfeasibleError(f"no muscle within the design bounds serves {args.inventory}; binding "
+                              f"constraint: {result.binding} (the reason is given above).")
     return 0
 
 

@@ -1,0 +1,84 @@
+"""The executor helper (pampipe.parallel) and issue 16's reproducibility: serial, 2 local workers and a
+Dask LocalCluster give byte-identical `design --reproducible` JSON."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from pampipe.errors import InputError
+from pampipe.parallel import SerialExecutor, executor, run_all
+from tests.conftest import PROBLEMS, ROOT
+
+RISER = PROBLEMS / "inventories" / "riser.yaml"
+PLANT = PROBLEMS / "inventories" / "plant.yaml"
+
+
+def _square(x):
+    return x * x
+
+
+def _fail(x):
+    raise ValueError(f"task {x} failed")
+
+
+def test_run_all_keeps_task_order_on_every_local_executor():
+    for workers in (None, 1, 2):
+        with executor(workers=workers) as pool:
+            assert run_all(_square, range(7), pool) == [0, 1, 4, 9, 16, 25, 36]
+
+
+def test_errors_reach_the_caller():
+    with pytest.raises(ValueError, match="task 3 failed"):
+        run_all(_fail, [3], SerialExecutor())
+
+
+@pytest.mark.parametrize(("options", "words"), [({"workers": 0}, "at least 1"),
+                                                ({"workers": 2, "scheduler": "tcp://x:1"}, "not both")])
+def test_bad_executor_options_are_input_errors(options, words):
+    with pytest.raises(InputError, match=words), executor(**options):
+        pass
+
+
+def _design(inventory, *extra: str) -> bytes:
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    out = subprocess.run([sys.executable, "-m", "pampipe", "design", str(inventory), "--json",
+                          "--reproducible", "--starts", "6", *extra], capture_output=True, cwd=ROOT, env=env,
+                         timeout=600)
+    assert out.returncode == 0, out.stderr.decode()
+    return out.stdout
+
+
+def _identical(inventory):
+    distributed = pytest.importorskip("distributed")
+    serial = _design(inventory)
+    assert b'"wall_time_s": 0.0' in serial  # --reproducible zeroes the timings, nothing else differs
+    assert serial == _design(inventory, "--workers", "2")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  host="127.0.0.1") as cluster:
+        assert serial == _design(inventory, "--scheduler", cluster.scheduler_address)
+
+
+def test_serial_two_workers_and_dask_give_byte_identical_json():
+    """Each start is a deterministic task (its own Latin-hypercube point, plain data in and out), and the
+    best is chosen by (objective, start index): the executor cannot change the document."""
+    _identical(RISER)
+
+
+@pytest.mark.slow
+def test_byte_identical_json_with_sizes():
+    """The same with two sizes: interval checks, enumeration and refits all run on the executor."""
+    _identical(PLANT)
+
+
+@pytest.mark.slow
+def test_an_unreachable_scheduler_is_an_input_error():
+    """distributed retries until its 10 s connection timeout, hence slow."""
+    pytest.importorskip("distributed")
+    out = subprocess.run([sys.executable, "-m", "pampipe", "design", str(PLANT), "--scheduler",
+                          "tcp://127.0.0.1:9"], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert out.returncode == 2, out.stderr
+    assert "cannot reach a Dask scheduler" in out.stderr and "Traceback" not in out.stderr
