@@ -23,6 +23,7 @@ COMMANDS = {
     "plan-confidence": ["plan", PROBLEMS / "missions" / "riser-uncertain-friction.yaml", "--json",
                         "--confidence", "0.9"],
     "gait": ["gait", MISSION, "--json", "--optimal"],
+    "design": ["design", PROBLEMS / "inventories" / "plant.yaml", "--json", "--starts", "4"],
 }
 
 
