@@ -46,9 +46,13 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
         with _dask(scheduler) as pool:
             yield pool
     elif workers is not None and workers > 1:
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+        try:
             yield pool
+        except BaseException:  # an error or Ctrl-C: do not wait for the queued tasks
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown()
     else:
         if workers is not None and workers < 1:
             raise InputError(f"--workers: {workers} must be at least 1.")

@@ -203,3 +203,20 @@ def test_build_size_does_not_grow_with_the_pipes(riser):
     assert design_nlp.build(few.structure, few.objective, few.size) is \
         design_nlp.build(many.structure, many.objective, many.size)
     assert math.isfinite(few.evaluate(np.array([0.5, 0.9, 0.1, 1.0]))[0])
+
+
+def test_contact_increments_enter_the_nlp_as_in_plan(riser):
+    """With contact increments (docs/physics.md §9d) the NLP's largest pressure is what
+    Muscle.least_holding_pressure (plan's function) gives at the design, pipe by pipe."""
+    m = riser.material.moduli
+    contact = np.zeros(16)
+    contact[[0, 8, 9, 12]] = [0.2e6, 0.5e6, -0.1e6, 0.1e6]
+    material = dataclasses.replace(riser.material, moduli=dataclasses.replace(m, contact=tuple(contact)))
+    inv = dataclasses.replace(_inventory(riser, [0.0762, 0.0889], [90, 10]), material=material)
+    problem = make_problem(inv, make_groups(inv), relaxed=True)
+    assert problem.structure.contact
+    run = multistart(problem, starts=4, seed=0, pool=SerialExecutor())
+    table = evaluate_pipes(inv, problem.geometry(run.best.x))
+    assert problem.physical(run.best.objective) == pytest.approx(table.largest.max(), rel=1e-9)
+    plain = evaluate_pipes(_inventory(riser, [0.0762, 0.0889], [90, 10]), problem.geometry(run.best.x))
+    assert not np.allclose(table.pressure, plain.pressure)  # the increments change the answer
