@@ -9,7 +9,8 @@ from pampipe.commands.common import add_output_options, emit
 from pampipe.io import bundled
 
 NAME = "example"
-HELP = "copy a bundled mission, PAM or experiment (and the files it uses) into a folder to start from"
+HELP = ("copy a bundled mission, PAM, experiment or pipe inventory (and the files it uses) into a folder to "
+        "start from")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -23,6 +24,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from pampipe.errors import InputError
     from pampipe.io.config import load_experiment, load_mission
+    from pampipe.io.inventory import load_inventory
 
     if args.name is None:
         listing = bundled.catalogue()
@@ -38,11 +40,13 @@ def run(args: argparse.Namespace) -> int:
         files = load_mission(source).input_files
     elif kind == "experiments":
         files = load_experiment(source).input_files
+    elif kind == "inventories":
+        files = load_inventory(source).input_files
     else:
         files = [source]
     written = bundled.copy(files, args.out_dir, overwrite=args.force)
     main = written[0]
-    commands = {"missions": "plan", "experiments": "identify", "pams": "simulate"}
+    commands = {"missions": "plan", "experiments": "identify", "pams": "simulate", "inventories": "design"}
     hint = f"pampipe {commands[kind]} {main}" + (" --pipe-diameter '3 in'" if kind == "pams" else "")
     emit(args, {"example": args.name, "kind": kind, "files": [str(p) for p in written]},
          "\n".join(f"wrote {p}" for p in written) + f"\ntry: {hint}")

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from pampipe.errors import InputError
 
-KINDS = ("missions", "pams", "experiments")
+KINDS = ("missions", "pams", "experiments", "inventories")
 
 
 def folder() -> Path:
