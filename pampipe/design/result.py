@@ -106,7 +106,7 @@ class DesignResult:
     def as_document(self) -> dict:
         inv = self.inventory
         doc = {"feasible": self.feasible, "binding_constraint": self.binding, "reason": self.reason,
-               "inventory": str(inv.source), "material": inv.material.name,
+               "inventory": str(inv.source), "material": inv.material.name, "network": inv.network,
                "objective_kind": inv.space.objective.value, "objective_unit": inv.space.objective.unit,
                "supply_pressure_Pa": inv.supply_pressure, "safety_factor": inv.safety_factor,
                "load_path": inv.load_path, "coverage": self.coverage, "rounds": self.rounds,
