@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import time
 from pathlib import Path
 
@@ -29,7 +30,7 @@ from pampipe.design.multistart import make_problem, multistart
 from pampipe.io.inventory import load_inventory
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
-from pampipe.parallel import SerialExecutor, executor
+from pampipe.parallel import SerialExecutor, executor, run_all
 
 ROOT = Path(__file__).resolve().parent.parent
 INVENTORIES = ROOT / "problems" / "inventories"
@@ -85,6 +86,21 @@ def grid_baseline(inventory, n: int = 20):
     return grid, grid_time, best, time.perf_counter() - started
 
 
+def burn(seconds: float) -> float:
+    """Pure CPU work for ``seconds`` of process time: the best case any task can get from a pool."""
+    started = time.process_time()
+    count = 0.0
+    while time.process_time() - started < seconds:
+        count += 1
+    return count
+
+
+def time_burns(count: int, seconds: float, pool) -> float:
+    started = time.perf_counter()
+    run_all(burn, [seconds] * count, pool)
+    return time.perf_counter() - started
+
+
 def time_starts(problem, starts: int, pool) -> tuple[float, object]:
     started = time.perf_counter()
     run = multistart(problem, starts=starts, seed=0, pool=pool)
@@ -120,12 +136,18 @@ def main() -> None:
           f"{1e3 * serial_time / args.starts:.1f} ms per start (serial, {args.starts} starts, "
           f"{np.mean([r.iterations for r in serial.results]):.1f} IPOPT iterations per start, "
           f"{serial.reached}/{len(serial.results)} reach the best)")
+    per_start = serial_time / args.starts
+    burn_serial = time_burns(args.starts, per_start, SerialExecutor())
     with executor(workers=2) as pool:
         time_starts(problem, 2, pool)  # start the processes and build their solvers
         parallel_time, parallel = time_starts(problem, args.starts, pool)
+        burn_parallel = time_burns(args.starts, per_start, pool)
     same = [r.objective for r in serial.results] == [r.objective for r in parallel.results]
     print(f"3. the same {args.starts} starts on 2 warm worker processes: {parallel_time:.3f} s against "
           f"{serial_time:.3f} s serial: speed-up {serial_time / parallel_time:.2f}x (identical: {same})")
+    print(f"   machine check, {args.starts} pure-CPU tasks of {1e3 * per_start:.1f} ms on the same pool: "
+          f"speed-up {burn_serial / burn_parallel:.2f}x (the most any task gets from 2 workers on this "
+          f"machine now; {os.getloadavg()[0]:.1f} load average on {os.cpu_count()} cores)")
     if args.ky4:
         ky4 = load_inventory(INVENTORIES / "ky4.yaml")
         times = {}
