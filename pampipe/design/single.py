@@ -57,11 +57,12 @@ class SizeDesign:
 
 
 def design_for(inventory: Inventory, pipes: Pipes, pool, *, extra: np.ndarray | None = None,
-               diagnose: bool = True) -> SizeDesign:
+               diagnose: bool = True, polish: bool = True) -> SizeDesign:
     """The best muscle for ``pipes`` (all must be served), or :class:`DesignInfeasible`.
 
     ``extra`` is one more start (scaled geometry) tried first; ``diagnose=False`` skips the deletion
-    filter when only feasibility matters (the binding is then ``"unknown"``).
+    filter when only feasibility matters (the binding is then ``"unknown"``); ``polish=False`` stops
+    after the largest-pressure run (for the ``air`` and ``speed`` objectives too).
     """
     space = inventory.space
     groups = make_groups(inventory, pipes)
@@ -80,7 +81,7 @@ def design_for(inventory: Inventory, pipes: Pipes, pool, *, extra: np.ndarray | 
     design = SizeDesign(relaxed.geometry(best.x), pipes, (first,), pressure)
     if best.x[3] > 1.0 + 1e-9:
         raise DesignInfeasible(_supply_message(inventory, relaxed, best.x, pipes), "supply_pressure", design)
-    if space.objective is Objective.MAX_PRESSURE:
+    if space.objective is Objective.MAX_PRESSURE or not polish:
         return design
     problem = make_problem(inventory, groups)
     second = multistart(problem, starts=space.starts, seed=space.seed, pool=pool,

@@ -9,8 +9,10 @@
    start later and reach further).
 3. *Assign and refit* (the k-means-like alternation). Each pipe goes to the size that serves it at
    the least pressure (a size may serve pipes outside its interval, or only some pipes of a bore);
-   each size is refitted to its pipes, starting from its current design, so every assigned pipe
-   stays served and the covered length never falls; repeat until the assignment is stable.
+   each size is refitted to its pipes (with the inventory's objective; the interval sweep only asks
+   whether the largest pressure can stay within the supply), starting from its current design, so
+   every assigned pipe stays served and the covered length never falls; repeat until the assignment
+   is stable (at least one refit).
 """
 
 from __future__ import annotations
@@ -48,7 +50,7 @@ def choose_sizes(inventory: Inventory, k: int, pool) -> SizePlan:
         if (i, j) not in cache:
             try:
                 cache[i, j] = design_for(inventory, pipes.subset((which >= i) & (which <= j)), pool,
-                                         diagnose=False)
+                                         diagnose=False, polish=False)
             except DesignInfeasible:
                 cache[i, j] = None
         return cache[i, j]
