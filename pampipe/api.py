@@ -164,6 +164,52 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
 
+def load_inventory(inventory: Source, *, base=None):
+    """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §7.7)."""
+    from pampipe.inventory import Inventory
+    from pampipe.io.inventory import load_inventory as load
+
+    if isinstance(inventory, Inventory):
+        return inventory
+    path, raw = _file(inventory, "inventory", base)
+    return load(path, raw=raw)
+
+
+def design(inventory: Source, *, objective: str | None = None, sizes: int | None = None,
+           starts: int | None = None, seed: int | None = None, workers: int | None = None,
+           scheduler: str | None = None, base=None):
+    """The muscle geometry (or K sizes) for a pipe inventory (`pampipe design`); the options override
+    the file's ``design:`` block. Returns a :class:`pampipe.design.DesignResult` (``to_dict()``: the
+    JSON document; ``feasible`` False names the binding constraint instead of raising)."""
+    import dataclasses
+
+    from pampipe.design import design_inventory
+    from pampipe.errors import InputError
+    from pampipe.inventory import Objective
+    from pampipe.parallel import executor
+
+    model = load_inventory(inventory, base=base)
+    overrides = {"starts": starts, "seed": seed, "sizes": sizes,
+                 "objective": None if objective is None else _objective(objective, Objective)}
+    for key, value in overrides.items():
+        least = 0 if key == "seed" else 1
+        if isinstance(value, int) and value < least:
+            raise InputError(f"{key}: {value} must be at least {least}.")
+    space = dataclasses.replace(model.space, **{k: v for k, v in overrides.items() if v is not None})
+    model = dataclasses.replace(model, space=space)
+    with executor(workers=workers, scheduler=scheduler) as pool:
+        return design_inventory(model, pool=pool)
+
+
+def _objective(name: str, kind):
+    from pampipe.errors import InputError
+
+    try:
+        return kind(name)
+    except ValueError:
+        raise InputError(f"objective: {name!r} is not one of {', '.join(k.value for k in kind)}.") from None
+
+
 @dataclass(frozen=True)
 class GaitReport:
     """The sequential gait and, if asked for, the time-optimal one; ``to_dict()`` is `gait --json`."""

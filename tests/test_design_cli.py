@@ -178,3 +178,15 @@ def test_output_never_overwrites_an_input(cli, tmp_path):
 def test_workers_and_scheduler_together_are_refused(cli):
     out = cli("design", RISER, "--workers", "2", "--scheduler", "tcp://127.0.0.1:1")
     assert out.returncode == 2 and "not both" in out.stderr
+
+
+def test_the_api_returns_the_cli_document(cli):
+    """`pampipe.design` on a dict with unit-free options gives the `design --json` document."""
+    from pampipe import api
+    from pampipe.io.files import to_json
+
+    out = cli("design", RISER, "--json", "--reproducible", "--starts", "3")
+    raw = yaml.safe_load(RISER.read_text())
+    result = api.design(raw, base=RISER.parent, starts=3)
+    assert to_json(result.to_dict(), timings=False).replace("<inventory dict>", "riser.yaml") \
+        == out.stdout.replace(str(RISER), str(RISER.parent / "riser.yaml"))

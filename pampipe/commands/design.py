@@ -59,24 +59,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pampipe.design import design_inventory
-    from pampipe.errors import InputError
-    from pampipe.inventory import Objective
-    from pampipe.parallel import executor
+    from pampipe import api
 
     inventory = load_inventory(args.inventory)
-    overrides = {"starts": args.starts, "seed": args.seed, "sizes": args.sizes,
-                 "objective": None if args.objective is None else Objective(args.objective)}
-    for key, value in overrides.items():
-        if isinstance(value, int) and not isinstance(value, bool) and value < (0 if key == "seed" else 1):
-            raise InputError(f"--{key}: {value} must be at least {0 if key == 'seed' else 1}.")
-    space = dataclasses.replace(inventory.space, **{k: v for k, v in overrides.items() if v is not None})
-    inventory = dataclasses.replace(inventory, space=space)
     if args.output is not None:
-        for path in _outputs(args.output, space.sizes or 1):
+        for path in _outputs(args.output, args.sizes or inventory.space.sizes or 1):
             check_not_input(path, inventory.input_files, option="-o")
-    with executor(workers=args.workers, scheduler=args.scheduler) as pool:
-        result = design_inventory(inventory, pool=pool)
+    result = api.design(inventory, objective=args.objective, sizes=args.sizes, starts=args.starts,
+                        seed=args.seed, workers=args.workers, scheduler=args.scheduler)
+    inventory = result.inventory
     if args.output is not None and result.feasible:
         paths = _outputs(args.output, len(result.sizes))
         for size, path in zip(result.sizes, paths, strict=True):

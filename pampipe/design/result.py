@@ -103,6 +103,10 @@ class DesignResult:
         return np.where(inside, p, np.inf)
 
     # ------------------------------------------------------------------------------------ document
+    def to_dict(self) -> dict:
+        """The `design --json` document (the Python API's name for :meth:`as_document`)."""
+        return self.as_document()
+
     def as_document(self) -> dict:
         inv = self.inventory
         doc = {"feasible": self.feasible, "binding_constraint": self.binding, "reason": self.reason,

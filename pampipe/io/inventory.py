@@ -120,10 +120,14 @@ class InventorySchema(Strict):
     design: DesignSchema
 
 
-def load_inventory(path: str | Path) -> Inventory:
-    """Read and validate an inventory file, the material PAM it names and the network it reads."""
+def load_inventory(path: str | Path, *, raw: dict | None = None) -> Inventory:
+    """Read and validate an inventory file, the material PAM it names and the network it reads.
+
+    ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
+    """
     path = Path(path)
-    schema = _validate(path, InventorySchema, load_mapping(path, what="inventory file"))
+    content = load_mapping(path, what="inventory file") if raw is None else raw
+    schema = _validate(path, InventorySchema, content)
     material, material_file = _material(path, schema.material)
     if material.moduli is None:
         raise InputError(f"{path}: material: the PAM '{material.name}' has no 'moduli:' block; the design "
