@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import minimize
 
-from pampipe.design import design_inventory
+from pampipe.design import solve_inventory
 from pampipe.design.groups import make_groups, segment_loads
 from pampipe.design.multistart import make_problem, multistart
 from pampipe.io.inventory import load_inventory
@@ -116,7 +116,7 @@ def main() -> None:
 
     riser = load_inventory(INVENTORIES / "riser.yaml")
     started = time.perf_counter()
-    designed = design_inventory(riser)
+    designed = solve_inventory(riser)
     design_time = time.perf_counter() - started
     objective = designed.as_document()["objective"]
     grid, grid_time, polished, polished_time = grid_baseline(riser)
@@ -155,7 +155,7 @@ def main() -> None:
         for workers in (None, 2):
             started = time.perf_counter()
             with executor(workers=workers) as pool:
-                result = design_inventory(ky4, pool=pool)
+                result = solve_inventory(ky4, pool=pool)
             times[workers] = time.perf_counter() - started
             doc = result.as_document()
             doc["solver"].pop("wall_time_s")

@@ -175,15 +175,16 @@ def load_inventory(inventory: Source, *, base=None):
     return load(path, raw=raw)
 
 
-def design(inventory: Source, *, objective: str | None = None, sizes: int | None = None,
+def design_inventory(inventory: Source, *, objective: str | None = None, sizes: int | None = None,
            starts: int | None = None, seed: int | None = None, workers: int | None = None,
            scheduler: str | None = None, base=None):
-    """The muscle geometry (or K sizes) for a pipe inventory (`pampipe design`); the options override
+    """The muscle geometry (or K sizes) for a pipe inventory (`pampipe design`; not ``pampipe.design``,
+    which is the package of the science); the options override
     the file's ``design:`` block. Returns a :class:`pampipe.design.DesignResult` (``to_dict()``: the
     JSON document; ``feasible`` False names the binding constraint instead of raising)."""
     import dataclasses
 
-    from pampipe.design import design_inventory
+    from pampipe.design import solve_inventory
     from pampipe.errors import InputError
     from pampipe.inventory import Objective
     from pampipe.parallel import executor
@@ -198,7 +199,7 @@ def design(inventory: Source, *, objective: str | None = None, sizes: int | None
     space = dataclasses.replace(model.space, **{k: v for k, v in overrides.items() if v is not None})
     model = dataclasses.replace(model, space=space)
     with executor(workers=workers, scheduler=scheduler) as pool:
-        return design_inventory(model, pool=pool)
+        return solve_inventory(model, pool=pool)
 
 
 def _objective(name: str, kind):

@@ -182,11 +182,13 @@ def test_workers_and_scheduler_together_are_refused(cli):
 
 def test_the_api_returns_the_cli_document(cli):
     """`pampipe.design` on a dict with unit-free options gives the `design --json` document."""
+    import pampipe
     from pampipe import api
     from pampipe.io.files import to_json
 
     out = cli("design", RISER, "--json", "--reproducible", "--starts", "3")
     raw = yaml.safe_load(RISER.read_text())
-    result = api.design(raw, base=RISER.parent, starts=3)
+    result = pampipe.design_inventory(raw, base=RISER.parent, starts=3)
+    assert pampipe.design_inventory is api.design_inventory
     assert to_json(result.to_dict(), timings=False).replace("<inventory dict>", "riser.yaml") \
         == out.stdout.replace(str(RISER), str(RISER.parent / "riser.yaml"))

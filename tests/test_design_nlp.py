@@ -14,8 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.design import design_inventory
 from pampipe.design import nlp as design_nlp
+from pampipe.design import solve_inventory
 from pampipe.design.evaluate import designed_pam, evaluate_pipes, objective_value
 from pampipe.design.groups import make_groups, segment_loads
 from pampipe.design.multistart import make_problem, multistart
@@ -111,7 +111,7 @@ def test_the_constraint_rows_are_the_muscle_s_own_numbers(riser):
 def test_the_design_is_no_worse_than_a_20_cubed_grid_search(riser):
     """The grid evaluates the public Muscle API on 8000 geometries (vectorised), keeps the feasible ones
     (clearance, contact margin, stride, stable moduli) and takes the least largest pressure."""
-    result = design_inventory(riser)
+    result = solve_inventory(riser)
     s = riser.space
     n = 20
     grids = [np.linspace(*bounds, n) for bounds in (s.initial_length, s.initial_diameter, s.braid_angle)]

@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     if args.output is not None:
         for path in _outputs(args.output, args.sizes or inventory.space.sizes or 1):
             check_not_input(path, inventory.input_files, option="-o")
-    result = api.design(inventory, objective=args.objective, sizes=args.sizes, starts=args.starts,
+    result = api.design_inventory(inventory, objective=args.objective, sizes=args.sizes, starts=args.starts,
                         seed=args.seed, workers=args.workers, scheduler=args.scheduler)
     inventory = result.inventory
     if args.output is not None and result.feasible:

@@ -6,14 +6,15 @@ material is fixed. It is solved from a Latin hypercube of starts on any executor
 (:mod:`pampipe.parallel`), and with ``design.sizes: K`` up to K muscles are chosen to serve the most
 pipe length (:mod:`pampipe.design.sizes`). Library API::
 
-    from pampipe.io.inventory import load_inventory
-    from pampipe.design import design_inventory
+    import pampipe
+    result = pampipe.design_inventory("inventory.yaml", sizes=2)  # -> DesignResult (pampipe.api)
+    result.sizes[0].pam, result.to_dict()["objective"]            # SI units
 
-    result = design_inventory(load_inventory("inventory.yaml"))   # -> DesignResult
-    result.sizes[0].pam, result.as_document()["objective"]        # SI units
+    from pampipe.design import solve_inventory                    # on a loaded Inventory and an executor
+    result = solve_inventory(pampipe.load_inventory("inventory.yaml"), pool=None)
 """
 
 from pampipe.design.result import DesignResult, SizeResult
-from pampipe.design.workflow import design_inventory
+from pampipe.design.workflow import solve_inventory
 
-__all__ = ["DesignResult", "SizeResult", "design_inventory"]
+__all__ = ["DesignResult", "SizeResult", "solve_inventory"]

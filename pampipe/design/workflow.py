@@ -1,4 +1,4 @@
-"""`design_inventory`: the muscle (or K muscles) for a pipe inventory, on any executor."""
+"""`solve_inventory`: the muscle (or K muscles) for a pipe inventory, on any executor."""
 
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ def check_material(inventory: Inventory) -> Muscle:
     return muscle
 
 
-def design_inventory(inventory: Inventory, *, pool: Executor | None = None) -> DesignResult:
+def solve_inventory(inventory: Inventory, *, pool: Executor | None = None) -> DesignResult:
     """Design the muscle(s) for ``inventory`` (see :mod:`pampipe.design`); the starts run on ``pool``.
 
     Without ``design.sizes`` one muscle must serve every pipe: if none can, the result has
