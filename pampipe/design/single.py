@@ -46,7 +46,6 @@ class SizeDesign:
     """The muscle designed for one set of pipes, with the multi-start runs that found it."""
 
     geometry: tuple[float, float, float]  # (L₀ [m], D₀ [m], α₀ [rad])
-    pipes: Pipes
     runs: tuple[MultiStart, ...]  # the largest-pressure run, then the objective's run (if another)
     largest_pressure: float  # [Pa] the least largest pressure (the relaxed optimum)
 
@@ -78,7 +77,7 @@ def design_for(inventory: Inventory, pipes: Pipes, pool, *, extra: np.ndarray | 
         binding, message = _deletion(inventory, relaxed, pool, first)
         raise DesignInfeasible(message, binding)
     pressure = best.x[3] * inventory.supply_pressure
-    design = SizeDesign(relaxed.geometry(best.x), pipes, (first,), pressure)
+    design = SizeDesign(relaxed.geometry(best.x), (first,), pressure)
     if best.x[3] > 1.0 + 1e-9:
         raise DesignInfeasible(_supply_message(inventory, relaxed, best.x, pipes), "supply_pressure", design)
     if space.objective is Objective.MAX_PRESSURE or not polish:
