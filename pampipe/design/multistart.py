@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pampipe import nlp
 from pampipe.design import nlp as design_nlp
 from pampipe.design.groups import Groups, block_size
 from pampipe.errors import SolverError
@@ -20,8 +21,8 @@ from pampipe.inventory import DesignSpace, Inventory, Objective
 from pampipe.model.muscle import Structure
 from pampipe.parallel import run_all
 
-#: Starts whose objective is within this relative distance of the best "reached" it (IPOPT's tol is
-#: 1e-10 on the scaled problem; distinct local optima of the test inventories differ by > 1e-3).
+#: Starts whose objective is within this relative distance of the best "reached" it: IPOPT stops at
+#: tol 1e-10 on the scaled problem, so starts converging to the same optimum agree far closer.
 REACHED = 1e-6
 #: Sampled starts keep this fraction inside the reach of the widest bore (so that L(D) is real there).
 START_REACH = 0.98
@@ -62,7 +63,7 @@ def solve_start(task: StartTask) -> StartResult:
     """Solve the design NLP from one start (in whatever process runs it)."""
     solver, _ = design_nlp.build(task.structure, task.objective, task.size)
     try:
-        sol, stats = design_nlp.nlp.solve(solver, what="the design NLP", x0=task.x0, p=task.p,
+        sol, stats = nlp.solve(solver, what="the design NLP", x0=task.x0, p=task.p,
                                           lbx=task.lbx, ubx=task.ubx, lbg=task.lbg, ubg=task.ubg)
     except SolverError as exc:
         raw = solver.stats()
