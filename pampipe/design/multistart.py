@@ -64,7 +64,7 @@ def solve_start(task: StartTask) -> StartResult:
     solver, _ = design_nlp.build(task.structure, task.objective, task.size)
     try:
         sol, stats = nlp.solve(solver, what="the design NLP", x0=task.x0, p=task.p,
-                                          lbx=task.lbx, ubx=task.ubx, lbg=task.lbg, ubg=task.ubg)
+                               lbx=task.lbx, ubx=task.ubx, lbg=task.lbg, ubg=task.ubg)
     except SolverError as exc:
         raw = solver.stats()
         nan = np.full(task.x0.shape, np.nan)
