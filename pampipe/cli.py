@@ -15,7 +15,8 @@ from pampipe import __version__
 from pampipe.errors import InputError, PampipeError
 
 #: Command modules under pampipe.commands, in the order --help lists them.
-COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example")
+COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
+            "export")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -16,6 +16,13 @@ Stages of the forward model, in order (hooks of several effects compose):
 
 Adding an effect: subclass :class:`Effect`, declare ``name``, ``parameters`` and override the hooks
 it needs, then list it in :data:`LIBRARY`. Parameter values are SI inside (``values[name]``).
+
+The closed-form least holding pressure (:meth:`pampipe.model.muscle.Muscle.required_pressure`, which
+``pampipe export`` compiles to C) carries an effect whose anchored force stays of the form
+A·f·(F₀ + F₁P − F_a + ((P − P_a)₊/P_ref)(C₀ + C₁P)): an affine pressure map with its inverse
+(``pressure_inverse``), any load map, a radial factor f that does not depend on P, and contact
+increments Δθ (``contact_increments``) as its only in-pipe force increment. An effect that breaks
+this says why in ``no_closed_form``.
 """
 
 from __future__ import annotations
@@ -95,6 +102,7 @@ class Effect:
     signature: ClassVar[str] = ""  # the residual signature (diagnose) that points to this effect
     parameters: ClassVar[tuple[Parameter, ...]] = ()
     tests: ClassVar[frozenset[str]] = frozenset({"axial", "radial"})  # test kinds it changes
+    no_closed_form: ClassVar[str] = ""  # why the closed-form holding pressure cannot carry it ("" if it can)
 
     @property
     def null_values(self) -> dict[str, float]:
@@ -102,6 +110,14 @@ class Effect:
 
     def pressure(self, pressure, values):
         return pressure
+
+    def pressure_inverse(self, pressure, values):
+        """The measured pressure whose ``pressure`` hook gives ``pressure`` (closed-form effects)."""
+        return pressure
+
+    def contact_increments(self, size: int, values):
+        """Δθ [Pa] (``size`` entries, ordered like θ) this effect adds once anchored; None if none."""
+        return None
 
     def load(self, axial_load, values):
         return axial_load
@@ -145,6 +161,8 @@ class BraidExtensibility(Effect):
     section = "9b"
     summary = "the braid fibres stretch under tension, so the anchored length grows with P and F_a"
     signature = "pressure"
+    no_closed_form = ("the braid stretches under its own tension, so the anchored length depends on the "
+                      "pressure through a fixed-point iteration and the holding force is not affine in P")
     parameters = (
         Parameter("compliance", "1/MN", "compliance", 1e-6, 0.0, 2e-5, 0.0,
                   "fibre strain per newton of total braid tension, c_B"),
@@ -165,6 +183,8 @@ class EndEffects(Effect):
     section = "9c"
     summary = "non-cylindrical ends: less enclosed volume and a shorter contact length"
     signature = "stroke_ends"
+    no_closed_form = ("the tapered ends add pressure-dependent terms to the anchored force that shift its "
+                      "zero away from the anchoring pressure at which contact stiffening starts")
     parameters = (
         Parameter("volume_taper", "-", "dimensionless", 1.0, 0.0, 2.0, 0.0, "c_v in V = πD²(L − c_v D)/4"),
         Parameter("end_length", "-", "dimensionless", 1.0, 0.0, 4.0, 0.0,
@@ -201,13 +221,14 @@ class ContactStiffening(Effect):
     )
     tests = frozenset({"radial"})
 
+    def contact_increments(self, size, values):
+        zeros = [0.0] * (size // 4 - 1)
+        return [values["axial_increment"], *zeros, *zeros, 0.0, values["hoop_increment"], *zeros, *zeros, 0.0]
+
     def axial_increment(self, state, values):
         if not state.in_pipe:
             return None
-        k = state.theta.shape[0] // 4
-        zeros = [0.0] * (k - 1)
-        delta = _vector([values["axial_increment"], *zeros, *zeros, 0.0,
-                         values["hoop_increment"], *zeros, *zeros, 0.0], like=state.theta)
+        delta = _vector(self.contact_increments(state.theta.shape[0], values), like=state.theta)
         anchoring = anchoring_pressure(state.diameter, state.geometry, state.theta,
                                        state.reference_pressure, state.axial_load)
         return contact_force_increment(state.pressure, state.length, state.geometry, delta,
@@ -228,6 +249,9 @@ class PressureOffset(Effect):
 
     def pressure(self, pressure, values):
         return values["gain"] * pressure + values["offset"]
+
+    def pressure_inverse(self, pressure, values):
+        return (pressure - values["offset"]) / values["gain"]
 
 
 class AxialPreload(Effect):
@@ -307,6 +331,43 @@ def _sum(active, hook, state, start):
         if term is not None:
             total = total + term
     return total
+
+
+def refusals(effects: Active | None) -> dict[str, str]:
+    """{name: why} of the active effects the closed-form holding pressure cannot carry (see the top)."""
+    return {e.name: e.no_closed_form for e, _ in _resolved(effects) if e.no_closed_form}
+
+
+def effective_load(effects: Active | None, axial_load):
+    """F_a,eff [N]: the axial load after every ``load`` hook."""
+    return _compose(_resolved(effects), "load", axial_load)
+
+
+def measured_pressure(effects: Active | None, pressure):
+    """P_m [Pa] whose ``pressure`` hooks give ``pressure``: their inverses, last effect first."""
+    for effect, values in reversed(_resolved(effects)):
+        pressure = effect.pressure_inverse(pressure, values)
+    return pressure
+
+
+def radial_factor(effects: Active | None, state: State):
+    """Π f [-] of the ``radial_factor`` hooks (1 without); P-independent for closed-form effects."""
+    factor = 1.0
+    for effect, values in _resolved(effects):
+        term = effect.radial_factor(state, values)
+        if term is not None:
+            factor = factor * term
+    return factor
+
+
+def contact_increments(effects: Active | None, theta):
+    """ΣΔθ [Pa] of the ``contact_increments`` hooks, a vector like ``theta``; None without."""
+    total = None
+    for effect, values in _resolved(effects):
+        delta = effect.contact_increments(theta.shape[0], values)
+        if delta is not None:
+            total = list(delta) if total is None else [t + d for t, d in zip(total, delta, strict=True)]
+    return None if total is None else _vector(total, like=theta)
 
 
 def _stretch(active, tension):

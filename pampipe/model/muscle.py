@@ -267,25 +267,52 @@ class Muscle:
         return friction * math.pi * self.radial_force(pressure, diameter, kappa * load)
 
     def required_pressure(self, diameter, load, *, kappa, friction, safety_factor):
-        """Closed-form least holding pressure P* [Pa] (baseline and contact increments; floats or symbols).
+        """Closed-form least holding pressure P* [Pa] (floats or symbols; not valid everywhere, see below).
 
         Above the loaded anchoring pressure P_a = (κW − F₀)/F₁ the holding force is
         x·(F₁ + (C₀ + C₁P)/P_ref) with x = P − P_a (C: contact increments, docs/physics.md §9d), so
         μπA·hold = SF·W gives x = 2R/(b + √(b² + 4aR)) with a = C₁/P_ref, b = F₁ + (C₀ + C₁P_a)/P_ref,
-        R = SF·W/(μπA), and P* = max(P_a + x, 0) (docs/physics.md §8). Valid where F₁ > 0, b > 0 and
-        μ > 0; :meth:`least_holding_pressure` checks that. The exported C code is generated from this.
+        R = SF·W/(μπA), and P* = max(P_a + x, 0) (docs/physics.md §8.3). Diagnosed effects with a closed
+        form are folded in (:mod:`pampipe.model.effects`: the load map gives κW, radial factors scale A,
+        contact stiffening adds to C, and P* is mapped back through the inverse pressure map); the others
+        raise ValueError (:meth:`closed_form_refusals`). Valid where F₁ > 0, μ > 0 and b > 0 or
+        a > 0: :meth:`closed_form_pressure` checks that. The exported C code is generated from this.
         """
-        c = self.affine_coefficients(diameter)
-        anchoring = (kappa * load - c.at_zero) / c.slope
+        return ops.fmax(self._closed_form(diameter, load, kappa, friction, safety_factor)[0], 0.0)
+
+    def closed_form_pressure(self, diameter, load, *, kappa, friction, safety_factor):
+        """:meth:`required_pressure` where its derivation holds, inf elsewhere [Pa] (floats or symbols).
+
+        Holds where F₁ > 0, μ > 0, the quadratic a x² + b x = R has a positive root (b > 0 or a > 0)
+        and P* ≤ 100 MPa. The last test is made before the floor at 0, where it is false for NaN, so
+        that C's NaN-ignoring fmax agrees with numpy's maximum.
+        """
+        inner, valid = self._closed_form(diameter, load, kappa, friction, safety_factor)
+        ok = ops.logical_and(valid, inner <= PRESSURE_LIMIT)
+        return ops.if_else(ok, ops.fmax(inner, 0.0), math.inf)
+
+    def closed_form_refusals(self) -> dict[str, str]:
+        """{effect: why} of this muscle's effects that :meth:`required_pressure` cannot carry."""
+        return effects.refusals(self.effects)
+
+    def _closed_form(self, diameter, load, kappa, friction, safety_factor):
+        """(P* before its floor at 0 [Pa], where its derivation holds) of :meth:`required_pressure`."""
+        refused = self.closed_form_refusals()
+        if refused:
+            raise ValueError(f"no closed-form holding pressure with the effect(s) {', '.join(refused)}")
+        c = self._coefficients(diameter)
+        anchoring = (effects.effective_load(self.effects, kappa * load) - c.at_zero) / c.slope
         target = safety_factor * load / (friction * math.pi * c.amplification)
         a = c.contact_slope / self.reference_pressure
         b = c.slope + (c.contact_at_zero + c.contact_slope * anchoring) / self.reference_pressure
-        return ops.fmax(anchoring + 2 * target / (b + ops.sqrt(b**2 + 4 * a * target)), 0.0)
+        inner = anchoring + 2 * target / (b + ops.sqrt(b**2 + 4 * a * target))
+        valid = ops.logical_and(ops.logical_and(c.slope > 0, friction > 0), ops.logical_or(b > 0, a > 0))
+        return effects.measured_pressure(self.effects, inner), valid
 
     def least_holding_pressure(self, diameter, load, *, kappa, friction, safety_factor):
         """Least P [Pa] with μπF_r(P, D_p, κW) ≥ SF·W while pressing on the wall (docs/physics.md §8).
 
-        Without effects the closed form :meth:`required_pressure`; with effects, bisection on the
+        Without effects the closed form :meth:`closed_form_pressure`; with effects, bisection on the
         model. inf where no pressure up to 100 MPa holds. Numeric inputs (broadcast arrays) only.
         """
         d, w, mu = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (diameter, load, friction)))
@@ -296,13 +323,8 @@ class Muscle:
                 return self.holding_capacity(p, d, w, kappa=kappa, friction=mu) >= safety_factor * w
 
             return np.maximum(_least(holds, d.shape), anchoring)
-        c = self.affine_coefficients(d)
         with np.errstate(divide="ignore", invalid="ignore"):
-            pressure = self.required_pressure(d, w, kappa=kappa, friction=mu, safety_factor=safety_factor)
-            b = c.slope + (c.contact_at_zero + c.contact_slope * (kappa * w - c.at_zero) / c.slope
-                           ) / self.reference_pressure
-        ok = (c.slope > 0) & (b > 0) & np.isfinite(pressure) & (pressure <= PRESSURE_LIMIT) & (mu > 0)
-        return np.where(ok, pressure, np.inf)
+            return self.closed_form_pressure(d, w, kappa=kappa, friction=mu, safety_factor=safety_factor)
 
     def largest_load(self, pressure, diameter, *, kappa, friction, safety_factor):
         """W_max [N] held at pressure P: μπF_r(P, D_p, κW) = SF·W (docs/physics.md §8).
@@ -329,15 +351,25 @@ class Muscle:
         """The fast path's per-pipe numbers at L_p = L(D_p) (baseline and contact increments only)."""
         if self.effects:
             raise ValueError("a muscle with diagnosed effects has no affine coefficients")
+        return self._coefficients(diameter)
+
+    def _coefficients(self, diameter) -> Anchored:
+        """:class:`Anchored` at L_p = L(D_p), with the closed-form effects' radial factor and Δθ folded in."""
         g, pref = self.geometry, self.reference_pressure
         length = braid.length_at_diameter(diameter, g)
         at_zero, slope = forces.axial_force_affine(length, g, self.theta, pref)
-        if self.contact is None:
+        contact = self.contact
+        extra = effects.contact_increments(self.effects, self.theta)
+        if extra is not None:
+            contact = extra if contact is None else contact + extra
+        if contact is None:
             c0 = c1 = 0.0 * length
         else:
-            c0 = forces.bladder_force(0.0, length, g, self.contact, pref)
-            c1 = (forces.bladder_force(pref, length, g, self.contact, pref) - c0) / pref
-        return Anchored(length, braid.amplification_factor(diameter, g), at_zero, slope, c0, c1)
+            c0 = forces.bladder_force(0.0, length, g, contact, pref)
+            c1 = (forces.bladder_force(pref, length, g, contact, pref) - c0) / pref
+        state = effects.State(None, length, diameter, g, self.theta, pref, in_pipe=True)
+        amplification = braid.amplification_factor(diameter, g) * effects.radial_factor(self.effects, state)
+        return Anchored(length, amplification, at_zero, slope, c0, c1)
 
 
 @dataclass(frozen=True)
@@ -345,7 +377,7 @@ class Anchored:
     """At the anchored length: F_ax(P, L_p) = F₀ + F₁P, contact increment ((P − P_a)₊/P_ref)(C₀ + C₁P)."""
 
     length: object  # L_p [m]
-    amplification: object  # A [-]
+    amplification: object  # A [-] (times the radial factor of closed-form effects)
     at_zero: object  # F₀ [N]
     slope: object  # F₁ [N/Pa]
     contact_at_zero: object  # C₀ [N]

@@ -37,3 +37,14 @@ fabs = _pick(np.abs, ca.fabs)
 def softplus(x):
     """log(1 + eˣ), written as max(x, 0) + log1p(e^−|x|) so that it never overflows."""
     return fmax(x, 0) + log1p(exp(-fabs(x)))
+
+
+def if_else(condition, then, otherwise):
+    """``then`` where ``condition`` holds, else ``otherwise`` (np.where / casadi.if_else)."""
+    if any(isinstance(a, _SYMBOLIC) for a in (condition, then, otherwise)):
+        return ca.if_else(condition, then, otherwise)
+    return np.where(condition, then, otherwise)
+
+
+logical_and = _pick(np.logical_and, ca.logic_and)
+logical_or = _pick(np.logical_or, ca.logic_or)

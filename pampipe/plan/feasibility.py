@@ -81,7 +81,7 @@ def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads:
             f"{supply / 1e3:.4g} kPa supply")
     if confidence is not None:
         return hold + "."
-    payload = float(payloads[s].min())
+    payload = float(payloads.min())
     if payload >= 0:
         return f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of payload here."
     return f"{hold}; at the supply it cannot even carry its own weight here, with no payload."

@@ -1,0 +1,88 @@
+"""`pampipe export`: the mission's anchoring law and gait schedule as C (docs/commands.md §7.4)."""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+from pathlib import Path
+
+from pampipe.commands.common import add_output_options, emit
+from pampipe.errors import InputError
+from pampipe.export import DEFAULT_SKETCH, Provenance, export_mission, is_sketch_name
+from pampipe.io.config import load_mission
+from pampipe.io.files import atomic_write_text, check_not_input
+from pampipe.report import table
+
+NAME = "export"
+HELP = ("write the mission's anchoring law and gait schedule as plain C99 (pampipe_plan.h/.c) and an "
+        "Arduino example sketch")
+
+EPILOG = """\
+DIR receives pampipe_plan.h, pampipe_plan.c and DIR_NAME.ino (pampipe_example.ino when the folder's name
+is not a valid Arduino sketch name), so DIR opens as a sketch in the Arduino IDE. The function
+
+  int pampipe_required_pressure(inner_diameter_m, incline_rad, friction, payload_kg, pressure_Pa[])
+
+gives the numbers `pampipe plan` gives for any section, or a reason code; compile with -DPAMPIPE_REAL_FLOAT
+for float. Effects of a diagnosed PAM are exported when the closed form carries them, else refused (exit 2).
+
+examples:
+  pampipe export problems/missions/vertical-climb-3in.yaml -o firmware
+  gcc -std=c99 -c firmware/pampipe_plan.c
+
+exit codes: 0 written; 2 bad input, an effect without a closed form, or outputs that exist (use --force)."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.epilog = EPILOG
+    parser.formatter_class = argparse.RawDescriptionHelpFormatter
+    parser.add_argument("mission", type=Path, metavar="MISSION.yaml",
+                        help="mission file (docs/formats.md §4)")
+    parser.add_argument("-o", "--output", type=Path, metavar="DIR", required=True,
+                        help="folder to write the files into (created if missing)")
+    parser.add_argument("--force", action="store_true", help="overwrite output files that already exist")
+    add_output_options(parser, plots=False)
+
+
+def run(args: argparse.Namespace) -> int:
+    mission = load_mission(args.mission)
+    inputs = list(dict.fromkeys(Path(p) for p in mission.input_files))
+    provenance = Provenance(str(args.mission), tuple((str(p), _sha256(p)) for p in inputs))
+    folder = args.output
+    sketch = folder.resolve().name if is_sketch_name(folder.resolve().name) else DEFAULT_SKETCH
+    export = export_mission(mission, provenance=provenance, sketch_name=sketch)
+    targets = [folder / name for name in export.files]
+    for target in targets:
+        check_not_input(target, inputs, option="-o")
+    existing = [str(t) for t in targets if t.exists()]
+    if existing and not args.force:
+        raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
+                         "or choose another folder.")
+    for target in targets:
+        atomic_write_text(target, export.files[target.name])
+    document = export.as_document()
+    document["output"] = str(folder)
+    emit(args, document, _report(export, folder))
+    return 0
+
+
+def _sha256(path: Path) -> str:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
+
+
+def _report(export, folder: Path) -> str:
+    law = export.law
+    rows = [(s.name, s.diameter * 1e3, s.reason.name.lower(), len(s.steps), s.cycle_time)
+            for s in export.sections]
+    lines = [f"wrote {', '.join(str(folder / n) for n in sorted(export.files))}",
+             f"pampipe_required_pressure: {law.function.n_instructions()} operations; anchoring needs "
+             f"{law.narrowest * 1e3:.4g} mm < D < {law.widest * 1e3:.4g} mm; "
+             f"supply {law.supply_pressure / 1e3:.4g} kPa",
+             table(["section", "D [mm]", "reason", "gait steps", "cycle [s]"], rows)]
+    if export.sketch != f"{folder.resolve().name}.ino":
+        lines.append(f"to open the sketch in the Arduino IDE, put the three files in a folder named "
+                     f"{export.sketch.removesuffix('.ino')}")
+    return "\n".join(lines)

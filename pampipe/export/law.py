@@ -1,0 +1,110 @@
+"""The anchoring law of one mission as a CasADi function of the section: what the C code computes.
+
+For segment i (rear to front) and a section of inner diameter D, incline φ, wall friction μ and
+payload m [kg], with the mission's robot, safety factor SF, load path κ and tether drag built in:
+
+    W_i = g(M|sin φ| + μ cos φ (M − m_i)) + F_tether,   M = Σm_j + m    (pampipe.model.slip)
+    P_i = Muscle.closed_form_pressure(D, W_i, κ, μ, SF)                 (docs/physics.md §8.3)
+
+the same calls `plan` makes, on CasADi symbols instead of numbers. The reasons follow `plan`'s
+order (docs/physics.md §8.4): no wall friction, then a pipe not wider than a muscle at rest, then a
+pipe the braid cannot fill, then a pressure above the supply (inf included).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+import casadi as ca
+import numpy as np
+
+from pampipe.errors import InputError
+from pampipe.model import slip
+from pampipe.plan.problem import mission_muscles
+
+INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
+
+
+class Reason(IntEnum):
+    """Return codes of ``pampipe_required_pressure`` (docs/commands.md §7.4; 5 is an addition)."""
+
+    OK = 0
+    NARROW = 1  # the pipe is not wider than a muscle at rest
+    WIDE = 2  # the pipe is wider than the braid can fill
+    NO_FRICTION = 3  # no wall friction
+    ABOVE_SUPPLY = 4  # a segment needs more than the supply (or no pressure up to 100 MPa holds)
+    BAD_ARGUMENT = 5  # a non-finite argument or a negative payload
+
+
+@dataclass(frozen=True)
+class Law:
+    """The mission's anchoring law: the SX function and the constants of the reason checks (SI)."""
+
+    function: ca.Function  # (D, φ, μ, m) -> P_1..P_n [Pa], inf where the closed form does not hold
+    segments: tuple[str, ...]
+    masses: tuple[float, ...]  # [kg]
+    rest_diameters: tuple[float, ...]  # D₀ per segment [m]
+    largest_diameters: tuple[float, ...]  # D(B/√3) per segment [m]
+    supply_pressure: float  # [Pa]
+    safety_factor: float
+    load_path: str
+    kappa: float
+    tether_drag: float  # [N]
+    payload: float  # the mission's payload [kg]
+    effects: dict  # segment name -> {effect: {parameter: SI value}} of its PAM
+
+    @property
+    def narrowest(self) -> float:
+        """Pipes up to this diameter [m] are too narrow for some muscle (reason 1)."""
+        return max(self.rest_diameters)
+
+    @property
+    def widest(self) -> float:
+        """Pipes from this diameter [m] on are too wide for some braid (reason 2)."""
+        return min(self.largest_diameters)
+
+    def evaluate(self, diameter: float, incline: float, friction: float, payload: float):
+        """(reason, pressures [Pa]) in Python, as the C function answers (NaN where it writes NaN)."""
+        nan = np.full(len(self.segments), np.nan)
+        if not all(np.isfinite([diameter, incline, friction, payload])) or payload < 0:
+            return Reason.BAD_ARGUMENT, nan
+        if not friction > 0:
+            return Reason.NO_FRICTION, nan
+        if diameter <= self.narrowest:
+            return Reason.NARROW, nan
+        if diameter >= self.widest:
+            return Reason.WIDE, nan
+        pressure = np.array([float(p) for p in self.function(diameter, incline, friction, payload)])
+        return (Reason.OK if np.all(pressure <= self.supply_pressure) else Reason.ABOVE_SUPPLY), pressure
+
+
+def mission_law(mission) -> Law:
+    """Build the anchoring law of ``mission`` (InputError if a PAM's effects have no closed form)."""
+    muscles = mission_muscles(mission)
+    refused = [(seg, name, why) for seg, m in zip(mission.segments, muscles, strict=True)
+               for name, why in m.closed_form_refusals().items()]
+    if refused:
+        seg, name, why = refused[0]
+        raise InputError(
+            f"{mission.source}: robot segment {seg.name} (PAM '{seg.pam.name}'): the effect '{name}' cannot "
+            f"be exported to C: {why}. `pampipe plan` handles it by bisection on the model, but the exported "
+            "law is the closed form. Export with a PAM without this effect (e.g. the file `pampipe identify` "
+            "wrote), or with one whose effects are among braid_friction, contact_stiffening, "
+            "pressure_offset, axial_preload and wall_friction.")
+    d, incline, friction, payload = (ca.SX.sym(name) for name in INPUTS)
+    total = sum(seg.mass for seg in mission.segments) + payload
+    outputs = []
+    for seg, muscle in zip(mission.segments, muscles, strict=True):
+        load = slip.anchor_load(total, seg.mass, incline, friction, mission.tether_drag)
+        outputs.append(muscle.closed_form_pressure(d, load, kappa=mission.kappa, friction=friction,
+                                                   safety_factor=mission.safety_factor))
+    function = ca.Function("pampipe_required_pressure", [d, incline, friction, payload], ca.cse(outputs),
+                           list(INPUTS), [f"pressure_{i}" for i in range(len(outputs))])
+    geometry = [seg.pam.geometry for seg in mission.segments]
+    return Law(function, tuple(seg.name for seg in mission.segments),
+               tuple(seg.mass for seg in mission.segments),
+               tuple(g.initial_diameter for g in geometry), tuple(g.largest_diameter for g in geometry),
+               mission.supply_pressure, mission.safety_factor, mission.load_path, mission.kappa,
+               mission.tether_drag, mission.payload,
+               {seg.name: seg.pam.effects for seg in mission.segments if seg.pam.effects})
