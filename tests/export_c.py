@@ -83,8 +83,10 @@ def build(folder: Path, *, real: str = "double") -> Path:
     (folder / "driver.c").write_text(DRIVER)
     exe = folder / f"driver_{real}"
     flags = FLAGS + (FLOAT_FLAGS if real == "float" else [])
-    subprocess.run([compiler(), *flags, "-I", str(folder), "-o", str(exe), str(folder / "pampipe_plan.c"),
-                    str(folder / "driver.c"), "-lm"], check=True, capture_output=True, text=True)
+    sources = [str(folder / "pampipe_plan.c"), str(folder / "driver.c")]
+    done = subprocess.run([compiler(), *flags, "-I", str(folder), "-o", str(exe), *sources, "-lm"],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
     return exe
 
 

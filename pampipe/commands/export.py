@@ -8,7 +8,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit
 from pampipe.errors import InputError
-from pampipe.export import DEFAULT_SKETCH, Provenance, export_mission, is_sketch_name
+from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, Provenance, export_mission, is_sketch_name
 from pampipe.io.config import load_mission
 from pampipe.io.files import atomic_write_text, check_not_input
 from pampipe.report import table
@@ -50,14 +50,14 @@ def run(args: argparse.Namespace) -> int:
     provenance = Provenance(str(args.mission), tuple((str(p), _sha256(p)) for p in inputs))
     folder = args.output
     sketch = folder.resolve().name if is_sketch_name(folder.resolve().name) else DEFAULT_SKETCH
-    export = export_mission(mission, provenance=provenance, sketch_name=sketch)
-    targets = [folder / name for name in export.files]
+    targets = [folder / name for name in (HEADER, SOURCE, f"{sketch}.ino")]
     for target in targets:
         check_not_input(target, inputs, option="-o")
     existing = [str(t) for t in targets if t.exists()]
     if existing and not args.force:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
+    export = export_mission(mission, provenance=provenance, sketch_name=sketch)
     for target in targets:
         atomic_write_text(target, export.files[target.name])
     document = export.as_document()

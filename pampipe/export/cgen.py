@@ -123,6 +123,7 @@ def string(text: str) -> str:
 
 
 def comment(text: str) -> str:
-    """``text`` made safe inside a /* */ comment: ASCII, no comment end, no line splice."""
+    """``text`` made safe inside a /* */ comment: ASCII, no comment start or end, trigraph or splice."""
     safe = text.encode("ascii", "backslashreplace").decode("ascii").replace("\\", "/")
-    return "".join(c if 32 <= ord(c) < 127 else " " for c in safe).replace("*/", "* /")
+    safe = "".join(c if 32 <= ord(c) < 127 else " " for c in safe)
+    return safe.replace("*/", "* /").replace("/*", "/ *").replace("??", "? ?")
