@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.export import Provenance, export_mission
+from pampipe.export import Provenance, generate
 from pampipe.export.law import mission_law
 from pampipe.export.sources import source
 from pampipe.io.config import load_mission
@@ -101,7 +101,7 @@ def main() -> None:
     provenance = Provenance(str(MISSION), ())
 
     t_all = time.perf_counter()
-    export = export_mission(mission, provenance=provenance)
+    export = generate(mission, provenance=provenance)
     t_all = time.perf_counter() - t_all
     t_law = best(lambda: source(mission_law(mission), export.sections, provenance), 3)
 

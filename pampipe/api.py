@@ -164,6 +164,28 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
 
+def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None):
+    """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
+    the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
+    names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
+    The header records the SHA-256 of every input file (none for a dict).
+    """
+    import hashlib
+
+    from pampipe.errors import InputError
+    from pampipe.export import Provenance, generate
+
+    model = load_mission(mission, base=base)
+    inputs = []
+    for path in dict.fromkeys(Path(p) for p in model.input_files):
+        if path.is_file():
+            try:
+                inputs.append((str(path), hashlib.sha256(path.read_bytes()).hexdigest()))
+            except OSError as exc:
+                raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
+    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name)
+
+
 def load_inventory(inventory: Source, *, base=None):
     """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §7.7)."""
     from pampipe.inventory import Inventory

@@ -26,9 +26,11 @@ import numpy as np
 import pytest
 import yaml
 
+import pampipe
 from pampipe.cli import main
-from pampipe.export import Provenance, export_mission
+from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
+from pampipe.io.files import to_json
 from pampipe.mission import Section
 from pampipe.plan import plan_mission
 from pampipe.plan.checks import PRESSURE_FLOOR
@@ -88,7 +90,7 @@ def thin_cubic_mission(folder):
 
 
 def write_export(mission, folder):
-    export = export_mission(mission, provenance=Provenance(str(mission.source), ()))
+    export = generate(mission, provenance=Provenance(str(mission.source), ()))
     folder.mkdir(parents=True, exist_ok=True)
     for name, text in export.files.items():
         (folder / name).write_text(text)
@@ -289,6 +291,22 @@ def test_export_command(tmp_path, capsys):
     assert main(["export", str(mission), "-o", str(odd)]) == 0
     assert (odd / "pampipe_example.ino").exists()
     assert "folder named pampipe_example" in capsys.readouterr().out
+
+
+def test_api_returns_the_command_document(tmp_path, capsys):
+    """pampipe.export_mission on a path and on a dict: the CLI's --json document, and the same files."""
+    mission = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
+    capsys.readouterr()
+    assert main(["export", str(mission), "-o", str(tmp_path / "pampipe_example"), "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    export = pampipe.export_mission(str(mission))
+    assert json.loads(to_json(export.to_dict())) == printed
+    assert all((tmp_path / "pampipe_example" / n).read_text() == t for n, t in export.files.items())
+    raw = yaml.safe_load(mission.read_text())
+    from_dict = pampipe.export_mission(raw, base=mission.parent)
+    body = export.files["pampipe_plan.c"].split("*/", 1)[1]  # after the provenance comment
+    assert from_dict.files["pampipe_plan.c"].split("*/", 1)[1] == body
+    assert from_dict.provenance.inputs[0][0].endswith("paper-radial-pam.yaml")  # a dict has no bytes to hash
 
 
 def test_export_never_writes_over_an_input(tmp_path, capsys):

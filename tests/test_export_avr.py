@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from pampipe.export import Provenance, export_mission
+from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
 from pampipe.plan import plan_mission
 from tests.conftest import PROBLEMS
@@ -91,7 +91,7 @@ def _missing(*tools: str) -> list[str]:
 
 def _export(folder: Path):
     mission = load_mission(MISSION)
-    export = export_mission(mission, provenance=Provenance(str(MISSION), ()), sketch_name=folder.name)
+    export = generate(mission, provenance=Provenance(str(MISSION), ()), sketch_name=folder.name)
     folder.mkdir(parents=True, exist_ok=True)
     for name, text in export.files.items():
         (folder / name).write_text(text)

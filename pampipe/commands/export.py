@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import hashlib
 from pathlib import Path
 
+from pampipe.api import export_mission, load_mission
 from pampipe.commands.common import add_output_options, emit
 from pampipe.errors import InputError
-from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, Provenance, export_mission, is_sketch_name
-from pampipe.io.config import load_mission
+from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_text, check_not_input
 from pampipe.report import table
 
@@ -47,7 +46,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     mission = load_mission(args.mission)
     inputs = list(dict.fromkeys(Path(p) for p in mission.input_files))
-    provenance = Provenance(str(args.mission), tuple((str(p), _sha256(p)) for p in inputs))
     folder = args.output
     sketch = folder.resolve().name if is_sketch_name(folder.resolve().name) else DEFAULT_SKETCH
     targets = [folder / name for name in (HEADER, SOURCE, f"{sketch}.ino")]
@@ -57,20 +55,11 @@ def run(args: argparse.Namespace) -> int:
     if existing and not args.force:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
-    export = export_mission(mission, provenance=provenance, sketch_name=sketch)
+    export = export_mission(mission, sketch_name=sketch)
     for target in targets:
         atomic_write_text(target, export.files[target.name])
-    document = export.as_document()
-    document["output"] = str(folder)
-    emit(args, document, _report(export, folder))
+    emit(args, export.to_dict(), _report(export, folder))
     return 0
-
-
-def _sha256(path: Path) -> str:
-    try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
 
 
 def _report(export, folder: Path) -> str:

@@ -2,12 +2,13 @@
 
 Library API (no file I/O here: the texts come back, :mod:`pampipe.commands.export` writes them)::
 
-    from pampipe.export import Provenance, export_mission
+    from pampipe.export import Provenance, generate
 
-    export = export_mission(mission, provenance=Provenance("mission.yaml", (("mission.yaml", sha),)))
+    export = generate(mission, provenance=Provenance("mission.yaml", (("mission.yaml", sha),)))
     export.files["pampipe_plan.h"], export.files["pampipe_plan.c"], export.files["pampipe_example.ino"]
     export.law.evaluate(0.0762, 1.5708, 0.3, 2.0)     # the C function's answer, in Python
 
+``pampipe.export_mission`` (:mod:`pampipe.api`) takes a file path or a dict and hashes the inputs.
 The law is :meth:`pampipe.model.muscle.Muscle.closed_form_pressure` on CasADi symbols, written to C
 by :mod:`pampipe.export.cgen`; the gait table is :func:`pampipe.gait.sequential_gait` per section.
 """
@@ -48,7 +49,7 @@ class Export:
     provenance: Provenance
     sketch: str  # the sketch's file name
 
-    def as_document(self) -> dict:
+    def to_dict(self) -> dict:
         """The ``export`` JSON summary (SI, unit-suffixed keys)."""
         law = self.law
         return {
@@ -67,7 +68,7 @@ class Export:
         }
 
 
-def export_mission(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH) -> Export:
+def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH) -> Export:
     """The C export of ``mission`` (InputError if a PAM's effects have no closed form)."""
     if not is_sketch_name(sketch_name):
         raise ValueError(f"{sketch_name!r} is not an Arduino sketch name")
@@ -79,4 +80,4 @@ def export_mission(mission, *, provenance: Provenance, sketch_name: str = DEFAUL
 
 
 __all__ = ["DEFAULT_SKETCH", "HEADER", "SOURCE", "Export", "GaitStep", "Law", "Provenance", "Reason",
-           "SectionGait", "export_mission", "is_sketch_name"]
+           "SectionGait", "generate", "is_sketch_name"]
