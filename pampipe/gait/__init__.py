@@ -10,11 +10,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from pampipe.gait.optimal import WarmStart, solve_optimal
+from pampipe.gait.optimal import WarmStart, problem_key, solve_optimal
 from pampipe.gait.options import GaitOptions, gait_options
 from pampipe.gait.requirements import find_section, section_needs
 from pampipe.gait.result import GaitResult, evaluate
-from pampipe.gait.schedule import ControlPlan, sequential_plan, simulate
+from pampipe.gait.schedule import ControlPlan, sequential_plan
+from pampipe.gait.simulation import simulate
 from pampipe.mission import Mission
 
 __all__ = ["GaitOptions", "GaitResult", "gait_options", "optimal_gait", "sequential_gait"]
@@ -24,10 +25,10 @@ def sequential_gait(mission: Mission, section: str | None = None, *,
                     options: GaitOptions | None = None, samples: int = 100) -> GaitResult:
     """The sequential schedule in ``section`` (default: the first), simulated ``samples`` per step."""
     options = options or gait_options(mission.gait, source=mission.source)
-    where = find_section(mission, section)
-    needs = section_needs(mission, where, options)
+    index = find_section(mission, section)
+    needs = section_needs(mission, index, options)
     plan = sequential_plan(needs, supply=mission.supply_pressure, options=options)
-    return evaluate(where.name, "sequential", needs, plan, supply=mission.supply_pressure,
+    return evaluate(mission.route[index].name, "sequential", needs, plan, supply=mission.supply_pressure,
                     options=options, samples=samples)
 
 
@@ -35,18 +36,30 @@ def optimal_gait(mission: Mission, section: str | None = None, *, options: GaitO
                  baseline: GaitResult | None = None, refine: int = 10,
                  warm_start: WarmStart | None = None) -> GaitResult:
     """The time-optimal gait in ``section``, re-simulated exactly on a grid ``refine``× finer than
-    the optimiser's. ``baseline`` (the sequential gait) is the initial guess, unless ``warm_start``
-    (``GaitResult.warm_start`` of an earlier optimal gait of the same structure) is given.
+    the optimiser's.
+
+    ``warm_start`` (``GaitResult.warm_start`` of an earlier optimal gait of the same structure)
+    starts IPOPT from that solution, and then no sequential schedule is computed. Otherwise the
+    sequential schedule is the initial guess: ``baseline`` if given (its section and thresholds
+    are used as they are), else computed here.
     """
     options = options or gait_options(mission.gait, source=mission.source)
-    baseline = baseline or sequential_gait(mission, section, options=options)
-    needs = baseline.needs
-    n = options.intervals
-    guess = ControlPlan(baseline.plan.durations, np.repeat(baseline.plan.commands, n, axis=1),
-                        baseline.plan.start)
-    nodes = simulate(needs, guess, supply=mission.supply_pressure, options=options, samples=1).pressures
-    plan, info, after = solve_optimal(needs, guess, nodes, supply=mission.supply_pressure, options=options,
+    if baseline is not None:
+        name, needs = baseline.section, baseline.needs
+    else:
+        index = find_section(mission, section)
+        name, needs = mission.route[index].name, section_needs(mission, index, options)
+    supply = mission.supply_pressure
+    guess = nodes = None
+    if warm_start is None or warm_start.key != problem_key(needs, options):
+        start = baseline.plan if baseline is not None else sequential_plan(needs, supply=supply,
+                                                                           options=options)
+        guess = ControlPlan(start.durations, np.repeat(start.commands, options.intervals, axis=1),
+                            start.start)
+        nodes = simulate(tuple(n.chamber for n in needs), guess, supply=supply, options=options,
+                         samples=1).pressures
+    plan, info, after = solve_optimal(needs, guess, nodes, supply=supply, options=options,
                                       warm_start=warm_start)
-    result = evaluate(baseline.section, "optimal", needs, plan, supply=mission.supply_pressure,
-                      options=options, samples=refine, solver=info)
+    result = evaluate(name, "optimal", needs, plan, supply=supply, options=options, samples=refine,
+                      solver=info)
     return replace(result, warm_start=after)

@@ -35,7 +35,7 @@ import casadi as ca
 import numpy as np
 
 from pampipe.gait.options import GaitOptions, Gas, Valve
-from pampipe.gait.pneumatics import SHAPE_DEGREE, Chamber, pressure_rate
+from pampipe.gait.pneumatics import CHAMBER_SIZE, Chamber, pressure_rate
 from pampipe.gait.requirements import MuscleNeed
 from pampipe.gait.schedule import PHASES, ControlPlan
 from pampipe.model.muscle import Muscle, Structure
@@ -48,7 +48,7 @@ GLOBALS = 8  # supply, p_atm, T, n, C, b, vented, contact margin
 
 #: Per-segment parameters ahead of the muscle's own: the chamber (V_p, V₀, P_a, shape) and
 #: D_p, W, κ, μ, SF and the hold scale 1/max(SF·W, 1 N).
-_NEED = 3 + SHAPE_DEGREE + 6
+_NEED = CHAMBER_SIZE + 6
 
 
 def _muscle_parameter_size(structure: Structure) -> int:
@@ -56,11 +56,9 @@ def _muscle_parameter_size(structure: Structure) -> int:
 
 
 def _muscle_parameters(need: MuscleNeed) -> np.ndarray:
-    ch = need.chamber
-    return np.concatenate([[ch.anchored_volume, ch.rest_volume, ch.anchoring_pressure], ch.shape,
-                           [need.pipe_diameter, need.load, need.kappa, need.friction,
-                            need.safety_factor, 1.0 / max(need.safety_factor * need.load, 1.0)],
-                           need.muscle.parameter_vector()])
+    hold = [need.pipe_diameter, need.load, need.kappa, need.friction, need.safety_factor,
+            1.0 / max(need.safety_factor * need.load, 1.0)]
+    return np.concatenate([need.chamber.as_vector(), hold, need.muscle.parameter_vector()])
 
 
 def _global_parameters(supply: float, options: GaitOptions) -> np.ndarray:
@@ -89,11 +87,10 @@ def _holding_function(structure: Structure) -> ca.Function:
 def _rk4_step(substeps: int, subsonic_index: float):
     """One control interval: x⁺ = RK4^M(x, u, h) for one chamber, scaled states, u ∈ [0, 1]."""
     x, u, h = ca.SX.sym("x"), ca.SX.sym("u"), ca.SX.sym("h")
-    chamber_p = ca.SX.sym("chamber", 3 + SHAPE_DEGREE)
+    chamber_p = ca.SX.sym("chamber", CHAMBER_SIZE)
     gp = ca.SX.sym("globals", GLOBALS)
     direction = ca.SX.sym("direction")  # +1 fill, −1 vent
-    chamber = Chamber(chamber_p[0], chamber_p[1], chamber_p[2],
-                      tuple(chamber_p[3 + j] for j in range(SHAPE_DEGREE)))
+    chamber = Chamber.from_vector(chamber_p)
     valve, gas = Valve(gp[4], gp[5], subsonic_index), Gas(gp[2], gp[3], gp[1])
 
     def f(state):
@@ -175,7 +172,7 @@ def _problem(structures: tuple[Structure, ...], intervals: int, substeps: int,
         direction = np.array([[-1.0 if roles[i][j] == "fall" else 1.0 for j in moving]])
         step = _rk4_step(substeps, subsonic_index).map(len(moving))
         nxt = step(x[i, moving], u[i, moving], widths[moving], direction,
-                   ca.repmat(muscle_p[i][:3 + SHAPE_DEGREE], 1, len(moving)),
+                   ca.repmat(muscle_p[i][:CHAMBER_SIZE], 1, len(moving)),
                    ca.repmat(gp, 1, len(moving)))
         constrain(x[i, [j + 1 for j in moving]] - nxt, 0, 0)
         constrain(x[i, [j + 1 for j in still]] - x[i, still], 0, 0)
@@ -212,15 +209,20 @@ def _problem(structures: tuple[Structure, ...], intervals: int, substeps: int,
     return _Problem(solver, lbx, ubx, np.concatenate(lbg), np.concatenate(ubg), intervals)
 
 
-def solve_optimal(needs: tuple[MuscleNeed, ...], guess: ControlPlan, guess_nodes: np.ndarray, *,
-                  supply: float, options: GaitOptions, warm_start: WarmStart | None = None
+def problem_key(needs: tuple[MuscleNeed, ...], options: GaitOptions) -> tuple:
+    """What the NLP is built for: the muscles' structures, the grid and the valve's subsonic index."""
+    return (tuple(n.muscle.structure for n in needs), options.intervals, options.substeps,
+            options.valve.subsonic_index)
+
+
+def solve_optimal(needs: tuple[MuscleNeed, ...], guess: ControlPlan | None, guess_nodes: np.ndarray | None,
+                  *, supply: float, options: GaitOptions, warm_start: WarmStart | None = None
                   ) -> tuple[ControlPlan, dict, WarmStart]:
     """Solve the time-optimal gait from ``warm_start`` (a previous solution of the same structure) if
     given, else from ``guess`` (a plan on the same grid) and its node pressures ``guess_nodes``
     (nodes × 3). Returns the plan, solver facts and the warm start for the next solve.
     """
-    key = (tuple(n.muscle.structure for n in needs), options.intervals, options.substeps,
-           options.valve.subsonic_index)
+    key = problem_key(needs, options)
     started = time.perf_counter()
     built = _problem.cache_info().currsize
     problem = _problem(*key)
@@ -229,6 +231,8 @@ def solve_optimal(needs: tuple[MuscleNeed, ...], guess: ControlPlan, guess_nodes
     p = np.concatenate([_global_parameters(supply, options), *(_muscle_parameters(n) for n in needs)])
     phases, nodes, _ = _layout(options.intervals)
     warm = warm_start is not None and warm_start.key == key
+    if not warm and guess is None:
+        raise ValueError("solve_optimal needs a guess and its node pressures without a matching warm start")
     if warm:
         x0, extra = warm_start.x, {"lam_x0": warm_start.lam_x, "lam_g0": warm_start.lam_g}
     else:

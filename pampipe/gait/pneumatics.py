@@ -19,15 +19,18 @@ Pressures named ``pressure`` are gauge [Pa]; the gas law uses absolute pressure 
   ṗ = n·R·T·ṁ / (V + n·p·V′(P)) [Pa/s]. n = 1 is exact mass conservation at constant temperature
   (thin rubber walls and second-long fills exchange heat well, the usual choice for PAMs); n = 1.4
   is the adiabatic limit, the fastest possible pressure rise.
+* **Transition time** with the valve fully open: the ODE is autonomous and monotone, so
+  t = ∫_{P₀}^{P₁} dP/ṗ(P) [s], integrated by CVODES (built once; parameters: the end pressures,
+  chamber, valve and gas).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 import casadi as ca
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from pampipe.errors import SolverError
 from pampipe.gait.options import Gas, Valve
@@ -39,6 +42,8 @@ ISO_TEMPERATURE = 293.15  # T₀ [K]
 FLOW_REGULARISATION = 1e-6  # ε of the subsonic branch
 SHAPE_DEGREE = 5  # degree of the free-contraction volume polynomial q(z)
 CONTACT_SMOOTHING = 0.004  # w: width of the smooth contact corner, as a fraction of P_a
+CHAMBER_SIZE = 3 + SHAPE_DEGREE  # entries of Chamber.as_vector
+FLOW_SIZE = 7  # entries of flow_vector
 
 
 def _is_symbolic(*values) -> bool:
@@ -85,6 +90,16 @@ class Chamber:
         shape = tuple(float(c) for c in np.append(head, 1 - head.sum()))
         return cls(anchored, rest, anchoring, shape)
 
+    def as_vector(self) -> np.ndarray:
+        """[V_p, V₀, P_a, c₁…c_K] (SI), the layout of :meth:`from_vector`."""
+        return np.array([self.anchored_volume, self.rest_volume, self.anchoring_pressure, *self.shape],
+                        dtype=float)
+
+    @classmethod
+    def from_vector(cls, v) -> Chamber:
+        """The chamber of a vector (numbers or a CasADi symbol) laid out as :meth:`as_vector`."""
+        return cls(v[0], v[1], v[2], tuple(v[3 + j] for j in range(SHAPE_DEGREE)))
+
     def _depth(self, pressure):
         """(z, dz/dP): z = smooth max(0, 1 − P/P_a) = ½(y + √(y² + w²)), y = 1 − P/P_a."""
         y = 1 - pressure / self.anchoring_pressure
@@ -102,6 +117,18 @@ class Chamber:
         z, dz = self._depth(pressure)
         dq = sum((j + 1) * self.shape[j] * z**j for j in range(len(self.shape)))
         return -(self.anchored_volume - self.rest_volume) * dq * dz
+
+
+def flow_vector(supply: float, valve: Valve, gas: Gas) -> np.ndarray:
+    """[p_supply (gauge), p_atm, T, n, C, b, m] (SI), the layout of :func:`unpack_flow`."""
+    return np.array([supply, gas.atmospheric_pressure, gas.temperature, gas.polytropic_index,
+                     valve.sonic_conductance, valve.critical_pressure_ratio, valve.subsonic_index],
+                    dtype=float)
+
+
+def unpack_flow(v) -> tuple:
+    """(supply, valve, gas) of a vector (numbers or a CasADi symbol) laid out as :func:`flow_vector`."""
+    return v[0], Valve(v[4], v[5], v[6]), Gas(v[2], v[3], v[1])
 
 
 def flow_function(ratio, valve: Valve):
@@ -138,11 +165,30 @@ def pressure_rate(pressure, command, chamber: Chamber, *, supply: float, valve: 
     return n * GAS_CONSTANT * gas.temperature * flow / capacity
 
 
+@cache
+def _transition_integrator() -> ca.Function:
+    """CVODES on dt/ds = (P₁ − P₀)/ṗ(P₀ + s(P₁ − P₀)), s ∈ [0, 1]: t(1) is the transition time [s].
+
+    Parameters: [P₀, P₁, u, flow vector, chamber vector]. Adams at relative tolerance 1e-12.
+    """
+    t, s = ca.SX.sym("t"), ca.SX.sym("s")
+    q = ca.SX.sym("q", 3 + FLOW_SIZE + CHAMBER_SIZE)
+    supply, valve, gas = unpack_flow(q[3:3 + FLOW_SIZE])
+    chamber = Chamber.from_vector(q[3 + FLOW_SIZE:])
+    span = q[1] - q[0]
+    rate = pressure_rate(q[0] + s * span, (ca.fmax(q[2], 0), ca.fmax(-q[2], 0)), chamber, supply=supply,
+                         valve=valve, gas=gas)
+    return ca.integrator("transition_time", "cvodes", {"x": t, "t": s, "p": q, "ode": span / rate}, 0.0, 1.0,
+                         {"reltol": 1e-12, "abstol": 1e-12, "linear_multistep_method": "adams",
+                          "max_num_steps": 100000})
+
+
 def transition_time(chamber: Chamber, start: float, target: float, *, supply: float, valve: Valve,
                     gas: Gas) -> float:
     """Time [s] to go from gauge ``start`` to ``target`` with the valve fully open (u = ±1).
 
-    Filling when target > start (target must be below the supply), venting otherwise.
+    Filling when target > start (target must be below the supply), venting otherwise:
+    t = ∫ dP/ṗ(P), finite because ṗ vanishes only at the supply (filling) and at 0 Pa (venting).
     """
     if target == start:
         return 0.0
@@ -150,21 +196,15 @@ def transition_time(chamber: Chamber, start: float, target: float, *, supply: fl
     if command > 0 and target >= supply:
         raise SolverError(f"cannot fill to {target:.6g} Pa: the supply is {supply:.6g} Pa (gauge)",
                           status="unreachable")
-
-    def rate(_, y):
-        return [float(pressure_rate(y[0], command, chamber, supply=supply, valve=valve, gas=gas))]
-
-    def reached(_, y):
-        return y[0] - target
-
-    reached.terminal = True
-    # the slowest rate along the way bounds the time; fill/vent rates vanish only at the end points
-    span = 10.0
-    for _ in range(12):
-        sol = solve_ivp(rate, (0.0, span), [start], events=reached, rtol=1e-10, atol=1e-6,
-                        method="LSODA")
-        if sol.t_events[0].size:
-            return float(sol.t_events[0][0])
-        span *= 4
-    raise SolverError(f"the pressure never reached {target:.6g} Pa from {start:.6g} Pa "
-                      "(is the valve too small?)", status="unreachable")
+    if command < 0 and target <= 0:
+        raise SolverError(f"cannot vent to {target:.6g} Pa gauge: venting stops at the atmosphere",
+                          status="unreachable")
+    q = np.concatenate([[start, target, command], flow_vector(supply, valve, gas), chamber.as_vector()])
+    try:
+        time = float(_transition_integrator()(x0=0.0, p=q)["xf"])
+    except RuntimeError:
+        time = np.inf
+    if not np.isfinite(time) or time < 0:
+        raise SolverError(f"the pressure never reached {target:.6g} Pa from {start:.6g} Pa "
+                          "(is the valve too small?)", status="unreachable")
+    return time

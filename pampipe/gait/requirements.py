@@ -1,8 +1,8 @@
 """What each muscle must do in one pipe section: contact pressure, no-slip pressure, planned target.
 
-The planned pressures (and the reason a section cannot be crossed) come from the planner,
-:func:`pampipe.plan.plan_mission`; the thresholds from the model (docs/physics.md §7-§8): contact
-(anchoring) at P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
+The thresholds, loads and anchored lengths (and the reason a section cannot be crossed) are the
+planner's, :func:`pampipe.plan.plan_mission` (docs/physics.md §7-§8): contact (anchoring) at
+P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
 """
 
 from __future__ import annotations
@@ -14,8 +14,7 @@ import numpy as np
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.gait.options import GaitOptions
 from pampipe.gait.pneumatics import Chamber
-from pampipe.mission import Mission, Section
-from pampipe.model import slip
+from pampipe.mission import Mission
 from pampipe.model.muscle import Muscle
 from pampipe.plan import plan_mission
 
@@ -28,8 +27,8 @@ class MuscleNeed:
     muscle: Muscle
     pipe_diameter: float  # D_p [m]
     contact_pressure: float  # P_a [Pa]: the braid touches the wall (no load)
-    required_pressure: float  # [Pa]: least pressure with μπF_r ≥ SF·W (no slip), as plan computes it
-    target_pressure: float  # [Pa]: the planned pressure of this segment
+    required_pressure: float  # [Pa]: least pressure with μπF_r ≥ SF·W (no slip), the plan's
+    target_pressure: float  # [Pa]: the pressure the gait fills to (the plan's, so equal to the above)
     load: float  # W [N] it must hold alone
     friction: float
     kappa: float
@@ -48,50 +47,38 @@ class MuscleNeed:
         return capacity / max(self.safety_factor * self.load, 1e-9)
 
 
-def find_section(mission: Mission, name: str | None) -> Section:
-    """The route section called ``name`` (default: the first)."""
+def find_section(mission: Mission, name: str | None) -> int:
+    """Index of the route section called ``name`` (default: the first)."""
     if name is None:
-        return mission.route[0]
-    for section in mission.route:
+        return 0
+    for index, section in enumerate(mission.route):
         if section.name == name:
-            return section
+            return index
     raise InputError(f"{mission.source}: --section {name!r}: no such section; the route has "
                      f"{', '.join(repr(s.name) for s in mission.route)}.")
 
 
-def section_needs(mission: Mission, section: Section, options: GaitOptions) -> tuple[MuscleNeed, ...]:
-    """Thresholds, loads and chambers of the three segments in ``section``.
+def section_needs(mission: Mission, index: int, options: GaitOptions) -> tuple[MuscleNeed, ...]:
+    """Thresholds, loads and chambers of the three segments in route section ``index``.
 
-    Raises :class:`InfeasibleError` with the reason when the section cannot be crossed.
+    The contact and no-slip pressures, the load and the anchored length are the plan's own
+    (:func:`pampipe.plan.plan_mission`, whose arrays hold them), so gait and plan agree by construction.
+    Raises :class:`InfeasibleError` with the plan's reason when the section cannot be crossed.
     """
-    muscles = tuple(Muscle.from_pam(segment.pam, where=f"{mission.source}: robot.segments[{i}]")
-                    for i, segment in enumerate(mission.segments))
-    targets = _planned_pressures(mission, section)
-    total_mass = sum(s.mass for s in mission.segments) + mission.payload
+    plan = plan_mission(mission)
+    a, section = plan.arrays, mission.route[index]
+    if a.reasons[index] is not None:
+        raise InfeasibleError(f"section {section.name!r} cannot be crossed: {a.reasons[index]}")
     needs = []
-    for segment, muscle, target in zip(mission.segments, muscles, targets, strict=True):
+    for i, (segment, muscle) in enumerate(zip(mission.segments, plan.muscles, strict=True)):
         d = section.diameter
-        load = float(slip.anchor_load(total_mass, segment.mass, section.incline, section.friction,
-                                      mission.tether_drag))
-        contact = float(muscle.anchoring_pressure(d))
-        required = float(muscle.least_holding_pressure(d, load, kappa=mission.kappa,
-                                                       friction=section.friction,
-                                                       safety_factor=mission.safety_factor))
+        contact, required = float(a.anchoring_pressure[index, i]), float(a.pressure[index, i])
         if options.vented_pressure >= contact:
             raise InputError(f"{mission.source}: gait.vented_pressure: {options.vented_pressure:.6g} Pa "
                              f"must be below the contact pressure of {segment.name} "
                              f"({contact:.6g} Pa) in section {section.name!r}.")
-        needs.append(MuscleNeed(segment.name, muscle, d, contact, required, max(target, required), load,
-                                section.friction, mission.kappa, mission.safety_factor,
-                                Chamber.of_muscle(muscle, d), float(muscle.anchored_length(d))))
+        needs.append(MuscleNeed(segment.name, muscle, d, contact, required, required,
+                                float(a.required_hold[index, i]), section.friction, mission.kappa,
+                                mission.safety_factor, Chamber.of_muscle(muscle, d),
+                                float(a.anchored_length[index, i])))
     return tuple(needs)
-
-
-def _planned_pressures(mission: Mission, section: Section) -> list[float]:
-    """The plan's pressure of each segment in ``section``; InfeasibleError with the plan's reason."""
-    for planned in plan_mission(mission).sections:
-        if planned.name == section.name:
-            if not planned.feasible:
-                raise InfeasibleError(f"section {section.name!r} cannot be crossed: {planned.reason}")
-            return [float(s.pressure) for s in planned.segments]
-    raise InputError(f"{mission.source}: the plan has no section {section.name!r}.")

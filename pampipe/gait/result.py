@@ -15,12 +15,11 @@ from pampipe.gait.schedule import (
     POSITION_KEYS,
     STEPS,
     ControlPlan,
-    Trajectory,
     lengths,
     positions,
-    simulate,
     valve_action,
 )
+from pampipe.gait.simulation import Trajectory, simulate
 
 
 @dataclass(frozen=True)
@@ -92,9 +91,10 @@ def evaluate(section: str, schedule: str, needs: tuple[MuscleNeed, ...], plan: C
              supply: float, options: GaitOptions, samples: int = 10,
              solver: dict | None = None) -> GaitResult:
     """Simulate ``plan`` (``samples`` points per control interval) and collect steps, stride, margins."""
-    trajectory = simulate(needs, plan, supply=supply, options=options, samples=samples)
-    ends, mismatch = positions(needs, trajectory.pressures)
+    trajectory = simulate(tuple(n.chamber for n in needs), plan, supply=supply, options=options,
+                          samples=samples)
     size = lengths(needs, trajectory.pressures)
+    ends, mismatch = positions(needs, trajectory.pressures, size)
     names = [n.name for n in needs]
     ratios = np.stack([needs[i].holding_ratio(trajectory.pressures[:, i]) * needs[i].safety_factor
                        for i in range(3)], axis=1)

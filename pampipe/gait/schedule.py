@@ -21,11 +21,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from pampipe.errors import SolverError
 from pampipe.gait.options import GaitOptions
-from pampipe.gait.pneumatics import pressure_rate, transition_time
+from pampipe.gait.pneumatics import transition_time
 from pampipe.gait.requirements import MuscleNeed
 
 STEPS = ("I", "II", "III", "IV", "V", "VI", "VII")
@@ -93,76 +92,46 @@ class ControlPlan:
     start: np.ndarray  # (3,) gauge pressures [Pa] at the start of step II's transition
 
 
-@dataclass(frozen=True)
-class Trajectory:
-    """Pressures sampled in time (SI): ``phase[k]`` is the phase index of sample k."""
-
-    times: np.ndarray
-    pressures: np.ndarray  # (n, 3)
-    phase: np.ndarray  # (n,)
-    boundaries: np.ndarray  # sample index of each phase end (6,)
-
-
-def simulate(needs: tuple[MuscleNeed, ...], plan: ControlPlan, *, supply: float, options: GaitOptions,
-             samples: int = 10) -> Trajectory:
-    """Integrate the three chambers under ``plan`` (adaptive RK45, rtol 1e-10), ``samples`` per interval."""
-    times, pressures, phase, boundaries = [0.0], [np.asarray(plan.start, dtype=float)], [0], []
-    t0, state = 0.0, np.asarray(plan.start, dtype=float)
-    for k, duration in enumerate(plan.durations):
-        intervals = plan.commands.shape[1]
-        h = float(duration) / intervals
-        for j in range(intervals):
-            command = plan.commands[k, j]
-
-            def rate(_, y, command=command):
-                return [float(pressure_rate(y[i], float(command[i]), needs[i].chamber, supply=supply,
-                                            valve=options.valve, gas=options.gas)) for i in range(3)]
-
-            grid = np.linspace(0.0, h, samples + 1)
-            if h > 0:
-                sol = solve_ivp(rate, (0.0, h), state, t_eval=grid, rtol=1e-10, atol=1e-6)
-                if not sol.success:
-                    raise SolverError(f"pressure simulation failed: {sol.message}", status="integrator")
-                values = sol.y.T
-            else:
-                values = np.repeat(state[None, :], grid.size, axis=0)
-            times.extend(t0 + grid[1:])
-            pressures.extend(values[1:])
-            phase.extend([k] * samples)
-            t0, state = t0 + h, values[-1]
-        boundaries.append(len(times) - 1)
-    return Trajectory(np.array(times), np.array(pressures), np.array(phase), np.array(boundaries))
-
-
 def lengths(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> np.ndarray:
-    """Segment lengths [m], (n, 3): L(D_p) once touching the wall, L_free(P) below."""
+    """Segment lengths [m], (n, 3): L(D_p) once touching the wall, L_free(P) below.
+
+    L_free is evaluated once per distinct pressure below contact (a closed valve repeats it).
+    """
     out = np.empty_like(pressures, dtype=float)
     for i, need in enumerate(needs):
-        free = need.muscle.free_length(np.maximum(pressures[:, i], 0.0))
-        out[:, i] = np.where(pressures[:, i] >= need.contact_pressure, need.anchored_length,
-                             np.maximum(free, need.anchored_length))
+        column = np.maximum(pressures[:, i], 0.0)
+        free = column < need.contact_pressure
+        distinct, where = np.unique(column[free], return_inverse=True)
+        out[:, i] = need.anchored_length
+        if distinct.size:
+            out[free, i] = np.maximum(need.muscle.free_length(distinct)[where], need.anchored_length)
     return out
 
 
-def positions(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> tuple[np.ndarray, float]:
+def positions(needs: tuple[MuscleNeed, ...], pressures: np.ndarray,
+              size: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """Rear, joints and front [m], (n, 4), with the rear at 0 at the first sample, and the largest
     mismatch [m] between two anchors that persist over one sample (0 when nothing slips).
+
+    ``size`` are the :func:`lengths` when already known. An anchor i that persists from sample k − 1
+    to k keeps its rear end, so the worm's rear moves by o_{k−1,i} − o_{k,i} (o: the summed
+    lengths of the segments behind i); the first persisting anchor carries the worm, and the
+    spread of that move over all persisting anchors is the mismatch.
     """
-    size = lengths(needs, pressures)
+    size = lengths(needs, pressures) if size is None else size
     touching = pressures >= np.array([n.contact_pressure for n in needs])[None, :]
-    ends = np.zeros((len(pressures), 4))  # rear end of each segment, then the front
-    ends[0] = np.concatenate([[0.0], np.cumsum(size[0])])
-    mismatch = 0.0
-    for k in range(1, len(pressures)):
-        persisting = np.flatnonzero(touching[k] & touching[k - 1])
-        if persisting.size == 0:
-            raise SolverError(f"no segment holds the wall at t-sample {k}: the gait lets go",
-                              status="no_anchor")
-        offsets = np.concatenate([[0.0], np.cumsum(size[k])])
-        rears = [ends[k - 1, i] - offsets[i] for i in persisting]
-        ends[k] = rears[0] + offsets
-        mismatch = max(mismatch, float(np.ptp(rears)))
-    return ends, mismatch
+    offsets = np.concatenate([np.zeros((len(pressures), 1)), np.cumsum(size, axis=1)], axis=1)
+    persisting = touching[1:] & touching[:-1]
+    held = persisting.any(axis=1)
+    if not held.all():
+        k = int(np.argmin(held)) + 1
+        raise SolverError(f"no segment holds the wall at t-sample {k}: the gait lets go", status="no_anchor")
+    move = offsets[:-1, :3] - offsets[1:, :3]  # (n − 1, 3): the rear's move if anchor i carries it
+    carrier = np.argmax(persisting, axis=1)
+    rear = np.concatenate([[0.0], np.cumsum(move[np.arange(len(move)), carrier])])
+    spread = np.where(persisting, move, -np.inf).max(axis=1) - np.where(persisting, move, np.inf).min(axis=1)
+    mismatch = float(spread.max()) if spread.size else 0.0
+    return rear[:, None] + offsets, mismatch
 
 
 def sequential_plan(needs: tuple[MuscleNeed, ...], *, supply: float, options: GaitOptions) -> ControlPlan:

@@ -70,7 +70,7 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, nominal)
         pressure=solution.pressure, anchoring_pressure=e.free_anchoring,
         loaded_anchoring_pressure=e.anchoring,
         required_hold=e.load, holding_capacity=capacity, radial_force=radial, contact_pressure=contact,
-        air_volume=e.volume, slip_active=solution.slip_active,
+        air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
         feasible=element_feasible(e, solution, mission.supply_pressure), complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=tuple(reasons))

@@ -86,6 +86,7 @@ class PlanArrays:
     radial_force: np.ndarray  # [N]
     contact_pressure: np.ndarray  # [Pa]
     air_volume: np.ndarray  # [m³]
+    anchored_length: np.ndarray  # [m], L(D_p)
     slip_active: np.ndarray  # bool
     feasible: np.ndarray  # bool
     complete: np.ndarray  # bool, per section
