@@ -1,29 +1,43 @@
-"""Benchmark of `pampipe plan` (the plan issue): a 10⁵-section route, 3 segments.
+"""Benchmark of `pampipe plan` (issue 17 item 5): the core solver against a numpy closed form.
 
-Compares the planner (the NLP solved through its KKT conditions, all elements at once) with a
-per-section scipy ``brentq`` on the same model (:func:`pampipe.model.forces.radial_force` on
-floats). brentq is timed on a random subset of sections (``--baseline-sections``) and its rate
-extrapolated; the largest disagreement is measured on that subset. Also times the IPOPT path on a
-subset, and ``pampipe plan`` on the demo mission in a fresh interpreter (import included).
+The peer is what a skilled numpy user writes for the same formula (docs/physics.md §8, thick wall,
+no contact increments, as in the demo PAM): L(D), A, the wall section, the moduli sums by Horner
+(products, no powers), F₀ and F₁, W, and P* = max((κW − F₀)/F₁ + SF·W/(μπA·F₁), 0), one pass per
+segment over the route's (diameter, incline, friction) arrays. pampipe's core is
+``solve(muscles, build_elements(mission, muscles, route=columns))``: the whole element table
+(anchored length, air volume, loads, loaded and unloaded anchoring pressures, validity) and the KKT
+point with its binding constraint, from the same arrays.
 
-Goals: ≥ 10⁵ section-segments/s, agreement 1e-6, demo < 2 s wall.
+Printed, in one run with one BLAS thread, the best of ``--repeat`` alternating runs:
+* the core and the peer at each size (default 10⁶ and 10⁷ elements), their ratio and agreement;
+* the peak memory of each per element (tracemalloc, a separate run): linear means equal per element;
+* ``plan_mission`` end to end from a route of Section objects (arrays, reasons, payloads) with and
+  without its cross-check, at the smallest size;
+* the IPOPT path on a subset, and a per-section scipy ``brentq`` on the model (an independent root
+  finder: agreement only, it is no speed peer);
+* ``pampipe plan`` on the demo mission in a fresh interpreter.
 
-    .venv/bin/python benchmarks/bench_plan.py [--sections 100000] [--baseline-sections 1000]
+Goals (issue 17): core within 2× of the peer at 10⁷ elements; memory linear in elements.
+
+    .venv/bin/python benchmarks/bench_plan.py [--elements 1e6 1e7] [--repeat 3]
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import gc
 import math
 import statistics
 import subprocess
 import sys
 import time
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
+from threadpoolctl import threadpool_limits
 
 from pampipe.io.config import load_mission
 from pampipe.mission import Section
@@ -36,108 +50,185 @@ ROOT = Path(__file__).resolve().parent.parent
 DEMO = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
 
 
-def random_route(rng, sections: int) -> tuple[Section, ...]:
+@dataclasses.dataclass(frozen=True)
+class Columns:
+    """A route as arrays (what :func:`pampipe.plan.problem.route_columns` reads)."""
+
+    diameter: np.ndarray
+    incline: np.ndarray
+    friction: np.ndarray
+
+
+def random_columns(rng, sections: int) -> Columns:
     """Diameters 3–3.8 in, inclines −90…90°, friction 0.15–0.5: every section feasible at 689 kPa."""
-    return tuple(Section(f"s{k}", 1.0, d * 0.0254, phi, mu, 0.0) for k, (d, phi, mu) in enumerate(zip(
-        rng.uniform(3.0, 3.8, sections), rng.uniform(-math.pi / 2, math.pi / 2, sections),
-        rng.uniform(0.15, 0.5, sections), strict=True)))
+    return Columns(rng.uniform(3.0, 3.8, sections) * 0.0254, rng.uniform(-math.pi / 2, math.pi / 2, sections),
+                   rng.uniform(0.15, 0.5, sections))
 
 
-def brentq_plan(mission, indices) -> np.ndarray:
+def numpy_closed_form(mission, route: Columns) -> np.ndarray:
+    """The least holding pressure (sections, segments) [Pa], written directly with numpy."""
+    d, mu = route.diameter, route.friction
+    total = sum(s.mass for s in mission.segments) + mission.payload
+    rise, run = np.abs(np.sin(route.incline)), np.cos(route.incline)
+    out = np.empty((d.size, len(mission.segments)))
+    for i, seg in enumerate(mission.segments):
+        g, m = seg.pam.geometry, seg.pam.moduli
+        theta, k = m.as_vector(), m.degree + 1
+        a1, b1, a2, b2 = (theta[j * k:(j + 1) * k] for j in range(4))
+        l0, d0 = g.initial_length, g.initial_diameter
+        braid = l0 / math.cos(g.braid_angle)
+        turns = l0 * math.tan(g.braid_angle) / (math.pi * d0)
+        r0 = d0 / 2
+        vb = math.pi * (r0 * r0 - (r0 - g.bladder_thickness) ** 2) * l0
+        c2 = 2 * math.pi * turns * turns
+
+        def horner(c, e):
+            acc = c[-1] * e
+            for cj in c[-2::-1]:
+                acc = (acc + cj) * e
+            return acc
+
+        length = np.sqrt(braid * braid - (turns * math.pi * d) ** 2)
+        ro = 0.5 * d
+        ri = np.sqrt(ro * ro - vb / (math.pi * length))
+        e1, e2 = (length - l0) / l0, (d - d0) / d0
+        lever1, shared = vb / length, length * length / (c2 * ro)
+        lever2 = (ro - ri) * shared
+        f0 = horner(a1, e1) * lever1 - horner(a2, e2) * lever2
+        f1 = ri * shared - math.pi * ri * ri + (horner(b1, e1) * lever1 - horner(b2, e2) * lever2
+                                                 ) / m.reference_pressure
+        w = slip.STANDARD_GRAVITY * (total * rise + mu * run * (total - seg.mass)) + mission.tether_drag
+        amplification = c2 * d / length
+        p = np.maximum((mission.kappa * w - f0) / f1
+                       + mission.safety_factor * w / (mu * math.pi * amplification * f1), 0.0)
+        ok = (f1 > 0) & (mu > 0) & (d > d0) & (p <= 1e8)
+        out[:, i] = np.where(ok, p, np.inf)
+    return out
+
+
+def pampipe_core(mission, muscles, route: Columns) -> np.ndarray:
+    return solve(muscles, build_elements(mission, muscles, route=route), mission.supply_pressure).pressure
+
+
+def brentq_plan(mission, route, indices) -> np.ndarray:
     """Per section and segment: the least P with μπF_r(P, D, κW) ≥ SF·W, by brentq on the model."""
     out = np.empty((len(indices), len(mission.segments)))
     total = sum(s.mass for s in mission.segments) + mission.payload
     for row, s in enumerate(indices):
-        sec = mission.route[s]
+        d, phi, mu = route.diameter[s], route.incline[s], route.friction[s]
         for i, seg in enumerate(mission.segments):
             m = seg.pam.moduli
             args = (seg.pam.geometry, m.as_vector(), m.reference_pressure)
-            load = slip.anchor_load(total, seg.mass, sec.incline, sec.friction, mission.tether_drag)
-            start = float(forces.anchoring_pressure(sec.diameter, *args, mission.kappa * load))
+            load = slip.anchor_load(total, seg.mass, phi, mu, mission.tether_drag)
+            start = float(forces.anchoring_pressure(d, *args, mission.kappa * load))
 
-            def margin(p, sec=sec, args=args, load=load):
-                radial = forces.radial_force(p, sec.diameter, *args, mission.kappa * load)
-                return sec.friction * math.pi * radial - mission.safety_factor * load
+            def margin(p, d=d, mu=mu, args=args, load=load):
+                radial = forces.radial_force(p, d, *args, mission.kappa * load)
+                return mu * math.pi * radial - mission.safety_factor * load
 
-            out[row, i] = start if margin(start) >= 0 else brentq(margin, start, 1e8, xtol=1e-9,
-                                                                  rtol=1e-14)
+            out[row, i] = start if margin(start) >= 0 else brentq(margin, start, 1e8, xtol=1e-9, rtol=1e-14)
     return out
 
 
-def timed(fn, repeat: int = 3):
+def timed(fn, repeat: int = 1):
     """(best wall time [s], result) over ``repeat`` runs."""
     best, result = math.inf, None
     for _ in range(repeat):
+        result = None
+        gc.collect()
         t = time.perf_counter()
         result = fn()
         best = min(best, time.perf_counter() - t)
     return best, result
 
 
+def peak_bytes(fn) -> int:
+    """Peak traced memory [B] while ``fn`` runs (numpy reports its buffers to tracemalloc)."""
+    gc.collect()
+    tracemalloc.start()
+    result = fn()
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    del result
+    return peak
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sections", type=int, default=100_000)
+    parser.add_argument("--elements", type=float, nargs="+", default=[1e6, 1e7])
+    parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--baseline-sections", type=int, default=1000)
     parser.add_argument("--ipopt-sections", type=int, default=2000)
     args = parser.parse_args()
     rng = np.random.default_rng(0)
     demo = load_mission(DEMO)
-    mission = dataclasses.replace(demo, route=random_route(rng, args.sections))
-    n = args.sections * len(mission.segments)
-    print(f"route: {args.sections} sections x {len(mission.segments)} segments = {n} section-segments",
-          file=sys.stderr)
+    muscles = mission_muscles(demo)
+    segments = len(demo.segments)
+    print(f"core solver vs numpy closed form; one BLAS thread; best of {args.repeat} alternating runs")
+    print(f"{'elements':>10}{'pampipe [s]':>12}{'numpy [s]':>11}{'ratio':>7}{'pampipe el/s':>14}"
+          f"{'max rel diff':>14}{'pampipe B/el':>14}{'numpy B/el':>12}")
+    ratios, per_element = [], []
+    for size in args.elements:
+        route = random_columns(rng, int(size) // segments)
+        n = route.diameter.size * segments
+        best_ours = best_peer = math.inf
+        for _ in range(args.repeat):
+            t_peer, peer = timed(lambda route=route: numpy_closed_form(demo, route))
+            t_ours, ours = timed(lambda route=route: pampipe_core(demo, muscles, route))
+            best_ours, best_peer = min(best_ours, t_ours), min(best_peer, t_peer)
+        diff = float(np.max(np.abs(ours - peer) / peer))
+        del ours, peer
+        mem_ours = peak_bytes(lambda route=route: pampipe_core(demo, muscles, route)) / n
+        mem_peer = peak_bytes(lambda route=route: numpy_closed_form(demo, route)) / n
+        ratios.append(best_ours / best_peer)
+        per_element.append(mem_ours)
+        print(f"{n:>10.3g}{best_ours:>12.3f}{best_peer:>11.3f}{best_ours / best_peer:>7.2f}"
+              f"{n / best_ours:>14.4g}{diff:>14.2e}{mem_ours:>14.0f}{mem_peer:>12.0f}")
 
-    muscles = mission_muscles(mission)
-    core, solution = timed(lambda: solve(muscles, build_elements(mission, muscles), mission.supply_pressure))
-    full, plan = timed(lambda: plan_mission(mission, check=False), repeat=1)
-    objects, _ = timed(lambda: plan_mission(mission, check=False).sections, repeat=1)
-    checked, plan_c = timed(lambda: plan_mission(mission), repeat=1)
+    sections = int(args.elements[0]) // segments
+    route = random_columns(np.random.default_rng(1), sections)
+    mission = dataclasses.replace(demo, route=tuple(
+        Section(f"s{k}", 1.0, d, phi, mu, 0.0)
+        for k, (d, phi, mu) in enumerate(zip(route.diameter, route.incline, route.friction, strict=True))))
+    n = sections * segments
+    full, plan = timed(lambda: plan_mission(mission, check=False))
+    checked, plan_c = timed(lambda: plan_mission(mission))
     assert plan.feasible and plan_c.feasible
-    pressures = solution.pressure
-
-    size = min(args.baseline_sections, args.sections)
-    subset = np.sort(rng.choice(args.sections, size=size, replace=False))
-    print(f"brentq baseline on {subset.size} sections ...", file=sys.stderr)
-    base_time, base = timed(lambda: brentq_plan(mission, subset), repeat=1)
-    base_rate = base.size / base_time
-    disagreement = float(np.max(np.abs(pressures[subset] - base) / base))
-
+    size = min(args.baseline_sections, sections)
+    subset = np.sort(np.random.default_rng(2).choice(sections, size=size, replace=False))
+    base_time, base = timed(lambda: brentq_plan(mission, route, subset))
+    disagreement = float(np.max(np.abs(plan.arrays.pressure[subset] - base) / base))
     small = dataclasses.replace(mission, route=mission.route[:args.ipopt_sections])
     ipopt_time, ipopt = timed(lambda: solve(muscles, build_elements(small, muscles), small.supply_pressure,
-                                            method="ipopt"), repeat=1)
-    ipopt_diff = float(np.max(np.abs(ipopt.pressure - pressures[:args.ipopt_sections])
-                              / pressures[:args.ipopt_sections]))
+                                            method="ipopt"))
+    ipopt_diff = float(np.max(np.abs(ipopt.pressure - plan.arrays.pressure[:args.ipopt_sections])
+                              / plan.arrays.pressure[:args.ipopt_sections]))
+    print(f"\n{'route of Section objects':<46}{'elements':>9}{'wall [s]':>9}{'elements/s':>12}"
+          f"{'max rel diff':>14}")
+    for name, count, wall, diff in [
+            ("plan_mission (arrays, reasons, payloads)", n, full, "-"),
+            ("plan_mission + cross-check (4096 per segment)", n, checked,
+             f"{plan_c.checks['bisection_max_rel_diff']:.2e}"),
+            (f"IPOPT path ({args.ipopt_sections} sections)", ipopt.pressure.size, ipopt_time,
+             f"{ipopt_diff:.2e}"),
+            (f"brentq per section ({size}; agreement only)", base.size, base_time, f"{disagreement:.2e}")]:
+        print(f"{name:<46}{count:>9}{wall:>9.3f}{count / wall:>12.4g}{diff:>14}")
 
     demo_times = []
     for _ in range(3):
         t = time.perf_counter()
         subprocess.run([sys.executable, "-m", "pampipe", "plan", str(DEMO)], check=True, capture_output=True)
         demo_times.append(time.perf_counter() - t)
-
-    rows = [
-        ("pampipe KKT point (elements + closed form)", n, core, n / core, "-"),
-        ("pampipe plan_mission (arrays, reasons)", n, full, n / full, "-"),
-        ("pampipe plan_mission + all SectionPlan objects", n, objects, n / objects, "-"),
-        ("pampipe plan_mission (+ cross-checks)", n, checked, n / checked,
-         f"{plan_c.checks['bisection_max_rel_diff']:.2e}"),
-        (f"pampipe IPOPT path ({args.ipopt_sections} sections)", ipopt.pressure.size, ipopt_time,
-         ipopt.pressure.size / ipopt_time, f"{ipopt_diff:.2e}"),
-        (f"scipy brentq per section ({subset.size} sections)", base.size, base_time, base_rate,
-         f"{disagreement:.2e}"),
-    ]
-    print(f"{'method':<48} {'elements':>9} {'wall [s]':>9} {'elements/s':>11} {'max rel diff':>13}")
-    for name, count, wall, rate, diff in rows:
-        print(f"{name:<48} {count:>9} {wall:>9.3f} {rate:>11.4g} {diff:>13}")
-    print(f"speed-up of plan_mission over brentq: {n / full / base_rate:.0f}x "
-          f"(KKT solve alone: {n / core / base_rate:.0f}x)")
-    print(f"largest disagreement with brentq: {disagreement:.2e} (goal 1e-6)")
-    print(f"`pampipe plan` on the demo mission, fresh interpreter: median "
-          f"{statistics.median(demo_times):.2f} s wall (runs: "
-          f"{', '.join(f'{t:.2f}' for t in demo_times)}; goal < 2 s)")
-    goals = (n / full >= 1e5) and disagreement <= 1e-6
-    print("goals (>= 1e5 section-segments/s, agreement 1e-6):", "met" if goals else "NOT met")
+    print("\n`pampipe plan` on the demo mission, fresh interpreter: median "
+          f"{statistics.median(demo_times):.2f} s")
+    linear = max(per_element) <= 1.1 * min(per_element)
+    print(f"goals: core within 2x of numpy at {args.elements[-1]:.3g} elements: {ratios[-1]:.2f} "
+          f"({'met' if ratios[-1] <= 2 else 'MISSED'}); memory linear (bytes per element within 10 %): "
+          f"{'met' if linear else 'MISSED'}; agreement with brentq 1e-6: "
+          f"{'met' if disagreement <= 1e-6 else 'MISSED'}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    with threadpool_limits(limits=1):
+        sys.exit(main())

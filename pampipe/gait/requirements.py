@@ -67,7 +67,7 @@ def section_needs(mission: Mission, index: int, options: GaitOptions) -> tuple[M
     """
     plan = plan_mission(mission)
     a, section = plan.arrays, mission.route[index]
-    if a.reasons[index] is not None:
+    if index in a.reasons:
         raise InfeasibleError(f"section {section.name!r} cannot be crossed: {a.reasons[index]}")
     needs = []
     for i, (segment, muscle) in enumerate(zip(mission.segments, plan.muscles, strict=True)):

@@ -35,6 +35,15 @@ def stress(strain, pressure, a, b, reference_pressure):
     return total
 
 
+def stress_sums(strain, a, b):
+    """(Σ_j a_j ε^{j+1}, Σ_j b_j ε^{j+1}) [Pa], so that σ = first + (P/P_ref)·second (Eq. 8), by Horner."""
+    pairs = list(zip(_items(a), _items(b), strict=True))
+    sum_a, sum_b = pairs[-1]
+    for a_j, b_j in reversed(pairs[:-1]):
+        sum_a, sum_b = sum_a * strain + a_j, sum_b * strain + b_j
+    return sum_a * strain, sum_b * strain
+
+
 def tangent_modulus(strain, pressure, a, b, reference_pressure):
     """Eᵗ = ∂σ/∂ε = Σ_j (j + 1)(a_j + b_j P/P_ref) ε^j [Pa]."""
     scaled = pressure / reference_pressure

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 from pampipe.model import ops
-from pampipe.model.bladder import split_moduli, strains, stress
+from pampipe.model.bladder import split_moduli, strains, stress, stress_sums
 from pampipe.model.braid import (
     amplification_factor,
     braid_length,
@@ -55,8 +55,8 @@ def axial_levers(length, geometry, diameter=None):
         return ((3 * length**2 - b**2) / (4 * math.pi * n2), v_b / length,
                 v_b * length / (b**2 - length**2))
     r_o, r_i, t = wall_section(length, geometry, diameter)
-    return (r_i * length**2 / (2 * math.pi * n2 * r_o) - math.pi * r_i**2, v_b / length,
-            t * length**2 / (2 * math.pi * n2 * r_o))
+    shared = length**2 / ((2 * math.pi * n2) * r_o)  # L²/(2πN²R_o)
+    return r_i * shared - math.pi * r_i**2, v_b / length, t * shared
 
 
 def bladder_force(pressure, length, geometry, theta, reference_pressure, *, diameter=None, levers=None):
@@ -86,13 +86,35 @@ def axial_force(pressure, length, geometry, theta, reference_pressure=1e6, *, di
                                                 diameter=diameter, levers=levers)
 
 
-def axial_force_affine(length, geometry, theta, reference_pressure=1e6):
-    """(F_ax(0, L), ∂F_ax/∂P) at fixed L [N, N/Pa]: F_ax is affine in P (docs/physics.md §7)."""
-    area, _, _ = axial_levers(length, geometry)
-    at_zero = bladder_force(0.0, length, geometry, theta, reference_pressure)
-    slope = area + (bladder_force(reference_pressure, length, geometry, theta, reference_pressure)
-                    - at_zero) / reference_pressure
-    return at_zero, slope
+def bladder_force_affine(length, geometry, theta, reference_pressure, *, diameter=None, levers=None):
+    """(B₀, B₁) [N, N/Pa] with :func:`bladder_force` = B₀ + B₁·P at fixed L: the stresses are affine in P.
+
+    B₀ = S₁ᵃ·lever₁ − S₂ᵃ·lever₂ and B₁ = (S₁ᵇ·lever₁ − S₂ᵇ·lever₂)/P_ref with S^a = Σ a_j ε^{j+1},
+    S^b = Σ b_j ε^{j+1} (:func:`pampipe.model.bladder.stress_sums`). ``diameter`` and ``levers`` as in
+    :func:`bladder_force`.
+    """
+    if diameter is None:
+        diameter = diameter_at_length(length, geometry)
+    _, lever1, lever2 = axial_levers(length, geometry, diameter) if levers is None else levers
+    a1, b1, a2, b2 = split_moduli(theta)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
+    axial_a, axial_b = stress_sums(eps_axial, a1, b1)
+    hoop_a, hoop_b = stress_sums(eps_hoop, a2, b2)
+    return (axial_a * lever1 - hoop_a * lever2,
+            (axial_b * lever1 - hoop_b * lever2) / reference_pressure)
+
+
+def axial_force_affine(length, geometry, theta, reference_pressure=1e6, *, diameter=None):
+    """(F_ax(0, L), ∂F_ax/∂P) at fixed L [N, N/Pa]: F_ax is affine in P (docs/physics.md §7).
+
+    ``diameter`` = D(L) may be passed when already known (it saves a square root per point).
+    """
+    if diameter is None:
+        diameter = diameter_at_length(length, geometry)
+    levers = axial_levers(length, geometry, diameter)
+    at_zero, slope = bladder_force_affine(length, geometry, theta, reference_pressure, diameter=diameter,
+                                          levers=levers)
+    return at_zero, levers[0] + slope
 
 
 def axial_force_regressors(pressure, length, geometry, degree, reference_pressure=1e6):
@@ -116,7 +138,7 @@ def anchoring_pressure(diameter, geometry, theta, reference_pressure=1e6, axial_
     The pressure at which the free-contraction curve reaches the pipe wall, L_free(P) = L(D_p).
     """
     at_zero, slope = axial_force_affine(length_at_diameter(diameter, geometry), geometry, theta,
-                                        reference_pressure)
+                                        reference_pressure, diameter=diameter)
     return (axial_load - at_zero) / slope
 
 

@@ -218,13 +218,16 @@ class Muscle:
                                       self.geometry, self.theta, self.reference_pressure)
 
     # --------------------------------------------------------------------------------- anchoring
-    def anchoring_pressure(self, diameter, axial_load=0.0):
+    def anchoring_pressure(self, diameter, axial_load=0.0, *, anchored: Anchored | None = None):
         """Least pressure [Pa] at which the muscle presses on a wall of diameter D_p under F_a.
 
         Closed form (F_a − F_ax(0, L_p))/∂_P F_ax without effects (docs/physics.md §7; may be
         negative: the muscle already presses at 0 Pa); with effects, bisection on F_r > 0 over
         [0, 100 MPa] (0 if it presses at 0 Pa, inf if it never does). Numeric inputs only.
+        ``anchored``: :meth:`affine_coefficients` at ``diameter``, when already computed.
         """
+        if anchored is not None:
+            return (axial_load - anchored.at_zero) / anchored.slope
         if not self.effects:
             return forces.anchoring_pressure(diameter, self.geometry, self.theta, self.reference_pressure,
                                              axial_load)
@@ -272,22 +275,25 @@ class Muscle:
         Above the loaded anchoring pressure P_a = (κW − F₀)/F₁ the holding force is
         x·(F₁ + (C₀ + C₁P)/P_ref) with x = P − P_a (C: contact increments, docs/physics.md §9d), so
         μπA·hold = SF·W gives x = 2R/(b + √(b² + 4aR)) with a = C₁/P_ref, b = F₁ + (C₀ + C₁P_a)/P_ref,
-        R = SF·W/(μπA), and P* = max(P_a + x, 0) (docs/physics.md §8.3). Diagnosed effects with a closed
-        form are folded in (:mod:`pampipe.model.effects`: the load map gives κW, radial factors scale A,
-        contact stiffening adds to C, and P* is mapped back through the inverse pressure map); the others
+        R = SF·W/(μπA), and P* = max(P_a + x, 0) (docs/physics.md §8.3); without contact increments
+        a = 0 and x = R/F₁. Diagnosed effects with a closed form are folded in
+        (:mod:`pampipe.model.effects`: the load map gives κW, radial factors scale A, contact
+        stiffening adds to C, and P* is mapped back through the inverse pressure map); the others
         raise ValueError (:meth:`closed_form_refusals`). Valid where F₁ > 0, μ > 0 and b > 0 or
         a > 0: :meth:`closed_form_pressure` checks that. The exported C code is generated from this.
         """
         return ops.fmax(self._closed_form(diameter, load, kappa, friction, safety_factor)[0], 0.0)
 
-    def closed_form_pressure(self, diameter, load, *, kappa, friction, safety_factor):
+    def closed_form_pressure(self, diameter, load, *, kappa, friction, safety_factor,
+                             anchored: Anchored | None = None):
         """:meth:`required_pressure` where its derivation holds, inf elsewhere [Pa] (floats or symbols).
 
         Holds where F₁ > 0, μ > 0, the quadratic a x² + b x = R has a positive root (b > 0 or a > 0)
         and P* ≤ 100 MPa. The last test is made before the floor at 0, where it is false for NaN, so
-        that C's NaN-ignoring fmax agrees with numpy's maximum.
+        that C's NaN-ignoring fmax agrees with numpy's maximum. ``anchored``: the muscle's
+        coefficients at ``diameter`` (:meth:`affine_coefficients`), when already computed.
         """
-        inner, valid = self._closed_form(diameter, load, kappa, friction, safety_factor)
+        inner, valid = self._closed_form(diameter, load, kappa, friction, safety_factor, anchored)
         ok = ops.logical_and(valid, inner <= PRESSURE_LIMIT)
         return ops.if_else(ok, ops.fmax(inner, 0.0), math.inf)
 
@@ -295,25 +301,31 @@ class Muscle:
         """{effect: why} of this muscle's effects that :meth:`required_pressure` cannot carry."""
         return effects.refusals(self.effects)
 
-    def _closed_form(self, diameter, load, kappa, friction, safety_factor):
+    def _closed_form(self, diameter, load, kappa, friction, safety_factor, anchored=None):
         """(P* before its floor at 0 [Pa], where its derivation holds) of :meth:`required_pressure`."""
         refused = self.closed_form_refusals()
         if refused:
             raise ValueError(f"no closed-form holding pressure with the effect(s) {', '.join(refused)}")
-        c = self._coefficients(diameter)
+        c = self._coefficients(diameter) if anchored is None else anchored
         anchoring = (effects.effective_load(self.effects, kappa * load) - c.at_zero) / c.slope
         target = safety_factor * load / (friction * math.pi * c.amplification)
-        a = c.contact_slope / self.reference_pressure
-        b = c.slope + (c.contact_at_zero + c.contact_slope * anchoring) / self.reference_pressure
-        inner = anchoring + 2 * target / (b + ops.sqrt(b**2 + 4 * a * target))
-        valid = ops.logical_and(ops.logical_and(c.slope > 0, friction > 0), ops.logical_or(b > 0, a > 0))
+        if self._contact_theta() is None:  # a = 0 and b = F₁: x = R/F₁
+            inner = anchoring + target / c.slope
+            valid = ops.logical_and(c.slope > 0, friction > 0)
+        else:
+            a = c.contact_slope / self.reference_pressure
+            b = c.slope + (c.contact_at_zero + c.contact_slope * anchoring) / self.reference_pressure
+            inner = anchoring + 2 * target / (b + ops.sqrt(b**2 + 4 * a * target))
+            valid = ops.logical_and(ops.logical_and(c.slope > 0, friction > 0), ops.logical_or(b > 0, a > 0))
         return effects.measured_pressure(self.effects, inner), valid
 
-    def least_holding_pressure(self, diameter, load, *, kappa, friction, safety_factor):
+    def least_holding_pressure(self, diameter, load, *, kappa, friction, safety_factor,
+                               anchored: Anchored | None = None):
         """Least P [Pa] with μπF_r(P, D_p, κW) ≥ SF·W while pressing on the wall (docs/physics.md §8).
 
         Without effects the closed form :meth:`closed_form_pressure`; with effects, bisection on the
         model. inf where no pressure up to 100 MPa holds. Numeric inputs (broadcast arrays) only.
+        ``anchored``: :meth:`affine_coefficients` at ``diameter``, when already computed.
         """
         d, w, mu = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (diameter, load, friction)))
         if self.effects:
@@ -324,7 +336,8 @@ class Muscle:
 
             return np.maximum(_least(holds, d.shape), anchoring)
         with np.errstate(divide="ignore", invalid="ignore"):
-            return self.closed_form_pressure(d, w, kappa=kappa, friction=mu, safety_factor=safety_factor)
+            return self.closed_form_pressure(d, w, kappa=kappa, friction=mu, safety_factor=safety_factor,
+                                             anchored=anchored)
 
     def largest_load(self, pressure, diameter, *, kappa, friction, safety_factor):
         """W_max [N] held at pressure P: μπF_r(P, D_p, κW) = SF·W (docs/physics.md §8).
@@ -353,22 +366,27 @@ class Muscle:
             raise ValueError("a muscle with diagnosed effects has no affine coefficients")
         return self._coefficients(diameter)
 
+    def _contact_theta(self):
+        """Δθ [Pa] once anchored: the contact increments plus those of closed-form effects (None: none)."""
+        extra = effects.contact_increments(self.effects, self.theta)
+        if extra is None:
+            return self.contact
+        return extra if self.contact is None else self.contact + extra
+
     def _coefficients(self, diameter) -> Anchored:
         """:class:`Anchored` at L_p = L(D_p), with the closed-form effects' radial factor and Δθ folded in."""
         g, pref = self.geometry, self.reference_pressure
         length = braid.length_at_diameter(diameter, g)
-        at_zero, slope = forces.axial_force_affine(length, g, self.theta, pref)
-        contact = self.contact
-        extra = effects.contact_increments(self.effects, self.theta)
-        if extra is not None:
-            contact = extra if contact is None else contact + extra
+        at_zero, slope = forces.axial_force_affine(length, g, self.theta, pref, diameter=diameter)
+        contact = self._contact_theta()
         if contact is None:
-            c0 = c1 = 0.0 * length
+            c0 = c1 = 0.0
         else:
-            c0 = forces.bladder_force(0.0, length, g, contact, pref)
-            c1 = (forces.bladder_force(pref, length, g, contact, pref) - c0) / pref
-        state = effects.State(None, length, diameter, g, self.theta, pref, in_pipe=True)
-        amplification = braid.amplification_factor(diameter, g) * effects.radial_factor(self.effects, state)
+            c0, c1 = forces.bladder_force_affine(length, g, contact, pref, diameter=diameter)
+        amplification = braid.amplification_factor(diameter, g, length)
+        if self.effects:
+            state = effects.State(None, length, diameter, g, self.theta, pref, in_pipe=True)
+            amplification = amplification * effects.radial_factor(self.effects, state)
         return Anchored(length, amplification, at_zero, slope, c0, c1)
 
 
@@ -380,8 +398,8 @@ class Anchored:
     amplification: object  # A [-] (times the radial factor of closed-form effects)
     at_zero: object  # F₀ [N]
     slope: object  # F₁ [N/Pa]
-    contact_at_zero: object  # C₀ [N]
-    contact_slope: object  # C₁ [N/Pa]
+    contact_at_zero: object  # C₀ [N] (0.0 without contact increments)
+    contact_slope: object  # C₁ [N/Pa] (0.0 without contact increments)
 
 
 def _effect(name: str):

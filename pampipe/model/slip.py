@@ -18,6 +18,10 @@ STANDARD_GRAVITY = 9.80665  # [m/s²]
 
 def anchor_load(total_mass, anchor_mass, incline, friction, tether_drag=0.0):
     """W [N] the single anchor must hold: g(M|sin φ| + μ cos φ (M − m_anchor)) + tether drag."""
-    return (STANDARD_GRAVITY * (total_mass * ops.fabs(ops.sin(incline))
-                                + friction * ops.cos(incline) * (total_mass - anchor_mass))
-            + tether_drag)
+    return incline_load(total_mass, anchor_mass, ops.fabs(ops.sin(incline)), ops.cos(incline), friction,
+                        tether_drag)
+
+
+def incline_load(total_mass, anchor_mass, rise, run, friction, tether_drag=0.0):
+    """:func:`anchor_load` [N] from rise = |sin φ| and run = cos φ, computed once for every segment."""
+    return STANDARD_GRAVITY * (total_mass * rise + friction * run * (total_mass - anchor_mass)) + tether_drag

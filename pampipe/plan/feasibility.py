@@ -27,14 +27,14 @@ def element_feasible(elements: Elements, solution: Solution, supply: float) -> n
 
 
 def section_reasons(mission, muscles, elements: Elements, solution: Solution,
-                    payloads: np.ndarray, *, confidence: float | None = None) -> list[str | None]:
-    """One sentence per section, ``None`` where the section is feasible.
+                    payloads: np.ndarray, *, confidence: float | None = None) -> dict[int, str]:
+    """{section index: one sentence} for the sections that cannot be planned (feasible ones are absent).
 
     ``payloads`` are the element payload limits [kg] of :func:`pampipe.plan.payload.element_payloads`.
     """
-    feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1).tolist()
-    return [None if ok else _reason(mission, muscles, s, elements, solution, payloads[s], confidence)
-            for s, ok in enumerate(feasible)]
+    feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1)
+    return {s: _reason(mission, muscles, s, elements, solution, payloads[s], confidence)
+            for s in np.flatnonzero(~feasible).tolist()}
 
 
 def _names(mission, mask) -> str:

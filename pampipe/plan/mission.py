@@ -11,8 +11,7 @@ from pampipe.errors import InputError, SolverError
 from pampipe.plan.checks import cross_check
 from pampipe.plan.confidence import confidence_pressure
 from pampipe.plan.feasibility import element_feasible, section_reasons
-from pampipe.plan.payload import element_payloads
-from pampipe.plan.payload import max_payload as route_max_payload
+from pampipe.plan.payload import element_payloads, payload_limit
 from pampipe.plan.problem import Elements, build_elements, mission_muscles
 from pampipe.plan.result import MissionPlan, PlanArrays
 from pampipe.plan.solve import Solution, solve
@@ -52,8 +51,8 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     payloads = element_payloads(mission, muscles, elements)
     reasons = section_reasons(mission, muscles, elements, solution, payloads, confidence=confidence)
     arrays = _arrays(mission, muscles, elements, solution, reasons, nominal)
-    limit = route_max_payload(mission) if with_max_payload else None
-    return MissionPlan(feasible=all(r is None for r in reasons), arrays=arrays,
+    limit = payload_limit(mission, payloads) if with_max_payload else None
+    return MissionPlan(feasible=not reasons, arrays=arrays,
                        mission=str(mission.source), supply_pressure=mission.supply_pressure,
                        safety_factor=mission.safety_factor, load_path=mission.load_path,
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
@@ -73,7 +72,7 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, nominal)
         air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
         feasible=element_feasible(e, solution, mission.supply_pressure), complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
-        route=mission.route, reasons=tuple(reasons))
+        route=mission.route, reasons=reasons)
 
 
 def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):

@@ -8,7 +8,8 @@ least of its segments, the route the least of its sections.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -30,13 +31,26 @@ class SectionPayload:
 
 @dataclass(frozen=True)
 class PayloadLimit:
-    """Largest payload [kg] through the whole route at supply pressure, and where it binds."""
+    """Largest payload [kg] through the whole route at supply pressure, and where it binds.
+
+    ``section_payloads`` and ``limiting_segments`` hold every section's limit as arrays;
+    ``sections`` are built from them on first use.
+    """
 
     payload: float | None  # None: not even the empty robot gets through
     section: str
     segment: str
     supply_pressure: float  # [Pa]
-    sections: tuple[SectionPayload, ...]
+    section_payloads: np.ndarray = field(repr=False)  # (S,) [kg], −inf where the pipe is impassable
+    limiting_segments: np.ndarray = field(repr=False)  # (S,) index of the limiting segment
+    route: tuple = field(repr=False)  # the mission's sections
+    segment_names: tuple[str, ...] = field(repr=False)
+
+    @cached_property
+    def sections(self) -> tuple[SectionPayload, ...]:
+        """One SectionPayload per route section."""
+        return tuple(SectionPayload(sec.name, p, self.segment_names[i]) for sec, p, i in zip(
+            self.route, self.section_payloads.tolist(), self.limiting_segments.tolist(), strict=True))
 
     def as_document(self) -> dict:
         return {"max_payload_kg": self.payload, "limiting_section": self.section,
@@ -49,7 +63,8 @@ def element_payloads(mission, muscles, elements: Elements) -> np.ndarray:
     """Largest payload [kg] of every element at the mission's supply pressure, shape (S, segments)."""
     e = elements
     held = np.stack([m.largest_load(mission.supply_pressure, e.diameter[:, i], kappa=e.kappa,
-                                    friction=e.friction[:, i], safety_factor=e.safety_factor)
+                                    friction=e.friction[:, i], safety_factor=e.safety_factor,
+                                    anchored=e.anchored[i] if e.anchored else None)
                      for i, m in enumerate(muscles)], axis=1)
     usable = e.valid & np.isfinite(e.free_anchoring) & (held >= 0)
     per_kg = np.where(usable, e.load_per_payload, 1.0)  # > 0 where valid (μ > 0)
@@ -57,18 +72,20 @@ def element_payloads(mission, muscles, elements: Elements) -> np.ndarray:
     return np.where(usable, payload, -np.inf)
 
 
-def section_payloads(mission, muscles, elements: Elements) -> tuple[SectionPayload, ...]:
-    """Per section: the least element payload and its segment."""
-    payloads = element_payloads(mission, muscles, elements)
+def payload_limit(mission, payloads: np.ndarray) -> PayloadLimit:
+    """The route's largest payload from its element payloads (:func:`element_payloads`): the least per
+    section, then the least section.
+    """
     worst = np.argmin(payloads, axis=1)
-    return tuple(SectionPayload(sec.name, float(payloads[s, worst[s]]), mission.segments[worst[s]].name)
-                 for s, sec in enumerate(mission.route))
+    per_section = payloads[np.arange(payloads.shape[0]), worst]
+    s = int(np.argmin(per_section))
+    value = float(per_section[s])
+    names = tuple(seg.name for seg in mission.segments)
+    return PayloadLimit(value if value >= 0 else None, mission.route[s].name, names[worst[s]],
+                        mission.supply_pressure, per_section, worst, mission.route, names)
 
 
 def max_payload(mission) -> PayloadLimit:
     """Largest payload [kg] the robot can carry through the whole route at supply pressure."""
     muscles = mission_muscles(mission)
-    sections = section_payloads(mission, muscles, build_elements(mission, muscles))
-    limit = min(sections, key=lambda s: s.payload)
-    value = limit.payload if limit.payload >= 0 else None
-    return PayloadLimit(value, limit.name, limit.segment, mission.supply_pressure, sections)
+    return payload_limit(mission, element_payloads(mission, muscles, build_elements(mission, muscles)))

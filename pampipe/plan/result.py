@@ -93,7 +93,7 @@ class PlanArrays:
     nominal_pressure: np.ndarray | None  # [Pa], with --confidence
     segment_names: tuple[str, ...]
     route: tuple  # the mission's Section objects
-    reasons: tuple[str | None, ...]
+    reasons: dict[int, str]  # {section index: why it cannot be planned}, infeasible sections only
 
 
 @dataclass(frozen=True)
@@ -144,8 +144,8 @@ class MissionPlan:
                                         a.air_volume, a.slip_active, a.feasible)]
         nominal = None if a.nominal_pressure is None else a.nominal_pressure.tolist()
         out = []
-        rows = zip(a.route, a.complete.tolist(), a.reasons, strict=True)
-        for s, (sec, complete, reason) in enumerate(rows):
+        for s, (sec, complete) in enumerate(zip(a.route, a.complete.tolist(), strict=True)):
+            reason = a.reasons.get(s)
             segments = ()
             if complete:
                 p, pa, w, cap, fr, pc, pl, vol, active, ok = (c[s] for c in columns)
@@ -162,8 +162,7 @@ class MissionPlan:
     @property
     def reasons(self) -> list[str]:
         """'section: reason' for every infeasible section."""
-        return [f"{sec.name}: {r}" for sec, r in zip(self.arrays.route, self.arrays.reasons, strict=True)
-                if r is not None]
+        return [f"{self.arrays.route[s].name}: {r}" for s, r in sorted(self.arrays.reasons.items())]
 
     def as_document(self) -> dict:
         doc = {"feasible": self.feasible, "sections": [s.as_document() for s in self.sections],

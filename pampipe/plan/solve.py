@@ -44,12 +44,17 @@ class Solution:
 
 
 def least_pressure(muscles: tuple[Muscle, ...], elements: Elements) -> np.ndarray:
-    """The KKT point of every element: the least pressure that presses and holds [Pa] (inf if none)."""
+    """The KKT point of every element: the least pressure that presses and holds [Pa] (inf if none),
+    from the muscles' coefficients already in ``elements``; (sections, segments), a transposed view.
+    """
     e = elements
-    columns = [m.least_holding_pressure(e.diameter[:, i], e.load[:, i], kappa=e.kappa,
-                                        friction=e.friction[:, i], safety_factor=e.safety_factor)
-               for i, m in enumerate(muscles)]
-    return np.where(e.valid, np.stack(columns, axis=1), np.inf)
+    out = np.empty((len(muscles), e.load.shape[0]))
+    for i, m in enumerate(muscles):
+        out[i] = m.least_holding_pressure(e.diameter[:, i], e.load[:, i], kappa=e.kappa,
+                                          friction=e.friction[:, i], safety_factor=e.safety_factor,
+                                          anchored=e.anchored[i] if e.anchored else None)
+        out[i][~e.valid[:, i]] = np.inf
+    return out.T
 
 
 def solve(muscles: tuple[Muscle, ...], elements: Elements, supply: float, *, method: str = "kkt") -> Solution:
