@@ -17,8 +17,17 @@ from operator import attrgetter
 
 import numpy as np
 
-from pampipe.model.muscle import Muscle
+from pampipe.model.muscle import Anchored, Muscle
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+
+#: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
+#: table itself, linear in elements (benchmarks/bench_plan.py).
+CHUNK = 1 << 14
+
+
+def chunks(count: int):
+    """Slices of at most :data:`CHUNK` sections covering ``range(count)``."""
+    return (slice(start, min(start + CHUNK, count)) for start in range(0, count, CHUNK))
 
 
 @dataclass(frozen=True)
@@ -26,7 +35,10 @@ class Elements:
     """Per-element arrays of shape (sections, segments), SI; invalid elements hold finite placeholders.
 
     Each array is the transposed view of a (segments, sections) block, so that a segment's column is
-    contiguous; ``friction`` and ``load_per_payload``, equal for every segment, are broadcast views.
+    contiguous; arrays equal for every segment (``friction``, ``load_per_payload``, and ``diameter``
+    where every element is valid) are broadcast views. ``amplification``, ``at_zero``, ``slope`` and
+    the contact terms are the muscles' :meth:`~pampipe.model.muscle.Muscle.affine_coefficients`
+    (NaN for a muscle with effects, which has none; the contact terms are None if no muscle has them).
     """
 
     diameter: np.ndarray  # D_s [m] (a placeholder inside the muscle's range where invalid)
@@ -40,12 +52,27 @@ class Elements:
     kappa: float  # κ of the load path
     safety_factor: float  # SF
     valid: np.ndarray  # inside the model's domain: D₀ < D < D(B/√3) and μ > 0
-    anchored: tuple = ()  # per segment: its muscle's Muscle.affine_coefficients (None with effects)
+    amplification: np.ndarray  # A(D_s) [-]
+    at_zero: np.ndarray  # F₀ = F_ax(0, L_p) [N]
+    slope: np.ndarray  # F₁ = ∂_P F_ax(L_p) [N/Pa]
+    contact_at_zero: np.ndarray | None  # C₀ [N]
+    contact_slope: np.ndarray | None  # C₁ [N/Pa]
+    affine: tuple[bool, ...]  # per segment: its muscle has affine coefficients (no effects)
 
     @property
     def lower_bound(self) -> np.ndarray:
         """Contact constraint as a bound: P ≥ max(P_a(κW), 0) [Pa]."""
         return np.maximum(self.anchoring, 0.0)
+
+    def coefficients(self, segment: int, index=slice(None)) -> Anchored | None:
+        """The :class:`~pampipe.model.muscle.Anchored` coefficients of one segment at the sections
+        ``index`` selects (None for a muscle with effects)."""
+        if not self.affine[segment]:
+            return None
+        contact = [0.0 if c is None else c[index, segment]
+                   for c in (self.contact_at_zero, self.contact_slope)]
+        return Anchored(self.length[index, segment], self.amplification[index, segment],
+                        self.at_zero[index, segment], self.slope[index, segment], *contact)
 
 
 def mission_muscles(mission) -> tuple[Muscle, ...]:
@@ -69,36 +96,56 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
     """Evaluate the muscles once per element for ``mission`` (payload [kg] overrides the mission's;
     ``route``, columns as :func:`route_columns` reads them, overrides its route).
 
-    Each muscle without effects is evaluated once per element (:meth:`Muscle.affine_coefficients`),
-    and everything else follows from those coefficients; sin φ and cos φ are taken once per section.
+    A muscle without effects is evaluated once per element (:meth:`Muscle.affine_coefficients`) and
+    everything else follows from its coefficients; sin φ and cos φ are taken once per section; the
+    work runs over :data:`CHUNK` sections at a time.
     """
     payload = mission.payload if payload is None else float(payload)
     diameter, incline, friction = route_columns(mission.route if route is None else route)
     count, segments = diameter.shape[0], len(muscles)
     total_mass = sum(seg.mass for seg in mission.segments) + payload
-    rise, run = np.abs(np.sin(incline)), np.cos(incline)
-    per_kg = STANDARD_GRAVITY * (rise + friction * run)
-    gripping = friction > 0
-    blocks = {key: np.empty((segments, count)) for key in
-              ("diameter", "length", "volume", "load", "anchoring", "free_anchoring")}
     valid = np.empty((segments, count), dtype=bool)
-    anchored = []
-    for i, (seg, muscle) in enumerate(zip(mission.segments, muscles, strict=True)):
+    for i, muscle in enumerate(muscles):
         g = muscle.geometry
-        inside = (diameter > g.initial_diameter) & (diameter < g.largest_diameter)
-        np.logical_and(inside, gripping, out=valid[i])
-        middle = 0.5 * (g.initial_diameter + g.largest_diameter)
-        safe = diameter if valid[i].all() else np.where(valid[i], diameter, middle)
-        load = incline_load(total_mass, seg.mass, rise, run, friction, mission.tether_drag)
-        c = None if muscle.has_effects else muscle.affine_coefficients(safe)
-        length = muscle.anchored_length(safe) if c is None else c.length
-        blocks["diameter"][i], blocks["length"][i], blocks["load"][i] = safe, length, load
-        blocks["volume"][i] = muscle.enclosed_volume(length)
-        blocks["anchoring"][i] = muscle.anchoring_pressure(safe, mission.kappa * load, anchored=c)
-        blocks["free_anchoring"][i] = muscle.anchoring_pressure(safe, 0.0, anchored=c)
-        anchored.append(c)
-    shared = {"friction": friction, "load_per_payload": per_kg}
-    return Elements(**{key: block.T for key, block in blocks.items()},
-                    **{key: np.broadcast_to(v[:, None], (count, segments)) for key, v in shared.items()},
-                    kappa=mission.kappa, safety_factor=mission.safety_factor, valid=valid.T,
-                    anchored=tuple(anchored))
+        np.logical_and(diameter > g.initial_diameter, diameter < g.largest_diameter, out=valid[i])
+        valid[i] &= friction > 0
+    shared_diameter = bool(valid.all())
+    affine = tuple(not m.has_effects for m in muscles)
+    contact = any(m.contact is not None for m, a in zip(muscles, affine, strict=True) if a)
+    keys = ["length", "volume", "load", "anchoring", "free_anchoring", "amplification", "at_zero", "slope"]
+    keys += [] if shared_diameter else ["diameter"]
+    keys += ["contact_at_zero", "contact_slope"] if contact else []
+    blocks = {key: np.empty((segments, count)) for key in keys}
+    per_kg = np.empty(count)
+    for part in chunks(count):
+        d, mu = diameter[part], friction[part]
+        rise, run = np.abs(np.sin(incline[part])), np.cos(incline[part])
+        per_kg[part] = STANDARD_GRAVITY * (rise + mu * run)
+        for i, (seg, muscle) in enumerate(zip(mission.segments, muscles, strict=True)):
+            g = muscle.geometry
+            safe = d if shared_diameter else np.where(valid[i, part], d, 0.5 * (g.initial_diameter
+                                                                                 + g.largest_diameter))
+            load = incline_load(total_mass, seg.mass, rise, run, mu, mission.tether_drag)
+            values = {"load": load}
+            if affine[i]:
+                c = muscle.affine_coefficients(safe)
+                values.update(length=c.length, amplification=c.amplification, at_zero=c.at_zero,
+                              slope=c.slope)
+                if contact:
+                    values.update(contact_at_zero=c.contact_at_zero, contact_slope=c.contact_slope)
+            else:
+                c = None
+                values.update(length=muscle.anchored_length(safe), amplification=np.nan, at_zero=np.nan,
+                              slope=np.nan, contact_at_zero=np.nan, contact_slope=np.nan)
+            values.update(volume=muscle.enclosed_volume(values["length"]), diameter=safe,
+                          anchoring=muscle.anchoring_pressure(safe, mission.kappa * load, anchored=c),
+                          free_anchoring=muscle.anchoring_pressure(safe, 0.0, anchored=c))
+            for key, block in blocks.items():
+                block[i, part] = values[key]
+    columns = {key: block.T for key, block in blocks.items()}
+    for key, value in (("friction", friction), ("load_per_payload", per_kg), ("diameter", diameter)):
+        columns.setdefault(key, np.broadcast_to(value[:, None], (count, segments)))
+    columns.setdefault("contact_at_zero", None)
+    columns.setdefault("contact_slope", None)
+    return Elements(**columns, kappa=mission.kappa, safety_factor=mission.safety_factor, valid=valid.T,
+                    affine=affine)

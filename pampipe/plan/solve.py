@@ -26,7 +26,7 @@ import numpy as np
 
 from pampipe import nlp
 from pampipe.model.muscle import PRESSURE_LIMIT, Muscle, Structure
-from pampipe.plan.problem import Elements
+from pampipe.plan.problem import Elements, chunks
 
 PRESSURE_SCALE = 1e5  # [Pa] scale of the IPOPT decision variable
 METHODS = ("kkt", "ipopt")
@@ -49,11 +49,21 @@ def least_pressure(muscles: tuple[Muscle, ...], elements: Elements) -> np.ndarra
     """
     e = elements
     out = np.empty((len(muscles), e.load.shape[0]))
-    for i, m in enumerate(muscles):
-        out[i] = m.least_holding_pressure(e.diameter[:, i], e.load[:, i], kappa=e.kappa,
-                                          friction=e.friction[:, i], safety_factor=e.safety_factor,
-                                          anchored=e.anchored[i] if e.anchored else None)
-        out[i][~e.valid[:, i]] = np.inf
+    for part in chunks(e.load.shape[0]):
+        for i, m in enumerate(muscles):
+            least = m.least_holding_pressure(e.diameter[part, i], e.load[part, i], kappa=e.kappa,
+                                             friction=e.friction[part, i], safety_factor=e.safety_factor,
+                                             anchored=e.coefficients(i, part))
+            out[i, part] = np.where(e.valid[part, i], least, np.inf)
+    return out.T
+
+
+def slip_binds(pressure: np.ndarray, elements: Elements) -> np.ndarray:
+    """True where no slip, not contact, sets the pressure: P > max(P_a(κW), 0) beyond round-off."""
+    out = np.empty(pressure.shape[::-1], dtype=bool)
+    for part in chunks(pressure.shape[0]):
+        p = pressure[part].T
+        out[:, part] = np.isfinite(p) & (p > np.maximum(elements.anchoring[part].T, 0.0) * (1 + 1e-12) + 1e-9)
     return out.T
 
 
@@ -65,7 +75,7 @@ def solve(muscles: tuple[Muscle, ...], elements: Elements, supply: float, *, met
     iterations = 0
     if method == "ipopt":
         pressure, iterations = _solve_ipopt(muscles, elements, supply, pressure)
-    slip_active = np.isfinite(pressure) & (pressure > elements.lower_bound * (1 + 1e-12) + 1e-9)
+    slip_active = slip_binds(pressure, elements)
     return Solution(pressure, slip_active, method, iterations)
 
 
