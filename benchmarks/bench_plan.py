@@ -4,9 +4,10 @@ The peer is what a skilled numpy user writes for the same formula (docs/physics.
 no contact increments, as in the demo PAM): L(D), A, the wall section, the moduli sums by Horner
 (products, no powers), F₀ and F₁, W, and P* = max((κW − F₀)/F₁ + SF·W/(μπA·F₁), 0), one pass per
 segment over the route's (diameter, incline, friction) arrays. pampipe's core is
-``solve(muscles, build_elements(mission, muscles, route=columns))``: the whole element table
-(anchored length, air volume, loads, loaded and unloaded anchoring pressures, validity) and the KKT
-point with its binding constraint, from the same arrays.
+``solve(muscles, build_elements(mission, muscles, route=columns))``: the element table (loads, loaded
+anchoring pressures, validity, each element's KKT point) and which constraint binds, from the same
+arrays; what only the report needs (lengths, air volumes, unloaded anchoring) is computed later, by
+``plan_mission``, and timed in its row.
 
 Printed, in one run with one BLAS thread, the best of ``--repeat`` alternating runs:
 * the core and the peer at each size (default 10⁶ and 10⁷ elements), their ratio and agreement; the

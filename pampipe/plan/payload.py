@@ -63,8 +63,7 @@ def element_payloads(mission, muscles, elements: Elements) -> np.ndarray:
     """Largest payload [kg] of every element at the mission's supply pressure, shape (S, segments)."""
     e = elements
     held = np.stack([m.largest_load(mission.supply_pressure, e.diameter[:, i], kappa=e.kappa,
-                                    friction=e.friction[:, i], safety_factor=e.safety_factor,
-                                    anchored=e.coefficients(i))
+                                    friction=e.friction[:, i], safety_factor=e.safety_factor)
                      for i, m in enumerate(muscles)], axis=1)
     usable = e.valid & np.isfinite(e.free_anchoring) & (held >= 0)
     per_kg = np.where(usable, e.load_per_payload, 1.0)  # > 0 where valid (μ > 0)

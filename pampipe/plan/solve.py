@@ -43,21 +43,6 @@ class Solution:
     iterations: int
 
 
-def least_pressure(muscles: tuple[Muscle, ...], elements: Elements) -> np.ndarray:
-    """The KKT point of every element: the least pressure that presses and holds [Pa] (inf if none),
-    from the muscles' coefficients already in ``elements``; (sections, segments), a transposed view.
-    """
-    e = elements
-    out = np.empty((len(muscles), e.load.shape[0]))
-    for part in chunks(e.load.shape[0]):
-        for i, m in enumerate(muscles):
-            least = m.least_holding_pressure(e.diameter[part, i], e.load[part, i], kappa=e.kappa,
-                                             friction=e.friction[part, i], safety_factor=e.safety_factor,
-                                             anchored=e.coefficients(i, part))
-            out[i, part] = np.where(e.valid[part, i], least, np.inf)
-    return out.T
-
-
 def slip_binds(pressure: np.ndarray, elements: Elements) -> np.ndarray:
     """True where no slip, not contact, sets the pressure: P > max(P_a(κW), 0) beyond round-off."""
     out = np.empty(pressure.shape[::-1], dtype=bool)
@@ -71,7 +56,7 @@ def solve(muscles: tuple[Muscle, ...], elements: Elements, supply: float, *, met
     """Solve the planning NLP for every element with the chosen method."""
     if method not in METHODS:
         raise ValueError(f"unknown method {method!r}; choose one of {METHODS}")
-    pressure = least_pressure(muscles, elements)
+    pressure = elements.least_pressure
     iterations = 0
     if method == "ipopt":
         pressure, iterations = _solve_ipopt(muscles, elements, supply, pressure)
