@@ -18,7 +18,7 @@ fixed by the role: rise/prefill fill, fall vents, hold/off keep the valve closed
 * A falling segment vents at full opening (venting faster can only help), so its command is fixed.
 
 IPOPT runs with a limited-memory Hessian on an MX graph of mapped SX functions: building takes
-well under a second and a warm re-solve a few tenths (benchmarks/bench_gait.py).
+well under a second and a warm re-solve under a tenth (benchmarks/bench_gait.py).
 
 Everything that depends on the mission (geometry, moduli, pipe, loads, valve, gas) enters as the
 NLP parameter vector, so the problem is built once per structure (walls, moduli degrees, grid) and

@@ -9,7 +9,7 @@ P_e* = max(P_lb, least P with no slip), with multiplier λ_e = V_e/∂_P(capacit
 binds. ``"kkt"`` (the default) takes that point from :meth:`Muscle.least_holding_pressure` (closed
 form without diagnosed effects, bisection with them); ``"ipopt"`` hands the same NLP, built once per
 muscle structure from the symbolic :class:`~pampipe.model.muscle.Muscle` as a block of fixed size
-whose parameters are the muscle and the elements, to IPOPT (general, ~100× slower on long routes,
+whose parameters are the muscle and the elements, to IPOPT (general, ~10³× slower on long routes,
 benchmarks/bench_plan.py).
 
 The upper bound is the supply pressure where the supply suffices; elsewhere it is the model's limit
