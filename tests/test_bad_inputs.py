@@ -7,6 +7,7 @@ expected exit code and a fragment the message must contain. No case may produce 
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -44,10 +45,13 @@ def test_unreadable_file_is_reported(tmp_path, capsys, monkeypatch):
     """Permission denied (simulated: the suite may run as root, who can read anything)."""
     path = tmp_path / "pam.yaml"
     path.write_text("name: x\n")
+    real_open = os.open
 
-    def deny(self):
-        raise PermissionError(13, "Permission denied", str(self))
+    def deny(name, *args, **kwargs):
+        if Path(name) == path:
+            raise PermissionError(13, "Permission denied", str(name))
+        return real_open(name, *args, **kwargs)
 
-    monkeypatch.setattr(Path, "read_bytes", deny)
+    monkeypatch.setattr(os, "open", deny)
     assert main(["simulate", str(path), "-d", "3 in"]) == 2
     assert "permission denied" in capsys.readouterr().err

@@ -42,7 +42,7 @@ def test_extra_columns_and_blank_lines_are_ignored(tmp_path):
     ("pressure [kPa],force [N]\n1,2\n", "missing column(s) length"),
     ("pressure,length [mm],force [N]\n1,2,3\n", "line 1, column 1: header 'pressure' has no unit"),
     ("pressure [kPa],length [kPa],force [N]\n1,2,3\n", "the unit [kPa] is not a length"),
-    ("pressure [kPa],length [furlongz],force [N]\n1,2,3\n", "unknown unit [furlongz]"),
+    ("pressure [kPa],length [furlongz],force [N]\n1,2,3\n", "unknown unit 'furlongz'"),
     ("pressure [kPa],length [mm],force [N]\n1,2,3\n4,x,6\n", "line 3, column 2 (length): 'x' is not a"),
     ("pressure [kPa],length [mm],force [N]\n1,2,3\n4,,6\n", "line 3, column 2 (length): an empty cell"),
     ("pressure [kPa],length [mm],force [N]\n1,2,nan\n", "line 2, column 3 (force): 'nan' is not a finite"),

@@ -39,6 +39,7 @@ class GridSchema(Strict):
 
 
 class BoundsSchema(Strict):
+    model_config = Strict.model_config | {"strict": False}  # YAML lists become (low, high) tuples
     constant: tuple[Stress, Stress] = (0.0, 50e6)
     other: tuple[Stress, Stress] = (-50e6, 50e6)
     contact: tuple[Stress, Stress] = (-50e6, 50e6)

@@ -12,11 +12,12 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
-import pydantic
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
 from pampipe.errors import InputError
 from pampipe.experiment import Experiment, TestSpec
+from pampipe.io.schema import Strict, quantity
+from pampipe.io.schema import validate as _validate
 from pampipe.io.yamlfile import load_mapping
 from pampipe.mission import Mission, Section, Segment
 from pampipe.model.domain import check_geometry
@@ -24,28 +25,7 @@ from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.units import to_si
 
-
-def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,
-             lt: float | None = None, le: float | None = None, unit: str = ""):
-    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked."""
-
-    def convert(value: Any) -> float:
-        return to_si(value, dimension)
-
-    def check(value: float) -> float:
-        shown = f"{value:.6g}{' ' + unit if unit else ''}"
-        if gt is not None and not value > gt:
-            raise ValueError(f"{shown} must be greater than {gt:g}{' ' + unit if unit else ''}")
-        if ge is not None and not value >= ge:
-            raise ValueError(f"{shown} must be at least {ge:g}{' ' + unit if unit else ''}")
-        if lt is not None and not value < lt:
-            raise ValueError(f"{shown} must be less than {lt:g}{' ' + unit if unit else ''}")
-        if le is not None and not value <= le:
-            raise ValueError(f"{shown} must be at most {le:g}{' ' + unit if unit else ''}")
-        return value
-
-    return Annotated[float, BeforeValidator(convert), AfterValidator(check)]
-
+__all__ = ["Strict", "_validate", "load_experiment", "load_mission", "load_pam", "quantity"]
 
 Length = quantity("length", gt=0, le=10.0, unit="m")  # a PAM dimension or a pipe diameter
 RouteLength = quantity("length", gt=0, le=1e7, unit="m")
@@ -64,10 +44,6 @@ def _finite(value: float) -> float:
     if not math.isfinite(value):
         raise ValueError(f"{value!r} is not a finite number")
     return value
-
-
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
 
 # ---------------------------------------------------------------------------------------------- PAM
@@ -242,8 +218,14 @@ class SegmentSchema(Strict):
     mass: Mass
 
 
+def _three_segments(segments: list) -> list:
+    if len(segments) != 3:
+        raise ValueError(f"needs exactly 3 segments (rear to front), got {len(segments)}")
+    return segments
+
+
 class RobotSchema(Strict):
-    segments: list[SegmentSchema] = Field(min_length=3, max_length=3)
+    segments: Annotated[list[SegmentSchema], AfterValidator(_three_segments)]
     payload: Mass = 0.0
 
 
@@ -342,66 +324,3 @@ def _build(path: Path, schema_cls, raw, builder, prefix: str = ""):
         return builder(schema)
     except (InputError, ValueError) as exc:
         raise InputError(f"{path}: {prefix + ': ' if prefix else ''}{exc}") from None
-
-
-def _validate(path: Path, schema_cls: type[BaseModel], raw: dict):
-    try:
-        return schema_cls.model_validate(raw)
-    except pydantic.ValidationError as exc:
-        lines = [_describe(schema_cls, err) for err in exc.errors()]
-        raise InputError(f"{path}: " + "; ".join(dict.fromkeys(lines))) from None
-
-
-def _describe(schema_cls: type[BaseModel], err: dict) -> str:
-    """One readable sentence for one pydantic error: key path, bad value, what is allowed."""
-    loc = [part for part in err["loc"] if not _is_union_tag(part)]
-    key = ".".join(f"[{p}]" if isinstance(p, int) else str(p) or "''" for p in loc).replace(".[", "[")
-    kind, value = err["type"], err.get("input")
-    if kind == "extra_forbidden":
-        allowed = _allowed_keys(schema_cls, loc[:-1])
-        return f"unknown key '{key}'" + (f"; allowed keys here: {', '.join(allowed)}" if allowed else "")
-    if kind == "missing":
-        return f"missing required key '{key}'"
-    message = err["msg"].removeprefix("Value error, ")
-    where = f"key '{key}'" if key else "top level"
-    shown = repr(value) if not isinstance(value, dict | list) else type(value).__name__
-    return f"{where}: {message} (got {shown})"
-
-
-def _is_union_tag(part) -> bool:
-    """pydantic puts the member tried (``str``, ``PamSchema``, ``function-after[...]``) into a union's loc."""
-    if not isinstance(part, str):
-        return False
-    return (part in {"str", "float", "int", "bool", "list", "dict", "none"} or "[" in part
-            or part in _schema_names(Strict))
-
-
-def _schema_names(cls) -> set[str]:
-    names = set()
-    for sub in cls.__subclasses__():
-        names |= {sub.__name__} | _schema_names(sub)
-    return names
-
-
-def _allowed_keys(schema_cls: type[BaseModel], loc: list) -> list[str]:
-    cls: Any = schema_cls
-    for part in loc:
-        if isinstance(part, int):
-            continue
-        field = cls.model_fields.get(part) if isinstance(cls, type) and issubclass(cls, BaseModel) else None
-        if field is None:
-            return []
-        cls = _model_in(field.annotation)
-        if cls is None:
-            return []
-    return list(cls.model_fields) if isinstance(cls, type) and issubclass(cls, BaseModel) else []
-
-
-def _model_in(annotation) -> type[BaseModel] | None:
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return annotation
-    for arg in getattr(annotation, "__args__", ()):
-        found = _model_in(arg)
-        if found is not None:
-            return found
-    return None

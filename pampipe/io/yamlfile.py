@@ -1,50 +1,79 @@
-"""Reading YAML input files safely: clear errors for missing, unreadable or malformed files."""
+"""Reading YAML input files as YAML 1.2 core, safely (docs/formats.md §1).
+
+* **YAML 1.2 core schema**: ``010`` is 10, ``0o10`` is 8, ``1:30`` and ``yes``/``no``/``on``/``off``
+  stay strings, dates stay strings; ``true``/``false``, ``null``/``~``, ``.inf``/``.nan`` as in 1.2.
+* Merge keys (``<<: *defaults``) work; explicit keys win over merged ones.
+* Refused with the line and column: duplicate keys, a list or mapping as a key, recursive aliases,
+  tags other than the core ones, several documents in one file.
+* Bounded: at most :data:`MAX_BYTES` bytes, :data:`MAX_DEPTH` levels of nesting, and aliases may
+  add at most :data:`MAX_ALIAS_NODES` nodes (or as many as the file holds itself) to the document
+  (the "billion laughs" attack expands 30 bytes into 10⁹ nodes).
+
+The document is built in one pass over libyaml's events (PyYAML's C parser when present): no node
+graph, no recursion, so a deep file cannot exhaust the stack.
+"""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import yaml
 
 from pampipe.errors import InputError
+from pampipe.io.paths import read_bounded
+
+#: Largest YAML input [bytes]: 64 MB holds a route of about 10⁶ sections.
+MAX_BYTES = 64 * 2**20
+#: Deepest nesting of mappings and lists (pampipe's own files need fewer than 12 levels).
+MAX_DEPTH = 100
+#: Nodes that aliases may add beyond the larger of this and the document's own node count.
+MAX_ALIAS_NODES = 1_000_000
 
 
-class _StrictLoader(yaml.SafeLoader):
-    """SafeLoader that rejects duplicate keys instead of silently keeping the last one."""
+
+class _PyParser(yaml.reader.Reader, yaml.scanner.Scanner, yaml.parser.Parser):
+    """PyYAML's pure-Python event parser, for installations without libyaml."""
+
+    def __init__(self, text: str) -> None:
+        yaml.reader.Reader.__init__(self, text)
+        yaml.scanner.Scanner.__init__(self)
+        yaml.parser.Parser.__init__(self)
 
 
-def _construct_mapping(loader: _StrictLoader, node: yaml.MappingNode, deep: bool = False):
-    seen: dict = {}
-    for key_node, _ in node.value:
-        key = loader.construct_object(key_node, deep=deep)
-        if key in seen:
-            raise yaml.constructor.ConstructorError(
-                None, None, f"duplicate key {key!r} (first at line {seen[key] + 1})", key_node.start_mark)
-        seen[key] = key_node.start_mark.line
-    return yaml.SafeLoader.construct_mapping(loader, node, deep)
+_Parser = yaml.cyaml.CParser if yaml.__with_libyaml__ else _PyParser  # libyaml's C parser when present
+_INT = re.compile(r"[-+]?[0-9]+")
+_FLOAT = re.compile(r"[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?")
+_SPECIAL = {"": None, "~": None, "null": None, "Null": None, "NULL": None,
+            "true": True, "True": True, "TRUE": True, "false": False, "False": False, "FALSE": False,
+            ".inf": float("inf"), ".Inf": float("inf"), ".INF": float("inf"),
+            "+.inf": float("inf"), "+.Inf": float("inf"), "+.INF": float("inf"),
+            "-.inf": float("-inf"), "-.Inf": float("-inf"), "-.INF": float("-inf"),
+            ".nan": float("nan"), ".NaN": float("nan"), ".NAN": float("nan")}
+_NUMERIC_START = frozenset("0123456789+-.")
+_CORE = "tag:yaml.org,2002:"
+#: Longest integer literal read [digits]: far beyond the float range, below Python's 4300-digit limit.
+MAX_INT_DIGITS = 1000
 
 
-_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+class _Error(Exception):
+    """A problem at a place in the file: (message, mark)."""
+
+    def __init__(self, message: str, mark) -> None:
+        super().__init__(message)
+        self.mark = mark
 
 
 def read_text(path: Path, *, what: str = "file") -> str:
-    """Read a UTF-8 text file; every OS-level failure becomes an :class:`InputError` naming the path."""
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise InputError(f"{path}: {what} not found.") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a directory, expected a {what}.") from None
-    except PermissionError:
-        raise InputError(f"{path}: permission denied while reading the {what}.") from None
-    except OSError as exc:  # symlink loops, name too long, I/O errors
-        raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc}).") from None
+    """Read a UTF-8 text file of at most :data:`MAX_BYTES`; failures raise :class:`InputError`."""
+    raw = read_bounded(path, what=what, limit=MAX_BYTES)
     if b"\x00" in raw:
         raise InputError(f"{path}: is a binary file, expected a text {what}.")
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError(f"{path}: is not UTF-8 text (byte {exc.start}).") from None
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise InputError(f"{path}: line {line}: is not UTF-8 text (byte {exc.start}).") from None
 
 
 def load_mapping(path: Path, *, what: str = "YAML file") -> dict:
@@ -52,15 +81,194 @@ def load_mapping(path: Path, *, what: str = "YAML file") -> dict:
     text = read_text(path, what=what)
     if not text.strip():
         raise InputError(f"{path}: the {what} is empty; expected a YAML mapping.")
-    try:
-        document = yaml.load(text, Loader=_StrictLoader)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        where = f" line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        raise InputError(f"{path}:{where}: invalid YAML: {exc.problem or exc.context}.") from None
-    except yaml.YAMLError as exc:
-        raise InputError(f"{path}: invalid YAML: {exc}.") from None
+    document = loads(text, source=str(path))
     if not isinstance(document, dict):
         raise InputError(f"{path}: the top level must be a YAML mapping (key: value lines), "
-                         f"got {type(document).__name__}.")
+                         f"got {_type_name(document)}.")
     return document
+
+
+def loads(text: str, *, source: str = "<text>"):
+    """The one document in ``text`` as Python objects (YAML 1.2 core); errors raise InputError."""
+    try:
+        return _Builder(_Parser(text)).document()
+    except _Error as exc:
+        raise InputError(f"{source}:{_where(exc.mark)}: {exc}") from None
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        raise InputError(f"{source}:{_where(mark)}: invalid YAML: {exc.problem or exc.context}.") from None
+    except yaml.YAMLError as exc:
+        raise InputError(f"{source}: invalid YAML: {str(exc)[:200]}.") from None
+
+
+def _where(mark) -> str:
+    return f" line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+
+
+def _type_name(value) -> str:
+    return {dict: "a mapping", list: "a list", str: "text", type(None): "nothing"}.get(
+        type(value), type(value).__name__)
+
+
+class _Frame:
+    """An open mapping or list while its events arrive."""
+
+    __slots__ = ("anchor", "container", "key", "key_mark", "merges", "seen", "size", "start")
+
+    def __init__(self, container, anchor, start) -> None:
+        self.container, self.anchor, self.start = container, anchor, start
+        self.size = 1  # nodes of the expanded subtree, aliases included
+        self.key = self.key_mark = None
+        self.seen: set | None = None if isinstance(container, list) else set()
+        self.merges: list = []
+
+
+class _Builder:
+    """Python objects from parser events, with the 1.2-core schema and the bounds above."""
+
+    def __init__(self, parser) -> None:
+        self.parser = parser
+        self.anchors: dict[str, tuple[object, int]] = {}
+        self.open_anchors: set[str] = set()
+        self.written = 0  # nodes written in the file
+        self.expanded = 0  # nodes added by aliases
+
+    def document(self):
+        events = self.parser
+        events.get_event()  # stream start
+        start = events.get_event()
+        if isinstance(start, yaml.StreamEndEvent):
+            return None
+        stack: list[_Frame] = []
+        result = _NOTHING = object()
+        while True:
+            event = events.get_event()
+            kind = type(event)
+            if kind is yaml.ScalarEvent:
+                value, size = self.scalar(event), 1
+                self.written += 1
+                if event.anchor is not None:
+                    self.anchors[event.anchor] = (value, 1)
+            elif kind is yaml.MappingStartEvent or kind is yaml.SequenceStartEvent:
+                self.check_tag(event, "map" if kind is yaml.MappingStartEvent else "seq")
+                if len(stack) >= MAX_DEPTH:
+                    raise _Error(f"nested deeper than {MAX_DEPTH} levels", event.start_mark)
+                frame = _Frame({} if kind is yaml.MappingStartEvent else [], event.anchor, event.start_mark)
+                if event.anchor is not None:
+                    self.open_anchors.add(event.anchor)
+                stack.append(frame)
+                self.written += 1
+                continue
+            elif kind is yaml.MappingEndEvent or kind is yaml.SequenceEndEvent:
+                frame = stack.pop()
+                if frame.merges:
+                    self.merge(frame)
+                value, size = frame.container, frame.size
+                if frame.anchor is not None:
+                    self.open_anchors.discard(frame.anchor)
+                    self.anchors[frame.anchor] = (value, size)
+            elif kind is yaml.AliasEvent:
+                if event.anchor in self.open_anchors:
+                    raise _Error(f"the alias *{event.anchor} refers to a collection that contains it",
+                                 event.start_mark)
+                if event.anchor not in self.anchors:
+                    raise _Error(f"the alias *{event.anchor} has no anchor &{event.anchor} before it",
+                                 event.start_mark)
+                value, size = self.anchors[event.anchor]
+                self.expanded += size
+                if self.expanded > max(MAX_ALIAS_NODES, self.written):
+                    raise _Error(f"aliases expand the document beyond {max(MAX_ALIAS_NODES, self.written):,} "
+                                 "extra nodes (an alias bomb?)", event.start_mark)
+            elif kind is yaml.DocumentEndEvent:
+                if not isinstance(events.get_event(), yaml.StreamEndEvent):
+                    raise _Error("the file holds several YAML documents; expected one", event.end_mark)
+                return None if result is _NOTHING else result
+            else:
+                raise _Error(f"unexpected {kind.__name__}", event.start_mark)
+            if not stack:
+                result = value
+                continue
+            self.add(stack[-1], value, size, event)
+
+    def add(self, frame: _Frame, value, size: int, event) -> None:
+        frame.size += size
+        container = frame.container
+        if frame.seen is None:
+            container.append(value)
+            return
+        if frame.key is None and frame.key_mark is None:
+            if isinstance(value, dict | list):
+                raise _Error(f"{_type_name(value)} cannot be a key; keys are names or numbers",
+                             event.start_mark)
+            frame.key, frame.key_mark = value, event.start_mark
+            if value == "<<" and type(event) is yaml.ScalarEvent and event.implicit[0]:
+                frame.key = _MERGE
+            return
+        key, mark = frame.key, frame.key_mark
+        frame.key = frame.key_mark = None
+        if key is _MERGE:
+            sources = value if isinstance(value, list) else [value]
+            if not all(isinstance(s, dict) for s in sources):
+                raise _Error("a merge key '<<' takes a mapping or a list of mappings", mark)
+            frame.merges.extend(sources)
+            return
+        if key in frame.seen:
+            raise _Error(f"duplicate key {_clip(key)}", mark)
+        frame.seen.add(key)
+        container[key] = value
+
+    def merge(self, frame: _Frame) -> None:
+        """Merged keys first (earlier sources win), then the explicit keys (which win over merged)."""
+        merged: dict = {}
+        for source in frame.merges:
+            for key, value in source.items():
+                merged.setdefault(key, value)
+        merged.update(frame.container)
+        frame.container.clear()
+        frame.container.update(merged)
+
+    def check_tag(self, event, expected: str) -> None:
+        if event.tag not in (None, "!", _CORE + expected):
+            raise _Error(f"the tag {_clip(event.tag)} is not read; pampipe reads plain YAML",
+                         event.start_mark)
+
+    def scalar(self, event):
+        value, tag = event.value, event.tag
+        if tag is None:
+            return _resolve(value, event.start_mark) if event.implicit[0] else value
+        if tag == "!" or tag == _CORE + "str":
+            return value
+        if tag in (_CORE + "int", _CORE + "float", _CORE + "bool", _CORE + "null"):
+            resolved = _resolve(value, event.start_mark)
+            wanted = {"int": int, "float": (int, float), "bool": bool, "null": type(None)}[tag[len(_CORE):]]
+            if not isinstance(resolved, wanted) or (tag.endswith("int") and isinstance(resolved, bool)):
+                raise _Error(f"{_clip(value)} is not a valid {tag[len(_CORE):]}", event.start_mark)
+            return float(resolved) if tag.endswith("float") else resolved
+        raise _Error(f"the tag {_clip(tag)} is not read; pampipe reads plain YAML", event.start_mark)
+
+
+_MERGE = object()
+
+
+def _resolve(value: str, mark):
+    """A plain scalar under the YAML 1.2 core schema."""
+    if value in _SPECIAL:
+        return _SPECIAL[value]
+    if value[0] not in _NUMERIC_START:
+        return value
+    if _INT.fullmatch(value):
+        if len(value) > MAX_INT_DIGITS:
+            raise _Error(f"an integer of {len(value)} digits is beyond any range pampipe reads", mark)
+        return int(value)
+    if _FLOAT.fullmatch(value):
+        return float(value)
+    if value.startswith("0o") and re.fullmatch(r"0o[0-7]+", value) and len(value) < MAX_INT_DIGITS:
+        return int(value[2:], 8)
+    if value.startswith("0x") and re.fullmatch(r"0x[0-9a-fA-F]+", value) and len(value) < MAX_INT_DIGITS:
+        return int(value[2:], 16)
+    return value
+
+
+def _clip(value, size: int = 40) -> str:
+    text = repr(value)
+    return text if len(text) <= size else text[:size] + "…"
