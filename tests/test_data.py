@@ -67,12 +67,12 @@ def test_chunked_reading_matches_and_keeps_line_numbers(tmp_path, monkeypatch):
     rows = [f"{i},{i * 0.5},{i * 2}" for i in range(1, 101)]
     path = write(tmp_path, "pressure [Pa],length [m],force [N]\n" + "\n".join(rows) + "\n")
     whole = read_csv(path, required=AXIAL)
-    monkeypatch.setattr(data_module, "CHUNK_ROWS", 7)  # 15 chunks, the last one short
+    monkeypatch.setattr(data_module, "BLOCK_BYTES", 50)  # about 4 rows a block, the last one short
     chunked = read_csv(path, required=AXIAL)
     for name in AXIAL:
         np.testing.assert_array_equal(whole[name], chunked[name])
     np.testing.assert_array_equal(chunked["pressure"], np.arange(1, 101))
-    rows[57] = "58,oops,116"  # data row 58 is file line 59, in the 9th chunk
+    rows[57] = "58,oops,116"  # data row 58 is file line 59, in a later block
     write(tmp_path, "pressure [Pa],length [m],force [N]\n" + "\n".join(rows) + "\n")
     with pytest.raises(InputError, match=r"line 59, column 2 \(length\): 'oops'"):
         read_csv(path, required=AXIAL)
@@ -112,7 +112,7 @@ def test_legs_and_cycles_of_a_triangle_wave():
 def test_oversized_file_is_refused_not_loaded(tmp_path, monkeypatch):
     """Issue 7: a file beyond the row cap is refused with a clear message (cap lowered for the test)."""
     monkeypatch.setattr(data_module, "MAX_ROWS", 1000)
-    monkeypatch.setattr(data_module, "CHUNK_ROWS", 256)
+    monkeypatch.setattr(data_module, "BLOCK_BYTES", 2048)
     path = tmp_path / "big.csv"
     path.write_text("pressure [kPa], force [N]\n" + "100, 5\n" * 1300)
     with pytest.raises(InputError, match="more than 1,000 data rows"):

@@ -4,10 +4,14 @@ CSV format (docs/formats.md §3): one header row, every column named ``quantity 
 (``pressure [kPa]``, ``length [mm]``, ``force [N]``, ``time [s]``); rows in recorded order; blank
 lines are ignored. Columns with other names are allowed (they must still be numeric) and ignored.
 
-Reading is chunked: :data:`CHUNK_ROWS` lines are parsed at a time by numpy's C parser, so a file
-of 10⁷ rows needs memory for its numbers (8 bytes per cell) plus one chunk of text, never the
-whole text or Python objects per cell. Only when a chunk fails does a slow line-by-line scan run,
-to name the exact line, column and value.
+A cell is a plain decimal number (:data:`pampipe.units.NUMBER`), nothing else: no comments
+(``1#514.46`` is an error, not 1), no NaN or infinity, no underscores or hexadecimal.
+
+Reading is chunked: blocks of :data:`BLOCK_BYTES` whole lines are parsed by numpy's C parser, so a
+file of 10⁷ rows needs memory for its numbers (8 bytes per cell) plus one block of text, never the
+whole text or Python objects per cell. Only when a block holds a character that cannot be part of a
+number, or fails to parse, does a slow line-by-line scan run, to name the exact line, column and value.
+Only regular files are read (a FIFO or ``/dev/zero`` is refused before reading).
 
 :func:`load_experiment_data` reads every test of an experiment and groups its rows
 (:func:`pampipe.experiment.make_test_data`).
@@ -26,13 +30,17 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.experiment import Experiment, ExperimentData, make_test_data
 from pampipe.io.files import atomic_write
-from pampipe.units import column_factor
+from pampipe.io.paths import open_input
+from pampipe.units import NUMBER, column_factor, show
 
-#: Lines parsed per chunk: bounds the text held in memory (≈ 10 MB for 3-column files).
-CHUNK_ROWS = 262_144
+#: Bytes read per block, in whole lines: bounds the text held in memory (a block holds ≈ 2·10⁵ rows
+#: of a 3-column file, and no line may be longer).
+BLOCK_BYTES = 8 * 2**20
 #: Rows one file may hold. identify keeps the numbers in memory (≈ 170 bytes a row at its peak,
 #: measured: 1.7 GB for 10⁷ rows), so this cap keeps a run under ≈ 5 GB on a 24 GB machine.
 MAX_ROWS = 30_000_000
+#: Files with more rows than this report their reading progress.
+PROGRESS_ROWS = 262_144
 #: Known column names and their dimensions.
 DIMENSIONS = {"pressure": "pressure", "length": "length", "force": "force", "time": "time"}
 #: Columns each test kind needs.
@@ -63,49 +71,81 @@ def read_csv(path: Path, *, required: tuple[str, ...], progress: Progress | None
     a row with the wrong number of cells, a non-numeric cell, NaN or infinity.
     """
     path = Path(path)
+    with open_input(path, what="data file") as handle:
+        return _read_open(path, _blocks(path, handle), required, progress)
+
+
+def _blocks(path: Path, handle):
+    """(file line number of the block's first line, bytes) for consecutive blocks of whole lines."""
+    carry, line = b"", 1
+    while True:
+        try:
+            block = handle.read(BLOCK_BYTES)
+        except OSError as exc:
+            raise InputError(f"{path}: cannot read the data file ({exc.strerror or exc}).") from None
+        data = carry + block
+        cut = len(data) if not block else data.rfind(b"\n") + 1
+        if block and cut == 0:
+            if len(data) > BLOCK_BYTES:
+                raise InputError(f"{path}: line {line} is longer than {BLOCK_BYTES // 2**20} MB; "
+                                 "is this a CSV file?")
+            carry = data
+            continue
+        carry = data[cut:]
+        if cut:
+            yield line, data[:cut]
+            line += data.count(b"\n", 0, cut)
+        if not block:
+            return
+
+
+#: The bytes of rows of plain decimal numbers (a block with any other byte goes to the slow scan).
+_NUMERIC = b"0123456789eE+-.,\r\n\t\f\v "
+_CELL = re.compile(NUMBER)
+
+
+def _decode(path: Path, chunk: bytes, line: int) -> str:
     try:
-        handle = open(path, encoding="utf-8", newline="")  # closed by the with below
-    except FileNotFoundError:
-        raise InputError(f"{path}: data file not found.") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a directory, expected a CSV data file.") from None
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the data file ({exc.strerror or exc}).") from None
-    try:
-        with handle:
-            return _read_open(path, handle, required, progress)
+        return chunk.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError(f"{path}: is not UTF-8 text (byte {exc.start} of a chunk).") from None
+        bad = line + chunk.count(b"\n", 0, exc.start)
+        raise InputError(f"{path}: line {bad}: is not UTF-8 text.") from None
 
 
-def _read_open(path, handle, required, progress) -> dict[str, np.ndarray]:
-    header_line = handle.readline()
-    if not header_line.strip():
+def _read_open(path, blocks, required, progress) -> dict[str, np.ndarray]:
+    first, chunk = next(blocks, (1, b""))
+    _decode(path, chunk, first)  # a binary file fails here, before its "header" is judged
+    header, _, rest = chunk.partition(b"\n")
+    header = header.decode("utf-8")
+    if not header.strip():
         raise InputError(f"{path}: the file is empty; expected a header row such as "
                          f"'{', '.join(_example_header(required))}' followed by data rows.")
-    names, factors, ncols = _parse_header(path, header_line, required)
+    names, factors, ncols = _parse_header(path, header, required)
     chunks = []
-    first_line = 2  # file line number of the chunk's first line (the header is line 1)
     rows = 0
-    while True:
-        lines = list(itertools.islice(handle, CHUNK_ROWS))
-        if not lines:
-            break
-        try:
-            block = np.loadtxt(lines, delimiter=",", ndmin=2, dtype=float)
-        except ValueError:
-            block = None
+    for start, chunk in itertools.chain([(first + 1, rest)], blocks):
+        if not chunk.strip():
+            continue
+        block = None
+        if not chunk.translate(None, _NUMERIC):
+            try:
+                block = np.loadtxt(chunk.decode("ascii").split("\n"), delimiter=",", ndmin=2, dtype=float,
+                                   comments=None)
+            except ValueError:
+                block = None
         if block is None or (block.size and (block.shape[1] != ncols or not np.all(np.isfinite(block)))):
-            _scan(path, lines, first_line, names, ncols)  # raises, naming the line and column
-        if block.size:
-            chunks.append(block)
-            rows += block.shape[0]
+            lines = _decode(path, chunk, start).split("\n")
+            _scan(path, lines, start, names, ncols)  # raises, naming the line and column
+            # no bad line: the block failed on whitespace-only lines, which are ignored
+            block = np.loadtxt([t for t in lines if t.strip()], delimiter=",", ndmin=2, dtype=float,
+                               comments=None)
+        chunks.append(block)
+        rows += block.shape[0]
         if rows > MAX_ROWS:
             raise InputError(f"{path}: more than {MAX_ROWS:,} data rows; pampipe holds the data in memory "
                              "(about 170 bytes a row), so thin the file out (every k-th row keeps the "
                              "statistics) or split it into several tests.")
-        first_line += len(lines)
-        if progress is not None and rows >= CHUNK_ROWS:
+        if progress is not None and rows >= PROGRESS_ROWS:
             progress(f"reading {path.name}: {rows:,} rows")
     if rows == 0:
         raise InputError(f"{path}: the file has a header but no data rows.")
@@ -136,7 +176,7 @@ def _parse_header(path, line, required):
 
 
 def _scan(path, lines, first_line, names, ncols) -> None:
-    """Find and report the first malformed line of a chunk (slow path, only on error)."""
+    """Raise for the first malformed line of a block, naming it (slow path, only on error)."""
     labels = {c: n for n, c in names.items()}
     for offset, raw in enumerate(lines):
         text = raw.strip()
@@ -148,15 +188,16 @@ def _scan(path, lines, first_line, names, ncols) -> None:
             raise InputError(f"{where}: has {len(cells)} cells but the header has {ncols} columns.")
         for col, cell in enumerate(cells):
             label = labels.get(col, f"column {col + 1}")
-            try:
-                value = float(cell)
-            except ValueError:
-                shown = "an empty cell" if not cell else f"{cell!r}"
-                raise InputError(f"{where}, column {col + 1} ({label}): {shown} is not a number.") from None
-            if not math.isfinite(value):
+            if cell.lower().lstrip("+-") in ("nan", "inf", "infinity"):
                 raise InputError(f"{where}, column {col + 1} ({label}): {cell!r} is not a finite number "
                                  "(NaN and infinity are not allowed; remove or fix the row).")
-    raise InputError(f"{path}: lines {first_line}-{first_line + len(lines) - 1}: malformed CSV.")
+            if not _CELL.fullmatch(cell):
+                shown = "an empty cell" if not cell else show(cell)
+                raise InputError(f"{where}, column {col + 1} ({label}): {shown} is not a number "
+                                 "(a cell holds one plain decimal number).")
+            if not math.isfinite(float(cell)):
+                raise InputError(f"{where}, column {col + 1} ({label}): {cell!r} is not a finite number "
+                                 "(NaN and infinity are not allowed; remove or fix the row).")
 
 
 def _example_header(required) -> list[str]:
