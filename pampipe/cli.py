@@ -1,29 +1,63 @@
 """Command-line entry point: argument parsing and exit codes, no physics.
 
 Exit codes (docs/commands.md §5): 0 success, 2 bad input, 3 no solution (infeasible or solver
-failure), 130 interrupted. A user mistake never prints a Python traceback.
+failure, or an internal error, reported with a "please report" hint), 130 interrupted. No error
+prints a Python traceback unless ``--debug`` is given. Under ``--json`` an error that comes before
+the command's document prints ``{"error": {"code": …, "message": …}}`` on stdout instead.
 """
 
 from __future__ import annotations
 
 import argparse
+import difflib
 import importlib
-import signal
+import json
+import re
 import sys
+import traceback
 
-from pampipe import __version__
+from pampipe import __version__, interrupts
 from pampipe.errors import InputError, PampipeError
+from pampipe.io.files import forget_written, written
 
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
             "export")
+#: Exit code of an interrupted run (128 + SIGINT).
+INTERRUPTED = 130
+#: Exit code of an unexpected internal error (a bug).
+INTERNAL = 3
+
+
+class _UsageError(Exception):
+    """A command-line mistake found by argparse (exit 2)."""
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with one-line usage errors (exit 2) instead of the full usage block."""
+    """argparse that raises :class:`_UsageError` (one line, with a did-you-mean) instead of exiting."""
 
     def error(self, message: str):
-        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        commands = getattr(self, "commands", {})
+        prog = next(iter(commands.values())).prog if len(commands) == 1 else self.prog
+        raise _UsageError(f"{message}{_suggestion(self, message)} (see '{prog} --help')")
+
+
+def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
+    """'; did you mean --max-iterations?' for a misspelt option or command, else ''."""
+    unknown = re.match(r"unrecognized arguments: (.*)", message)
+    if unknown:
+        options = [o for p in getattr(parser, "commands", {}).values() for a in p._actions
+                   for o in a.option_strings] or [o for a in parser._actions for o in a.option_strings]
+        for word in unknown.group(1).split():
+            close = difflib.get_close_matches(word.split("=")[0], options, n=1, cutoff=0.6)
+            if word.startswith("-") and close:
+                return f"; did you mean {close[0]}?"
+        return ""
+    choice = re.search(r"invalid choice: '([^']*)'", message)
+    if choice and "COMMAND" in message:
+        close = difflib.get_close_matches(choice.group(1), COMMANDS, n=1)
+        return f"; did you mean '{close[0]}'?" if close else ""
+    return ""
 
 
 def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParser:
@@ -34,7 +68,9 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
         epilog="Exit codes: 0 success, 2 bad input, 3 no solution (infeasible or solver failure), "
                "130 interrupted.")
     parser.add_argument("--version", action="version", version=f"pampipe {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show the traceback of an internal error")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    parser.commands = {}
     for name in commands:
         try:
             module = importlib.import_module(f"pampipe.commands.{name}")
@@ -45,37 +81,77 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
         command = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
         module.add_arguments(command)
         command.set_defaults(run=module.run)
+        parser.commands[name] = command
     return parser
-
-
-def _interrupted(signum, frame):
-    raise KeyboardInterrupt
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run one command; return its exit code."""
-    signal.signal(signal.SIGTERM, _interrupted)
-    command = "pampipe"
     argv = sys.argv[1:] if argv is None else list(argv)
+    forget_written()
+    with interrupts.handled():
+        return _run(argv)
+
+
+def _run(argv: list[str]) -> int:
+    args = None
+    command = "pampipe"
     # import only the chosen command's module: start-up then skips the others' heavy imports
     chosen = next((a for a in argv if not a.startswith("-")), None)
     try:
-        parser = build_parser((chosen,) if chosen in COMMANDS else COMMANDS)
         try:
+            parser = build_parser((chosen,) if chosen in COMMANDS else COMMANDS)
             args = parser.parse_args(argv)
-        except SystemExit as exc:  # --help, --version and usage errors
+        except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
         command = f"pampipe {args.command}"
         return args.run(args)
-    except PampipeError as exc:
-        kind = "error" if isinstance(exc, InputError) else "no solution"
-        print(f"{command}: {kind}: {exc}", file=sys.stderr)
-        return exc.exit_code
+    except _UsageError as exc:
+        return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",
+                     str(exc))
     except KeyboardInterrupt:
-        print(f"{command}: interrupted; no partial output was written.", file=sys.stderr)
-        return 130
+        return _interrupted(args, argv, command)
+    except PampipeError as exc:
+        if interrupts.requested():  # a solver stopped by the signal reports a failure: it was the signal
+            return _interrupted(args, argv, command)
+        kind = "error" if isinstance(exc, InputError) else "no solution"
+        return _fail(args, argv, command, exc.exit_code, kind, str(exc))
     except BrokenPipeError:
         return 0
+    except Exception as exc:  # the last resort: a bug, never a user mistake
+        if "--debug" in argv:
+            traceback.print_exc()
+        first = str(exc).splitlines()[0][:300] if str(exc) else ""
+        return _fail(args, argv, command, INTERNAL, "internal error",
+                     f"{type(exc).__name__}{': ' + first if first else ''}. This is a bug in pampipe; "
+                     "please report it with the input files and the command line "
+                     f"({'traceback above' if '--debug' in argv else 'add --debug for the traceback'}).")
+
+
+def _interrupted(args, argv, command: str) -> int:
+    files = written()
+    if files:
+        done = ", ".join(str(f) for f in files)
+        message = f"interrupted after writing {done}; no partial output was written."
+    else:
+        message = "interrupted; no partial output was written."
+    return _fail(args, argv, command, INTERRUPTED, None, message)
+
+
+def _fail(args, argv, command: str, code: int, kind: str | None, message: str) -> int:
+    """Print the one-paragraph message (and the JSON error document under --json); return ``code``."""
+    print(f"{command}: {kind + ': ' if kind else ''}{message}", file=sys.stderr, flush=True)
+    json_mode = getattr(args, "json", None) if args is not None else _json_flag(argv)
+    if json_mode and not getattr(args, "document_printed", False):
+        sys.stdout.write(json.dumps({"error": {"code": code, "kind": kind or "interrupted",
+                                               "message": message}}, indent=2) + "\n")
+        sys.stdout.flush()
+    return code
+
+
+def _json_flag(argv: list[str]) -> bool:
+    """--json (or an abbreviation argparse would accept) among arguments that did not parse."""
+    return any(len(a) >= 4 and "--json".startswith(a) for a in argv)
 
 
 if __name__ == "__main__":

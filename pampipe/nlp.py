@@ -16,6 +16,7 @@ from functools import cache
 
 import casadi as ca
 
+from pampipe import interrupts
 from pampipe.errors import SolverError
 
 #: IPOPT options every pampipe NLP starts from (quiet; bounds are not relaxed, so a solution
@@ -74,9 +75,8 @@ def solve(solver: ca.Function, *, what: str, accept_acceptable: bool = False,
     solution = solver(**arguments)
     wall = time.perf_counter() - started
     raw = solver.stats()
+    interrupts.check(raw)  # a signal during the solve, whatever status IPOPT then reports
     status = str(raw.get("return_status", "unknown"))
-    if status == "User_Requested_Stop":
-        raise KeyboardInterrupt
     acceptable = accept_acceptable and status == "Solved_To_Acceptable_Level"
     success = bool(raw.get("success", False)) or acceptable
     stats = SolverStats("ipopt", status, success, int(raw.get("iter_count", -1)), wall, ca.__version__,

@@ -43,6 +43,6 @@ def save_figure(fig, folder: Path, name: str) -> Path:
 
     target = Path(folder) / name
     fig.tight_layout()
-    atomic_write(target, lambda tmp: fig.savefig(tmp, format="png", dpi=120))
+    atomic_write(target, lambda tmp: fig.savefig(tmp, format="png", dpi=120), create_folder=True)
     plt.close(fig)
     return target

@@ -165,7 +165,7 @@ def test_cli_errors_exit_2(tmp_path):
     out = run_cli("diagnose", EXAMPLE, "--effect", "gremlins")
     assert out.returncode == 2 and "invalid choice" in out.stderr
     out = run_cli("diagnose", EXAMPLE, "--folds", "1")
-    assert out.returncode == 2 and "at least 2 folds" in out.stderr
+    assert out.returncode == 2 and "--folds: 1 must be at least 2" in out.stderr
     out = run_cli("diagnose", EXAMPLE, "-o", EXAMPLE)
     assert out.returncode == 2 and "refusing to write over the input" in out.stderr
     out = run_cli("diagnose", tmp_path / "missing.yaml")

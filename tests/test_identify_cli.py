@@ -134,7 +134,7 @@ def test_solver_failure_exits_3_with_ipopt_status_and_writes_nothing(tmp_path, c
     code, stdout, err = cli(capsys, "identify", BUNDLED, "--max-iterations", "1", "-o", out, "--json")
     assert code == 3
     assert "Maximum_Iterations_Exceeded" in err and "iteration limit" in err
-    assert stdout == "" and not out.exists()
+    assert json.loads(stdout)["error"]["code"] == 3 and not out.exists()  # one JSON error document
 
 
 def test_mode_flags_run_on_the_bundled_experiment(capsys):

@@ -1,6 +1,6 @@
 """Reproducibility (issue 7): the same inputs give byte-identical JSON, whatever the thread count.
 
-Wall-clock timings (``*_time_s``) are the only entries that differ between runs; ``--reproducible``
+Wall-clock timings (``*wall_time_s``) are the only entries that differ between runs; ``--reproducible``
 writes them as 0, and everything else must match to the byte.
 """
 

@@ -11,12 +11,12 @@ from pampipe.io.files import atomic_write_text, to_json
 from pampipe.units import to_si
 
 
-def quantity_type(dimension: str, option: str):
+def quantity_type(dimension: str):
     """argparse type: a quantity such as '3 in' or '400 kPa', converted to SI."""
 
     def parse(text: str) -> float:
         try:
-            return to_si(text, dimension, where=option)
+            return to_si(text, dimension)  # argparse names the option
         except InputError as exc:
             raise argparse.ArgumentTypeError(str(exc)) from None
 
@@ -24,13 +24,33 @@ def quantity_type(dimension: str, option: str):
     return parse
 
 
+def integer_type(option: str, *, ge: int | None = None, le: int | None = None):
+    """argparse type: a whole number within [ge, le], with a message naming ``option``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip())
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option}: {text!r} is not a whole number") from None
+        if (ge is not None and value < ge) or (le is not None and value > le):
+            bounds = (f"from {ge} to {le}" if ge is not None and le is not None
+                      else f"at least {ge}" if ge is not None else f"at most {le}")
+            raise argparse.ArgumentTypeError(f"{option}: {value} must be {bounds}")
+        return value
+
+    parse.__name__ = "integer"
+    return parse
+
+
 def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -> None:
-    """--json and (for commands that draw) --plots DIR."""
+    """--json, --reproducible, --debug and (for commands that draw) --plots DIR."""
     parser.add_argument("--json", action="store_true",
                         help="print exactly one JSON document on stdout; human text goes to stderr")
     parser.add_argument("--reproducible", action="store_true",
-                        help="write wall-clock timings (*_time_s) as 0 in JSON, so that the same inputs give "
-                             "byte-identical JSON")
+                        help="write wall-clock timings (keys ending wall_time_s) as 0 in JSON, so that the "
+                             "same inputs give byte-identical JSON")
+    parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show the traceback of an internal error")
     if plots:
         parser.add_argument("--plots", metavar="DIR", type=Path,
                             help="write PNG plots into DIR (created if missing)")
@@ -52,6 +72,7 @@ def emit(args: argparse.Namespace, document: dict, text: str) -> None:
         print(text, file=sys.stderr, flush=True)
         sys.stdout.write(to_json(document, timings=not args.reproducible))
         sys.stdout.flush()
+        args.document_printed = True  # a later error adds no second JSON document
     else:
         print(text, flush=True)
 

@@ -70,7 +70,7 @@ def _schedule_text(result: GaitResult) -> str:
     if result.solver is not None:
         sv = result.solver
         head[0] += (f" (IPOPT {sv['status']}, {sv['iterations']} iterations, "
-                    f"{sv['solve_time_s']:.2f} s{', warm start' if sv['warm_start'] else ''})")
+                    f"{sv['solve_wall_time_s']:.2f} s{', warm start' if sv['warm_start'] else ''})")
     body = table(["step", "valve action", "anchored", "duration [s]",
                   *(f"P {n} [kPa]" for n in names), "rear [mm]", "joint 1-2 [mm]", "joint 2-3 [mm]",
                   "front [mm]", "slip margin"], rows)

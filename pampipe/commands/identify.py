@@ -20,6 +20,11 @@ NAME = "identify"
 HELP = "fit the bladder moduli to axial and radial test data (IPOPT, Drucker-stable, with uncertainty)"
 
 
+#: Command-line flags that override the experiment file's ``fit:`` block, validated by the same schema.
+FLAGS = {"mode": "--mode", "objective": "--objective", "degree": "--degree", "average_legs": "--average-legs",
+         "drucker": "--drucker", "max_iterations": "--max-iterations"}
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("experiment", type=Path, metavar="EXPERIMENT.yaml",
                         help="experiment file: the PAM, the tests and their CSV data, an optional fit: block")
@@ -43,9 +48,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     experiment = load_experiment(args.experiment)
-    options = parse_fit_options(experiment.fit, source=experiment.source).with_overrides(
-        mode=args.mode, objective=args.objective, degree=args.degree, average_legs=args.average_legs,
-        drucker=args.drucker, max_iterations=args.max_iterations)
+    flags = {key: getattr(args, key) for key in FLAGS if getattr(args, key) is not None}
+    parse_fit_options(flags, source="command line",  # the flags' own mistakes, named as typed
+                      rename={f"fit.{key}": option for key, option in FLAGS.items()})
+    options = parse_fit_options({**experiment.fit, **flags}, source=experiment.source)
     if args.output is not None:
         check_not_input(args.output, experiment.input_files, option="-o")
 

@@ -7,9 +7,10 @@ import math
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
-from pampipe.errors import InfeasibleError
+from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import check_not_input
 from pampipe.report import table
+from pampipe.units import to_si
 
 NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
@@ -36,7 +37,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="mission file (docs/formats.md §4)")
     parser.add_argument("-o", "--output", type=Path, metavar="PLAN.json",
                         help="also write the JSON plan to this file (atomically)")
-    parser.add_argument("--payload", type=quantity_type("mass", "--payload"), metavar="M",
+    parser.add_argument("--payload", type=quantity_type("mass"), metavar="M",
                         help="plan for this payload instead of the mission's, e.g. '5 kg'")
     parser.add_argument("--max-payload", action="store_true",
                         help="also report the largest payload the supply carries through the whole route, "
@@ -51,10 +52,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _probability(text: str) -> float:
+    """argparse type: a probability in [0.5, 1), as a number or a percentage ('0.95', '95 %')."""
     try:
-        value = float(text.strip().removesuffix("%")) / (100 if text.strip().endswith("%") else 1)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a probability; give e.g. 0.95 or 95%") from None
+        value = to_si(text, "dimensionless")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(f"{exc} Give a probability, e.g. 0.95 or '95 %'.") from None
     if not 0.5 <= value < 1:
         raise argparse.ArgumentTypeError(f"{text!r} must be a probability in [0.5, 1), e.g. 0.95")
     return value

@@ -18,13 +18,13 @@ HELP = "anchoring pressure, anchored length, amplification and radial force of a
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("pam", type=Path, metavar="PAM.yaml", help="PAM file with a moduli: block")
     parser.add_argument("--pipe-diameter", "-d", action="append", required=True,
-                        type=quantity_type("length", "--pipe-diameter"), metavar="D",
+                        type=quantity_type("length"), metavar="D",
                         help="pipe inner diameter, e.g. '3 in' (repeat for several pipes)")
     parser.add_argument("--axial-load", "-f", action="append",
-                        type=quantity_type("force", "--axial-load"), metavar="F",
+                        type=quantity_type("force"), metavar="F",
                         help="axial tension on the anchored PAM, e.g. '1024.74 N' (repeatable; default 0)")
     parser.add_argument("--pressure", "-p", action="append",
-                        type=quantity_type("pressure", "--pressure"), metavar="P",
+                        type=quantity_type("pressure"), metavar="P",
                         help="gauge pressure, e.g. '400 kPa' (repeatable; default 69..689 kPa)")
     parser.add_argument("--paper-literal", action="store_true",
                         help="contact pressure as F_r/(pi D L) (the paper's wording) instead of F_r/(D L)")

@@ -97,7 +97,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     t0 = time.perf_counter()
     base_fit = refitter.fit(None, theta0, jacobian=True)
     baseline = _candidate("none", base_fit, data, rows, refitter, n, None, time.perf_counter() - t0)
-    timings = {"baseline_time_s": time.perf_counter() - started}
+    timings = {"baseline_wall_time_s": time.perf_counter() - started}
 
     noise = tuple(signatures.noise_floor(t, r) for t, r in zip(data.tests, baseline.residuals, strict=True))
     pooled = float(np.sqrt(sum(f.sigma**2 * t.points for f, t in zip(noise, data.tests, strict=True)) / n))
@@ -132,7 +132,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     chosen, reason, confounded = selection.decide(ratio, [
         {"effect": c.effect, "delta_bic": c.delta_bic,
          "cv_ratio": None if c.cv_rmse is None else c.cv_rmse / base_cv} for c in ranked])
-    timings["total_time_s"] = time.perf_counter() - started
+    timings["total_wall_time_s"] = time.perf_counter() - started
     return DiagnoseResult(data.source, data.pam, baseline, tuple(ranked), chosen, reason, confounded, noise,
                           sigs,
                           regs, anchoring, source, timings, data)

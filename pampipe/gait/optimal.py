@@ -250,7 +250,7 @@ def solve_optimal(needs: tuple[MuscleNeed, ...], guess: ControlPlan | None, gues
     sign = np.array([[-1.0 if role == "fall" else 1.0 for role in phase.roles] for phase in PHASES])
     commands = magnitude.reshape(phases, options.intervals, 3) * sign[:, None, :]
     info = {"status": stats.status, "iterations": stats.iterations,
-            "solve_time_s": stats.wall_time, "build_time_s": build_time if rebuilt else 0.0,
+            "solve_wall_time_s": stats.wall_time, "build_wall_time_s": build_time if rebuilt else 0.0,
             "warm_start": warm, "intervals_per_phase": options.intervals,
             "rk4_substeps": options.substeps}
     return ControlPlan(durations, commands, states[0]), info, after

@@ -55,7 +55,7 @@ class BoundsSchema(Strict):
 
 
 class PriorSchema(Strict):
-    sd: quantity("pressure", gt=0, le=1e10, unit="Pa")
+    sd: quantity("pressure", ge=1e3, le=1e10, unit="Pa")  # below 1 kPa a prior fixes the coefficient
     toward: Literal["input", "axial", "zero"] = "input"
 
 
@@ -104,9 +104,10 @@ class FitOptions:
         return replace(self, **{k: v for k, v in changes.items() if v is not None})
 
 
-def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file") -> FitOptions:
-    """Validate a ``fit:`` mapping; errors name ``fit.<key>``, the value and the allowed values."""
-    schema = _validate(Path(source), _Wrapper, {"fit": dict(raw or {})}).fit
+def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file",
+                      rename: dict[str, str] | None = None) -> FitOptions:
+    """Validate a ``fit:`` mapping; errors name ``fit.<key>`` (or ``rename[key]``) and the value."""
+    schema = _validate(Path(source), _Wrapper, {"fit": dict(raw or {})}, rename=rename).fit
     return FitOptions(
         degree=schema.degree, mode=schema.mode, objective=schema.objective,
         average_legs=schema.average_legs, average_bins=schema.average_bins, drucker=schema.drucker,

@@ -130,7 +130,8 @@ class IdentifyResult:
             },
             "solver": {"status": self.solver.status, "success": self.solver.success,
                        "iterations": self.solver.iterations, "wall_time_s": self.solver.wall_time,
-                       "build_time_s": self.solver.build_time, "reduce_time_s": self.solver.reduce_time,
+                       "build_wall_time_s": self.solver.build_time,
+                       "reduce_wall_time_s": self.solver.reduce_time,
                        "objective": self.solver.objective},
             "uncertainty": {
                 "unit": "MPa", "parameters": list(self.names), "values": self.x.tolist(),

@@ -10,6 +10,7 @@ import shutil
 from pathlib import Path
 
 from pampipe.errors import InputError
+from pampipe.io.files import atomic_write, check_overwrite
 
 KINDS = ("missions", "pams", "experiments", "inventories")
 
@@ -51,10 +52,7 @@ def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> list[Pa
     root = folder().resolve()
     unique = dict.fromkeys(Path(f).resolve() for f in files)
     pairs = [(f, Path(target) / f.relative_to(root)) for f in unique]
-    existing = [dest for _, dest in pairs if dest.exists()]
-    if existing and not overwrite:
-        raise InputError(f"{existing[0]}: already exists; choose another folder, or pass --force.")
+    check_overwrite([dest for _, dest in pairs], force=overwrite)
     for source, dest in pairs:
-        dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(source, dest)
+        atomic_write(dest, lambda tmp, source=source: shutil.copyfile(source, tmp), create_folder=True)
     return [dest for _, dest in pairs]

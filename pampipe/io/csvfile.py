@@ -57,6 +57,9 @@ def load_experiment_data(experiment: Experiment, *, progress: Progress | None = 
     for spec in experiment.tests:
         columns = read_csv(spec.data, required=REQUIRED[spec.kind], progress=progress)
         tests.append(make_test_data(spec, columns))
+    if not any(np.any(t.force) for t in tests):
+        raise InputError(f"{experiment.source}: every force in every test is 0 N: nothing to fit; "
+                         "check the force columns and their units.")
     return ExperimentData(experiment.source, experiment.pam, tuple(tests), dict(experiment.fit))
 
 
@@ -215,4 +218,4 @@ def write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
     table = np.column_stack([columns[name] * units[name][1] for name in order])
     fmt = [units[name][2] for name in order]
     atomic_write(path, lambda tmp: np.savetxt(tmp, table, delimiter=",", fmt=fmt, header=header,
-                                              comments=""))
+                                              comments=""), create_folder=True)

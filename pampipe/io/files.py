@@ -1,15 +1,44 @@
-"""Writing results safely: atomic files, never over an input, deterministic JSON."""
+"""Writing results safely: atomic files, never over an input, deterministic JSON.
+
+The policy every command follows (docs/commands.md §5):
+
+* an input of the command is never overwritten, not even with ``--force`` (:func:`check_not_input`);
+* an existing data file (a CSV or an experiment file that ``synth`` would write) is replaced only with
+  ``--force`` (:func:`check_overwrite`); results (``-o``, plots) are replaced, as a re-run regenerates them;
+* only regular files are replaced: ``-o /dev/null`` or a FIFO is refused, never swapped for a file;
+* a file is written to a temporary name beside the target and renamed over it, so a crash or an
+  interrupt leaves the old file or the new one, never half of one. The new file gets the mode of the
+  file it replaces, or the mode the umask allows (0644 under umask 022);
+* the output folder of ``-o`` must exist; ``--plots DIR`` and ``synth OUT_DIR`` create theirs.
+
+:func:`written` lists the files this process has written, so an interrupt can say truthfully which
+outputs exist.
+"""
 
 from __future__ import annotations
 
 import json
 import math
 import os
+import stat
 import tempfile
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
 from pampipe.errors import InputError, SolverError
+from pampipe.io.paths import kind_of
+
+_WRITTEN: list[Path] = []
+
+
+def written() -> tuple[Path, ...]:
+    """The files written (completely) by this process since :func:`forget_written`."""
+    return tuple(_WRITTEN)
+
+
+def forget_written() -> None:
+    """Start a new record of written files (called once per command run)."""
+    _WRITTEN.clear()
 
 
 def check_not_input(target: Path, inputs: Iterable[Path], *, option: str) -> None:
@@ -24,34 +53,68 @@ def check_not_input(target: Path, inputs: Iterable[Path], *, option: str) -> Non
             raise InputError(f"{option} {target}: refusing to write over the input file {source}.")
 
 
-def atomic_write(target: Path, write: Callable[[Path], None]) -> None:
+def check_overwrite(targets: Iterable[Path], *, force: bool) -> None:
+    """Refuse (exit 2) to replace existing data files unless ``force`` (the ``--force`` flag)."""
+    existing = [Path(t) for t in targets if os.path.lexists(t)]
+    if existing and not force:
+        more = f" (and {len(existing) - 1} more of the files to write)" if len(existing) > 1 else ""
+        raise InputError(f"{existing[0]}: already exists{more}; choose another folder or name, or pass "
+                         "--force to replace existing files.")
+
+
+def atomic_write(target: Path, write: Callable[[Path], None], *, create_folder: bool = False) -> None:
     """Call ``write(tmp)`` on a temporary file beside ``target``, then rename it over ``target``.
 
-    A crash or interrupt leaves either the old file or the new one, never half of one.
+    ``create_folder`` creates a missing output folder; otherwise a missing folder is an error.
+    Every failure (read-only folder, disk full, a target that is not a regular file) raises
+    :class:`InputError` and leaves no temporary file.
     """
     target = Path(target)
+    mode = _mode_for(target)
+    folder = target.parent
+    if not folder.is_dir():
+        if not create_folder:
+            raise InputError(f"{target}: the output folder {folder} does not exist; create it first.")
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"{folder}: cannot create the output folder ({exc.strerror or exc}).") from None
+    tmp = None
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{target.parent}: cannot create the output folder ({exc.strerror}).") from None
-    if target.is_dir():
-        raise InputError(f"{target}: is a directory; give a file name for the output.")
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    os.close(fd)
-    tmp = Path(tmp_name)
-    try:
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+        tmp = Path(tmp_name)
+        os.fchmod(fd, mode)
+        os.close(fd)
         write(tmp)
         os.replace(tmp, target)
+        tmp = None
     except OSError as exc:
         raise InputError(f"{target}: cannot write the output ({exc.strerror or exc}).") from None
     finally:
-        if tmp.exists():
+        if tmp is not None and tmp.exists():
             tmp.unlink()
+    _WRITTEN.append(target)
 
 
-def atomic_write_text(target: Path, text: str) -> None:
+def _mode_for(target: Path) -> int:
+    """Permission bits of the new file: those of the file it replaces, else 0666 minus the umask."""
+    try:
+        info = os.stat(target)
+    except FileNotFoundError:
+        umask = os.umask(0o022)
+        os.umask(umask)
+        return 0o666 & ~umask
+    except OSError as exc:
+        raise InputError(f"{target}: cannot write the output ({exc.strerror or exc}).") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(f"{target}: is {kind_of(info.st_mode)}, not a regular file; refusing to replace "
+                         "it. Give a file name for the output.")
+    return stat.S_IMODE(info.st_mode)
+
+
+def atomic_write_text(target: Path, text: str, *, create_folder: bool = False) -> None:
     """Write ``text`` (UTF-8) to ``target`` atomically."""
-    atomic_write(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    atomic_write(target, lambda tmp: tmp.write_text(text, encoding="utf-8"), create_folder=create_folder)
 
 
 #: Significant digits of every float in JSON output: fixed, so that results are byte-identical across
@@ -59,29 +122,45 @@ def atomic_write_text(target: Path, text: str) -> None:
 JSON_DIGITS = 12
 
 
-def _clean(value, key: str = "result", timings: bool = True):
+#: Key suffix of wall-clock measurements (``wall_time_s``, ``build_wall_time_s``, ...): the only entries
+#: ``--reproducible`` zeroes. Physical durations (``cycle_time_s``, ``duration_s``) keep their values.
+WALL_CLOCK_SUFFIX = "wall_time_s"
+
+
+def _clean(value, parent: tuple = (), timings: bool = True):
     """JSON-ready copy of ``value``; a NaN or infinite number is an error, never printed.
 
-    With ``timings=False`` every ``*_time_s`` entry (a wall-clock measurement) is written as 0.
+    With ``timings=False`` every ``*wall_time_s`` entry (a wall-clock measurement) is written as 0.
+    ``parent`` is the key path, spelled out only in the error message.
     """
-    if isinstance(value, float):
+    if type(value) is float:
         if not math.isfinite(value):
-            raise SolverError(f"{key} came out as {value}: the computation left the model's valid "
+            raise SolverError(f"{_path(parent)} came out as {value}: the computation left the model's valid "
                               "domain; please report the input that caused it", status="non_finite")
         return float(f"{value:.{JSON_DIGITS}g}")
     if isinstance(value, dict):
-        return {str(k): 0.0 if not timings and str(k).endswith("_time_s")
-                else _clean(v, f"{key}.{k}", timings) for k, v in value.items()}
+        return {str(k): 0.0 if not timings and str(k).endswith(WALL_CLOCK_SUFFIX)
+                else _clean(v, (parent, k), timings) for k, v in value.items()}
     if isinstance(value, list | tuple):
-        return [_clean(v, f"{key}[{i}]", timings) for i, v in enumerate(value)]
+        return [_clean(v, (parent, i), timings) for i, v in enumerate(value)]
+    if isinstance(value, float):  # a float subclass
+        return _clean(float(value), parent, timings)
     if hasattr(value, "item") and hasattr(value, "dtype"):  # numpy scalar
-        return _clean(value.item(), key, timings)
+        return _clean(value.item(), parent, timings)
     return value
+
+
+def _path(parent: tuple) -> str:
+    parts = []
+    while parent:
+        parent, key = parent
+        parts.append(f"[{key}]" if isinstance(key, int) else f".{key}")
+    return "result" + "".join(reversed(parts))
 
 
 def to_json(document: dict, *, timings: bool = True) -> str:
     """Deterministic JSON: sorted keys, 12-digit floats; NaN or inf raises SolverError (exit 3).
 
-    ``timings=False`` writes wall-clock ``*_time_s`` entries as 0, for byte-identical output.
+    ``timings=False`` writes wall-clock ``*wall_time_s`` entries as 0, for byte-identical output.
     """
     return json.dumps(_clean(document, timings=timings), sort_keys=True, indent=2, allow_nan=False) + "\n"

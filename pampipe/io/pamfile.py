@@ -15,6 +15,7 @@ import numpy as np
 from pampipe.experiment import TestSpec
 from pampipe.io import yamlwrite
 from pampipe.io.csvfile import write_csv
+from pampipe.io.files import check_not_input, check_overwrite
 from pampipe.model.effects import get_effect
 from pampipe.model.pam import Pam
 
@@ -77,20 +78,20 @@ def write_pam(target: Path, pam: Pam, *, comments: Sequence[str] = ()) -> None:
 
 
 def write_experiment(out_dir: Path, name: str, pam: Pam, tests: Sequence[tuple[TestSpec, dict]], *,
-                     comments: Sequence[str] = (), overwrite: bool = False) -> Path:
+                     comments: Sequence[str] = (), overwrite: bool = False,
+                     inputs: Sequence[Path] = ()) -> Path:
     """Write ``out_dir/<name>.yaml`` (the PAM inline, without moduli) and ``out_dir/data/<name>/*.csv``.
 
     ``tests`` pairs each test's spec with its SI columns (``time``, ``pressure``, ``force`` and,
-    for axial tests, ``length``). Returns the YAML path.
+    for axial tests, ``length``). Returns the YAML path. Before anything is written: existing files
+    are replaced only with ``overwrite`` (``--force``), and ``inputs`` (the PAM file read) never.
     """
-    from pampipe.errors import InputError
-
     out_dir = Path(out_dir)
     target = out_dir / f"{name}.yaml"
     csvs = [out_dir / "data" / name / f"{spec.name}.csv" for spec, _ in tests]
-    existing = [p for p in (target, *csvs) if p.exists()]
-    if existing and not overwrite:
-        raise InputError(f"{existing[0]}: already exists; choose another folder or name, or pass --force.")
+    for path in (target, *csvs):
+        check_not_input(path, inputs, option="synth")
+    check_overwrite((target, *csvs), force=overwrite)
     entries = []
     for (spec, columns), csv in zip(tests, csvs, strict=True):
         write_csv(csv, columns)
