@@ -9,12 +9,10 @@ the command's document prints ``{"error": {"code": …, "message": …}}`` on st
 from __future__ import annotations
 
 import argparse
-import difflib
 import importlib
 import json
 import re
 import sys
-import traceback
 
 from pampipe import __version__, interrupts
 from pampipe.errors import InputError, PampipeError
@@ -44,6 +42,8 @@ class _Parser(argparse.ArgumentParser):
 
 def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
     """'; did you mean --max-iterations?' for a misspelt option or command, else ''."""
+    import difflib
+
     unknown = re.match(r"unrecognized arguments: (.*)", message)
     if unknown:
         options = [o for p in getattr(parser, "commands", {}).values() for a in p._actions
@@ -120,6 +120,8 @@ def _run(argv: list[str]) -> int:
         return 0
     except Exception as exc:  # the last resort: a bug, never a user mistake
         if "--debug" in argv:
+            import traceback
+
             traceback.print_exc()
         first = str(exc).splitlines()[0][:300] if str(exc) else ""
         return _fail(args, argv, command, INTERNAL, "internal error",

@@ -19,7 +19,6 @@ are cached per distinct string, so a file repeating ``"3 in"`` 10⁵ times parse
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 from functools import lru_cache
@@ -275,6 +274,8 @@ def _pint_quantity(number: float, text: str, unknown: list[str] | None = None):
     try:
         return registry().Quantity(number, expression).to_base_units()
     except Exception:  # pint raises many types for undefined or malformed units
+        import difflib
+
         names = unknown or [text]
         close = difflib.get_close_matches(names[0], list(UNITS), n=1)
         hint = f"; did you mean '{close[0]}'?" if close else f"; known units include {', '.join(_COMMON)}."

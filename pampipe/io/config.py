@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
 from pydantic import AfterValidator, Field, model_validator
 
 from pampipe.errors import InputError
-from pampipe.experiment import Experiment, TestSpec
 from pampipe.io.schema import Strict, quantity
 from pampipe.io.schema import validate as _validate
 from pampipe.io.yamlfile import load_mapping
@@ -24,6 +23,9 @@ from pampipe.model.domain import check_geometry
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.units import to_si
+
+if TYPE_CHECKING:
+    from pampipe.experiment import Experiment
 
 __all__ = ["Strict", "_validate", "load_experiment", "load_mission", "load_pam", "quantity"]
 
@@ -264,6 +266,8 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
+    from pampipe.experiment import Experiment, TestSpec  # not needed on plan's start-up path
+
     path = Path(path)
     schema = _validate(path, ExperimentSchema,
                        load_mapping(path, what="experiment file") if raw is None else raw)

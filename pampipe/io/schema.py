@@ -8,7 +8,6 @@ the value, what is allowed, a did-you-mean for misspelt keys, at most :data:`MAX
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -108,6 +107,8 @@ def _describe(schema_cls: type[BaseModel], err: dict, rename: dict[str, str], ta
     key = rename.get(key, key)
     kind, value, ctx = err["type"], err.get("input"), err.get("ctx") or {}
     if kind == "extra_forbidden":
+        import difflib
+
         allowed = _allowed_keys(schema_cls, loc[:-1])
         close = difflib.get_close_matches(str(loc[-1]), allowed, n=1)
         return (f"unknown key {show(key)}" + (f"; did you mean '{close[0]}'?" if close else "")

@@ -1,0 +1,89 @@
+"""Benchmark of start-up: `pampipe plan` on the demo mission as a whole process (issue 17, item 1).
+
+Every command is run ``--repeat`` times in a fresh interpreter; the table shows the fastest and the
+median wall time, measured in the same run as the baselines:
+
+* ``python -c pass``: the interpreter alone;
+* ``import numpy, casadi``: the two libraries plan cannot do without;
+* ``import numpy, casadi, pydantic, yaml`` and one pydantic model: every third-party import of plan.
+
+Then ``python -X importtime`` of the plan run lists the imports that take longest (cumulative).
+
+Goal: the demo plan starts and finishes in under 0.35 s.
+
+    .venv/bin/python benchmarks/bench_startup.py [--repeat 15]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+DEMO = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
+GOAL = 0.35  # [s]
+DEPENDENCIES = ("import numpy, casadi, pydantic, yaml\n"
+                "class A(pydantic.BaseModel):\n    x: float = 1.0\n")  # pydantic builds lazily: one model
+
+
+def wall_times(command: list[str], repeat: int) -> list[float]:
+    """Wall times [s] of ``repeat`` runs of ``command`` (each must exit 0)."""
+    times = []
+    for _ in range(repeat):
+        started = time.perf_counter()
+        subprocess.run(command, check=True, capture_output=True, cwd=ROOT)
+        times.append(time.perf_counter() - started)
+    return times
+
+
+def slowest_imports(count: int = 10) -> list[tuple[float, str]]:
+    """(cumulative import time [s], module) of the plan run's top-level imports, slowest first."""
+    out = subprocess.run([sys.executable, "-X", "importtime", "-m", "pampipe", "plan", str(DEMO)],
+                         capture_output=True, text=True, cwd=ROOT)
+    rows = []
+    for line in out.stderr.splitlines():
+        if not line.startswith("import time:") or "|" not in line:
+            continue
+        _, cumulative, name = line.split("|")
+        if cumulative.strip().isdigit() and len(name) - len(name.lstrip()) <= 3:  # top level only
+            rows.append((int(cumulative) / 1e6, name.strip()))
+    return sorted(rows, reverse=True)[:count]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=15)
+    args = parser.parse_args()
+    python = sys.executable
+    runs = {
+        "python -c pass": [python, "-c", "pass"],
+        "import numpy, casadi": [python, "-c", "import numpy, casadi"],
+        "+ pydantic, yaml (all deps)": [python, "-c", DEPENDENCIES],
+        "import pampipe plan command": [python, "-c", "import pampipe.cli as c; c.build_parser(('plan',))"],
+        "pampipe plan (demo)": [python, "-m", "pampipe", "plan", str(DEMO)],
+    }
+    print(f"{'process':<30}{'fastest [s]':>12}{'median [s]':>12}{'x numpy+casadi':>16}")
+    base = None
+    results = {}
+    for label, command in runs.items():
+        times = wall_times(command, args.repeat)
+        fastest, median = min(times), statistics.median(times)
+        base = median if label == "import numpy, casadi" else base
+        results[label] = median
+        ratio = f"{median / base:>16.2f}" if base else f"{'':>16}"
+        print(f"{label:<30}{fastest:>12.3f}{median:>12.3f}{ratio}")
+    plan = results["pampipe plan (demo)"]
+    print(f"\nplan beyond all its dependencies: {plan - results['+ pydantic, yaml (all deps)']:.3f} s "
+          f"(pampipe's own imports and the run); goal {GOAL} s: {'met' if plan < GOAL else 'NOT met'} "
+          f"(median {plan:.3f} s)")
+    print("\nslowest top-level imports of the plan run (cumulative, python -X importtime):")
+    for seconds, name in slowest_imports():
+        print(f"  {seconds:8.3f} s  {name}")
+
+
+if __name__ == "__main__":
+    main()
