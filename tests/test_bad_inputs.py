@@ -1,12 +1,22 @@
-"""The bad-input corpus: every case under tests/bad_inputs/ through the CLI (issue 7).
+"""The bad-input corpus: every case under tests/bad_inputs/ through the CLI (issues 7 and 14).
 
 Each case is a folder with its input files and a ``case.yaml``: the command, its arguments (``{dir}`` is
 the case folder, copied to a temporary place first so nothing in the repository is written), the
 expected exit code and a fragment the message must contain. No case may produce a traceback.
+
+Inputs that cannot live in git are made when the case runs:
+
+* ``fifo: [name, ...]``: named pipes (a FIFO with no writer blocks a naive reader forever);
+* ``generate: {name: [[text, count], ...]}``: a file of ``text`` repeated ``count`` times, piece by piece
+  (``{i}`` in the text becomes the repetition's index);
+* ``sparse: {name: size}``: a file of ``size`` bytes that takes no disk space.
+
+Exit 0 cases check that a value is read as meant (``010`` is 10): the fragment must be in stdout.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from pathlib import Path
@@ -20,21 +30,53 @@ CORPUS = Path(__file__).resolve().parent / "bad_inputs"
 CASES = sorted(p.name for p in CORPUS.iterdir() if (p / "case.yaml").is_file())
 
 
-@pytest.mark.parametrize("name", CASES)
-def test_bad_input_case(name, tmp_path, capsys):
+def _prepare(name: str, tmp_path: Path) -> tuple[dict, Path, list[str]]:
     case = yaml.safe_load((CORPUS / name / "case.yaml").read_text())
     folder = tmp_path / name
     shutil.copytree(CORPUS / name, folder, symlinks=True)
+    for fifo in case.get("fifo", []):
+        os.mkfifo(folder / fifo)
+    for file, pieces in case.get("generate", {}).items():
+        with open(folder / file, "w", encoding="utf-8") as handle:
+            for text, count in pieces:
+                if "{i}" in text:
+                    handle.writelines(text.replace("{i}", str(i)) for i in range(count))
+                else:
+                    handle.write(text * count)
+    for file, size in case.get("sparse", {}).items():
+        with open(folder / file, "wb") as handle:
+            handle.truncate(size)
     args = [case["command"], *(a.replace("{dir}", str(folder)) for a in case["args"])]
+    return case, folder, args
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_bad_input_case(name, tmp_path, capsys):
+    case, folder, args = _prepare(name, tmp_path)
     code = main(args)
     out = capsys.readouterr()
     # mask the case folder, so that a fragment cannot match the case's own name in a path
     out = type(out)(out.out.replace(str(folder), "{dir}"), out.err.replace(str(folder), "{dir}"))
     assert code == case["exit"], out.err
+    assert "Traceback" not in out.err + out.out
+    if code == 0:  # read as meant: the value shows in the result
+        assert case["message"] in out.out, out.out
+        return
     # bad input (2) is explained on stderr; an infeasible plan (3) may list its reasons in the report
     assert case["message"] in (out.err if code == 2 else out.err + out.out), out.err + out.out
-    assert "Traceback" not in out.err + out.out
     assert out.err.count("\n") <= 3, "the error should be one short paragraph"
+    assert len(out.err) < 2000, "a message never repeats a huge input"
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_bad_input_case_under_json_prints_one_error_document(name, tmp_path, capsys):
+    """Under --json, stdout holds exactly one JSON document, an error document for bad input."""
+    case, _, args = _prepare(name, tmp_path)
+    if case["exit"] != 2:
+        pytest.skip("only bad input (exit 2) is checked here; exit 0 and 3 print their result document")
+    assert main([*args, "--json"]) == 2
+    document = json.loads(capsys.readouterr().out)
+    assert document["error"]["code"] == 2 and document["error"]["message"]
 
 
 def test_corpus_is_not_empty():
