@@ -52,8 +52,16 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
     parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                         help="show the traceback of an internal error")
     if plots:
-        parser.add_argument("--plots", metavar="DIR", type=Path,
+        parser.add_argument("--plots", metavar="DIR", type=_plots_folder,
                             help="write PNG plots into DIR (created if missing)")
+
+
+def _plots_folder(text: str) -> Path:
+    """argparse type: a folder for the plots, refused at once if it exists as something else."""
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: exists and is not a folder; give a folder for the plots")
+    return path
 
 
 def text_stream(args: argparse.Namespace):

@@ -9,7 +9,7 @@ from pampipe.commands.common import add_output_options, emit, integer_type, say
 from pampipe.diagnose.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.io.files import check_not_input
+from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
 from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.report import table
@@ -41,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
 
     experiment = load_experiment(args.experiment)
     if args.output is not None:
-        check_not_input(args.output, experiment.input_files, option="-o")
+        check_output(args.output, experiment.input_files, option="-o")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
     emit(args, result.as_document(), report(result))

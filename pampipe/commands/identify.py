@@ -12,7 +12,7 @@ from pampipe.commands.common import add_output_options, emit, say
 from pampipe.identify import identify, parse_fit_options
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.io.files import check_not_input
+from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
 from pampipe.report import table
 
@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
                       rename={f"fit.{key}": option for key, option in FLAGS.items()})
     options = parse_fit_options({**experiment.fit, **flags}, source=experiment.source)
     if args.output is not None:
-        check_not_input(args.output, experiment.input_files, option="-o")
+        check_output(args.output, experiment.input_files, option="-o")
 
     def progress(text: str) -> None:
         print(f"pampipe identify: {text}", file=sys.stderr, flush=True)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.io.files import check_not_input
+from pampipe.io.files import check_output
 from pampipe.report import table
 from pampipe.units import to_si
 
@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
 
     mission = api.load_mission(args.mission)
     if args.output is not None:
-        check_not_input(args.output, mission.input_files, option="-o")
+        check_output(args.output, mission.input_files, option="-o")
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload)
     document = plan.to_dict()

@@ -73,7 +73,7 @@ def atomic_write(target: Path, write: Callable[[Path], None], *, create_folder: 
     folder = target.parent
     if not folder.is_dir():
         if not create_folder:
-            raise InputError(f"{target}: the output folder {folder} does not exist; create it first.")
+            raise _no_folder(target)
         try:
             folder.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -95,6 +95,22 @@ def atomic_write(target: Path, write: Callable[[Path], None], *, create_folder: 
         if tmp is not None and tmp.exists():
             tmp.unlink()
     _WRITTEN.append(target)
+
+
+def check_output(target: Path, inputs: Iterable[Path], *, option: str) -> None:
+    """Before any work: ``target`` is not an input, its folder exists, and it is a regular file or absent.
+
+    So that a command fails (exit 2) before it computes or prints anything it could not write.
+    """
+    target = Path(target)
+    check_not_input(target, inputs, option=option)
+    _mode_for(target)
+    if not target.parent.is_dir():
+        raise _no_folder(target)
+
+
+def _no_folder(target: Path) -> InputError:
+    return InputError(f"{target}: the output folder {target.parent} does not exist; create it first.")
 
 
 def _mode_for(target: Path) -> int:
