@@ -162,6 +162,8 @@ def _parse_unit(text: str) -> tuple[float, Dimension]:
     if len(text) > MAX_LENGTH:
         raise _Refused(f"a unit of more than {MAX_LENGTH} characters is not read.")
     tokens = _tokens(text)
+    if len(tokens) > 1 and any(t in (("name", "%"), ("name", "percent")) for t in tokens):
+        raise _Refused("a percent sign stands alone after the number, as in '5 %'.")
     parser = _UnitParser(tokens)
     factor, dimension = parser.expression()
     if parser.position != len(tokens):

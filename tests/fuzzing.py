@@ -1,7 +1,8 @@
 """Random mutations of problem files for property-based fuzzing (hypothesis), and a CLI probe.
 
 A mutation picks one node of the parsed YAML tree and changes its value (numbers, NaN/inf, strings,
-quantities with random units, wrong types), deletes or renames its key, adds an unknown key, or
+quantities with random units, quantities twisted with operators, percent signs, commas and quote
+marks, wrong types), deletes or renames its key, adds an unknown key, or
 changes the structure (a mapping becomes a list or a scalar). The property under test: the CLI
 either succeeds (0), or reports bad input (2) or no solution (3) with a message, never a traceback.
 """
@@ -25,6 +26,14 @@ NUMBERS = st.one_of(
     st.integers(min_value=-10**12, max_value=10**12),
 )
 QUANTITIES = st.builds(lambda x, u: f"{x!r} {u}".strip(), NUMBERS, st.sampled_from(UNITS))
+# what users and attackers type around a quantity (issue 14): operators on the number, percent signs,
+# decimal commas, inch and foot marks, trailing text, absolute pressures, huge exponents
+MARKS = ["**", "*", "/", "^", "+", "-", "%", " %", ",", "'", "''", '"', "″", ";", " 76.2", "e", "#", "(", ")",
+         "**400", "**9**9", " psia", " bara", " psig", "  ", "1/", "°"]
+TWISTED = st.builds(lambda x, m, u, where: (f"{x}{m} {u}" if where else f"{x} {u}{m}").strip(),
+                    st.sampled_from(["0", "5", "0,4", "2,5", "10", "1e400", "-1", "(-1)", "9", ".5", "1_0"]),
+                    st.sampled_from(MARKS), st.sampled_from(UNITS), st.booleans())
+QUANTITIES = st.one_of(QUANTITIES, TWISTED)
 SCALARS = st.one_of(NUMBERS, QUANTITIES, st.text(max_size=12), st.none(), st.booleans())
 VALUES = st.one_of(SCALARS, st.lists(SCALARS, max_size=4), st.dictionaries(st.text(max_size=6), SCALARS,
                                                                            max_size=3))

@@ -1,10 +1,11 @@
-"""An interrupted run (SIGINT, SIGTERM) exits 130 with one line and leaves no output file (issue 7)."""
+"""An interrupted run (SIGINT, SIGTERM) exits 130 with one line and leaves no output file (issues 7, 14)."""
 
 from __future__ import annotations
 
 import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -42,3 +43,18 @@ def test_interrupt_leaves_no_partial_output(big_experiment, signum, tmp_path):
     assert "Traceback" not in rest
     assert not target.exists()
     assert not list(tmp_path.iterdir())  # no temporary file left behind either
+
+
+@pytest.mark.parametrize(("signum", "delay"), [(signal.SIGINT, 0.8), (signal.SIGTERM, 2.0)])
+def test_interrupt_inside_ipopt_exits_130(signum, delay):
+    """diagnose spends these moments in IPOPT refits; CasADi swallows the KeyboardInterrupt there and
+    IPOPT stops with a failure status (before issue 14: exit 3 "did not converge", or ignored)."""
+    process = subprocess.Popen([sys.executable, "-m", "pampipe", "diagnose",
+                                str(PROBLEMS / "experiments" / "paper-protocol.yaml")],
+                               stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True, cwd=ROOT)
+    assert "baseline" in process.stderr.readline()  # the refits have begun
+    time.sleep(delay)
+    process.send_signal(signum)
+    _, rest = process.communicate(timeout=120)
+    assert process.returncode == 130, rest
+    assert rest.strip().splitlines()[-1] == "pampipe diagnose: interrupted; no partial output was written."

@@ -1,0 +1,103 @@
+"""YAML input as YAML 1.2 core, with bounds (issue 14, item 2)."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from pampipe.errors import InputError
+from pampipe.io import yamlfile
+from pampipe.io.yamlfile import loads
+
+CORE = [  # (text, value of key a) under the YAML 1.2 core schema
+    ("a: 010", 10), ("a: 0o10", 8), ("a: 0x1F", 31), ("a: +12", 12), ("a: -0", 0),
+    ("a: 1:30", "1:30"), ("a: 1_000", "1_000"), ("a: 2001-12-14", "2001-12-14"),
+    ("a: yes", "yes"), ("a: No", "No"), ("a: on", "on"), ("a: OFF", "OFF"), ("a: y", "y"),
+    ("a: true", True), ("a: FALSE", False), ("a: ~", None), ("a:", None), ("a: Null", None),
+    ("a: 1e3", 1000.0), ("a: 1.", 1.0), ("a: -.5", -0.5), ("a: .inf", float("inf")),
+    ("a: -.Inf", float("-inf")), ("a: '010'", "010"), ("a: !!str 12", "12"), ("a: !!float 1", 1.0),
+    ("a: 3 in", "3 in"), ("a: 1e", "1e"), ("a: 0b101", "0b101"),
+]
+
+
+@pytest.mark.parametrize(("text", "expected"), CORE)
+def test_core_schema(text, expected):
+    assert loads(text) == {"a": expected}
+
+
+def test_nan_is_a_float():
+    value = loads("a: .nan")["a"]
+    assert isinstance(value, float) and value != value
+
+
+def test_pure_python_parser_gives_the_same_documents(monkeypatch):
+    """Without libyaml the pure-Python event parser is used; the documents must not change."""
+    texts = [t for t, _ in CORE] + ["b: &x {c: 1}\nd: {<<: *x, e: 2}", "- [1, 2]\n- {f: g}"]
+    expected = [loads(t) for t in texts]
+    monkeypatch.setattr(yamlfile, "_Parser", yamlfile._PyParser)
+    assert [loads(t) for t in texts] == expected
+
+
+def test_merge_keys():
+    doc = loads("base: &b {x: 1, y: 2}\nc:\n  <<: *b\n  y: 3\nd: {<<: [{p: 1}, {p: 2, q: 3}], r: 0}\n")
+    assert doc["c"] == {"x": 1, "y": 3}  # an explicit key wins over a merged one
+    assert doc["d"] == {"p": 1, "q": 3, "r": 0}  # earlier merge sources win
+    assert loads("'<<': 1") == {"<<": 1}  # a quoted << is an ordinary key
+
+
+@pytest.mark.parametrize(("text", "fragment"), [
+    ("a: 1\na: 2", "line 2, column 1: duplicate key 'a'"),
+    ("1: a\n1.0: b", "duplicate key 1.0"),
+    ("[a, b]: 1", "a list cannot be a key"),
+    ("? {a: 1}\n: 2", "a mapping cannot be a key"),
+    ("a: &x [*x]", "refers to a collection that contains it"),
+    ("a: *nope", "has no anchor"),
+    ("--- 1\n--- 2", "several YAML documents"),
+    ("a: !!python/object:os.system x", "is not read"),
+    ("a: !foo x", "is not read"),
+    ("a: !!int x", "is not a valid int"),
+    ("a: {<<: 1}", "merge key"),
+    ("a: b: c", "invalid YAML"),
+    ("a: " + "1" * 2000, "an integer of 2000 digits"),
+])
+def test_refused(text, fragment):
+    with pytest.raises(InputError) as info:
+        loads(text, source="f.yaml")
+    assert fragment in str(info.value) and str(info.value).startswith("f.yaml:")
+
+
+def test_depth_is_bounded_before_the_stack():
+    """10⁵ brackets crashed libyaml's composer (C stack); events stop at MAX_DEPTH."""
+    with pytest.raises(InputError, match="nested deeper than 100 levels"):
+        loads("a: " + "[" * 100_000 + "]" * 100_000)
+    nested = "a: " + "[" * 99 + "]" * 99
+    assert loads(nested)["a"] is not None
+
+
+def test_alias_expansion_is_bounded():
+    laughs = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]\n" for i in range(1, 9))
+    with pytest.raises(InputError, match="alias bomb"):
+        loads(laughs)
+    shared = "s: &s {k: 1}\nlist: [" + ", ".join(["*s"] * 1000) + "]\n"  # modest reuse is fine
+    assert len(loads(shared)["list"]) == 1000
+
+
+def test_size_is_bounded(tmp_path, monkeypatch):
+    monkeypatch.setattr(yamlfile, "MAX_BYTES", 1000)
+    path = tmp_path / "big.yaml"
+    path.write_text("a: " + "x" * 2000 + "\n")
+    with pytest.raises(InputError, match="larger than"):
+        yamlfile.load_mapping(path)
+
+
+def test_error_messages_are_short():
+    """A malformed 1 MB scalar is not repeated in the message."""
+    with pytest.raises(InputError) as info:
+        loads("a: 'unterminated " + "x" * 2**20)
+    assert len(str(info.value)) < 300
+
+
+def test_agrees_with_pyyaml_on_plain_documents():
+    text = "name: x\nlist: [1, 2.5, 'three', {k: v}]\nnested: {a: {b: [true, null]}}\n"
+    assert loads(text) == yaml.safe_load(text)
