@@ -44,8 +44,11 @@ def open_input(path: os.PathLike | str, *, what: str) -> BinaryIO:
 def read_bounded(path: os.PathLike | str, *, what: str, limit: int) -> bytes:
     """The bytes of a regular file of at most ``limit`` bytes (larger files raise InputError)."""
     with open_input(path, what=what) as handle:
-        try:
-            raw = handle.read(limit + 1)
+        size = os.fstat(handle.fileno()).st_size
+        try:  # read(n) allocates n bytes at once: ask for what the file holds, one more to see growth
+            raw = handle.read(min(size, limit) + 1)
+            if size < len(raw) <= limit:  # the file grew since fstat: read on, still bounded
+                raw += handle.read(limit + 1 - len(raw))
         except OSError as exc:
             raise InputError(f"{path}: cannot read the {what} ({exc.strerror or exc}).") from None
     if len(raw) > limit:
