@@ -218,6 +218,7 @@ def _cli(capsys, *args):
 
 def test_cli_writes_a_mission_that_plan_reads(tmp_path, capsys, ky4):
     target = tmp_path / "sub" / "ky4.yaml"
+    target.parent.mkdir()  # -o never creates folders (issue 14): a typo in the path is exit 2
     code, out, err = _cli(capsys, "route", "ky4", "--from", "J-315", "--to", "J-897", "--max-bore", "4.5 in",
                           "-o", target, "--json")
     assert code == 0, err

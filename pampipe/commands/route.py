@@ -42,15 +42,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--to", dest="to_node", required=True, metavar="NODE", help="end node id")
     parser.add_argument("-o", "--output", type=Path, metavar="MISSION.yaml",
                         help="write the route as a mission file (atomically)")
-    parser.add_argument("--friction", type=quantity_type("dimensionless", "--friction"), metavar="MU",
+    parser.add_argument("--friction", type=quantity_type("dimensionless"), metavar="MU",
                         help="braid-wall friction coefficient of every section (default: the template's, "
                              "when all its sections share one known value)")
     parser.add_argument("--template", type=Path, metavar="MISSION.yaml",
                         help="mission whose robot, supply, safety factor and load path are copied "
                              "(default: the bundled vertical-climb-3in.yaml)")
-    parser.add_argument("--min-bore", type=quantity_type("length", "--min-bore"), metavar="D",
+    parser.add_argument("--min-bore", type=quantity_type("length"), metavar="D",
                         help="use only pipes with at least this inner diameter, e.g. '3 in'")
-    parser.add_argument("--max-bore", type=quantity_type("length", "--max-bore"), metavar="D",
+    parser.add_argument("--max-bore", type=quantity_type("length"), metavar="D",
                         help="use only pipes with at most this inner diameter, e.g. '4 in'")
     parser.add_argument("--force", action="store_true", help="overwrite an existing -o file")
     add_output_options(parser, plots=False)

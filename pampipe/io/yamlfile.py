@@ -250,6 +250,14 @@ class _Builder:
 _MERGE = object()
 
 
+def is_plain_text(value: str) -> bool:
+    """True if ``value`` written as a plain scalar reads back as this text (not a number, bool, null)."""
+    try:
+        return _resolve(value, None) == value and isinstance(_resolve(value, None), str)
+    except _Error:  # an integer too long to read
+        return False
+
+
 def _resolve(value: str, mark):
     """A plain scalar under the YAML 1.2 core schema."""
     if value in _SPECIAL:

@@ -13,6 +13,7 @@ from pathlib import Path
 import yaml
 
 from pampipe.io.files import atomic_write_text
+from pampipe.io.yamlfile import is_plain_text
 
 
 class _Dumper(yaml.SafeDumper):
@@ -28,7 +29,15 @@ def _flow_list(dumper: yaml.SafeDumper, data: list):
     return dumper.represent_sequence("tag:yaml.org,2002:seq", data, flow_style=flat)
 
 
+def _text(dumper: yaml.SafeDumper, data: str):
+    """Quote what YAML 1.2 core would not read back as text (``0o17``, ``.inf``); PyYAML's 1.1 rules quote
+    the rest (``yes``, ``1:30``, ``010``)."""
+    style = None if is_plain_text(data) else "'"
+    return dumper.represent_scalar("tag:yaml.org,2002:str", data, style=style)
+
+
 _Dumper.add_representer(list, _flow_list)
+_Dumper.add_representer(str, _text)
 
 
 def dump(document: dict, *, comments: Sequence[str] = ()) -> str:
