@@ -137,12 +137,12 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
     :class:`pampipe.identify.IdentifyResult`; its ``fitted_pam(pam)`` is the muscle to write.
     """
     from pampipe.identify import identify as run
-    from pampipe.identify import parse_fit_options
+    from pampipe.identify.options import fit_options
 
     spec, data = load_experiment(experiment, base=base, progress=progress)
-    options = parse_fit_options(spec.fit, source=spec.source).with_overrides(
-        mode=mode, objective=objective, degree=degree, average_legs=average_legs, drucker=drucker,
-        max_iterations=max_iterations)
+    options = fit_options(spec.fit, {"mode": mode, "objective": objective, "degree": degree,
+                                     "average_legs": average_legs, "drucker": drucker,
+                                     "max_iterations": max_iterations}, source=spec.source)
     return run(data, options, progress=progress if data.points >= 100_000 else None)
 
 

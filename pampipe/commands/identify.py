@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.identify import identify, parse_fit_options
+from pampipe.identify import identify
+from pampipe.identify.options import fit_options
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
@@ -48,10 +49,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     experiment = load_experiment(args.experiment)
-    flags = {key: getattr(args, key) for key in FLAGS if getattr(args, key) is not None}
-    parse_fit_options(flags, source="command line",  # the flags' own mistakes, named as typed
-                      rename={f"fit.{key}": option for key, option in FLAGS.items()})
-    options = parse_fit_options({**experiment.fit, **flags}, source=experiment.source)
+    options = fit_options(experiment.fit, {key: getattr(args, key) for key in FLAGS},
+                          source=experiment.source, where="command line", names=FLAGS)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
 

@@ -120,5 +120,15 @@ def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file
         max_iterations=schema.max_iterations, tolerance=schema.tolerance)
 
 
+def fit_options(raw: dict | None, overrides: dict, *, source: Path | str = "experiment file",
+                where: str = "options", names: dict[str, str] | None = None) -> FitOptions:
+    """The ``fit:`` options with ``overrides`` (command-line flags, API keywords; None = not given),
+    which pass the same schema first: errors say ``where`` and the name the user wrote (``names``)."""
+    given = {key: value for key, value in overrides.items() if value is not None}
+    parse_fit_options(given, source=where,
+                      rename={f"fit.{key}": (names or {}).get(key, key) for key in given})
+    return parse_fit_options({**(raw or {}), **given}, source=source)
+
+
 class _Wrapper(Strict):
     fit: FitSchema
