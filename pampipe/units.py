@@ -90,8 +90,8 @@ def column_factor(unit_text: str, dimension: str, *, where: str) -> float:
     except _Refused as exc:
         raise InputError(f"{where}: [{_clip(unit_text)}]: {exc}") from None
     if found != DIMENSIONS[dimension]:
-        raise InputError(f"{where}: the unit [{_clip(unit_text)}] is not a {dimension} (it is a "
-                         f"{describe(found)}); use e.g. [{example(dimension).split(' ', 1)[-1]}].")
+        raise InputError(f"{where}: the unit [{_clip(unit_text)}] is not {_a(dimension)} (it is "
+                         f"{_a(describe(found))}); use e.g. [{example(dimension).split(' ', 1)[-1]}].")
     return factor
 
 
@@ -113,10 +113,9 @@ def _a(word: str) -> str:
 
 
 def _angle_hint(text: str, number: float) -> str:
-    if "%" in text or "percent" in text:
-        grade = number  # a fraction: 1 % → 0.01
+    if "%" in text or "percent" in text:  # number is the fraction: 1 % → 0.01, atan(0.01) = 0.573 deg
         return (f"a percent grade is not an angle; write the angle in degrees (a 1 % grade is 0.573 deg; "
-                f"this one is {math.degrees(math.atan(grade)):.4g} deg).")
+                f"this one is {math.degrees(math.atan(number)):.4g} deg).")
     return f"an angle must carry a unit, e.g. '{text.strip()} deg' or '{text.strip()} rad'."
 
 
