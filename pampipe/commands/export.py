@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
                          "or choose another folder.")
     export = export_mission(mission, sketch_name=sketch)
     for target in targets:
-        atomic_write_text(target, export.files[target.name])
+        atomic_write_text(target, export.files[target.name], create_folder=True)  # -o is a folder here
     emit(args, export.to_dict(), _report(export, folder))
     return 0
 
