@@ -23,7 +23,7 @@ SCIENCE = ("identify", "plan", "gait", "diagnose", "synth", "simulate", "design"
 RULES = [
     # (modules the rule applies to, forbidden import prefixes)
     (("model",), ("io", "api", "commands", "cli", "plots", "report", *SCIENCE, "experiment", "mission",
-                  "units")),
+                  "schema", "units")),
     (SCIENCE, ("io", "api", "commands", "cli", "plots")),
     (("io",), (*SCIENCE, "api", "commands", "cli", "plots")),
     (("plots",), ("model", "io", "commands", "cli")),
@@ -85,14 +85,7 @@ def test_the_checker_catches_violations():
     assert violations("plan.fine", fine) == []
 
 
-#: Known exceptions, each with its reason. The option blocks of identify and gait borrow the
-#: schema helpers of io.config; they move to a neutral module once the safe-I/O work lands.
-PENDING = {"identify.options": ["pampipe.identify.options imports pampipe.io.config"],
-           "gait.options": ["pampipe.gait.options imports pampipe.io.config"]}
-
-
 @pytest.mark.parametrize("path", sorted(ROOT.rglob("*.py")), ids=lambda p: module_name(p) or "pampipe")
 def test_imports_follow_the_layer_direction(path):
     module = module_name(path)
-    found = violations(module, pampipe_imports(path.read_text(encoding="utf-8"), module))
-    assert found == PENDING.get(module, [])
+    assert violations(module, pampipe_imports(path.read_text(encoding="utf-8"), module)) == []

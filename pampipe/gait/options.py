@@ -26,7 +26,8 @@ from typing import Any
 
 from pydantic import Field
 
-from pampipe.io.config import Strict, _validate, quantity
+from pampipe.schema import Strict, quantity
+from pampipe.schema import validate as _validate
 
 Conductance = quantity("sonic conductance", gt=0, le=1e-5, unit="m³/(s·Pa)")
 Ratio = quantity("dimensionless", ge=0, lt=1)

@@ -28,7 +28,8 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from pampipe.io.config import Strict, _validate, quantity
+from pampipe.schema import Strict, quantity
+from pampipe.schema import validate as _validate
 
 Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
 

@@ -15,13 +15,13 @@ import numpy as np
 from pydantic import AfterValidator, Field, model_validator
 
 from pampipe.errors import InputError
-from pampipe.io.schema import Strict, quantity
-from pampipe.io.schema import validate as _validate
 from pampipe.io.yamlfile import load_mapping
 from pampipe.mission import Mission, Section, Segment
 from pampipe.model.domain import check_geometry
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.schema import Strict, quantity
+from pampipe.schema import validate as _validate
 from pampipe.units import to_si
 
 if TYPE_CHECKING:
