@@ -7,25 +7,32 @@ legs and cycles (what the fit needs beyond the raw columns) is defined here.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from pampipe import protocol
 from pampipe.model.pam import Pam
 
 
 @dataclass(frozen=True)
 class TestSpec:
-    """One test of an experiment: its kind, conditions and resolved CSV path (SI)."""
+    """One test of an experiment: its kind, conditions and resolved CSV path (SI).
+
+    ``set_pressures`` [Pa] are the test's pressure set points when the file names them (rows take
+    the nearest one); ``protocol`` overrides the detected protocol of an axial test (``isobaric``,
+    ``isometric`` or ``mixed``, see :mod:`pampipe.protocol`).
+    """
 
     name: str
     kind: str
     data: Path
     pipe_diameter: float | None
     axial_load: float
+    set_pressures: tuple[float, ...] | None = None
+    protocol: str | None = None
 
 
 @dataclass(frozen=True)
@@ -47,11 +54,17 @@ class Experiment:
 
 @dataclass(frozen=True)
 class TestData:
-    """One test's rows in recorded order (SI), plus the grouping the fit uses.
+    """One test's rows in recorded order (SI), plus the grouping the fit uses (:mod:`pampipe.protocol`).
 
-    ``level`` indexes ``level_pressure`` (the median pressure of each level) row by row. For axial
-    tests ``leg`` is +1 while the muscle lengthens and −1 while it shortens, and ``cycle`` counts
-    shortening-lengthening cycles within a level; radial tests have zeros there.
+    ``level`` indexes ``level_pressure`` row by row: the pressure levels (set points or clusters)
+    when ``level_source`` is ``set_points`` or ``clusters``; for a test without levels
+    (``none``: ramps) equal-count pressure bins, used only inside the fit. ``leg`` is the sign of
+    dL/dt (+1 lengthening, −1 shortening) and ``pressure_leg`` the sign of dP/dt (+1 filling,
+    −1 venting), 0 where held or unknown; ``cycle`` counts cycles of the swept variable within a
+    level. ``protocol``: ``isobaric``, ``isometric``, ``mixed`` (axial tests) or ``radial``;
+    ``held_length`` indexes ``level_length``, the held lengths of an isometric test (else zeros).
+    ``direction_source`` says where the directions came from: ``column``, ``time``, ``row order``
+    or ``unknown`` (rows not in time order: no legs).
     """
 
     spec: TestSpec
@@ -63,6 +76,12 @@ class TestData:
     level_pressure: np.ndarray = field(repr=False)
     leg: np.ndarray = field(repr=False)
     cycle: np.ndarray = field(repr=False)
+    pressure_leg: np.ndarray | None = field(default=None, repr=False)
+    level_source: str = "clusters"
+    protocol: str = "isobaric"
+    held_length: np.ndarray | None = field(default=None, repr=False)
+    level_length: np.ndarray | None = field(default=None, repr=False)
+    direction_source: str = "row order"
 
     @property
     def name(self) -> str:
@@ -75,6 +94,16 @@ class TestData:
     @property
     def points(self) -> int:
         return int(self.force.size)
+
+    @property
+    def has_levels(self) -> bool:
+        """True when the rows are grouped into pressure levels (set points or clusters)."""
+        return self.level_source != "none"
+
+    @property
+    def slack(self) -> np.ndarray:
+        """Rows where the muscle is slack (recorded force ≤ 0), docs/commands.md §7.1."""
+        return self.force <= 0
 
 
 @dataclass(frozen=True)
@@ -92,70 +121,78 @@ class ExperimentData:
 
 
 def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:
-    """Wrap SI columns (``pressure``, ``force``, optional ``length``, ``time``) as :class:`TestData`."""
+    """Wrap SI columns as :class:`TestData`: levels, protocol and the direction of every row.
+
+    Columns: ``pressure``, ``force``, ``length`` (axial), optional ``time`` (puts the rows in time
+    order for the rates), ``set_pressure`` (the set point of every row) and ``direction`` or
+    ``state`` (the sign of the swept variable's rate: length for isobaric and mixed tests,
+    pressure for isometric and radial ones; 0 held).
+    """
     pressure = np.asarray(columns["pressure"], dtype=float)
+    force = np.asarray(columns["force"], dtype=float)
     length = columns.get("length")
-    level, level_pressure = pressure_levels(pressure)
-    if spec.kind == "axial" and length is not None:
-        leg, cycle = legs_and_cycles(np.asarray(length, dtype=float), level)
+    length = None if length is None else np.asarray(length, dtype=float)
+    time = columns.get("time")
+    order = None if time is None else np.argsort(np.asarray(time, dtype=float), kind="stable")
+    if columns.get("set_pressure") is not None:
+        levels = protocol.find_levels(pressure, columns["set_pressure"], per_row=True)
     else:
-        leg = cycle = np.zeros(pressure.size, dtype=np.int64)
-    return TestData(spec, pressure, np.asarray(columns["force"], dtype=float), length, columns.get("time"),
-                    level, level_pressure, leg, cycle)
+        levels = protocol.find_levels(pressure, spec.set_pressures)
+    n = pressure.size
+    zeros = np.zeros(n, dtype=np.int8)
+    held, kind = None, "radial"
+    if spec.kind == "axial" and length is not None:
+        kind, held = protocol.classify(levels, length)
+        kind = spec.protocol or kind
+        if kind == "isometric" and held is None:
+            held = protocol.cluster_levels(length) or protocol.equal_count_bins(length)
+    leg, pressure_leg = zeros, zeros
+    given = columns.get("direction", columns.get("state"))
+    if kind == "isobaric":
+        leg = _given_or(given, lambda: protocol.directions(length, levels.index, order))
+    elif kind == "isometric":
+        pressure_leg = _given_or(given, lambda: protocol.directions(pressure, held.index, order))
+    elif kind == "mixed":
+        leg = _given_or(given, lambda: protocol.directions(length, None, order))
+        pressure_leg = protocol.directions(pressure, None, order)
+    else:
+        pressure_leg = _given_or(given, lambda: protocol.directions(pressure, None, order))
+    swept = leg if kind in ("isobaric", "mixed") else pressure_leg
+    if given is not None:
+        source = "column"
+    elif order is not None:
+        source = "time"
+    else:
+        source = "row order" if np.any(swept) else "unknown"
+    groups = {"isobaric": levels.index, "isometric": None if held is None else held.index}.get(kind)
+    cycle = protocol.cycles(swept, np.zeros(n, dtype=np.int64) if groups is None else groups, order)
+    return TestData(spec, pressure, force, length, time, levels.index, levels.values, leg, cycle,
+                    pressure_leg, levels.source, kind,
+                    None if held is None else held.index, None if held is None else held.values, source)
 
 
-def pressure_levels(pressure: np.ndarray, *, max_levels: int = 64, fallback_bins: int = 10):
-    """(level index per row, median pressure per level) [-, Pa].
+def _given_or(given, compute) -> np.ndarray:
+    """The sign of a ``direction``/``state`` column if the file has one, else the computed signs."""
+    if given is not None:
+        return np.sign(np.asarray(given, dtype=float)).astype(np.int8)
+    return compute()
 
-    Levels are clusters of the sorted pressures separated by gaps wider than 2 % of the pressure
-    range (a stepped protocol with regulator noise). If that gives one level over a wide range
-    (a ramp) or more than ``max_levels`` (sparse data), the rows are split into ``fallback_bins``
+
+def pressure_levels(pressure: np.ndarray, *, max_levels: int = protocol.MAX_LEVELS,
+                    fallback_bins: int = protocol.FALLBACK_BINS):
+    """(level index per row, median pressure per level) [-, Pa], see :mod:`pampipe.protocol`.
+
+    Levels are clusters of the pressures; a ramp (no levels) is split into ``fallback_bins``
     equal-count pressure bins instead. Levels are numbered by increasing pressure.
     """
-    n = pressure.size
-    if n == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0)
-    order = np.argsort(pressure, kind="stable")
-    ordered = pressure[order]
-    span = ordered[-1] - ordered[0]
-    breaks = np.flatnonzero(np.diff(ordered) > max(0.02 * span, 1e-9)) + 1
-    ramp = breaks.size == 0 and span > 0.1 * max(abs(ordered[-1]), 1.0)
-    if ramp or breaks.size + 1 > max_levels:
-        bins = min(fallback_bins, n)
-        breaks = np.unique((np.arange(1, bins) * n) // bins)
-        breaks = breaks[(breaks > 0) & (breaks < n)]
-    sorted_level = np.zeros(n, dtype=np.int64)
-    sorted_level[breaks] = 1
-    sorted_level = np.cumsum(sorted_level)
-    level = np.empty(n, dtype=np.int64)
-    level[order] = sorted_level
-    bounds = np.concatenate([[0], breaks, [n]])
-    medians = np.array([np.median(ordered[a:b]) for a, b in itertools.pairwise(bounds)])
-    return level, medians
+    pressure = np.asarray(pressure, dtype=float)
+    levels = protocol.cluster_levels(pressure, max_levels=max_levels) \
+        or protocol.equal_count_bins(pressure, fallback_bins)
+    return levels.index, levels.values
 
 
-def legs_and_cycles(length: np.ndarray, level: np.ndarray, *, window: int = 2):
-    """(leg, cycle) per row of an axial test.
-
-    Within each level, in recorded order, the leg is the sign of the central difference
-    L[i+w] − L[i−w] (w = ``window`` rows, robust to a little displacement noise); rows where it
-    is zero take the previous leg. The cycle index increases by one at every switch from
-    lengthening (+1) to shortening (−1).
-    """
-    leg = np.zeros(length.size, dtype=np.int64)
-    cycle = np.zeros(length.size, dtype=np.int64)
-    for lev in np.unique(level):
-        rows = np.flatnonzero(level == lev)
-        values = length[rows]
-        if values.size < 2:
-            continue
-        padded = np.concatenate([np.full(window, values[0]), values, np.full(window, values[-1])])
-        sign = np.sign(padded[2 * window:] - padded[:-2 * window]).astype(np.int64)
-        nonzero = np.flatnonzero(sign)
-        if nonzero.size == 0:
-            continue
-        filled = sign[nonzero[np.maximum(np.searchsorted(nonzero, np.arange(sign.size), "right") - 1, 0)]]
-        leg[rows] = filled
-        starts = np.concatenate([[0], (np.diff(filled) < 0).astype(np.int64)])
-        cycle[rows] = np.cumsum(starts)
-    return leg, cycle
+def legs_and_cycles(length: np.ndarray, level: np.ndarray):
+    """(leg, cycle) per row of an isobaric test in recorded order: the sign of dL/dt within each
+    level (:func:`pampipe.protocol.rate_sign`) and the shortening-lengthening cycle count."""
+    leg = protocol.directions(np.asarray(length, dtype=float), level, None)
+    return leg, protocol.cycles(leg, level, None)
