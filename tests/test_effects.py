@@ -32,7 +32,8 @@ VALUES = {"braid_friction": {"f0": 8.0, "f1": 20e-6}, "braid_extensibility": {"c
           "contact_stiffening": {"axial_increment": 0.4e6, "hoop_increment": 0.7e6},
           "pressure_offset": {"offset": 9e3, "gain": 1.03}, "axial_preload": {"preload": 55.0,
                                                                              "pulley_friction": 0.05},
-          "wall_friction": {"lock": 0.01}}
+          "wall_friction": {"lock": 0.01}, "pressure_hysteresis": {"h0": 6.0, "h1": 15e-6},
+          "prestrain": {"axial_prestrain": -0.004, "hoop_prestrain": 0.012}}
 
 
 def test_every_effect_has_values_here():
@@ -45,8 +46,10 @@ def test_null_value_is_exactly_the_baseline(radial_pam, name):
     g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
     null = {name: {}}
     for leg in (-1.0, 1.0):
-        assert np.array_equal(axial_force_with_effects(4e5, LENGTHS, g, theta, 1e6, null, leg=leg),
-                              forces.axial_force(4e5, LENGTHS, g, theta, 1e6))
+        for pressure_leg in (-1.0, 0.0, 1.0):
+            assert np.array_equal(axial_force_with_effects(4e5, LENGTHS, g, theta, 1e6, null, leg=leg,
+                                                           pressure_leg=pressure_leg),
+                                  forces.axial_force(4e5, LENGTHS, g, theta, 1e6))
     for d in PIPES:
         for load in LOADS:
             assert np.array_equal(radial_force_with_effects(PRESSURES, d, g, theta, 1e6, load, None, null),
@@ -84,6 +87,44 @@ def test_braid_friction_adds_the_coulomb_band(radial_pam):
     np.testing.assert_array_equal(
         radial_force_with_effects(PRESSURES, 0.0762, g, theta, 1e6, 0.0, None, {"braid_friction": v}),
         forces.radial_force(PRESSURES, 0.0762, g, theta))
+
+
+def test_pressure_hysteresis_adds_the_band_against_the_pressure_rate(radial_pam):
+    """§9k: F = F_ax − sgn(Ṗ)(h₀ + h₁P): venting (−1) above filling (+1) by 2(h₀ + h₁P); the leg of L
+    and the anchored muscle are untouched."""
+    g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
+    v = {"pressure_hysteresis": VALUES["pressure_hysteresis"]}
+    base = forces.axial_force(3e5, LENGTHS, g, theta)
+    for pressure_leg in (-1.0, 1.0):
+        for leg in (-1.0, 1.0):
+            got = axial_force_with_effects(3e5, LENGTHS, g, theta, 1e6, v, leg=leg, pressure_leg=pressure_leg)
+            np.testing.assert_allclose(got - base, -pressure_leg * (6.0 + 15e-6 * 3e5), rtol=1e-12)
+    muscle = Muscle(g, theta, 1e6, effects=v)
+    venting, filling = (muscle.axial_force(3e5, LENGTHS, pressure_leg=s) for s in (-1.0, 1.0))
+    band = venting - filling
+    np.testing.assert_allclose(band, 2 * (6.0 + 4.5), rtol=1e-12)
+    np.testing.assert_array_equal(radial_force_with_effects(PRESSURES, 0.0762, g, theta, 1e6, 0.0, None, v),
+                                  forces.radial_force(PRESSURES, 0.0762, g, theta))
+
+
+def test_prestrain_with_constant_moduli_needs_the_hand_computed_threshold_pressure(radial_pam):
+    """§9j with pressure-independent constant moduli (σ = Eε): ΔF = E₁ε₁,pre V_b/L − E₂ε₂,pre·lever₂ at
+    every length, so at L₀ (no strain) the muscle pulls only above P_th = (E₂ε₂,pre lever₂ −
+    E₁ε₁,pre V_b/L₀)/area(L₀), computed here from the Eq. 9 levers by hand."""
+    g = radial_pam.geometry
+    e1, e2 = 1.5e6, 4.0e6
+    theta = np.array([e1, 0, 0, 0, e2, 0, 0, 0], dtype=float)  # degree 1: a = [E, 0], b = [0, 0]
+    pre = {"axial_prestrain": 0.002, "hoop_prestrain": 0.02}
+    muscle = Muscle(g, theta, 1e6, effects={"prestrain": pre})
+    _, lever1, lever2 = forces.axial_levers(LENGTHS, g)
+    expected = e1 * 0.002 * lever1 - e2 * 0.02 * lever2
+    np.testing.assert_allclose(muscle.axial_force(2e5, LENGTHS) - forces.axial_force(2e5, LENGTHS, g, theta),
+                               expected, rtol=1e-10)
+    area0, lever1_0, lever2_0 = (float(v) for v in forces.axial_levers(g.initial_length, g))
+    threshold = (e2 * 0.02 * lever2_0 - e1 * 0.002 * lever1_0) / area0
+    assert threshold > 10e3  # a real threshold: tens of kPa
+    assert float(muscle.axial_force(threshold, g.initial_length)) == pytest.approx(0.0, abs=1e-9)
+    assert float(Muscle(g, theta, 1e6).axial_force(threshold, g.initial_length)) > 0  # baseline pulls at once
 
 
 def test_axial_preload_shifts_force_and_anchoring_by_the_closed_forms(radial_pam):

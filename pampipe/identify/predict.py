@@ -19,10 +19,14 @@ def predict(pam: Pam, test: TestData) -> np.ndarray:
     """Model force [N] at every row of ``test``: F_ax(P, L) (axial) or F_r(P; D_p, F_a) (radial)."""
     muscle = Muscle.from_pam(pam)
     if test.kind == "axial":
-        force = muscle.axial_force(test.pressure, test.length, leg=test.leg)
+        force = muscle.axial_force(test.pressure, test.length, leg=test.leg, pressure_leg=_pressure_leg(test))
     else:
         force = muscle.radial_force(test.pressure, test.spec.pipe_diameter, test.spec.axial_load)
     return np.asarray(force, dtype=float) * np.ones(test.points)
+
+
+def _pressure_leg(test: TestData):
+    return 0.0 if test.pressure_leg is None else test.pressure_leg
 
 
 def residuals(pam: Pam, test: TestData) -> np.ndarray:

@@ -197,6 +197,8 @@ class TestSchema(Strict):
     data: str = Field(min_length=1)
     pipe_diameter: Length | None = None
     axial_load: Force = 0.0
+    set_pressures: list[Pressure] | None = Field(None, min_length=1, max_length=1000)
+    protocol: Literal["isobaric", "isometric", "mixed"] | None = None
 
     @model_validator(mode="after")
     def _radial_needs_pipe(self):
@@ -204,6 +206,9 @@ class TestSchema(Strict):
             raise ValueError("a radial test needs pipe_diameter (e.g. '3 in')")
         if self.kind == "axial" and self.pipe_diameter is not None:
             raise ValueError("an axial test has no pipe_diameter; use kind: radial for a pipe test")
+        if self.kind == "radial" and self.protocol is not None:
+            raise ValueError("protocol applies to axial tests (isobaric, isometric or mixed); a radial "
+                             "test has none")
         return self
 
 
@@ -278,7 +283,8 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
         if t.name in names:
             raise InputError(f"{path}: tests[{i}].name: duplicate test name {t.name!r}.")
         names.add(t.name)
-        tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load))
+        tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load,
+                              None if t.set_pressures is None else tuple(t.set_pressures), t.protocol))
     pam_file = _relative(path, schema.pam) if isinstance(schema.pam, str) else None
     return Experiment(path, pam, tuple(tests), dict(schema.fit or {}), pam_file)
 

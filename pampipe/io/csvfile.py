@@ -2,7 +2,10 @@
 
 CSV format (docs/formats.md §3): one header row, every column named ``quantity [unit]``
 (``pressure [kPa]``, ``length [mm]``, ``force [N]``, ``time [s]``); rows in recorded order; blank
-lines are ignored. Columns with other names are allowed (they must still be numeric) and ignored.
+lines are ignored. Optional columns: ``set_pressure [kPa]`` (the set point of every row) and
+``direction [-]`` or ``state [-]`` (+1, −1 or 0: the sign of the swept variable's rate, see
+:mod:`pampipe.protocol`). Columns with other names are allowed (they must still be numeric) and
+ignored.
 
 A cell is a plain decimal number (:data:`pampipe.units.NUMBER`), nothing else: no comments
 (``1#514.46`` is an error, not 1), no NaN or infinity, no underscores or hexadecimal.
@@ -42,7 +45,10 @@ MAX_ROWS = 30_000_000
 #: Files with more rows than this report their reading progress.
 PROGRESS_ROWS = 262_144
 #: Known column names and their dimensions.
-DIMENSIONS = {"pressure": "pressure", "length": "length", "force": "force", "time": "time"}
+DIMENSIONS = {"pressure": "pressure", "length": "length", "force": "force", "time": "time",
+              "set_pressure": "pressure"}
+#: Direction columns (docs/formats.md §3): the sign of the swept variable's rate, unit ``-`` or ``1``.
+SIGNS = ("direction", "state")
 #: Columns each test kind needs.
 REQUIRED = {"axial": ("pressure", "length", "force"), "radial": ("pressure", "force")}
 
@@ -170,12 +176,19 @@ def _parse_header(path, line, required):
         where = f"{path}: line 1, column {col} ({name})"
         if name in DIMENSIONS:
             factors[name] = column_factor(unit, DIMENSIONS[name], where=where)
+        elif name in SIGNS:
+            if unit not in ("", "-", "1"):
+                raise InputError(f"{where}: a {name} column holds signs (+1, -1, 0) and takes the unit "
+                                 f"[-] or [1], not [{unit}].")
+            factors[name] = 1.0
         names[name] = col - 1
     missing = [r for r in required if r not in names]
     if missing:
         raise InputError(f"{path}: line 1: missing column(s) {', '.join(missing)}; this test needs "
                          f"{', '.join(_example_header(required))} (found: {', '.join(cells)}).")
-    return {n: c for n, c in names.items() if n in DIMENSIONS}, factors, len(cells)
+    if "direction" in names and "state" in names:
+        raise InputError(f"{path}: line 1: give either a direction or a state column, not both.")
+    return {n: c for n, c in names.items() if n in factors}, factors, len(cells)
 
 
 def _scan(path, lines, first_line, names, ncols) -> None:

@@ -91,6 +91,7 @@ class State:
     axial_load: Any = 0.0  # effective F_a [N] (pipe tests)
     leg: Any = 0.0  # sign of the length rate: +1 lengthening, −1 shortening, 0 at rest
     in_pipe: bool = False
+    pressure_leg: Any = 0.0  # sign of the pressure rate: +1 filling, −1 venting, 0 held
 
 
 class Effect:
@@ -152,6 +153,60 @@ class BraidFriction(Effect):
         if state.in_pipe:
             return None
         return state.leg * (values["f0"] + values["f1"] * state.pressure)
+
+
+class PressureHysteresis(Effect):
+    """§9k: F_meas = F_ax − sgn(Ṗ)(h₀ + h₁P), the isometric counterpart of braid friction (§9a).
+
+    At a held length the braid still slides while the pressure changes: filling (Ṗ > 0) the muscle
+    pulls itself shorter and friction holds it back, venting it lets go and friction holds it in:
+    the venting leg lies 2(h₀ + h₁P) above the filling leg. Keyed to the sign of dP/dt of each row
+    (``pressure_leg``); the anchored muscle sits mid-band, as with §9a.
+    """
+
+    name = "pressure_hysteresis"
+    section = "9k"
+    summary = "braid friction while the pressure changes: the venting leg lies above the filling leg"
+    signature = "pressure_rate"
+    parameters = (
+        Parameter("h0", "N", "force", 1.0, 0.0, 500.0, 0.0, "half the band at zero pressure"),
+        Parameter("h1", "N/MPa", "area", 1e-6, 0.0, 1e-3, 0.0, "half the band per unit pressure"),
+    )
+    tests = frozenset({"axial"})
+
+    def axial_increment(self, state, values):
+        if state.in_pipe:
+            return None
+        return -state.pressure_leg * (values["h0"] + values["h1"] * state.pressure)
+
+
+class Prestrain(Effect):
+    """§9j: bladder prestrain, ε_k → ε_k + ε_k,pre in both stress laws (Ball & Garcia 2016).
+
+    ΔF_ax = [σ₁(ε₁ + ε₁,pre) − σ₁(ε₁)]V_b/L − [σ₂(ε₂ + ε₂,pre) − σ₂(ε₂)]·lever₂ (Eq. 9 levers). A
+    bladder that is stress-free at a zero-strain length L_z ≠ L₀ has ε₁,pre = (L₀ − L_z)/L₀ and
+    ε₂,pre = (D₀ − D(L_z))/D₀; with ε₂,pre > 0 the hoop stress at L₀ pushes against the pressure,
+    so the muscle needs a threshold pressure before it pulls at its rest length.
+    """
+
+    name = "prestrain"
+    section = "9j"
+    summary = "the bladder is strained at the rest length: a threshold pressure before the muscle pulls"
+    signature = "stroke_ends"
+    parameters = (
+        Parameter("axial_prestrain", "-", "dimensionless", 1.0, -0.1, 0.1, 0.0, "ε₁,pre"),
+        Parameter("hoop_prestrain", "-", "dimensionless", 1.0, -0.1, 0.1, 0.0, "ε₂,pre"),
+    )
+
+    def axial_increment(self, state, values):
+        g = state.geometry
+        _, lever1, lever2 = _levers(state.length, state.diameter, g, True)
+        a1, b1, a2, b2 = split_moduli(state.theta)
+        eps1, eps2 = strains(state.length, state.diameter, g)
+        pref, p = state.reference_pressure, state.pressure
+        d1 = stress(eps1 + values["axial_prestrain"], p, a1, b1, pref) - stress(eps1, p, a1, b1, pref)
+        d2 = stress(eps2 + values["hoop_prestrain"], p, a2, b2, pref) - stress(eps2, p, a2, b2, pref)
+        return d1 * lever1 - d2 * lever2
 
 
 class BraidExtensibility(Effect):
@@ -291,7 +346,7 @@ class WallFriction(Effect):
 #: The registry: every effect the package knows, by name (docs/commands.md §6 names).
 LIBRARY: dict[str, Effect] = {e.name: e for e in (
     BraidFriction(), BraidExtensibility(), EndEffects(), ContactStiffening(), PressureOffset(),
-    AxialPreload(), WallFriction())}
+    AxialPreload(), WallFriction(), PressureHysteresis(), Prestrain())}
 
 
 def get_effect(name: str) -> Effect:
@@ -406,11 +461,12 @@ def _tension_axial_part(pressure, length, diameter, geometry, theta, pref):
 
 
 def axial_force_with_effects(pressure, length, geometry, theta, reference_pressure=1e6,
-                             effects: Active | None = None, *, leg=0.0):
+                             effects: Active | None = None, *, leg=0.0, pressure_leg=0.0):
     """F [N] a test machine measures on the free muscle at (P_meas, L), with ``effects`` switched on.
 
-    ``leg`` is the sign of the length rate (+1 lengthening, −1 shortening). Without effects this is
-    exactly :func:`pampipe.model.forces.axial_force` (Eq. 9).
+    ``leg`` is the sign of the length rate (+1 lengthening, −1 shortening), ``pressure_leg`` that
+    of the pressure rate (+1 filling, −1 venting). Without effects this is exactly
+    :func:`pampipe.model.forces.axial_force` (Eq. 9).
     """
     active = _resolved(effects)
     pressure = _compose(active, "pressure", pressure)
@@ -425,7 +481,8 @@ def axial_force_with_effects(pressure, length, geometry, theta, reference_pressu
             stretched = base_b * (1 + _stretch(active, tension))
             diameter = ops.sqrt(stretched**2 - length**2) / n_pi
             force = _axial_force(pressure, length, diameter, geometry, theta, reference_pressure, True)
-    state = State(pressure, length, diameter, geometry, theta, reference_pressure, leg=leg)
+    state = State(pressure, length, diameter, geometry, theta, reference_pressure, leg=leg,
+                  pressure_leg=pressure_leg)
     return _sum(active, "axial_increment", state, force)
 
 

@@ -174,14 +174,16 @@ class Muscle:
         return braid.enclosed_volume(length, self.geometry)
 
     # ------------------------------------------------------------------------------------ forces
-    def axial_force(self, pressure, length, *, leg=0.0):
+    def axial_force(self, pressure, length, *, leg=0.0, pressure_leg=0.0):
         """F_ax(P, L) [N] (Eq. 9, effects included): the tension the free muscle holds.
 
-        ``leg`` is the sign of the length rate (braid friction, docs/physics.md §9a).
+        ``leg`` is the sign of the length rate (braid friction, docs/physics.md §9a) and
+        ``pressure_leg`` that of the pressure rate (pressure hysteresis).
         """
         if self.effects:
             return effects.axial_force_with_effects(pressure, length, self.geometry, self.theta,
-                                                    self.reference_pressure, self.effects, leg=leg)
+                                                    self.reference_pressure, self.effects, leg=leg,
+                                                    pressure_leg=pressure_leg)
         return forces.axial_force(pressure, length, self.geometry, self.theta, self.reference_pressure)
 
     def radial_force(self, pressure, diameter, axial_load=0.0, *, smoothing=None, clip=True):
