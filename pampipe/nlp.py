@@ -8,11 +8,16 @@ carries the same :class:`SolverStats` record.
 
 from __future__ import annotations
 
+import hashlib
+import os
 import re
+import shutil
+import tempfile
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from functools import cache
+from pathlib import Path
 
 import casadi as ca
 
@@ -92,3 +97,77 @@ def ipopt_version() -> str:
     """The IPOPT version CasADi was built with (from its build features), or "unknown"."""
     found = re.search(r"BUILD_IPOPT_VERSION=([\w.]+)", ca.CasadiMeta.feature_list())
     return found.group(1) if found else "unknown"
+
+
+# --------------------------------------------------------------------------------- on-disk cache
+#: Environment variable: the folder of the on-disk cache of built NLPs, or ``off`` to disable it.
+CACHE_VARIABLE = "PAMPIPE_NLP_CACHE"
+#: Entries kept in the cache folder (the oldest are removed beyond this).
+CACHE_ENTRIES = 64
+
+
+def cache_folder() -> Path | None:
+    """Where built NLPs are kept: $PAMPIPE_NLP_CACHE, else $XDG_CACHE_HOME/pampipe/nlp (default
+    ~/.cache/pampipe/nlp); None when the variable is ``off``."""
+    chosen = os.environ.get(CACHE_VARIABLE, "")
+    if chosen.lower() in ("off", "0", "no", "false"):
+        return None
+    if chosen:
+        return Path(chosen)
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "pampipe" / "nlp"
+
+
+def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Function]]
+                     ) -> tuple[dict[str, ca.Function], str]:
+    """(functions, "disk" | "built"): ``build()`` once per key, kept across processes on disk.
+
+    The entry's name hashes ``name``, ``key`` (the problem structure), the CasADi version and the
+    source of the package's model and NLP code, so any change to the code that builds the
+    functions makes a new entry; ``Function.save``/``Function.load`` (CasADi's serialisation) store
+    them. An unreadable or unwritable cache is skipped silently: the functions are then built.
+    """
+    folder = cache_folder()
+    if folder is None:
+        return build(), "built"
+    digest = hashlib.sha256("\0".join([name, key, ca.__version__, _source_digest()]).encode()).hexdigest()
+    entry = folder / f"{name}-{digest[:32]}"
+    if entry.is_dir():
+        try:
+            loaded = {p.stem: ca.Function.load(str(p)) for p in entry.glob("*.casadi")}
+            if loaded:
+                return loaded, "disk"
+        except Exception:  # a damaged entry is rebuilt
+            pass
+    functions = build()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}-", dir=folder))
+        for label, function in functions.items():
+            function.save(str(staging / f"{label}.casadi"))
+        try:
+            staging.rename(entry)  # atomic: readers see a whole entry or none
+        except OSError:  # another process stored it first
+            shutil.rmtree(staging, ignore_errors=True)
+        _prune(folder)
+    except Exception:  # caching is an optimisation, never a failure
+        pass
+    return functions, "built"
+
+
+def _prune(folder: Path) -> None:
+    entries = sorted((p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")),
+                     key=lambda p: p.stat().st_mtime)
+    for old in entries[:-CACHE_ENTRIES]:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+@cache
+def _source_digest() -> str:
+    """A hash of the package's source files (any edit invalidates the cached NLPs)."""
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()

@@ -1,11 +1,14 @@
-"""`identify(data, options)`: reduce, build (cached), initialise, solve, analyse, report.
+"""`identify(data, options)`: reduce, build (cached), initialise, solve, check, analyse, report.
 
-Steps: (1) one pass over the rows → sufficient statistics; (2) the NLP for this problem structure
-(built once, cached); (3) initial guess = unconstrained linear least squares on the axial groups
-and the clearly anchored radial bins (minimum-norm, column-scaled), clipped into the bounds;
-(4) IPOPT with the Drucker rows on a (P, L) grid covering the tested pressures and
-L ∈ [min(L_data, L_pipes, L_free(P_max)), L₀] plus the pipes' lengths; (5) uncertainty from the
-Hessian at the solution; (6) fit quality from the exact model on every row.
+Steps: (1) one pass over the rows → sufficient statistics and cells; (2) the NLP for this problem
+structure (built once, cached in memory and on disk); (3) initial guess = bounded linear least
+squares at the stated geometry; (4) IPOPT with the Drucker rows on a (P, L) grid covering the
+tested pressures and L ∈ [min(L_data, L_pipes, L_free(P_max)), L₀] plus the pipes' lengths; with
+calibration, first with the geometry held at its stated values (the stated geometry's fit), then
+with it free; (5) the exact Drucker minimum between grid points, re-solving with that point added
+while it is negative (:mod:`.drucker`); (6) uncertainty from the Hessian at the solution;
+(7) fit quality from the exact model on every row, the blocked-force geometry check
+(:mod:`.geometry`) and which predictions the data determine (:mod:`.envelope`).
 """
 
 from __future__ import annotations
@@ -16,20 +19,20 @@ from importlib.metadata import PackageNotFoundError, version
 
 import casadi as ca
 import numpy as np
-from scipy.optimize import lsq_linear
 
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
+from pampipe.identify import drucker, envelope, problem
+from pampipe.identify import geometry as geo
 from pampipe.identify.nlp import Structure, build_problem
 from pampipe.identify.options import FitOptions, parse_fit_options
 from pampipe.identify.predict import evaluate_tests
-from pampipe.identify.result import MPA, IdentifyResult, SolverInfo
-from pampipe.identify.statistics import Statistics, drucker_rows, reduce_experiment, tangent_rows
+from pampipe.identify.result import MPA, Calibration, IdentifyResult, SolverInfo
+from pampipe.identify.statistics import Statistics, drucker_rows, reduce_experiment
 from pampipe.identify.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
-from pampipe.model.pam import Moduli
 from pampipe.nlp import solve
 
 #: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
@@ -38,79 +41,144 @@ FIT_HINTS = {
     "Infeasible_Problem_Detected": "no moduli satisfy the bounds and the Drucker constraints together "
                                    "(widen fit.bounds or check the data)",
 }
-LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
+LAW_NAMES = problem.LAW_NAMES
 
 
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
-    """Fit the moduli of ``data.pam`` to the experiment's tests (docs/physics.md §6)."""
+    """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6)."""
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
     _check(data, options)
-    geometry = data.pam.geometry
-    pref = MPA
+    stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
-    stats = reduce_experiment(data, degree=options.degree, reference_pressure=pref,
-                              average_legs=options.average_legs, average_bins=options.average_bins)
-    axial = stats.axial
-    if axial is not None and options.objective == "least_squares":
-        axial = axial.combined()
+    stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
+                              average_legs=options.average_legs, average_bins=options.average_bins,
+                              slack=options.slack, calibrate=bool(options.calibrate))
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta
     pressures, lengths = _grid(data, stats, options)
-    grid = drucker_rows(geometry, options.degree, pressures, lengths, form=options.drucker) \
+    grid = drucker_rows(stated, options.degree, pressures, lengths, form=options.drucker) \
         if options.drucker != "none" else np.zeros((0, n))
-    contact_base, contact_incr = _contact_rows(stats, options, pressures, geometry)
-    prior = _prior_kind(options)
-    structure = Structure(options.mode, options.objective, n, 0 if axial is None else axial.test.size,
-                          tuple((r.levels, r.pipe) for r in stats.radial), len(stats.pipes),
-                          grid.shape[0], contact_base.shape[0], options.contact_terms, prior,
-                          options.max_iterations, options.tolerance)
+    contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
+    prior = problem.prior_kind(options)
+    structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
     before = build_problem.cache_info().misses
-    problem = build_problem(structure)
-    build_time = problem.build_time if build_problem.cache_info().misses > before else 0.0
+    nlp = build_problem(structure)
+    build_time = nlp.build_time if build_problem.cache_info().misses > before else 0.0
 
-    names, lbx, ubx = _decision_names_and_bounds(structure, stats, options)
-    values = _parameters(structure, stats, axial, grid, contact_base, contact_incr, options)
-    x0 = _initial_guess(structure, stats, axial, _reference_theta(data, n), lbx, ubx)
+    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geo.bounds(data, options,
+                                                                                       stats.pipes))
+    values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
+    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, stated)
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-    p = problem.layout.pack(values)
-    sse0 = float(problem.sse(x0, p))
-    points_fit = int((0 if axial is None else axial.points.sum())
-                     + sum(r.moments[0].sum() for r in stats.radial))
+    p = nlp.layout.pack(values)
+    sse0 = float(nlp.sse(x0, p))
+    points_fit = stats.points
     if prior != "none":
-        noise = sse0 / max(points_fit - x0.size, 1)
-        values["prior_weight"] = noise / (options.prior_sd / MPA) ** 2
+        values["prior_weight"] = sse0 / max(points_fit - x0.size, 1) / (options.prior_sd / MPA) ** 2
         if prior == "fixed":
-            values["prior_target"] = _prior_target(data, options, n)
+            values["prior_target"] = problem.prior_target(data, options, n)
     values["scale_sse"] = max(sse0, 1e-12)
     groups = structure.axial_groups + sum(levels for levels, _ in structure.radial)
     values["scale"] = (max(sse0, 1e-12) if options.objective == "least_squares"
                        else max(groups * math.sqrt(sse0 / max(points_fit, 1)), 1e-9))
-    p = problem.layout.pack(values)
 
-    say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
-    solution, stats_ipopt = solve(problem.solver, what="the moduli fit (no result was written)",
-                                  hints=FIT_HINTS, x0=x0, p=p, lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
-    status = stats_ipopt.status
-    x = np.asarray(solution["x"], dtype=float).ravel()
+    fixed = _geometry_mask(structure, x0.size)
+    stated_fit = None
+    total_time, iterations = 0.0, 0
+    if options.calibrate:  # the stated geometry's fit first: the start of the calibrated one
+        say("fitting at the stated geometry")
+        lbs, ubs = np.where(fixed, x0, lbx), np.where(fixed, x0, ubx)
+        x0, info, values = _solve_with_cuts(nlp, structure, values, x0, lbs, ubs, stated, pressures, lengths,
+                                            options, stats)
+        total_time += info.wall_time
+        iterations += info.iterations
+        stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
+    say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
+        + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
+    x, info, values = _solve_with_cuts(nlp, structure, values, x0, lbx, ubx, stated, pressures, lengths,
+                                       options, stats)
+    total_time += info.wall_time
+    iterations += info.iterations
+    p = nlp.layout.pack(values)
+    geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if options.calibrate else stated
 
-    moduli, pipe_moduli, blocks = _moduli(structure, stats, x, pref)
-    sse_model = float(problem.sse(x, p))
-    hessian = np.asarray(problem.hessian(x, p), dtype=float)
+    moduli, pipe_moduli, blocks = problem.moduli_of(structure, stats, x)
+    sse_model = float(nlp.sse(x, p))
+    hessian = np.asarray(nlp.hessian(x, p), dtype=float)
     uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
-    tests, sse, sum_rmse = evaluate_tests(data, moduli, pipe_moduli, blocks)
-    margin = _drucker_margin(geometry, blocks, moduli, pressures, lengths, stats, options, pref)
-    warnings = _warnings(status, uncertainty, names, margin, options, structure)
+    tests, sse, sum_rmse = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks, slack=options.slack)
+    minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
+    blocked = geo.blocked_force(data, geometry)
+    calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, sse, data,
+                               blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
+    predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
+    warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
+                         data)
     return IdentifyResult(
-        success=True, status=status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
+        success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
-        solver=SolverInfo(status, True, stats_ipopt.iterations, stats_ipopt.wall_time, build_time,
-                          reduce_time, float(solution["f"])),
-        uncertainty=uncertainty, drucker_margin=margin,
+        solver=SolverInfo(info.status, True, iterations, total_time, build_time, reduce_time,
+                          float(info.objective), nlp.origin),
+        uncertainty=uncertainty, drucker_minimum=minimum,
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
-        warnings=tuple(warnings), provenance=_provenance(data, structure, problem))
+        warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
+        calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
+        excluded_rows=stats.excluded)
+
+
+class _Solved:
+    def __init__(self, status, iterations, wall_time, objective):
+        self.status, self.iterations, self.wall_time, self.objective = status, iterations, wall_time, objective
+
+
+def _solve_with_cuts(nlp, structure: Structure, values, x0, lbx, ubx, stated, pressures, lengths, options,
+                     stats):
+    """IPOPT, then cutting planes while the exact Drucker minimum is negative (:mod:`.drucker`)."""
+    base_rows = structure.grid_rows - problem.SPARE_ROWS if structure.grid_rows else 0
+    used = base_rows
+    status, iterations, wall = "", 0, 0.0
+    x = x0
+    values = dict(values)
+    fixed = _geometry_mask(structure, x0.size)
+    for _ in range(drucker.ROUNDS + 1):
+        solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
+                               x0=x, p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
+        status, iterations, wall = info.status, iterations + info.iterations, wall + info.wall_time
+        x = np.asarray(solution["x"], dtype=float).ravel()
+        objective = float(solution["f"])
+        if not structure.grid_rows:
+            break
+        geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if structure.calibrate else stated
+        cuts = []
+        for name, theta in _theta_blocks(structure, x):
+            low = drucker.minimum(theta * MPA, MPA, geometry, pressures, lengths, options.drucker)
+            if not low.stable:
+                cuts.append(drucker.cut_row(low, geometry, options.degree, MPA))
+        if not cuts or used >= structure.grid_rows:
+            break
+        rows = np.vstack(cuts)[:structure.grid_rows - used]
+        values["grid"] = np.array(values["grid"], dtype=float)
+        values["grid"][used:used + rows.shape[0]] = rows
+        used += rows.shape[0]
+    return x, _Solved(status, iterations, wall, objective), values
+
+
+def _geometry_mask(structure: Structure, size: int) -> np.ndarray:
+    mask = np.zeros(size, dtype=bool)
+    if structure.calibrate:
+        mask[size - len(structure.calibrate):] = True
+    return mask
+
+
+def _theta_blocks(structure: Structure, x):
+    at = 0
+    for name, size in structure.blocks():
+        if name not in ("contact", "geometry"):
+            yield name, x[at:at + size]
+        at += size
 
 
 def _check(data: ExperimentData, options: FitOptions) -> None:
@@ -125,6 +193,17 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
     if options.prior_toward == "axial" and options.mode == "per_pipe" and "axial" not in kinds \
             and options.prior_sd is not None:
         raise InputError(f"{data.source}: fit.prior.toward 'axial' needs an axial test.")
+    ramps = [t.name for t in data.tests if not t.has_levels]
+    if ramps and options.objective == "sum_rmse":
+        raise InputError(f"{data.source}: fit.objective 'sum_rmse' sums the RMSE over pressure levels, and "
+                         f"test(s) {', '.join(ramps)} have none (pressure ramps); use least_squares.")
+    if options.average_legs and any(t.kind == "axial" and t.protocol != "isobaric" for t in data.tests):
+        raise InputError(f"{data.source}: fit.average_legs averages the lengthening and shortening legs at "
+                         "each pressure level; it needs isobaric axial tests (pressure held while the "
+                         "length is cycled).")
+    if options.calibrate and options.average_legs:
+        raise InputError(f"{data.source}: fit.calibrate and fit.average_legs cannot be combined; the "
+                         "calibrated fit uses every row.")
     for test in data.tests:
         where = f"{test.spec.data}"
         if test.kind == "axial":
@@ -135,7 +214,7 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
 
 def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     geometry = data.pam.geometry
-    tested = np.concatenate([t.level_pressure for t in data.tests])
+    tested = np.concatenate([t.pressure for t in data.tests])
     p_max = max(float(tested.max()), 1.0)
     pressures = np.linspace(max(0.0, float(tested.min())), p_max, options.grid_pressures)
     pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
@@ -152,210 +231,98 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     return pressures, lengths
 
 
-def _contact_rows(stats: Statistics, options: FitOptions, pressures, geometry):
-    n = stats.n_theta
-    if options.mode != "contact_increment" or options.drucker == "none":
-        return np.zeros((0, n)), np.zeros((0, n))
-    base, incr = [], []
-    for d in stats.pipes:
-        length = braid.length_at_diameter(d, geometry)
-        eps1, eps2 = bladder.strains(length, d, geometry)
-        for x in pressures / stats.reference_pressure:
-            for eps, first in ((eps1, 0), (eps2, 2)):
-                row = tangent_rows(eps, x, stats.degree, first)[0]
-                scale = max(np.abs(row).max(), np.abs(x * row).max())
-                base.append(row / scale)
-                incr.append(x * row / scale)
-    return np.array(base), np.array(incr)
-
-
-def _reference_theta(data: ExperimentData, n: int) -> np.ndarray:
-    """The input moduli in MPa (b at P_ref = 1 MPa) if the PAM has them at this degree, else zeros."""
-    moduli = data.pam.moduli
-    if moduli is None or moduli.degree + 1 != n // 4:
-        return np.zeros(n)
-    theta = moduli.as_vector() / MPA
-    k = n // 4
-    for block in (1, 3):  # b coefficients scale with P_ref: E = a + b P/P_ref
-        theta[block * k:(block + 1) * k] *= MPA / moduli.reference_pressure
-    return theta
-
-
-def _prior_kind(options: FitOptions) -> str:
-    if options.prior_sd is None:
-        return "none"
-    return "axial" if options.prior_toward == "axial" else "fixed"
-
-
-def _prior_target(data: ExperimentData, options: FitOptions, n: int) -> np.ndarray:
-    if options.prior_toward == "zero":
-        return np.zeros(n)
-    if data.pam.moduli is None:
-        raise InputError(f"{data.source}: fit.prior.toward 'input' needs a moduli: block in the PAM; "
-                         "add one or use toward: zero.")
-    if data.pam.moduli.degree + 1 != n // 4:
-        raise InputError(f"{data.source}: fit.prior: the PAM's moduli have degree {data.pam.moduli.degree}, "
-                         f"the fit has degree {options.degree}.")
-    return _reference_theta(data, n)
-
-
-def _decision_names_and_bounds(structure: Structure, stats: Statistics, options: FitOptions):
-    k = structure.n_theta // 4
-    law = [f"{name}{j}" for name in LAW_NAMES for j in range(k)]
-    names, lower, upper = [], [], []
-    for block, size in structure.blocks():
-        if block == "contact":
-            picked = np.flatnonzero(structure.contact_selection().any(axis=1))
-            names += [f"contact.{law[i]}" for i in picked]
-            lower += [options.bounds_contact[0]] * size
-            upper += [options.bounds_contact[1]] * size
-            continue
-        label = "theta" if block == "theta" else f"pipe_{stats.pipes[int(block[4:])] * 1e3:.1f}mm"
-        names += [f"{label}.{item}" for item in law]
-        for i in range(size):
-            low, high = options.bounds_constant if i in (0, 2 * k) else options.bounds_other
-            lower.append(low)
-            upper.append(high)
-    return names, np.array(lower) / MPA, np.array(upper) / MPA
-
-
-def _parameters(structure, stats, axial, grid, contact_base, contact_incr, options) -> dict:
-    values = {"scale": 1.0, "scale_sse": 1.0, "smooth": options.contact_smoothing,
-              "eps": options.rmse_smoothing}
-    if structure.axial_groups:
-        values.update(ax_r=np.concatenate(list(axial.r), axis=1), ax_z=axial.z.T, ax_rest=axial.rest,
-                      ax_n=axial.points.astype(float))
-    for j, r in enumerate(stats.radial):
-        values[f"rad{j}_coef"] = np.concatenate([r.amp_phi0, r.amp_phi1, [r.amp_area, r.amp_load]])
-        values[f"rad{j}_mom"] = r.moments
-    if structure.grid_rows:
-        values["grid"] = grid
-    if structure.contact_rows:
-        values.update(cgrid_base=contact_base, cgrid_incr=contact_incr)
-    if structure.prior != "none":
-        values["prior_weight"] = 0.0
-    if structure.prior == "fixed":
-        values["prior_target"] = np.zeros(structure.n_theta)
-    return values
-
-
-def _initial_guess(structure: Structure, stats: Statistics, axial, reference_theta, lower, upper
-                   ) -> np.ndarray:
-    """Linear least squares per moduli block with the bounds only (no Drucker), contact increments 0.
-
-    Rows: the axial groups' R, z and the clearly anchored radial bins (ȳ > 20 % of the test's
-    largest). Columns are scaled to unit norm and a tiny ridge (1e-6) toward a reference picks
-    values for the combinations the data do not fix: the input moduli (or zero) for the muscle's
-    block, the muscle's block for a per-pipe block (radial data fix two combinations per pipe).
-    """
-    rows = {name: ([], []) for name, _ in structure.blocks()}
-    if structure.axial_groups:
-        for g in range(axial.test.size):
-            rows["theta"][0].append(axial.r[g])
-            rows["theta"][1].append(axial.z[g])
-    for r in stats.radial:
-        n, xbar, ybar = r.moments[0], r.moments[1], r.moments[2]
-        anchored = (n > 0) & (ybar > 0.2 * max(ybar.max(), 1e-9))
-        w = np.sqrt(n[anchored])[:, None]
-        block = structure.radial_block(r.pipe)
-        rows[block][0].append(w * (r.amp_phi0[None, :] + xbar[anchored, None] * r.amp_phi1[None, :]))
-        rows[block][1].append(w[:, 0] * (ybar[anchored] + r.amp_load - r.amp_area * xbar[anchored]))
-    solved, at = {}, {}
-    offset = 0
-    for name, size in structure.blocks():
-        at[name] = slice(offset, offset + size)
-        offset += size
-    for name, _ in structure.blocks():  # the muscle's block first: the pipe blocks start from it
-        a_rows, b_rows = rows[name]
-        if name == "contact" or not a_rows:
-            continue
-        reference = solved.get("theta", reference_theta)
-        solved[name] = _bounded_ls(np.vstack(a_rows), np.concatenate(b_rows), reference,
-                                   lower[at[name]], upper[at[name]])
-    return np.concatenate([solved.get(name, np.zeros(size)) for name, size in structure.blocks()])
-
-
-def _bounded_ls(a, b, reference, lower, upper, ridge: float = 1e-6):
-    """argmin ‖a·θ − b‖² + ridge‖S(θ − reference)‖² within bounds, S = column norms of a."""
-    norms = np.linalg.norm(a, axis=0)
-    norms[norms == 0] = 1.0
-    k = a.shape[1]
-    scale = math.sqrt(ridge) * np.linalg.norm(a / norms, ord=2)
-    matrix = np.vstack([a / norms, scale * np.eye(k)])
-    target = np.concatenate([b, scale * np.clip(reference, lower, upper) * norms])
-    fit = lsq_linear(matrix, target, bounds=(lower * norms, upper * norms), method="bvls")
-    return fit.x / norms
-
-
-def _moduli(structure: Structure, stats: Statistics, x, pref):
-    """(muscle moduli, {pipe: moduli}, {block name: moduli}) from the solution (x in MPa)."""
-    blocks, at = {}, 0
-    contact = None
-    for name, size in structure.blocks():
-        part = x[at:at + size]
-        at += size
-        if name == "contact":
-            contact = structure.contact_selection() @ part * MPA
-        else:
-            blocks[name] = part * MPA
-    out = {name: Moduli.from_vector(theta, reference_pressure=pref, contact=contact)
-           for name, theta in blocks.items()}
-    main = out.get("theta", next(iter(out.values())))
-    pipes = {d: out[structure.radial_block(k)] for k, d in enumerate(stats.pipes)}
-    return main, pipes, out
-
-
-def _drucker_margin(geometry, blocks, moduli, pressures, lengths, stats, options, pref) -> float:
-    """Smallest Drucker quantity on the grid from the model's own functions [Pa]."""
+def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:
+    """The exact minimum over the box for every moduli set; contact mode adds the anchored state."""
     if options.drucker == "none":
-        return float("nan")
-    pp, ll = np.meshgrid(pressures, lengths, indexing="ij")
-    dd = braid.diameter_at_length(ll, geometry)
-    values = []
-    for m in blocks.values():
-        theta = m.as_vector()
-        if options.drucker == "sum":
-            work = bladder.drucker_second_order_work(pp, ll, dd, geometry, theta, pref)
-            values.append(np.min(work) * geometry.initial_length**2)
-        else:
-            values.append(min(np.min(e) for e in bladder.drucker_tangent_moduli(pp, ll, dd, geometry, theta,
-                                                                                 pref)))
+        return None
+    found = [drucker.minimum(m.as_vector(), MPA, geometry, pressures, lengths, options.drucker)
+             for m in blocks.values()]
     if options.mode == "contact_increment":
         theta, delta = moduli.as_vector(), moduli.contact_vector()
+        fine = np.linspace(np.min(pressures), np.max(pressures), 200)
         for d in stats.pipes:
-            length = braid.length_at_diameter(d, geometry)
-            for pressure in pressures:
-                engaged = theta + pressure / pref * delta
-                moduli_now = bladder.drucker_tangent_moduli(pressure, length, d, geometry, engaged, pref)
-                values.append(min(moduli_now))
-    return float(min(values))
+            length = float(braid.length_at_diameter(d, geometry))
+            for pressure in fine:
+                engaged = theta + pressure / MPA * delta
+                e1, e2 = bladder.drucker_tangent_moduli(pressure, length, d, geometry, engaged, MPA)
+                for value, direction in ((float(e1), "axial"), (float(e2), "hoop")):
+                    found.append(drucker.Minimum(value, float(pressure), length, f"{direction} (anchored)"))
+    return min(found, key=lambda m: m.value)
 
 
-def _warnings(status, u, names, margin, options, structure) -> list[str]:
+def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, sse, data, blocked,
+                 stated_blocked) -> Calibration:
+    intervals = {}
+    for name in structure.calibrate:
+        i = names.index(problem.GEOMETRY_NAMES[name])
+        low, high = uncertainty.lower[i], uncertainty.upper[i]
+        intervals[name] = (float(low), float(high)) if np.isfinite(low) else None
+    points = max(data.points, 1)
+    return Calibration(stated, geometry, tuple(structure.calibrate), intervals,
+                       None if stated_sse is None else math.sqrt(stated_sse / points), blocked, stated_blocked)
+
+
+def _warnings(status, u, names, minimum, options, structure, calibration, stats, data) -> list[str]:
     out = []
     if status != "Solve_Succeeded":
         out.append(f"IPOPT stopped with {status}: the solution is acceptable but not fully converged.")
     if u.rank_deficient:
         out.append(f"the data determine only {u.rank} of {len(names)} parameter combinations; individual "
                    "coefficients without an interval are not identifiable from these tests "
-                   "(docs/physics.md §6); "
-                   "see the identifiable combinations, or add a prior (fit.prior).")
+                   "(docs/physics.md §6); see which predictions are determined, or add a prior (fit.prior).")
     bound = [name for name, flag in zip(names, u.at_bound, strict=True) if flag]
     if bound:
-        out.append(f"at a bound: {', '.join(bound)} (intervals ignore the bound; consider fit.bounds).")
-    if options.drucker != "none" and margin < 1e3:
-        out.append("the Drucker stability constraint is active: it limits the fit somewhere on the grid.")
-    if options.mode == "per_pipe" and not structure.axial_groups:
+        out.append(f"at a bound: {', '.join(bound)} (intervals ignore the bound; consider fit.bounds"
+                   + (" or fit.calibration_bounds" if any(b.startswith("geometry.") for b in bound) else "")
+                   + ").")
+    if minimum is not None and not minimum.stable:
+        out.append(f"Drucker stability fails between the grid points: {minimum.direction} tangent modulus "
+                   f"{minimum.value / 1e6:.4g} MPa at P = {minimum.pressure / 1e3:.4g} kPa, L = "
+                   f"{minimum.length * 1e3:.5g} mm; refine fit.drucker_grid.")
+    if options.mode == "per_pipe" and not (structure.qr or structure.cells):
         out.append("per_pipe without an axial test: the PAM file gets the first pipe's moduli; each pipe's "
                    "moduli are valid only in that pipe (see per_pipe in the JSON).")
+    out += _geometry_warnings(calibration, options)
+    if stats.excluded:
+        out.append(f"{stats.excluded} slack row(s) (force <= 0) were excluded from the fit (fit.slack: "
+                   "exclude).")
+    unknown = [t.name for t in data.tests if t.direction_source == "unknown"]
+    if unknown:
+        out.append(f"test(s) {', '.join(unknown)}: the rows are not in time order and there is no time or "
+                   "direction column, so the loading/unloading legs are unknown (hysteresis effects cannot "
+                   "be fitted).")
     return out
 
 
-def _provenance(data, structure, problem) -> dict:
+def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[str]:
+    blocked = calibration.blocked_force
+    if blocked is None:
+        return []
+    g = calibration.geometry
+    out = []
+    if not blocked.consistent:
+        words = (f"the blocked-force slope dF/dP at L = {blocked.length * 1e3:.5g} mm is "
+                 f"{blocked.slope * 1e3:.4g} N/kPa in the data but {blocked.geometry_slope * 1e3:.4g} N/kPa "
+                 f"for the {'calibrated' if options.calibrate else 'stated'} geometry (braid angle "
+                 f"{math.degrees(g.braid_angle):.4g} deg from the axis, L0 = {g.initial_length * 1e3:.5g} mm)")
+        if blocked.fitting_angle is not None:
+            words += (f"; a braid angle of {math.degrees(blocked.fitting_angle):.4g} deg from the axis would "
+                      "fit it (at this L0)")
+        if not options.calibrate:
+            words += "; calibrate it: --calibrate braid_angle --calibrate initial_length"
+        out.append(words + ".")
+    if blocked.has_threshold and "initial_length" not in options.calibrate:
+        out.append(f"the muscle needs about {blocked.threshold / 1e3:.3g} kPa before it pulls at its longest "
+                   f"tested length ({blocked.length * 1e3:.5g} mm), which the model cannot show at the "
+                   "stated rest length: calibrate it (--calibrate initial_length) or diagnose prestrain.")
+    return out
+
+
+def _provenance(data, structure, nlp) -> dict:
     try:
         pampipe_version = version("pampipe")
     except PackageNotFoundError:
         pampipe_version = "unknown"
     return {"pampipe": pampipe_version, "casadi": ca.__version__, "numpy": np.__version__,
-            "experiment": str(data.source), "parameters": problem.n_x, "constraints": problem.n_g,
-            "nlp_nodes": problem.n_nodes}
+            "experiment": str(data.source), "parameters": nlp.n_x, "constraints": nlp.n_g,
+            "nlp_nodes": nlp.n_nodes}

@@ -1,24 +1,28 @@
-"""The identification NLP (docs/physics.md §6), built once per problem structure and cached.
+"""The identification NLP (docs/physics.md §6), built once per problem structure and cached (memory, disk).
 
-Everything that depends on the data enters through the parameter vector p (the sufficient
-statistics of :mod:`pampipe.identify.statistics`, the Drucker grid rows, scales); the symbolic
-graph depends only on the :class:`Structure` (mode, objective, degree, number of axial groups,
-pressure levels per radial test, pipes, grid size), never on the number of rows.
+Everything that depends on the data enters through the parameter vector p (the statistics of
+:mod:`pampipe.identify.statistics` and :mod:`pampipe.identify.cells`, the stated geometry, the
+Drucker grid rows, scales); the graph depends only on the :class:`Structure`, never on the number
+of rows. Cells are evaluated by one CasADi function mapped over a fixed capacity, so the graph does
+not grow with the number of cells either. The built functions are saved on disk
+(:func:`pampipe.nlp.cached_functions`), so a new process loads them instead of building.
 
-Decision vector x (MPa): the blocks named by :meth:`Structure.blocks`: ``theta`` (the muscle's
-moduli [a₁, b₁, a₂, b₂]), ``pipe<k>`` (``per_pipe``: separate moduli for the k-th pipe diameter),
-``contact`` (``contact_increment``: Δθ, either the two constant terms Δa₁₀, Δa₂₀ or all of them).
+Decision vector x: the blocks named by :meth:`Structure.blocks`: ``theta`` (the muscle's moduli
+[a₁, b₁, a₂, b₂], MPa), ``pipe<k>`` (``per_pipe``), ``contact`` (``contact_increment``) and
+``geometry`` (calibrated geometry: α₀ in deg, L₀ and t₀ in mm, in :data:`GEOMETRY` order).
 
 Sum of squares:
-* axial group g: ‖R_g θ − z_g‖² + rest_g (exact);
+* axial group g (QR, measured rows at the stated geometry): ‖R_g θ − z_g‖² + rest_g (exact);
+* axial cell (slack rows; every axial row when calibrating): see :mod:`pampipe.identify.cells`;
 * radial bin b with u(x) = u₀ + u₁d + u₂d² about x̄ (d = x − x̄): with m = s·softplus(u₀/s) and
   w = sigmoid(u₀/s) (the smoothed contact switch, width s = ``contact_smoothing``)
   SSE_b = n(m − ȳ)² + w[2(m − ȳ)u₂Σd² + u₁²Σd² + u₂²Σd⁴ + 2u₁u₂Σd³ − 2u₁Σde − 2u₂Σd²e] + Σe²,
   exact (= Σ(u(x_i) − y_i)²) in a bin wholly above anchoring (w = 1) and (= Σy_i²) wholly below
   (w = 0); only a bin that straddles the anchoring pressure is smoothed.
-  Above anchoring u = c₀ + c₁x, plus, with contact increments (docs/physics.md §9d),
-  (x − x_a)₊(e₀ + e₁x) where x_a = −c₀/c₁ is the anchoring pressure; (·)₊ is a softplus of width
-  ``SMOOTH_X`` (1 kPa).
+  Above anchoring u = c₀ + c₁x with c₀ = A(φ₀·θ − F_a), c₁ = A(area·P_ref + φ₁·θ) at the pipe's
+  length L(D_p), computed here from the (possibly calibrated) geometry, plus, with contact
+  increments (docs/physics.md §9d), (x − x_a)₊(e₀ + e₁x) where x_a = −c₀/c₁ is the anchoring
+  pressure; (·)₊ is a softplus of width ``SMOOTH_X`` (1 kPa).
 
 Objective: ``least_squares`` Σ SSE / scale; ``sum_rmse`` Σ over (test, pressure level) of
 √(SSE/n + ε_s) / scale (the paper's metric). An optional Gaussian prior adds λ‖θ − θ₀‖² to the sum
@@ -34,12 +38,18 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+from pampipe.identify.cells import FIELDS
 from pampipe.identify.statistics import SUB_BINS
+from pampipe.model import braid, forces
 from pampipe.model.ops import softplus
-from pampipe.nlp import nlpsol
+from pampipe.model.pam import Geometry
+from pampipe.nlp import cached_functions, nlpsol
 
+MPA = 1e6
 #: Width of the softplus in (x − x_a)₊, in units of P_ref (1e-3 → 1 kPa at P_ref = 1 MPa).
 SMOOTH_X = 1e-3
+#: Calibratable geometry: name → (index in Geometry.as_vector(), SI value of one unit of x).
+GEOMETRY = {"braid_angle": (2, np.pi / 180), "initial_length": (0, 1e-3), "bladder_thickness": (3, 1e-3)}
 
 
 @dataclass(frozen=True)
@@ -49,13 +59,17 @@ class Structure:
     mode: str  # shared | per_pipe | contact_increment
     objective: str  # least_squares | sum_rmse
     n_theta: int  # 4(degree + 1)
-    axial_groups: int  # 0 without axial tests
+    axial_groups: int  # axial groups in the objective (least_squares: 1 or 0)
+    qr: bool  # exact QR statistics of measured axial rows (stated geometry)
+    cells: int  # cell capacity (0: no cells)
     radial: tuple[tuple[int, int], ...]  # (pressure levels, pipe index) per radial test
     pipes: int
     grid_rows: int  # Drucker rows per moduli block (0: no constraint)
     contact_rows: int  # Drucker rows of the anchored (contact) state
     contact_terms: str  # constant | full
     prior: str  # none | fixed | axial
+    calibrate: tuple[str, ...]  # calibrated geometry, in GEOMETRY order
+    wall: str  # thick | thin
     max_iterations: int
     tolerance: float
 
@@ -66,12 +80,14 @@ class Structure:
     def blocks(self) -> list[tuple[str, int]]:
         """Decision-vector blocks (name, size) in order."""
         out = []
-        if self.axial_groups or self.mode != "per_pipe":
+        if self.axial_groups or self.qr or self.cells or self.mode != "per_pipe":
             out.append(("theta", self.n_theta))
         if self.mode == "per_pipe":
             out += [(f"pipe{k}", self.n_theta) for k in range(self.pipes)]
         if self.mode == "contact_increment":
             out.append(("contact", self.n_contact))
+        if self.calibrate:
+            out.append(("geometry", len(self.calibrate)))
         return out
 
     def radial_block(self, pipe: int) -> str:
@@ -89,11 +105,18 @@ class Structure:
     def parameters(self) -> list[tuple[str, tuple[int, int]]]:
         """Parameter-vector entries (name, (rows, cols)), stored column-major."""
         p, g = self.n_theta, self.axial_groups
-        out = [("scale", (1, 1)), ("scale_sse", (1, 1)), ("smooth", (1, 1)), ("eps", (1, 1))]
+        out = [("scale", (1, 1)), ("scale_sse", (1, 1)), ("smooth", (1, 1)), ("eps", (1, 1)),
+               ("geometry", (4, 1))]
+        if self.qr:
+            out += [("ax_r", (p, p * g)), ("ax_z", (p, g)), ("ax_rest", (1, g))]
         if g:
-            out += [("ax_r", (p, p * g)), ("ax_z", (p, g)), ("ax_rest", (1, g)), ("ax_n", (1, g))]
+            out.append(("ax_n", (1, g)))
+        if self.cells:
+            out.append(("cells", (len(FIELDS), self.cells)))
+            if self.objective == "sum_rmse":
+                out.append(("cell_groups", (g, self.cells)))
         for j, (levels, _) in enumerate(self.radial):
-            out += [(f"rad{j}_coef", (2 * p + 2, 1)), (f"rad{j}_mom", (9, levels * SUB_BINS))]
+            out += [(f"rad{j}_test", (2, 1)), (f"rad{j}_mom", (9, levels * SUB_BINS))]
         if self.grid_rows:
             out.append(("grid", (self.grid_rows, p)))
         if self.contact_rows:
@@ -137,9 +160,10 @@ class Problem:
     layout: Layout
     solver: ca.Function
     sse: ca.Function  # (x, p) -> Σ SSE [N²]
-    hessian: ca.Function  # (x, p) -> ∇²[(SSE + prior)/2] [N²/MPa²]
+    hessian: ca.Function  # (x, p) -> ∇²[(SSE + prior)/2] [N²/unit²]
     constraints: ca.Function  # (x, p) -> g (normalised Drucker rows, ≥ 0)
-    build_time: float  # [s]
+    build_time: float  # [s] to build, or to load from the disk cache
+    origin: str  # "built" or "disk"
     n_x: int
     n_g: int
     n_nodes: int  # symbolic size of the objective (independent of the row count)
@@ -151,38 +175,60 @@ def sigmoid(t):
 
 @lru_cache(maxsize=32)
 def build_problem(structure: Structure) -> Problem:
-    """Build (once per structure) the IPOPT solver of the identification NLP."""
+    """The IPOPT solver of the identification NLP: from memory, the disk cache, or built."""
     started = time.perf_counter()
+    functions, origin = cached_functions("identify", repr(structure), lambda: _build(structure))
     layout = Layout(structure.parameters())
-    p = ca.SX.sym("p", layout.size)
+    solver = functions["solver"]
+    return Problem(structure, layout, solver, functions["sse"], functions["hessian"],
+                   functions["constraints"], time.perf_counter() - started, origin,
+                   int(solver.size1_in("x0")), int(solver.size1_in("lbg")),
+                   int(functions["objective"].n_nodes()))
+
+
+def _build(structure: Structure) -> dict[str, ca.Function]:
+    layout = Layout(structure.parameters())
+    p = ca.MX.sym("p", layout.size)
     par = layout.symbols(p)
     blocks = structure.blocks()
-    x = ca.SX.sym("x", sum(size for _, size in blocks))
+    x = ca.MX.sym("x", sum(size for _, size in blocks))
     var, at = {}, 0
     for name, size in blocks:
         var[name] = x[at:at + size]
         at += size
+    geometry = _geometry(structure, par["geometry"], var.get("geometry"))
     n = structure.n_theta
 
-    group_sse, group_n = [], []
-    if structure.axial_groups:
+    axial_sse = ca.MX(0)
+    group_sse = []
+    if structure.qr:
         theta = var["theta"]
         for g in range(structure.axial_groups):
             residual = ca.mtimes(par["ax_r"][:, g * n:(g + 1) * n], theta) - par["ax_z"][:, g]
             group_sse.append(ca.sumsqr(residual) + par["ax_rest"][g])
-            group_n.append(par["ax_n"][g])
+    if structure.cells:
+        cell = _cell_function(structure).map(structure.cells)
+        cell_sse = cell(par["cells"], var["theta"], _vector(geometry), par["smooth"])
+        if structure.objective == "sum_rmse":
+            by_group = ca.mtimes(par["cell_groups"], cell_sse.T)
+            group_sse = [by_group[g] + (group_sse[g] if group_sse else 0)
+                         for g in range(structure.axial_groups)]
+        else:
+            axial_sse = ca.sum2(cell_sse)
+    group_n = [par["ax_n"][g] for g in range(structure.axial_groups)]
     contact = None
     if structure.mode == "contact_increment":
         contact = ca.mtimes(ca.DM(structure.contact_selection()), var["contact"])
     for j, (levels, pipe) in enumerate(structure.radial):
-        bins = _radial_bins(par[f"rad{j}_coef"], par[f"rad{j}_mom"], var[structure.radial_block(pipe)],
-                            contact, par["smooth"], n)
+        coef = _radial_coefficients(par[f"rad{j}_test"], geometry, n)
+        bins = _radial_bins(coef, par[f"rad{j}_mom"], var[structure.radial_block(pipe)], contact,
+                            par["smooth"], n)
         per_level = ca.sum1(ca.reshape(bins, SUB_BINS, levels))
         counts = ca.sum1(ca.reshape(par[f"rad{j}_mom"][0, :], SUB_BINS, levels))
         group_sse += [per_level[k] for k in range(levels)]
         group_n += [counts[k] for k in range(levels)]
 
-    sse = ca.sum1(ca.vertcat(*group_sse)) if group_sse else ca.SX(0)
+    sse = axial_sse + (ca.sum1(ca.vertcat(*group_sse)) if group_sse else 0)
     prior = _prior(structure, var, par)
     if structure.objective == "sum_rmse":
         rmse = [ca.sqrt(ca.fmax(s, 0) / ca.fmax(k, 1) + par["eps"]) for s, k in zip(group_sse, group_n,
@@ -195,18 +241,61 @@ def build_problem(structure: Structure) -> Problem:
     solver = nlpsol("identify", {"x": x, "p": p, "f": f, "g": g},
                     ipopt={"max_iter": structure.max_iterations, "tol": structure.tolerance,
                            "mu_strategy": "monotone"})
-    sse_fn = ca.Function("sse", [x, p], [sse])
     hess, _ = ca.hessian((sse + prior) / 2, x)
-    hess_fn = ca.Function("hessian", [x, p], [hess])
-    g_fn = ca.Function("drucker", [x, p], [g])
-    nodes = ca.Function("objective", [x, p], [f]).n_nodes()
-    return Problem(structure, layout, solver, sse_fn, hess_fn, g_fn, time.perf_counter() - started,
-                   x.shape[0], g.shape[0], nodes)
+    return {"solver": solver, "sse": ca.Function("sse", [x, p], [sse]),
+            "hessian": ca.Function("hessian", [x, p], [hess]),
+            "constraints": ca.Function("drucker", [x, p], [g]),
+            "objective": ca.Function("objective", [x, p], [f])}
+
+
+def _geometry(structure: Structure, stated, calibrated) -> Geometry:
+    """The geometry as symbols: the stated values (p) with the calibrated entries from x."""
+    entries = [stated[i] for i in range(4)]
+    for k, name in enumerate(structure.calibrate):
+        index, unit = GEOMETRY[name]
+        entries[index] = calibrated[k] * unit
+    return Geometry(*entries, structure.wall)
+
+
+def _vector(geometry: Geometry):
+    return ca.vertcat(geometry.initial_length, geometry.initial_diameter, geometry.braid_angle,
+                      geometry.bladder_thickness)
+
+
+def _cell_function(structure: Structure) -> ca.Function:
+    """SSE of one cell (see :mod:`pampipe.identify.cells`) as a function of (moments, θ, geometry, s)."""
+    moments = ca.SX.sym("cell", len(FIELDS))
+    theta = ca.SX.sym("theta", structure.n_theta)
+    g = ca.SX.sym("geometry", 4)
+    smooth = ca.SX.sym("smooth")
+    geometry = Geometry(g[0], g[1], g[2], g[3], structure.wall)
+    count, x, length, y, sxx, sll, sxl, sxe, sle, see, slack = (moments[i] for i in range(len(FIELDS)))
+    u = forces.axial_force(x * MPA, length, geometry, theta * MPA, MPA)
+    u_x, u_l = ca.jacobian(u, x), ca.jacobian(u, length)
+    t = u / smooth
+    m = slack * smooth * softplus(t) + (1 - slack) * u
+    w = slack * sigmoid(t) + (1 - slack)
+    inner = u_x**2 * sxx + u_l**2 * sll + 2 * u_x * u_l * sxl - 2 * u_x * sxe - 2 * u_l * sle
+    sse = count * (m - y) ** 2 + w * inner + see
+    return ca.Function("cell", [moments, theta, g, smooth], [sse])
+
+
+def _radial_coefficients(test, geometry: Geometry, n: int):
+    """(A·φ₀, A·φ₁, A·area·P_ref, A·F_a) of u(x) = c₀ + c₁x at the pipe [N/MPa, N], symbolic."""
+    diameter, load = test[0], test[1]
+    length = braid.length_at_diameter(diameter, geometry)
+    amp = braid.amplification_factor(diameter, geometry, length)
+    degree = n // 4 - 1
+    off0, row0 = forces.axial_force_regressors(0.0, length, geometry, degree, MPA)
+    off1, row1 = forces.axial_force_regressors(MPA, length, geometry, degree, MPA)
+    phi0 = ca.vertcat(*row0) * MPA
+    phi1 = ca.vertcat(*row1) * MPA - phi0
+    return amp * phi0, amp * phi1, amp * (off1 - off0), amp * load
 
 
 def _radial_bins(coef, mom, theta, contact, smooth, n):
     """SSE of every pressure bin of one radial test (1 × bins), see the module docstring."""
-    a0, a1, area, load = coef[:n], coef[n:2 * n], coef[2 * n], coef[2 * n + 1]
+    a0, a1, area, load = coef
     c0 = ca.dot(a0, theta) - load
     c1 = area + ca.dot(a1, theta)
     count, xbar, ybar = mom[0, :], mom[1, :], mom[2, :]
@@ -233,10 +322,10 @@ def _radial_bins(coef, mom, theta, contact, smooth, n):
 
 def _prior(structure: Structure, var, par):
     if structure.prior == "none":
-        return ca.SX(0)
+        return ca.MX(0)
     weight = par["prior_weight"]
     if structure.prior == "fixed":
-        names = [name for name, _ in structure.blocks() if name != "contact"]
+        names = [name for name, _ in structure.blocks() if name not in ("contact", "geometry")]
         return weight * sum(ca.sumsqr(var[name] - par["prior_target"]) for name in names)
     if structure.mode == "per_pipe":  # toward the axial moduli
         return weight * sum(ca.sumsqr(var[f"pipe{k}"] - var["theta"]) for k in range(structure.pipes))
@@ -247,8 +336,8 @@ def _drucker(structure: Structure, var, par, contact):
     rows = []
     if structure.grid_rows:
         for name, _ in structure.blocks():
-            if name != "contact":
+            if name not in ("contact", "geometry"):
                 rows.append(ca.mtimes(par["grid"], var[name]))
     if structure.contact_rows:
         rows.append(ca.mtimes(par["cgrid_base"], var["theta"]) + ca.mtimes(par["cgrid_incr"], contact))
-    return ca.vertcat(*rows) if rows else ca.SX(0, 1)
+    return ca.vertcat(*rows) if rows else ca.MX(0, 1)

@@ -16,12 +16,20 @@ fit:
   rmse_smoothing: 1.0e-4         # ε_s [N²] in sqrt(MSE + ε_s) for sum_rmse
   max_iterations: 1000
   tolerance: 1.0e-10
+  slack: unilateral              # rows with force <= 0: the model predicts max(0, F) | exclude them
+  calibrate: [braid_angle, initial_length]   # geometry fitted with the moduli (also bladder_thickness)
+  calibration_bounds: {braid_angle: [20 deg, 30 deg], initial_length: [300 mm, 320 mm]}
+  pipe_diameters: [3 in, 3.5 in] # where the report judges the radial-force predictions
 ```
 Bounds follow docs/physics.md §6: constant-term coefficients a_k0 ∈ [0, 50] MPa, all others ∈ [−50, 50] MPa.
+Calibrated geometry stays within ``calibration_bounds`` (default: the stated braid angle ± 10°, the
+stated rest length ± 5 %, the stated wall thickness × [0.25, 4]), narrowed where the braid model
+would leave its domain for the tested lengths and pipes (docs/physics.md §2).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
@@ -32,6 +40,10 @@ from pampipe.schema import Strict, quantity
 from pampipe.schema import validate as _validate
 
 Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
+Length = quantity("length", gt=0, le=10.0, unit="m")
+Angle = quantity("angle", gt=0, lt=math.pi / 2, unit="rad")
+#: Geometry that ``fit.calibrate`` can fit, in the order of the decision vector.
+CALIBRATABLE = ("braid_angle", "initial_length", "bladder_thickness")
 
 
 class GridSchema(Strict):
@@ -60,6 +72,20 @@ class PriorSchema(Strict):
     toward: Literal["input", "axial", "zero"] = "input"
 
 
+class CalibrationBoundsSchema(Strict):
+    braid_angle: tuple[Angle, Angle] | None = None
+    initial_length: tuple[Length, Length] | None = None
+    bladder_thickness: tuple[Length, Length] | None = None
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        for name in CALIBRATABLE:
+            bounds = getattr(self, name)
+            if bounds is not None and not bounds[0] < bounds[1]:
+                raise ValueError(f"calibration_bounds.{name}: the lower bound must be below the upper bound")
+        return self
+
+
 class FitSchema(Strict):
     degree: int = Field(3, ge=0, le=7)
     mode: Literal["shared", "per_pipe", "contact_increment"] = "shared"
@@ -75,6 +101,11 @@ class FitSchema(Strict):
     rmse_smoothing: float = Field(1e-4, gt=0, le=1e6)
     max_iterations: int = Field(1000, ge=1, le=100_000)
     tolerance: float = Field(1e-10, gt=0, le=1e-2)
+    slack: Literal["unilateral", "exclude"] = "unilateral"
+    calibrate: list[Literal["braid_angle", "initial_length", "bladder_thickness"]] = Field(
+        default_factory=list, max_length=3)
+    calibration_bounds: CalibrationBoundsSchema = CalibrationBoundsSchema()
+    pipe_diameters: list[Length] = Field(default_factory=list, max_length=50)
 
 
 @dataclass(frozen=True)
@@ -99,10 +130,19 @@ class FitOptions:
     rmse_smoothing: float = 1e-4  # [N²]
     max_iterations: int = 1000
     tolerance: float = 1e-10
+    slack: str = "unilateral"
+    calibrate: tuple[str, ...] = ()  # in CALIBRATABLE order
+    calibration_bounds: tuple[tuple[str, float, float], ...] = ()  # (name, low, high) [rad or m]
+    pipe_diameters: tuple[float, ...] = ()  # [m]
 
     def with_overrides(self, **changes) -> FitOptions:
         """A copy with the given (non-None) fields replaced, e.g. from command-line flags."""
         return replace(self, **{k: v for k, v in changes.items() if v is not None})
+
+    def calibrating(self, *names: str) -> FitOptions:
+        """A copy that also calibrates ``names`` (the command line adds to the file)."""
+        chosen = set(self.calibrate) | set(names)
+        return replace(self, calibrate=tuple(n for n in CALIBRATABLE if n in chosen))
 
 
 def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file",
@@ -118,7 +158,11 @@ def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file
         prior_sd=None if schema.prior is None else schema.prior.sd,
         prior_toward="input" if schema.prior is None else schema.prior.toward,
         contact_smoothing=schema.contact_smoothing, rmse_smoothing=schema.rmse_smoothing,
-        max_iterations=schema.max_iterations, tolerance=schema.tolerance)
+        max_iterations=schema.max_iterations, tolerance=schema.tolerance, slack=schema.slack,
+        calibrate=tuple(n for n in CALIBRATABLE if n in schema.calibrate),
+        calibration_bounds=tuple((n, *getattr(schema.calibration_bounds, n)) for n in CALIBRATABLE
+                                 if getattr(schema.calibration_bounds, n) is not None),
+        pipe_diameters=tuple(schema.pipe_diameters))
 
 
 def fit_options(raw: dict | None, overrides: dict, *, source: Path | str = "experiment file",

@@ -34,31 +34,46 @@ def residuals(pam: Pam, test: TestData) -> np.ndarray:
     return predict(pam, test) - test.force
 
 
-def test_fit(pam: Pam, test: TestData, *, block: str = "theta") -> tuple[TestFit, float]:
-    """(fit quality of one test, its sum of squared residuals [N²])."""
-    squared = residuals(pam, test) ** 2
+def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "unilateral"
+             ) -> tuple[TestFit, float]:
+    """(fit quality of one test, its sum of squared residuals [N²]).
+
+    Slack rows of an axial test (force ≤ 0) are predicted as max(0, F) (``unilateral``) or left out
+    (``exclude``); the per-level table is kept only for tests with pressure levels.
+    """
+    model = predict(pam, test)
+    used = np.ones(test.points, dtype=bool)
+    slack_rows = test.slack if test.kind == "axial" else np.zeros(test.points, dtype=bool)
+    if slack == "exclude":
+        used = ~slack_rows
+    else:
+        model = np.where(slack_rows, np.maximum(model, 0.0), model)
+    squared = np.where(used, model - test.force, 0.0) ** 2
+    n_used = int(used.sum())
     levels = []
-    count = np.bincount(test.level, minlength=test.level_pressure.size)
-    sums = np.bincount(test.level, weights=squared, minlength=test.level_pressure.size)
-    for lev, pressure in enumerate(test.level_pressure):
-        if count[lev]:
-            levels.append(LevelFit(float(pressure), int(count[lev]), float(np.sqrt(sums[lev] / count[lev]))))
+    if test.has_levels:
+        count = np.bincount(test.level, weights=used, minlength=test.level_pressure.size)
+        sums = np.bincount(test.level, weights=squared, minlength=test.level_pressure.size)
+        levels = [LevelFit(float(pressure), int(count[lev]), float(np.sqrt(sums[lev] / count[lev])))
+                  for lev, pressure in enumerate(test.level_pressure) if count[lev]]
     total = float(squared.sum())
-    fit = TestFit(test.name, test.kind, test.points, float(np.sqrt(total / max(test.points, 1))),
-                  tuple(levels), block)
+    fit = TestFit(test.name, test.kind, n_used, float(np.sqrt(total / max(n_used, 1))), tuple(levels), block,
+                  test.protocol, int(slack_rows.sum()), test.points - n_used)
     return fit, total
 
 
-def evaluate_tests(data: ExperimentData, moduli: Moduli, pipe_moduli: dict[float, Moduli], blocks: dict
-                   ) -> tuple[tuple[TestFit, ...], float, float]:
-    """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N])."""
+def evaluate_tests(data: ExperimentData, geometry, moduli: Moduli, pipe_moduli: dict[float, Moduli],
+                   blocks: dict, *, slack: str = "unilateral") -> tuple[tuple[TestFit, ...], float, float | None]:
+    """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N] or None when some
+    test has no pressure levels)."""
     names = {id(m): name for name, m in blocks.items()}
     fits, sse = [], 0.0
     for test in data.tests:
         used = moduli if test.kind == "axial" else pipe_moduli.get(test.spec.pipe_diameter, moduli)
-        fit, total = test_fit(Pam(data.pam.name, data.pam.geometry, used), test,
-                              block=names.get(id(used), "theta"))
+        fit, total = test_fit(Pam(data.pam.name, geometry, used), test, block=names.get(id(used), "theta"),
+                              slack=slack)
         fits.append(fit)
         sse += total
-    sum_rmse = float(sum(level.rmse for fit in fits for level in fit.levels))
+    sum_rmse = float(sum(level.rmse for fit in fits for level in fit.levels)) \
+        if all(t.has_levels for t in data.tests) else None
     return tuple(fits), sse, sum_rmse

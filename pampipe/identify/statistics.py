@@ -29,6 +29,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from pampipe.experiment import ExperimentData, TestData
+from pampipe.identify.cells import Cells, reduce_cells
 from pampipe.model import braid, forces
 from pampipe.model.bladder import strains
 from pampipe.model.pam import Geometry
@@ -83,12 +84,19 @@ class RadialStats:
 
 @dataclass(frozen=True)
 class Statistics:
+    """The whole experiment reduced: QR groups, cells, radial bins; ``groups`` lists the axial
+    (test index, level) groups that ``axial`` (QR) and ``cells`` both index."""
+
     axial: AxialStats | None
     radial: tuple[RadialStats, ...]
     pipes: tuple[float, ...]  # distinct pipe diameters of the radial tests [m]
     degree: int
     reference_pressure: float  # [Pa]
-    points: int
+    points: int  # rows used by the fit
+    cells: Cells | None = None
+    groups: tuple[tuple[int, int], ...] = ()
+    slack_rows: tuple[int, ...] = ()  # per test: rows with recorded force ≤ 0 (axial tests)
+    excluded: int = 0  # slack rows dropped (fit.slack: exclude)
 
     @property
     def n_theta(self) -> int:
@@ -96,32 +104,59 @@ class Statistics:
 
 
 def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: float = MPA,
-                      average_legs: bool = False, average_bins: int = 30) -> Statistics:
+                      average_legs: bool = False, average_bins: int = 30, slack: str = "unilateral",
+                      calibrate: bool = False) -> Statistics:
     """Sufficient statistics of every test (one pass over the rows, chunked).
+
+    Axial rows: measured rows (force > 0) go to the exact QR groups, slack rows (force ≤ 0) to
+    cells (``slack: unilateral``) or nowhere (``exclude``); with ``calibrate`` every used axial row
+    goes to cells, whose model is evaluated at the fitted geometry.
 
     BLAS runs single-threaded here: the QR blocks are tall and thin (17 columns), where
     OpenBLAS threads only add overhead, and on a busy machine they oversubscribe the cores
     (measured 10× slower with the default thread count at load 6 on 2 cores).
     """
     with threadpool_limits(limits=1, user_api="blas"):
-        return _reduce(data, degree, reference_pressure, average_legs, average_bins)
+        return _reduce(data, degree, reference_pressure, average_legs, average_bins, slack, calibrate)
 
 
-def _reduce(data, degree, reference_pressure, average_legs, average_bins) -> Statistics:
+def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate) -> Statistics:
     geometry = data.pam.geometry
     pipes = tuple(sorted({t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}))
-    groups, radial = [], []
-    for index, test in enumerate(data.tests):
-        if test.kind == "axial":
-            groups.extend(_axial_groups(index, test, geometry, degree, reference_pressure,
-                                        average_legs, average_bins))
-        else:
-            radial.append(_radial(index, test, geometry, degree, reference_pressure,
-                                  pipes.index(test.spec.pipe_diameter)))
-    axial = None
-    if groups:
-        axial = AxialStats(*(np.array([g[i] for g in groups]) for i in range(6)))
-    return Statistics(axial, tuple(radial), pipes, degree, reference_pressure, data.points)
+    axial = [(i, t) for i, t in enumerate(data.tests) if t.kind == "axial"]
+
+    def used(test):
+        return np.flatnonzero(test.force > 0) if slack == "exclude" else np.arange(test.points)
+
+    groups = tuple((i, int(lev)) for i, t in axial for lev in np.unique(t.level[used(t)]))
+    qr = None
+    if axial and not calibrate:
+        found = {}
+        for index, test in axial:
+            measured = np.flatnonzero(test.force > 0)
+            for item in _axial_groups(index, test, measured, geometry, degree, pref, average_legs,
+                                      average_bins):
+                found[item[0]] = item[1:]
+        p = 4 * (degree + 1)
+        empty = (0.0, 0, np.zeros((p, p)), np.zeros(p), 0.0)
+        rows = [found.get(g, empty) for g in groups]
+        qr = AxialStats(np.array([g[0] for g in groups]),
+                        np.array([data.tests[i].level_pressure[lev] for i, lev in groups]),
+                        *(np.array([r[k] for r in rows]) for k in range(1, 5)))
+    if calibrate:
+        cells = reduce_cells(axial, used, pref=pref)
+    else:
+        cells = reduce_cells(axial, lambda t: np.flatnonzero(t.force <= 0) if slack == "unilateral"
+                             else np.zeros(0, dtype=np.int64), pref=pref)
+    remap = {g: k for k, g in enumerate(groups)}
+    cells = Cells(cells.moments, np.array([remap[cells.groups[c]] for c in cells.group], dtype=np.int64),
+                  groups) if cells.count else None
+    radial = tuple(_radial(index, test, geometry, degree, pref, pipes.index(test.spec.pipe_diameter))
+                   for index, test in enumerate(data.tests) if test.kind == "radial")
+    slack_rows = tuple(int(np.sum(t.force <= 0)) if t.kind == "axial" else 0 for t in data.tests)
+    excluded = sum(slack_rows) if slack == "exclude" else 0
+    return Statistics(qr, radial, pipes, degree, pref, data.points - excluded, cells, groups, slack_rows,
+                      excluded)
 
 
 def _regressors(pressure, length, geometry, degree, pref):
@@ -139,24 +174,26 @@ def _qr_r(block: np.ndarray, width: int) -> np.ndarray:
     return out
 
 
-def _axial_groups(index, test: TestData, geometry, degree, pref, average, bins):
+def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, bins):
+    """((test, level), level pressure, rows, R, z, rest) of every level with rows among ``rows``."""
     p = 4 * (degree + 1)
-    order = np.argsort(test.level, kind="stable")
+    level = test.level[rows]
+    order = rows[np.argsort(level, kind="stable")]
     bounds = np.searchsorted(test.level[order], np.arange(test.level_pressure.size + 1))
     for lev, (a, b) in enumerate(itertools.pairwise(bounds)):
-        rows = order[a:b]
-        if rows.size == 0:
+        members = order[a:b]
+        if members.size == 0:
             continue
         if average:
-            block, count = _leg_average(test, rows, geometry, degree, pref, bins)
+            block, count = _leg_average(test, members, geometry, degree, pref, bins)
             r_aug = _qr_r(block, p + 1)
         else:
-            count, r_aug = rows.size, np.zeros((p + 1, p + 1))
-            for start in range(0, rows.size, CHUNK):
-                chunk = rows[start:start + CHUNK]
+            count, r_aug = members.size, np.zeros((p + 1, p + 1))
+            for start in range(0, members.size, CHUNK):
+                chunk = members[start:start + CHUNK]
                 offset, phi = _regressors(test.pressure[chunk], test.length[chunk], geometry, degree, pref)
                 r_aug = _qr_r(np.vstack([r_aug, np.column_stack([phi, test.force[chunk] - offset])]), p + 1)
-        yield (index, test.level_pressure[lev], count, r_aug[:p, :p], r_aug[:p, p], r_aug[p, p] ** 2)
+        yield ((index, lev), test.level_pressure[lev], count, r_aug[:p, :p], r_aug[:p, p], r_aug[p, p] ** 2)
 
 
 def _leg_average(test: TestData, rows, geometry, degree, pref, bins):

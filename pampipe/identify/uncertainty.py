@@ -59,6 +59,18 @@ class Uncertainty:
     determined: np.ndarray  # bool
     combinations: tuple[Combination, ...]  # by decreasing singular value
     rank: int  # number of identifiable combinations
+    scales: np.ndarray  # D = √diag(H) [N/unit]
+    directions: np.ndarray  # V (columns, scaled space), in the order of ``combinations``
+
+    def undetermined_share(self, gradient) -> float:
+        """How much of a prediction depends on combinations the data do not fix: ‖V_uᵀg̃‖/‖g̃‖ with
+        g̃ = gradient/D (0: determined by the identifiable combinations alone)."""
+        scaled = np.asarray(gradient, float) / self.scales
+        norm = float(np.linalg.norm(scaled))
+        if norm == 0:
+            return 0.0
+        free = np.array([not c.identifiable for c in self.combinations])
+        return float(np.linalg.norm(self.directions[:, free].T @ scaled)) / norm
 
     @property
     def rank_deficient(self) -> bool:
@@ -100,4 +112,4 @@ def analyse(x, hessian, sse: float, points: int, lower_bounds, upper_bounds, nam
     tol = 1e-6 * (ub - lb)
     at_bound = (x - lb < tol) | (ub - x < tol)
     return Uncertainty(tuple(names), sigma, dof, cov, std, x - Z95 * std, x + Z95 * std, corr, at_bound,
-                       determined, tuple(combos), int(keep.sum()))
+                       determined, tuple(combos), int(keep.sum()), d, vec)
