@@ -1,31 +1,32 @@
-"""Drucker stability of fitted moduli, checked everywhere in the tested range, not only on the grid.
+"""Drucker stability of the fitted moduli everywhere in the tested range, not only on grid points.
 
-The NLP enforces the constraint on a (P, L) grid (docs/physics.md §6). Between grid points a
-polynomial law can still dip below zero, so after the solve the exact minimum over the whole box
-[P_min, P_max] × [L_min, L₀] is computed and, if it is negative, that point becomes a constraint
-row (a cutting plane) and the fit is solved again (:data:`ROUNDS` times at most).
+**Constraint (tangent form, the default).** E_kᵗ(ε, P) = Σ_j (j+1)(a_kj + b_kj P/P_ref) ε^j is affine
+in P, so it is non-negative over a pressure interval iff it is at both ends; at each end it is a
+polynomial in ε. A polynomial is non-negative on [a, b] if its Bernstein coefficients on [a, b] are
+(the polynomial lies in their convex hull), and those coefficients are linear in θ. So
+:func:`bernstein_rows` gives rows C with C·θ ≥ 0 ⇒ E₁ᵗ, E₂ᵗ ≥ 0 on every strain interval between the
+grid's lengths, at every pressure of the tested range: stability between grid points by
+construction (a sufficient condition, slightly conservative on each short interval).
 
-Exact minimum of the tangent form: E_kᵗ(ε, P) = Σ_j (j+1)(a_j + b_j P/P_ref) ε^j is affine in P,
-so its minimum over a pressure interval lies at an end; at each end it is a polynomial in ε whose
-minimum over the strain interval is at an end or at a real root of its derivative. The strain
-intervals are the images of [L_min, L_max] (ε₁ = (L − L₀)/L₀ rises with L, ε₂ = (D(L) − D₀)/D₀
-falls). The ``sum`` form E₁ᵗ(∂ε₁/∂L)² + E₂ᵗ(∂ε₂/∂L)² is affine in P too; along L it is minimised on
-a fine grid (:data:`SUM_POINTS`) refined by golden-section search around the smallest value.
+**Check.** After the fit, :func:`minimum` finds the exact minimum over the whole box: at a pressure
+end, at a strain end or at a real root of the derivative. The ``sum`` form
+E₁ᵗ(∂ε₁/∂L)² + E₂ᵗ(∂ε₂/∂L)² is affine in P too; along L it is constrained on the grid points only
+and minimised on a fine grid (:data:`SUM_POINTS`) refined by golden-section search, so the report
+states its true minimum, between grid points included.
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
+from math import comb
 
 import numpy as np
 
-from pampipe.identify.statistics import drucker_rows, tangent_rows
 from pampipe.model import bladder, braid
 from pampipe.model.pam import Geometry
 
-#: Cutting-plane rounds at most (each adds the worst point of every violated direction).
-ROUNDS = 4
 #: A margin above −this [Pa] counts as stable (IPOPT's constraint tolerance on rows of unit size in MPa).
 TOLERANCE = 1.0
 SUM_POINTS = 2001
@@ -112,11 +113,46 @@ def _sum_minimum(theta, pref, geometry, p_ends, l_low, l_high) -> Minimum:
     return best
 
 
-def cut_row(low: Minimum, geometry: Geometry, degree: int, reference_pressure: float) -> np.ndarray:
-    """The constraint row(s) (unit max-norm, θ in MPa) that keep the law stable at ``low``'s point."""
-    if low.direction == "sum":
-        return drucker_rows(geometry, degree, [low.pressure], [low.length], form="sum")
-    eps1, eps2 = bladder.strains(low.length, braid.diameter_at_length(low.length, geometry), geometry)
-    eps, first = (eps1, 0) if low.direction == "axial" else (eps2, 2)
-    row = tangent_rows(float(eps), low.pressure / reference_pressure, degree, first)
-    return row / np.max(np.abs(row))
+def bernstein_rows(geometry: Geometry, degree: int, pressures, lengths, *, reference_pressure: float,
+                   pad: float = 0.0) -> np.ndarray:
+    """Rows C (unit max-norm, θ in MPa) with C·θ ≥ 0 ⇒ E₁ᵗ, E₂ᵗ ≥ 0 for every P in the range of
+    ``pressures`` and every strain between the grid's ``lengths`` (see the module docstring).
+
+    ``pad`` widens the outer strain intervals by that fraction of the strain range on each side (a
+    calibrated geometry moves the strains of the tested lengths a little).
+    """
+    lengths = np.unique(np.asarray(lengths, float))
+    eps1 = (lengths - geometry.initial_length) / geometry.initial_length
+    d0 = geometry.initial_diameter
+    eps2 = (braid.diameter_at_length(lengths, geometry) - d0) / d0
+    k = degree + 1
+    ends = (float(np.min(pressures)) / reference_pressure, float(np.max(pressures)) / reference_pressure)
+    rows = []
+    for first, eps in ((0, np.sort(eps1)), (2, np.sort(eps2))):
+        widen = pad * (eps[-1] - eps[0])
+        edges = np.concatenate([[eps[0] - widen], eps[1:-1], [eps[-1] + widen]]) if eps.size > 1 else \
+            np.array([eps[0] - widen, eps[0] + widen + 1e-9])
+        for a, b in itertools.pairwise(edges):
+            to_bernstein = _bernstein(a, b, degree)
+            for x in ends:
+                coefficients = np.zeros((k, 4 * k))  # c_j = (j+1)(a_j + b_j x): rows over θ
+                for j in range(k):
+                    coefficients[j, first * k + j] = j + 1
+                    coefficients[j, (first + 1) * k + j] = (j + 1) * x
+                rows.append(to_bernstein @ coefficients)
+    out = np.vstack(rows)
+    return out / np.max(np.abs(out), axis=1, keepdims=True)
+
+
+def _bernstein(a: float, b: float, degree: int) -> np.ndarray:
+    """B with β = B·c: the Bernstein coefficients on [a, b] of Σ_j c_j ε^j (ε = a + (b − a)t)."""
+    h = b - a
+    shift = np.zeros((degree + 1, degree + 1))  # t-monomial m_k = Σ_j C(j, k) a^(j−k) h^k c_j
+    for j in range(degree + 1):
+        for kk in range(j + 1):
+            shift[kk, j] = comb(j, kk) * a ** (j - kk) * h**kk
+    basis = np.zeros((degree + 1, degree + 1))  # β_i = Σ_{k≤i} C(i, k)/C(d, k) m_k
+    for i in range(degree + 1):
+        for kk in range(i + 1):
+            basis[i, kk] = comb(i, kk) / comb(degree, kk)
+    return basis @ shift

@@ -156,7 +156,8 @@ def _regions(judged, muscles, occupied, p_edges, l_edges) -> tuple[Region, ...]:
     return tuple(out)
 
 
-def _pipes(data, options, judged, muscles, geometry, occupied, p_edges, l_edges) -> tuple[PipePrediction, ...]:
+def _pipes(data, options, judged, muscles, geometry, occupied, p_edges, l_edges
+           ) -> tuple[PipePrediction, ...]:
     tested = {t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}
     diameters = sorted(tested | set(options.pipe_diameters))
     top = max(float(t.pressure.max()) for t in data.tests)

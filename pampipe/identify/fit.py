@@ -42,6 +42,8 @@ FIT_HINTS = {
                                    "(widen fit.bounds or check the data)",
 }
 LAW_NAMES = problem.LAW_NAMES
+#: With calibrated geometry the Drucker intervals are widened by this fraction of the strain range.
+CALIBRATION_PAD = 0.1
 
 
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
@@ -59,8 +61,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
 
     n = stats.n_theta
     pressures, lengths = _grid(data, stats, options)
-    grid = drucker_rows(stated, options.degree, pressures, lengths, form=options.drucker) \
-        if options.drucker != "none" else np.zeros((0, n))
+    grid = _constraint_rows(stated, options, pressures, lengths, n)
     contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
     prior = problem.prior_kind(options)
     structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
@@ -87,21 +88,18 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
 
     fixed = _geometry_mask(structure, x0.size)
     stated_fit = None
-    total_time, iterations = 0.0, 0
+    wall_time, iterations = 0.0, 0
     if options.calibrate:  # the stated geometry's fit first: the start of the calibrated one
         say("fitting at the stated geometry")
-        lbs, ubs = np.where(fixed, x0, lbx), np.where(fixed, x0, ubx)
-        x0, info, values = _solve_with_cuts(nlp, structure, values, x0, lbs, ubs, stated, pressures, lengths,
-                                            options, stats)
-        total_time += info.wall_time
-        iterations += info.iterations
+        solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx))
+        x0 = np.asarray(solution["x"], dtype=float).ravel()
+        wall_time, iterations = info.wall_time, info.iterations
         stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
     say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
         + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
-    x, info, values = _solve_with_cuts(nlp, structure, values, x0, lbx, ubx, stated, pressures, lengths,
-                                       options, stats)
-    total_time += info.wall_time
-    iterations += info.iterations
+    solution, info = _solve(nlp, values, x0, lbx, ubx)
+    x = np.asarray(solution["x"], dtype=float).ravel()
+    wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
     geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if options.calibrate else stated
 
@@ -120,8 +118,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
-        solver=SolverInfo(info.status, True, iterations, total_time, build_time, reduce_time,
-                          float(info.objective), nlp.origin),
+        solver=SolverInfo(info.status, True, iterations, wall_time, build_time, reduce_time,
+                          float(solution["f"]), nlp.origin),
         uncertainty=uncertainty, drucker_minimum=minimum,
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
@@ -129,41 +127,19 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         excluded_rows=stats.excluded)
 
 
-class _Solved:
-    def __init__(self, status, iterations, wall_time, objective):
-        self.status, self.iterations, self.wall_time, self.objective = status, iterations, wall_time, objective
+def _solve(nlp, values, x0, lbx, ubx):
+    return solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS, x0=x0,
+                 p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
 
 
-def _solve_with_cuts(nlp, structure: Structure, values, x0, lbx, ubx, stated, pressures, lengths, options,
-                     stats):
-    """IPOPT, then cutting planes while the exact Drucker minimum is negative (:mod:`.drucker`)."""
-    base_rows = structure.grid_rows - problem.SPARE_ROWS if structure.grid_rows else 0
-    used = base_rows
-    status, iterations, wall = "", 0, 0.0
-    x = x0
-    values = dict(values)
-    fixed = _geometry_mask(structure, x0.size)
-    for _ in range(drucker.ROUNDS + 1):
-        solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
-                               x0=x, p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
-        status, iterations, wall = info.status, iterations + info.iterations, wall + info.wall_time
-        x = np.asarray(solution["x"], dtype=float).ravel()
-        objective = float(solution["f"])
-        if not structure.grid_rows:
-            break
-        geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if structure.calibrate else stated
-        cuts = []
-        for name, theta in _theta_blocks(structure, x):
-            low = drucker.minimum(theta * MPA, MPA, geometry, pressures, lengths, options.drucker)
-            if not low.stable:
-                cuts.append(drucker.cut_row(low, geometry, options.degree, MPA))
-        if not cuts or used >= structure.grid_rows:
-            break
-        rows = np.vstack(cuts)[:structure.grid_rows - used]
-        values["grid"] = np.array(values["grid"], dtype=float)
-        values["grid"][used:used + rows.shape[0]] = rows
-        used += rows.shape[0]
-    return x, _Solved(status, iterations, wall, objective), values
+def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
+    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum)."""
+    if options.drucker == "none":
+        return np.zeros((0, n))
+    if options.drucker == "sum":
+        return drucker_rows(stated, options.degree, pressures, lengths, form="sum")
+    return drucker.bernstein_rows(stated, options.degree, pressures, lengths, reference_pressure=MPA,
+                                  pad=CALIBRATION_PAD if options.calibrate else 0.0)
 
 
 def _geometry_mask(structure: Structure, size: int) -> np.ndarray:
@@ -171,14 +147,6 @@ def _geometry_mask(structure: Structure, size: int) -> np.ndarray:
     if structure.calibrate:
         mask[size - len(structure.calibrate):] = True
     return mask
-
-
-def _theta_blocks(structure: Structure, x):
-    at = 0
-    for name, size in structure.blocks():
-        if name not in ("contact", "geometry"):
-            yield name, x[at:at + size]
-        at += size
 
 
 def _check(data: ExperimentData, options: FitOptions) -> None:
@@ -201,6 +169,9 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
         raise InputError(f"{data.source}: fit.average_legs averages the lengthening and shortening legs at "
                          "each pressure level; it needs isobaric axial tests (pressure held while the "
                          "length is cycled).")
+    if options.calibrate and options.objective != "least_squares":
+        raise InputError(f"{data.source}: fit.calibrate fits the geometry by least squares; use "
+                         "objective: least_squares (the report still gives the sum of RMSE per level).")
     if options.calibrate and options.average_legs:
         raise InputError(f"{data.source}: fit.calibrate and fit.average_legs cannot be combined; the "
                          "calibrated fit uses every row.")
@@ -257,9 +228,9 @@ def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, ss
         i = names.index(problem.GEOMETRY_NAMES[name])
         low, high = uncertainty.lower[i], uncertainty.upper[i]
         intervals[name] = (float(low), float(high)) if np.isfinite(low) else None
-    points = max(data.points, 1)
-    return Calibration(stated, geometry, tuple(structure.calibrate), intervals,
-                       None if stated_sse is None else math.sqrt(stated_sse / points), blocked, stated_blocked)
+    stated_rmse = None if stated_sse is None else math.sqrt(stated_sse / max(data.points, 1))
+    return Calibration(stated, geometry, tuple(structure.calibrate), intervals, stated_rmse, blocked,
+                       stated_blocked)
 
 
 def _warnings(status, u, names, minimum, options, structure, calibration, stats, data) -> list[str]:
@@ -304,7 +275,8 @@ def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[st
         words = (f"the blocked-force slope dF/dP at L = {blocked.length * 1e3:.5g} mm is "
                  f"{blocked.slope * 1e3:.4g} N/kPa in the data but {blocked.geometry_slope * 1e3:.4g} N/kPa "
                  f"for the {'calibrated' if options.calibrate else 'stated'} geometry (braid angle "
-                 f"{math.degrees(g.braid_angle):.4g} deg from the axis, L0 = {g.initial_length * 1e3:.5g} mm)")
+                 f"{math.degrees(g.braid_angle):.4g} deg from the axis, L0 = "
+                 f"{g.initial_length * 1e3:.5g} mm)")
         if blocked.fitting_angle is not None:
             words += (f"; a braid angle of {math.degrees(blocked.fitting_angle):.4g} deg from the axis would "
                       "fit it (at this L0)")

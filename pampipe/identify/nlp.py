@@ -13,7 +13,10 @@ Decision vector x: the blocks named by :meth:`Structure.blocks`: ``theta`` (the 
 
 Sum of squares:
 * axial group g (QR, measured rows at the stated geometry): ‖R_g θ − z_g‖² + rest_g (exact);
-* axial cell (slack rows; every axial row when calibrating): see :mod:`pampipe.identify.cells`;
+* axial cell (slack rows; every axial row when calibrating): see :mod:`pampipe.identify.cells`; at
+  the stated geometry the model at a cell's mean and its derivatives are linear rows in θ computed
+  before the fit; with the geometry free one SX function of (cell, θ, geometry) gives the cell's
+  sum of squares and its exact Hessian, mapped over the cells (IPOPT gets that Hessian directly);
 * radial bin b with u(x) = u₀ + u₁d + u₂d² about x̄ (d = x − x̄): with m = s·softplus(u₀/s) and
   w = sigmoid(u₀/s) (the smoothed contact switch, width s = ``contact_smoothing``)
   SSE_b = n(m − ȳ)² + w[2(m − ȳ)u₂Σd² + u₁²Σd² + u₂²Σd⁴ + 2u₁u₂Σd³ − 2u₁Σde − 2u₂Σd²e] + Σe²,
@@ -113,6 +116,8 @@ class Structure:
             out.append(("ax_n", (1, g)))
         if self.cells:
             out.append(("cells", (len(FIELDS), self.cells)))
+            if not self.calibrate:
+                out += [(f"cell_{k}", (self.cells, p + 1)) for k in ("u", "ux", "ul")]
             if self.objective == "sum_rmse":
                 out.append(("cell_groups", (g, self.cells)))
         for j, (levels, _) in enumerate(self.radial):
@@ -201,20 +206,22 @@ def _build(structure: Structure) -> dict[str, ca.Function]:
 
     axial_sse = ca.MX(0)
     group_sse = []
+    cell_hessian = None
     if structure.qr:
         theta = var["theta"]
         for g in range(structure.axial_groups):
             residual = ca.mtimes(par["ax_r"][:, g * n:(g + 1) * n], theta) - par["ax_z"][:, g]
             group_sse.append(ca.sumsqr(residual) + par["ax_rest"][g])
-    if structure.cells:
-        cell = _cell_function(structure).map(structure.cells)
-        cell_sse = cell(par["cells"], var["theta"], _vector(geometry), par["smooth"])
+    if structure.cells and structure.calibrate:
+        axial_sse, cell_hessian = _calibration_cells(structure, par, var, geometry, x)
+    elif structure.cells:
+        cell_sse = _linear_cells(par, var["theta"])
         if structure.objective == "sum_rmse":
-            by_group = ca.mtimes(par["cell_groups"], cell_sse.T)
+            by_group = ca.mtimes(par["cell_groups"], cell_sse)
             group_sse = [by_group[g] + (group_sse[g] if group_sse else 0)
                          for g in range(structure.axial_groups)]
         else:
-            axial_sse = ca.sum2(cell_sse)
+            axial_sse = ca.sum1(cell_sse)
     group_n = [par["ax_n"][g] for g in range(structure.axial_groups)]
     contact = None
     if structure.mode == "contact_increment":
@@ -238,14 +245,68 @@ def _build(structure: Structure) -> dict[str, ca.Function]:
         f = (sse + prior) / par["scale"]
     g = _drucker(structure, var, par, contact)
 
+    options = {}
+    if cell_hessian is None:
+        hess = ca.hessian((sse + prior) / 2, x)[0]
+    else:  # the cells' Hessian comes from inside the mapped function (MX AD through map is slow)
+        rest = ca.hessian(sse - axial_sse + prior, x)[0]
+        hess = (rest + cell_hessian) / 2
+        lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g.shape[0])
+        options["hess_lag"] = ca.Function("nlp_hess_l", [x, p, lam_f, lam_g],
+                                          [ca.triu(lam_f * 2 * hess / par["scale"])],
+                                          ["x", "p", "lam_f", "lam_g"], ["triu_hess_gamma_x_x"])
     solver = nlpsol("identify", {"x": x, "p": p, "f": f, "g": g},
                     ipopt={"max_iter": structure.max_iterations, "tol": structure.tolerance,
-                           "mu_strategy": "monotone"})
-    hess, _ = ca.hessian((sse + prior) / 2, x)
+                           "mu_strategy": "monotone"}, **options)
     return {"solver": solver, "sse": ca.Function("sse", [x, p], [sse]),
             "hessian": ca.Function("hessian", [x, p], [hess]),
             "constraints": ca.Function("drucker", [x, p], [g]),
             "objective": ca.Function("objective", [x, p], [f])}
+
+
+def _linear_cells(par, theta):
+    """SSE of every cell (C × 1) at the stated geometry, where F_ax is linear in θ: the model at the
+    cell mean and its x- and L-derivatives are rows ``off + Φθ`` computed before the fit."""
+    c = par["cells"].T  # C × fields
+    count, y, sxx, sll, sxl, sxe, sle, see, slack = (c[:, FIELDS.index(k)] for k in
+                                                     ("n", "y", "sxx", "sll", "sxl", "sxe", "sle", "see",
+                                                      "slack"))
+    u, u_x, u_l = (par[f"cell_{k}"][:, 0] + ca.mtimes(par[f"cell_{k}"][:, 1:], theta)
+                   for k in ("u", "ux", "ul"))
+    return _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l, par["smooth"])
+
+
+def _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l, smooth):
+    """The cell sum of squares of :mod:`pampipe.identify.cells` (elementwise)."""
+    t = u / smooth
+    m = slack * smooth * softplus(t) + (1 - slack) * u
+    w = slack * sigmoid(t) + (1 - slack)
+    inner = u_x**2 * sxx + u_l**2 * sll + 2 * u_x * u_l * sxl - 2 * u_x * sxe - 2 * u_l * sle
+    return count * (m - y) ** 2 + w * inner + see
+
+
+def _calibration_cells(structure: Structure, par, var, geometry, x):
+    """(Σ cell SSE, its Hessian in x) with the geometry free: one SX function (value and exact
+    Hessian in (θ, geometry)) mapped over the cell capacity; Hessian in x by the chain rule."""
+    n = structure.n_theta
+    moments = ca.SX.sym("cell", len(FIELDS))
+    theta = ca.SX.sym("theta", n)
+    g = ca.SX.sym("geometry", 4)
+    smooth = ca.SX.sym("smooth")
+    shape = Geometry(g[0], g[1], g[2], g[3], structure.wall)
+    count, xbar, length, y, sxx, sll, sxl, sxe, sle, see, slack = (moments[i] for i in range(len(FIELDS)))
+    u = forces.axial_force(xbar * MPA, length, shape, theta * MPA, MPA)
+    u_x, u_l = ca.jacobian(u, xbar), ca.jacobian(u, length)
+    sse = _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l, smooth)
+    z = ca.vertcat(theta, g)
+    hess = ca.hessian(sse, z)[0]
+    inputs = [moments, theta, g, smooth]
+    arguments = (par["cells"], var["theta"], _vector(geometry), par["smooth"])
+    values = ca.Function("cell", inputs, [sse]).map(structure.cells)(*arguments)
+    hessians = ca.Function("cell_hessian", inputs, [ca.reshape(hess, -1, 1)]).map(structure.cells)(*arguments)
+    size = n + 4
+    z_of_x = ca.jacobian(ca.vertcat(var["theta"], _vector(geometry)), x)
+    return ca.sum2(values), ca.mtimes([z_of_x.T, ca.reshape(ca.sum2(hessians), size, size), z_of_x])
 
 
 def _geometry(structure: Structure, stated, calibrated) -> Geometry:
@@ -260,24 +321,6 @@ def _geometry(structure: Structure, stated, calibrated) -> Geometry:
 def _vector(geometry: Geometry):
     return ca.vertcat(geometry.initial_length, geometry.initial_diameter, geometry.braid_angle,
                       geometry.bladder_thickness)
-
-
-def _cell_function(structure: Structure) -> ca.Function:
-    """SSE of one cell (see :mod:`pampipe.identify.cells`) as a function of (moments, θ, geometry, s)."""
-    moments = ca.SX.sym("cell", len(FIELDS))
-    theta = ca.SX.sym("theta", structure.n_theta)
-    g = ca.SX.sym("geometry", 4)
-    smooth = ca.SX.sym("smooth")
-    geometry = Geometry(g[0], g[1], g[2], g[3], structure.wall)
-    count, x, length, y, sxx, sll, sxl, sxe, sle, see, slack = (moments[i] for i in range(len(FIELDS)))
-    u = forces.axial_force(x * MPA, length, geometry, theta * MPA, MPA)
-    u_x, u_l = ca.jacobian(u, x), ca.jacobian(u, length)
-    t = u / smooth
-    m = slack * smooth * softplus(t) + (1 - slack) * u
-    w = slack * sigmoid(t) + (1 - slack)
-    inner = u_x**2 * sxx + u_l**2 * sll + 2 * u_x * u_l * sxl - 2 * u_x * sxe - 2 * u_l * sle
-    sse = count * (m - y) ** 2 + w * inner + see
-    return ca.Function("cell", [moments, theta, g, smooth], [sse])
 
 
 def _radial_coefficients(test, geometry: Geometry, n: int):

@@ -63,7 +63,8 @@ def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "un
 
 
 def evaluate_tests(data: ExperimentData, geometry, moduli: Moduli, pipe_moduli: dict[float, Moduli],
-                   blocks: dict, *, slack: str = "unilateral") -> tuple[tuple[TestFit, ...], float, float | None]:
+                   blocks: dict, *, slack: str = "unilateral"
+                   ) -> tuple[tuple[TestFit, ...], float, float | None]:
     """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N] or None when some
     test has no pressure levels)."""
     names = {id(m): name for name, m in blocks.items()}

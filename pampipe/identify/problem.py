@@ -21,8 +21,6 @@ from pampipe.model import bladder, braid, forces
 from pampipe.model.pam import Moduli
 
 LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
-#: Drucker rows kept free for points added between grid points (cutting planes, see fit.py).
-SPARE_ROWS = 8
 #: Display names of the calibrated geometry entries in x.
 GEOMETRY_NAMES = {"braid_angle": "geometry.braid_angle_from_axis_deg",
                   "initial_length": "geometry.initial_length_mm",
@@ -40,7 +38,7 @@ def structure_of(stats: Statistics, options: FitOptions, grid_rows: int, contact
     cells = 0 if stats.cells is None else capacity(stats.cells.count)
     return Structure(options.mode, options.objective, stats.n_theta, groups, qr, cells,
                      tuple((r.levels, r.pipe) for r in stats.radial), len(stats.pipes),
-                     grid_rows + SPARE_ROWS if grid_rows else 0, contact_rows, options.contact_terms, prior,
+                     grid_rows, contact_rows, options.contact_terms, prior,
                      options.calibrate, wall, options.max_iterations, options.tolerance)
 
 
@@ -85,6 +83,8 @@ def parameters(structure: Structure, stats: Statistics, grid, contact_base, cont
             [float(stats.axial.points.sum()) if stats.axial is not None else 0.0]
     if structure.cells:
         values["cells"] = stats.cells.padded(structure.cells)
+        if not structure.calibrate:
+            values.update(linear_cells(stats, structure.cells, geometry))
         if structure.objective == "sum_rmse":
             agg = np.zeros((structure.axial_groups, structure.cells))
             agg[stats.cells.group, np.arange(stats.cells.count)] = 1.0
@@ -93,8 +93,7 @@ def parameters(structure: Structure, stats: Statistics, grid, contact_base, cont
         values[f"rad{j}_test"] = [r.pipe_diameter, r.axial_load]
         values[f"rad{j}_mom"] = r.moments
     if structure.grid_rows:
-        spare = np.repeat(grid[:1], structure.grid_rows - grid.shape[0], axis=0)
-        values["grid"] = np.vstack([grid, spare])
+        values["grid"] = grid
     if structure.contact_rows:
         values.update(cgrid_base=contact_base, cgrid_incr=contact_incr)
     if structure.prior != "none":
@@ -102,6 +101,29 @@ def parameters(structure: Structure, stats: Statistics, grid, contact_base, cont
     if structure.prior == "fixed":
         values["prior_target"] = np.zeros(structure.n_theta)
     return values
+
+
+def linear_cells(stats: Statistics, capacity: int, geometry) -> dict:
+    """Rows [offset, φ] (θ in MPa) of the model u, ∂u/∂x and ∂u/∂L at every cell mean, at the stated
+    geometry (x = P/P_ref). u is affine in x, so the x-derivative is an exact difference; the
+    L-derivative is a central difference with h = 10⁻⁷ m (truncation ~h², far below round-off)."""
+    c = stats.cells.moments
+    x, length = c[1], c[2]
+
+    def rows(xv, lv):
+        offset, phi = _regressors(xv * MPA, lv, geometry, stats.degree)
+        return np.column_stack([offset, phi])
+
+    h = 1e-7
+    out = {"cell_u": rows(x, length), "cell_ux": rows(x + 0.5, length) - rows(x - 0.5, length),
+           "cell_ul": (rows(x, length + h) - rows(x, length - h)) / (2 * h)}
+    return {k: np.vstack([v, np.zeros((capacity - v.shape[0], v.shape[1]))]) for k, v in out.items()}
+
+
+def _regressors(pressure, length, geometry, degree):
+    offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, MPA)
+    phi = np.column_stack([np.broadcast_to(np.asarray(v, float), pressure.shape) for v in row]) * MPA
+    return np.asarray(offset, float) * np.ones(pressure.shape), phi
 
 
 def group_points(stats: Statistics) -> np.ndarray:
@@ -179,9 +201,7 @@ def initial_guess(structure: Structure, stats: Statistics, reference, lower, upp
     if stats.cells is not None:
         c = stats.cells.moments
         measured = (c[0] > 0) & (c[-1] == 0)
-        pressure, length = c[1, measured] * MPA, c[2, measured]
-        offset, row = forces.axial_force_regressors(pressure, length, geometry, stats.degree, MPA)
-        phi = np.column_stack([np.broadcast_to(np.asarray(v, float), pressure.shape) for v in row]) * MPA
+        offset, phi = _regressors(c[1, measured] * MPA, c[2, measured], geometry, stats.degree)
         w = np.sqrt(c[0, measured])
         rows["theta"][0].append(w[:, None] * phi)
         rows["theta"][1].append(w * (c[3, measured] - offset))

@@ -84,7 +84,8 @@ class Calibration:
                           "braid_angle_from_axis_deg": math.degrees(self.stated.braid_angle),
                           "bladder_thickness_m": self.stated.bladder_thickness},
                "stated_geometry_rmse_N": self.stated_rmse,
-               "blocked_force_check": None if self.blocked_force is None else self.blocked_force.as_document()}
+               "blocked_force_check": None if self.blocked_force is None
+               else self.blocked_force.as_document()}
         return doc
 
 
@@ -159,9 +160,10 @@ class IdentifyResult:
                  + f"sigma {u.sigma:.4g} N",
                  f"identifiable parameter combinations: {u.rank} of {len(self.names)}"]
         if self.calibration.calibrated:
+            stated = self.calibration.stated
             lines.append("geometry calibrated: " + ", ".join(self.calibration.calibrated)
-                         + f" (stated: L0 = {self.calibration.stated.initial_length * 1e3:.6g} mm, braid angle "
-                         f"{math.degrees(self.calibration.stated.braid_angle):.5g} deg from the axis)")
+                         + f" (stated: L0 = {stated.initial_length * 1e3:.6g} mm, braid angle "
+                         f"{math.degrees(stated.braid_angle):.5g} deg from the axis)")
         if self.options.mode == "per_pipe":
             lines.append("per_pipe: these are the muscle's (axial-test) moduli; the per-pipe sets are in the "
                          "JSON output")
