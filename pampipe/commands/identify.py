@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 
-import numpy as np
-
-from pampipe.commands.common import add_output_options, emit, say
+from pampipe.commands.common import add_output_options, emit, quantity_type, say
 from pampipe.identify import identify
 from pampipe.identify.options import fit_options
 from pampipe.io.config import load_experiment
@@ -23,7 +22,7 @@ HELP = "fit the bladder moduli to axial and radial test data (IPOPT, Drucker-sta
 
 #: Command-line flags that override the experiment file's ``fit:`` block, validated by the same schema.
 FLAGS = {"mode": "--mode", "objective": "--objective", "degree": "--degree", "average_legs": "--average-legs",
-         "drucker": "--drucker", "max_iterations": "--max-iterations"}
+         "drucker": "--drucker", "max_iterations": "--max-iterations", "slack": "--slack"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -44,6 +43,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="Drucker stability: each tangent modulus >= 0 (default), their weighted sum, "
                              "or no constraint")
     parser.add_argument("--max-iterations", type=int, metavar="N", help="IPOPT iteration limit")
+    parser.add_argument("--calibrate", action="append", metavar="NAME",
+                        choices=("braid_angle", "initial_length", "bladder_thickness"),
+                        help="fit this geometry with the moduli: braid_angle, initial_length or "
+                             "bladder_thickness (repeatable; adds to fit.calibrate)")
+    parser.add_argument("--slack", choices=("unilateral", "exclude"),
+                        help="rows with force <= 0: the model predicts max(0, F) there (default), or they "
+                             "are excluded (overrides fit.slack)")
+    parser.add_argument("--pipe-diameter", action="append", metavar="D",
+                        type=quantity_type("length"),
+                        help="a pipe diameter where the report judges the radial-force prediction, e.g. "
+                             "'3 in' (repeatable; adds to fit.pipe_diameters)")
     add_output_options(parser)
 
 
@@ -51,6 +61,9 @@ def run(args: argparse.Namespace) -> int:
     experiment = load_experiment(args.experiment)
     options = fit_options(experiment.fit, {key: getattr(args, key) for key in FLAGS},
                           source=experiment.source, where="command line", names=FLAGS)
+    options = options.calibrating(*(args.calibrate or ()))
+    if args.pipe_diameter:
+        options = options.with_overrides(pipe_diameters=(*options.pipe_diameters, *args.pipe_diameter))
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
 
@@ -79,45 +92,110 @@ def run(args: argparse.Namespace) -> int:
 def report(result, source: str) -> str:
     """The human-readable fit report."""
     o, s, u = result.options, result.solver, result.uncertainty
+    cache = {"disk": " (loaded from the on-disk cache)", "built": ""}.get(s.origin, "")
     parts = [f"{source}: {o.mode} moduli, {o.objective.replace('_', ' ')} objective, degree {o.degree}, "
              f"{result.points:,} rows in {len(result.tests)} tests"
              + (" (legs averaged)" if o.average_legs else ""),
-             f"IPOPT {s.status} after {s.iterations} iterations: solve {s.wall_time:.3g} s, NLP build "
-             f"{s.build_time:.3g} s{' (cached)' if s.build_time == 0 else ''}, "
-             f"data reduction {s.reduce_time:.3g} s"]
-    rows = [(t.name, t.kind, t.points, t.rmse, max(lv.rmse for lv in t.levels),
-             max(t.levels, key=lambda lv: lv.rmse).pressure / 1e3) for t in result.tests]
-    parts.append("\nFit per test\n" + table(["test", "kind", "points", "RMSE [N]", "worst level [N]",
-                                              "at [kPa]"], rows))
-    parts.append("\nRMSE per pressure level [N]\n" + _level_table(result))
-    parts.append(f"\nsum of RMSE over (test, pressure): {result.sum_rmse:.4g} N   least squares: "
-                 f"{result.sse:.4g} N^2 (RMSE {result.rmse:.4g} N)   residual sigma {u.sigma:.4g} N")
+             f"IPOPT {s.status} after {s.iterations} iterations: solve {s.wall_time:.3g} s, NLP "
+             + (f"build {s.build_time:.3g} s{cache}" if s.build_time else "reused")
+             + f", data reduction {s.reduce_time:.3g} s"]
+    rows = [(t.name, t.kind if t.kind == "radial" else t.protocol, t.points, t.slack, t.rmse,
+             max(t.levels, key=lambda lv: lv.rmse).rmse if t.levels else "-",
+             max(t.levels, key=lambda lv: lv.rmse).pressure / 1e3 if t.levels else "-") for t in result.tests]
+    parts.append("\nFit per test\n" + table(["test", "protocol", "points", "slack rows", "RMSE [N]",
+                                              "worst level [N]", "at [kPa]"], rows))
+    if any(t.levels for t in result.tests):
+        parts.append("\nRMSE per pressure level [N]\n" + _level_table(result))
+    ramps = [t.name for t in result.tests if not t.levels]
+    if ramps:
+        parts.append(f"\nno pressure levels in {', '.join(ramps)} (pressure ramps): no per-level RMSE"
+                     + ("" if result.sum_rmse is not None else ", and the sum of RMSE is undefined"))
+    slack = int(sum(result.slack_rows))
+    if slack:
+        parts.append(f"slack rows (force <= 0): {slack}, "
+                     + (f"{result.excluded_rows} excluded from the fit" if result.excluded_rows
+                        else "fitted as max(0, F)"))
+    total = f"sum of RMSE over (test, pressure): {result.sum_rmse:.4g} N   " if result.sum_rmse is not None \
+        else ""
+    parts.append(f"\n{total}least squares: {result.sse:.4g} N^2 (RMSE {result.rmse:.4g} N)   "
+                 f"residual sigma {u.sigma:.4g} N")
+    parts.append(_geometry(result))
     coeff = []
     for i, name in enumerate(result.names):
         interval = (f"[{u.lower[i]:.4g}, {u.upper[i]:.4g}]" if u.determined[i] else "not identifiable")
         coeff.append((name, result.x[i], interval, "yes" if u.at_bound[i] else ""))
-    parts.append("\nCoefficients [MPa] with 95 % intervals\n"
+    parts.append("\nCoefficients [MPa; geometry in deg, mm] with 95 % intervals\n"
                  + table(["coefficient", "value", "95 % interval", "at bound"], coeff))
-    combos = []
-    for c in u.combinations:
-        if not c.identifiable:
-            continue
-        scale = np.max(np.abs(c.weights))  # normalised: largest weight 1, value in MPa
-        top = np.argsort(np.abs(c.weights))[::-1][:3]
-        terms = " ".join(f"{'+' if c.weights[j] >= 0 else '-'} {abs(c.weights[j]) / scale:.3g} "
-                         f"{result.names[j]}" for j in top)
-        combos.append((terms.lstrip("+ ").replace("1 ", "", 1), c.value / scale, 1.96 * c.std / scale))
-    parts.append(f"\nIdentifiable combinations ({u.rank} of {len(result.names)}; largest three terms)\n"
-                 + table(["combination", "value [MPa]", "+/- 95 % [MPa]"], combos))
-    margin = ("not constrained" if o.drucker == "none"
-              else f"{result.drucker_margin / 1e6:.4g} MPa (>= 0: stable) on the {o.drucker} grid")
-    parts.append(f"\nDrucker margin: {margin}")
+    parts.append(f"identifiable parameter combinations: {u.rank} of {len(result.names)} (listed in --json); "
+                 "what that means for the forces:")
+    parts.append(_predictions(result))
+    parts.append(_drucker(result))
     parts += [f"warning: {w}" for w in result.warnings]
     return "\n".join(parts)
 
 
+def _geometry(result) -> str:
+    c = result.calibration
+    g, stated = c.geometry, c.stated
+    lines = ["\nGeometry" + (f" (calibrated: {', '.join(c.calibrated)})" if c.calibrated else " (as stated)")]
+    rows = []
+    for name, label, value, before in (
+            ("braid_angle", "braid angle from axis [deg]", math.degrees(g.braid_angle),
+             math.degrees(stated.braid_angle)),
+            ("initial_length", "rest length L0 [mm]", g.initial_length * 1e3, stated.initial_length * 1e3),
+            ("bladder_thickness", "wall thickness [mm]", g.bladder_thickness * 1e3,
+             stated.bladder_thickness * 1e3)):
+        interval = c.intervals.get(name)
+        shown = f"[{interval[0]:.5g}, {interval[1]:.5g}]" if interval else \
+            ("undetermined" if name in c.calibrated else "-")
+        rows.append((label, before, value, shown))
+    lines.append(table(["", "stated", "fitted", "95 % interval"], rows))
+    if c.stated_rmse is not None:
+        lines.append(f"RMSE at the stated geometry {c.stated_rmse:.4g} N, calibrated {result.rmse:.4g} N")
+    b = c.blocked_force
+    if b is not None:
+        verdict = "consistent" if b.consistent else "MISMATCH"
+        lines.append(f"blocked-force slope dF/dP at L = {b.length * 1e3:.5g} mm: data {b.slope * 1e3:.4g} "
+                     f"N/kPa, geometry {b.geometry_slope * 1e3:.4g} N/kPa ({verdict})")
+    else:
+        lines.append("blocked-force check: not possible (fewer than 3 pressures at the longest tested "
+                     "length)")
+    return "\n".join(lines)
+
+
+def _predictions(result) -> str:
+    p = result.predictions
+    lines = []
+    if p.regions:
+        rows = [(r.name, f"{r.pressure[0] / 1e3:.4g}-{r.pressure[1] / 1e3:.4g}",
+                 f"{r.length[0] * 1e3:.5g}-{r.length[1] * 1e3:.5g}", r.half_width,
+                 "determined" if r.determined else "NOT determined") for r in p.regions]
+        lines.append(table(["axial force F(P, L)", "P [kPa]", "L [mm]", "+/- 95 % [N]", "verdict"], rows))
+    if p.pipes:
+        rows = [(f"{q.pipe_diameter * 1e3:.4g} mm", "tested" if q.tested else ("inside" if q.inside
+                 else "EXTRAPOLATION"), q.anchoring_pressure / 1e3, q.anchoring_half_width / 1e3,
+                 q.radial_force, q.radial_half_width, "determined" if q.determined else "NOT determined")
+                for q in p.pipes]
+        top = p.pipes[0].pressure / 1e3
+        lines.append(table(["pipe", "envelope", "anchoring [kPa]", "+/- [kPa]", f"F_r at {top:.4g} kPa [N]",
+                            "+/- [N]", "verdict"], rows))
+    return "\n".join(lines) if lines else "(no predictions: no axial test and no pipe)"
+
+
+def _drucker(result) -> str:
+    m = result.drucker_minimum
+    if m is None:
+        return "\nDrucker stability: not constrained (fit.drucker: none)"
+    where = f"at P = {m.pressure / 1e3:.4g} kPa, L = {m.length * 1e3:.5g} mm ({m.direction})"
+    verdict = "stable" if m.stable else "UNSTABLE"
+    return (f"\nDrucker: smallest {'tangent modulus' if m.direction != 'sum' else 'second-order work'} "
+            f"{m.value / 1e6:.4g} MPa {where}, over the whole tested range (between grid points too): "
+            f"{verdict}")
+
+
 def _level_table(result) -> str:
-    pressures = sorted({round(lv.pressure / 1e3, 1) for t in result.tests for lv in t.levels})
-    lookup = {(t.name, round(lv.pressure / 1e3, 1)): lv.rmse for t in result.tests for lv in t.levels}
-    rows = [[p, *(lookup.get((t.name, p), "") for t in result.tests)] for p in pressures]
-    return table(["P [kPa]", *(t.name for t in result.tests)], rows)
+    tests = [t for t in result.tests if t.levels]
+    pressures = sorted({round(lv.pressure / 1e3, 1) for t in tests for lv in t.levels})
+    lookup = {(t.name, round(lv.pressure / 1e3, 1)): lv.rmse for t in tests for lv in t.levels}
+    rows = [[p, *(lookup.get((t.name, p), "") for t in tests)] for p in pressures]
+    return table(["P [kPa]", *(t.name for t in tests)], rows)

@@ -13,14 +13,23 @@ from pampipe.report import new_figure, save_figure
 MAX_POINTS = 6000
 
 
+#: Markers of the direction of a row: lengthening / filling, shortening / venting, held or unknown.
+MARKERS = {1: "^", -1: "v", 0: "o"}
+
+
 def plot_identification(data, result, folder: Path) -> list[Path]:
-    """Write axial_fit.png, radial_fit.png, residuals.png and drucker_margin.png (those that apply)."""
+    """Write axial_fit.png (force against length, isobaric and mixed tests), isometric_fit.png (force
+    against pressure, isometric tests), radial_fit.png, residuals.png and drucker_margin.png (those
+    that apply)."""
     written = []
     curves = fit_curves(data, result)
-    axial = [t for t in data.tests if t.kind == "axial"]
+    axial = [t for t in data.tests if t.kind == "axial" and t.protocol != "isometric"]
+    isometric = [t for t in data.tests if t.kind == "axial" and t.protocol == "isometric"]
     radial = [t for t in data.tests if t.kind == "radial"]
     if axial:
-        written.append(_axial(axial, curves, folder))
+        written.append(_axial(axial, curves, result, folder))
+    if isometric:
+        written.append(_isometric(isometric, curves, result, folder))
     if radial:
         written.append(_radial(radial, curves, result, folder))
     written.append(_residuals(data, curves, result, folder))
@@ -33,21 +42,62 @@ def _subsample(n: int) -> np.ndarray:
     return np.arange(n) if n <= MAX_POINTS else np.linspace(0, n - 1, MAX_POINTS).astype(int)
 
 
-def _axial(tests, curves, folder: Path) -> Path:
+def _measured(ax, test, x, colors, result):
+    """The measured points: one marker per direction (legs visible), slack rows hollow, excluded ×."""
+    rows = _subsample(test.points)
+    legs = test.pressure_leg if test.protocol == "isometric" else test.leg
+    slack = test.slack[rows]
+    for sign, marker in MARKERS.items():
+        mine = rows[(legs[rows] == sign) & ~slack]
+        if mine.size:
+            ax.scatter(x[mine], test.force[mine], s=9, marker=marker, c=colors[mine], alpha=0.6, linewidths=0)
+    shown = rows[slack]
+    if shown.size:
+        excluded = result.options.slack == "exclude"
+        ax.scatter(x[shown], test.force[shown], s=16, marker="x" if excluded else "o",
+                   facecolors="gray" if excluded else "none", edgecolors="gray", linewidths=0.8,
+                   label="slack rows (excluded)" if excluded else "slack rows (fitted as max(0, F))")
+
+
+def _legend_directions(ax, isometric: bool) -> None:
+    from matplotlib.lines import Line2D
+
+    up, down = ("filling", "venting") if isometric else ("lengthening", "shortening")
+    handles = [Line2D([], [], marker=MARKERS[1], ls="", color="k", label=up),
+               Line2D([], [], marker=MARKERS[-1], ls="", color="k", label=down)]
+    existing, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=existing + handles, fontsize=7, ncol=2)
+
+
+def _axial(tests, curves, result, folder: Path) -> Path:
     fig, axes = new_figure(1, len(tests), figsize=(7.5 * len(tests), 5), squeeze=False)
     for ax, test in zip(axes[0], tests, strict=True):
-        colors = _level_colors(test.level_pressure.size)
-        rows = _subsample(test.points)
-        ax.scatter(test.length[rows] * 1e3, test.force[rows], s=4, c=colors[test.level[rows]], alpha=0.35,
-                   linewidths=0)
+        colors = _level_colors(test.level_pressure.size)[test.level]
+        _measured(ax, test, test.length * 1e3, colors, result)
+        level_colors = _level_colors(test.level_pressure.size)
         for curve in (c for c in curves.axial if c.test == test.name):
-            ax.plot(curve.length * 1e3, curve.force, color=colors[curve.level], lw=1.5,
+            ax.plot(curve.length * 1e3, curve.force, color=level_colors[curve.level], lw=1.5,
                     label=f"{curve.pressure / 1e3:.0f} kPa")
         ax.set(xlabel="length L [mm]", ylabel="axial force F_ax [N]",
-               title=f"{test.name}: measured (dots) and fitted model (lines)")
+               title=f"{test.name} ({test.protocol}): measured (markers) and fitted model (lines)")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=2, title="pressure", title_fontsize=7)
+        _legend_directions(ax, isometric=False)
     return save_figure(fig, folder, "axial_fit.png")
+
+
+def _isometric(tests, curves, result, folder: Path) -> Path:
+    fig, axes = new_figure(1, len(tests), figsize=(7.5 * len(tests), 5), squeeze=False)
+    for ax, test in zip(axes[0], tests, strict=True):
+        palette = _level_colors(test.level_length.size)
+        _measured(ax, test, test.pressure / 1e3, palette[test.held_length], result)
+        for curve in (c for c in curves.isometric if c.test == test.name):
+            ax.plot(curve.pressure / 1e3, curve.force, color=palette[curve.held], lw=1.5,
+                    label=f"L = {curve.length * 1e3:.5g} mm")
+        ax.set(xlabel="gauge pressure P [kPa]", ylabel="axial force F_ax [N]",
+               title=f"{test.name} (isometric): measured (markers) and fitted model (lines)")
+        ax.grid(alpha=0.3)
+        _legend_directions(ax, isometric=True)
+    return save_figure(fig, folder, "isometric_fit.png")
 
 
 def _radial(tests, curves, result, folder: Path) -> Path:
@@ -75,7 +125,7 @@ def _residuals(data, curves, result, folder: Path) -> Path:
         rows = _subsample(test.points)
         axes[0, 0].plot(test.pressure[rows] / 1e3, residual[rows], ".", ms=3, alpha=0.4, color=f"C{i % 10}",
                         label=test.name)
-        if test.kind == "axial":
+        if test.kind == "axial" and axes.shape[1] > 1:
             axes[0, 1].plot(test.length[rows] * 1e3, residual[rows], ".", ms=3, alpha=0.4, color=f"C{i % 10}",
                             label=test.name)
     sigma = result.uncertainty.sigma
@@ -97,6 +147,7 @@ def _drucker(drucker, result, folder: Path) -> Path:
     grid = result.drucker_grid
     pp, ll = np.meshgrid(drucker.pressure, drucker.length, indexing="ij")
     margin = drucker.margin / 1e6
+    low = drucker.minimum
     fig, ax = new_figure(figsize=(7.5, 5))
     image = ax.pcolormesh(ll * 1e3, pp / 1e3, margin, shading="auto", cmap="viridis")
     fig.colorbar(image, ax=ax, label="min(E₁ᵗ, E₂ᵗ) [MPa]")
@@ -104,8 +155,11 @@ def _drucker(drucker, result, folder: Path) -> Path:
         ax.contour(ll * 1e3, pp / 1e3, margin, levels=[0], colors="red", linewidths=1.5)
     gp, gl = np.meshgrid(grid["pressures"], grid["lengths"], indexing="ij")
     ax.plot(gl.ravel() * 1e3, gp.ravel() / 1e3, "w+", ms=5, label="constraint grid")
+    verdict = "stable" if low.stable else "UNSTABLE"
+    ax.plot(low.length * 1e3, low.pressure / 1e3, "r*", ms=12,
+            label=f"exact minimum {low.value / 1e6:.3g} MPa ({low.direction})")
     ax.set(xlabel="length L [mm]", ylabel="gauge pressure P [kPa]",
-           title=f"Drucker margin of the fitted moduli (min {margin.min():.3g} MPa; red: 0)")
+           title=f"Drucker margin (exact minimum {low.value / 1e6:.3g} MPa: {verdict}; red line: 0)")
     ax.legend(fontsize=8, loc="upper left")
     return save_figure(fig, folder, "drucker_margin.png")
 
