@@ -77,9 +77,11 @@ def test_plots_are_written(fitted):
 def test_text_report(capsys):
     code, out, err = cli(capsys, "identify", BUNDLED, "--degree", "1")
     assert code == 0, err
-    for part in ("Fit per test", "RMSE per pressure level", "Coefficients [MPa] with 95 % intervals",
-                 "Identifiable combinations (8 of 8", "IPOPT Solve_Succeeded", "Drucker margin"):
+    for part in ("Fit per test", "RMSE per pressure level", "Coefficients [MPa; geometry in deg, mm] with 95 %",
+                 "identifiable parameter combinations: 8 of 8", "IPOPT Solve_Succeeded", "Geometry (as stated)",
+                 "inside the tested envelope", "Drucker: smallest tangent modulus"):
         assert part in out
+    assert "stable" in out.split("Drucker: ")[1].splitlines()[0]
 
 
 @pytest.mark.parametrize("target", ["experiment", "csv", "pam"])

@@ -13,12 +13,13 @@ n, the means x̄ = P̄/P_ref, L̄, ȳ and the centred sums Σd_x², Σd_L², Σd
 (d = deviation from the mean, e = y − ȳ). With the model linearised about the cell mean,
 u ≈ u₀ + u_x d_x + u_L d_L, the cell's sum of squares is
 
-  SSE = n(m(u₀) − ȳ)² + w(u₀)·[u_x²Σd_x² + u_L²Σd_L² + 2u_x u_L Σd_x d_L − 2u_x Σd_x e − 2u_L Σd_L e] + Σe²
+  SSE = n(w·u₀ − ȳ)² + w·[u_x²Σd_x² + u_L²Σd_L² + 2u_x u_L Σd_x d_L − 2u_x Σd_x e − 2u_L Σd_L e] + Σe²
 
-with m = u, w = 1 for measured rows and the smoothed hinge m = s·softplus(u₀/s), w = sigmoid(u₀/s)
-for slack rows (:mod:`pampipe.identify.nlp`). It is exact when each row is its own cell and, for
-binned data, exact to first order in the cell size: F_ax is affine in P at fixed L (§7), so only
-the curvature in L over a bin is neglected (measured in the tests: below 10⁻⁴ of σ² per row).
+with w = 1 for measured rows and for slack rows where the model is positive, and w = 0 (the
+prediction max(0, F) = 0) for slack rows where it is not: w = 1 − ``clipped``, a flag that starts
+at 1 for every slack cell and is updated by the fit (:mod:`pampipe.identify.fit`). It is exact when
+each row is its own cell and, for binned data, exact to first order in the cell size: F_ax is
+affine in P at fixed L (§7), so only the curvature in L over a bin is neglected.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import numpy as np
 from pampipe.experiment import TestData
 
 #: Rows of the moments matrix.
-FIELDS = ("n", "x", "l", "y", "sxx", "sll", "sxl", "sxe", "sle", "see", "slack")
+FIELDS = ("n", "x", "l", "y", "sxx", "sll", "sxl", "sxe", "sle", "see", "clipped")
 #: Cells at most per test; a test with fewer rows keeps one cell per row (exact).
 CELL_BUDGET = 2048
 #: Finest grid tried per axis (then halved until the occupied cells fit the budget).
@@ -39,11 +40,16 @@ FINEST = 256
 
 @dataclass(frozen=True)
 class Cells:
-    """Cells of all axial tests: ``moments`` (len(FIELDS) × C), the (test, level) group of each."""
+    """Cells of all axial tests: ``moments`` (len(FIELDS) × C), the (test, level) group of each;
+    ``slack`` marks the cells of slack rows (their ``clipped`` flag may change during the fit)."""
 
     moments: np.ndarray
     group: np.ndarray  # (C,) index into ``groups``
     groups: tuple[tuple[int, int], ...]  # (test index, level) of every group
+
+    @property
+    def slack(self) -> np.ndarray:
+        return self.moments[FIELDS.index("clipped")] > 0
 
     @property
     def count(self) -> int:
@@ -60,8 +66,12 @@ class Cells:
 
 
 def capacity(count: int) -> int:
-    """The NLP's cell capacity for ``count`` cells: the next power of two ≥ max(count, 16)."""
-    return 1 << max(int(count) - 1, 15).bit_length()
+    """The NLP's cell capacity for ``count`` cells: the next power of four ≥ max(count, 64), so that
+    data sets of one protocol share one NLP whatever their row counts."""
+    size = 64
+    while size < count:
+        size *= 4
+    return size
 
 
 def reduce_cells(tests, rows_of, *, pref: float) -> Cells:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import time
+from dataclasses import replace
 from importlib.metadata import PackageNotFoundError, version
 
 import casadi as ca
@@ -24,13 +25,14 @@ from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
 from pampipe.identify import drucker, envelope, problem
 from pampipe.identify import geometry as geo
+from pampipe.identify.cells import FIELDS
 from pampipe.identify.nlp import Structure, build_problem
 from pampipe.identify.options import FitOptions, parse_fit_options
 from pampipe.identify.predict import evaluate_tests
 from pampipe.identify.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identify.statistics import Statistics, drucker_rows, reduce_experiment
 from pampipe.identify.uncertainty import analyse
-from pampipe.model import bladder, braid
+from pampipe.model import bladder, braid, forces
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.nlp import solve
@@ -42,6 +44,8 @@ FIT_HINTS = {
                                    "(widen fit.bounds or check the data)",
 }
 LAW_NAMES = problem.LAW_NAMES
+#: Solves at most while slack cells change side (each re-solve starts from the last solution).
+HINGE_ROUNDS = 8
 #: With calibrated geometry the Drucker intervals are widened by this fraction of the strain range.
 CALIBRATION_PAD = 0.1
 
@@ -91,13 +95,14 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     wall_time, iterations = 0.0, 0
     if options.calibrate:  # the stated geometry's fit first: the start of the calibrated one
         say("fitting at the stated geometry")
-        solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx))
+        solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx), stats,
+                                structure, stated)
         x0 = np.asarray(solution["x"], dtype=float).ravel()
         wall_time, iterations = info.wall_time, info.iterations
         stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
     say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
         + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
-    solution, info = _solve(nlp, values, x0, lbx, ubx)
+    solution, info = _solve(nlp, values, x0, lbx, ubx, stats, structure, stated)
     x = np.asarray(solution["x"], dtype=float).ravel()
     wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
@@ -127,9 +132,35 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         excluded_rows=stats.excluded)
 
 
-def _solve(nlp, values, x0, lbx, ubx):
-    return solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS, x0=x0,
-                 p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
+def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, stated):
+    """IPOPT; with slack cells, re-solved until no slack cell changes side (the exact hinge).
+
+    A slack cell is clipped (predicts max(0, F) = 0) where the model at its mean is ≤ 0, live
+    otherwise; ``values["cells"]`` is updated in place. Returns (solution, statistics summed over
+    the solves).
+    """
+    slack = None if stats.cells is None else stats.cells.slack
+    row = FIELDS.index("clipped")
+    iterations, wall = 0, 0.0
+    x = x0
+    for _ in range(HINGE_ROUNDS):
+        solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
+                               x0=x, p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
+        iterations, wall = iterations + info.iterations, wall + info.wall_time
+        x = np.asarray(solution["x"], dtype=float).ravel()
+        if slack is None or not slack.any():
+            break
+        moments = values["cells"]
+        geometry = geo.from_x(stated, structure.calibrate, x[_geometry_mask(structure, x.size)]) \
+            if structure.calibrate else stated
+        theta = x[:stats.n_theta] * MPA
+        count = stats.cells.count
+        model = forces.axial_force(moments[1, :count] * MPA, moments[2, :count], geometry, theta, MPA)
+        clipped = (slack & (np.asarray(model) <= 0)).astype(float)
+        if np.array_equal(clipped, moments[row, :count]):
+            break
+        moments[row, :count] = clipped
+    return solution, replace(info, iterations=iterations, wall_time=wall)
 
 
 def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:

@@ -13,7 +13,9 @@ Decision vector x: the blocks named by :meth:`Structure.blocks`: ``theta`` (the 
 
 Sum of squares:
 * axial group g (QR, measured rows at the stated geometry): ‖R_g θ − z_g‖² + rest_g (exact);
-* axial cell (slack rows; every axial row when calibrating): see :mod:`pampipe.identify.cells`; at
+* axial cell (slack rows; every axial row when calibrating): see :mod:`pampipe.identify.cells`; a
+  slack cell is either live (the model F applies) or clipped (max(0, F) = 0), a flag in p that the
+  fit updates between solves until no cell changes side (an exact hinge, no smoothing); at
   the stated geometry the model at a cell's mean and its derivatives are linear rows in θ computed
   before the fit; with the geometry free one SX function of (cell, θ, geometry) gives the cell's
   sum of squares and its exact Hessian, mapped over the cells (IPOPT gets that Hessian directly);
@@ -270,19 +272,18 @@ def _linear_cells(par, theta):
     c = par["cells"].T  # C × fields
     count, y, sxx, sll, sxl, sxe, sle, see, slack = (c[:, FIELDS.index(k)] for k in
                                                      ("n", "y", "sxx", "sll", "sxl", "sxe", "sle", "see",
-                                                      "slack"))
+                                                      "clipped"))
     u, u_x, u_l = (par[f"cell_{k}"][:, 0] + ca.mtimes(par[f"cell_{k}"][:, 1:], theta)
                    for k in ("u", "ux", "ul"))
-    return _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l, par["smooth"])
+    return _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l)
 
 
-def _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l, smooth):
-    """The cell sum of squares of :mod:`pampipe.identify.cells` (elementwise)."""
-    t = u / smooth
-    m = slack * smooth * softplus(t) + (1 - slack) * u
-    w = slack * sigmoid(t) + (1 - slack)
+def _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, clipped, u, u_x, u_l):
+    """The cell sum of squares of :mod:`pampipe.identify.cells` (elementwise); ``clipped`` cells
+    (slack cells where the model is ≤ 0, see fit.py) predict max(0, F) = 0 exactly."""
+    live = 1 - clipped
     inner = u_x**2 * sxx + u_l**2 * sll + 2 * u_x * u_l * sxl - 2 * u_x * sxe - 2 * u_l * sle
-    return count * (m - y) ** 2 + w * inner + see
+    return count * (live * u - y) ** 2 + live * inner + see
 
 
 def _calibration_cells(structure: Structure, par, var, geometry, x):
@@ -292,16 +293,15 @@ def _calibration_cells(structure: Structure, par, var, geometry, x):
     moments = ca.SX.sym("cell", len(FIELDS))
     theta = ca.SX.sym("theta", n)
     g = ca.SX.sym("geometry", 4)
-    smooth = ca.SX.sym("smooth")
     shape = Geometry(g[0], g[1], g[2], g[3], structure.wall)
     count, xbar, length, y, sxx, sll, sxl, sxe, sle, see, slack = (moments[i] for i in range(len(FIELDS)))
     u = forces.axial_force(xbar * MPA, length, shape, theta * MPA, MPA)
     u_x, u_l = ca.jacobian(u, xbar), ca.jacobian(u, length)
-    sse = _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l, smooth)
+    sse = _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l)
     z = ca.vertcat(theta, g)
     hess = ca.hessian(sse, z)[0]
-    inputs = [moments, theta, g, smooth]
-    arguments = (par["cells"], var["theta"], _vector(geometry), par["smooth"])
+    inputs = [moments, theta, g]
+    arguments = (par["cells"], var["theta"], _vector(geometry))
     values = ca.Function("cell", inputs, [sse]).map(structure.cells)(*arguments)
     hessians = ca.Function("cell_hessian", inputs, [ca.reshape(hess, -1, 1)]).map(structure.cells)(*arguments)
     size = n + 4

@@ -200,7 +200,7 @@ def initial_guess(structure: Structure, stats: Statistics, reference, lower, upp
         rows["theta"][1].extend(stats.axial.z)
     if stats.cells is not None:
         c = stats.cells.moments
-        measured = (c[0] > 0) & (c[-1] == 0)
+        measured = (c[0] > 0) & ~stats.cells.slack
         offset, phi = _regressors(c[1, measured] * MPA, c[2, measured], geometry, stats.degree)
         w = np.sqrt(c[0, measured])
         rows["theta"][0].append(w[:, None] * phi)
