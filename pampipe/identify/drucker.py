@@ -113,26 +113,26 @@ def _sum_minimum(theta, pref, geometry, p_ends, l_low, l_high) -> Minimum:
     return best
 
 
-def bernstein_rows(geometry: Geometry, degree: int, pressures, lengths, *, reference_pressure: float,
-                   pad: float = 0.0) -> np.ndarray:
+def bernstein_rows(geometries, degree: int, pressures, lengths, *, reference_pressure: float) -> np.ndarray:
     """Rows C (unit max-norm, θ in MPa) with C·θ ≥ 0 ⇒ E₁ᵗ, E₂ᵗ ≥ 0 for every P in the range of
-    ``pressures`` and every strain between the grid's ``lengths`` (see the module docstring).
+    ``pressures`` and every strain the grid's ``lengths`` reach (see the module docstring).
 
-    ``pad`` widens the outer strain intervals by that fraction of the strain range on each side (a
-    calibrated geometry moves the strains of the tested lengths a little).
+    One geometry: the intervals between the strains of consecutive grid lengths. Several (the
+    corners of a calibration's bounds): the union of their strain ranges, cut into as many equal
+    intervals, so that the constraint holds whatever geometry the fit settles on.
     """
     lengths = np.unique(np.asarray(lengths, float))
-    eps1 = (lengths - geometry.initial_length) / geometry.initial_length
-    d0 = geometry.initial_diameter
-    eps2 = (braid.diameter_at_length(lengths, geometry) - d0) / d0
+    strains = [_strains(g, lengths) for g in geometries]
+    if len(geometries) == 1:
+        edges = [np.sort(strains[0][0]), np.sort(strains[0][1])]
+    else:
+        edges = [np.linspace(min(s[k].min() for s in strains), max(s[k].max() for s in strains), lengths.size)
+                 for k in (0, 1)]
     k = degree + 1
     ends = (float(np.min(pressures)) / reference_pressure, float(np.max(pressures)) / reference_pressure)
     rows = []
-    for first, eps in ((0, np.sort(eps1)), (2, np.sort(eps2))):
-        widen = pad * (eps[-1] - eps[0])
-        edges = np.concatenate([[eps[0] - widen], eps[1:-1], [eps[-1] + widen]]) if eps.size > 1 else \
-            np.array([eps[0] - widen, eps[0] + widen + 1e-9])
-        for a, b in itertools.pairwise(edges):
+    for first, eps in ((0, edges[0]), (2, edges[1])):
+        for a, b in itertools.pairwise(eps):
             to_bernstein = _bernstein(a, b, degree)
             for x in ends:
                 coefficients = np.zeros((k, 4 * k))  # c_j = (j+1)(a_j + b_j x): rows over θ
@@ -142,6 +142,12 @@ def bernstein_rows(geometry: Geometry, degree: int, pressures, lengths, *, refer
                 rows.append(to_bernstein @ coefficients)
     out = np.vstack(rows)
     return out / np.max(np.abs(out), axis=1, keepdims=True)
+
+
+def _strains(geometry: Geometry, lengths):
+    d0 = geometry.initial_diameter
+    return ((lengths - geometry.initial_length) / geometry.initial_length,
+            (braid.diameter_at_length(lengths, geometry) - d0) / d0)
 
 
 def _bernstein(a: float, b: float, degree: int) -> np.ndarray:

@@ -13,6 +13,7 @@ while it is negative (:mod:`.drucker`); (6) uncertainty from the Hessian at the 
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import replace
@@ -46,8 +47,6 @@ FIT_HINTS = {
 LAW_NAMES = problem.LAW_NAMES
 #: Solves at most while slack cells change side (each re-solve starts from the last solution).
 HINGE_ROUNDS = 8
-#: With calibrated geometry the Drucker intervals are widened by this fraction of the strain range.
-CALIBRATION_PAD = 0.1
 
 
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
@@ -65,7 +64,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
 
     n = stats.n_theta
     pressures, lengths = _grid(data, stats, options)
-    grid = _constraint_rows(stated, options, pressures, lengths, n)
+    grid = _constraint_rows(data, stated, options, pressures, lengths, n, stats)
     contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
     prior = problem.prior_kind(options)
     structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
@@ -85,21 +84,25 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         values["prior_weight"] = sse0 / max(points_fit - x0.size, 1) / (options.prior_sd / MPA) ** 2
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
-    values["scale_sse"] = max(sse0, 1e-12)
-    groups = structure.axial_groups + sum(levels for levels, _ in structure.radial)
-    values["scale"] = (max(sse0, 1e-12) if options.objective == "least_squares"
-                       else max(groups * math.sqrt(sse0 / max(points_fit, 1)), 1e-9))
 
     fixed = _geometry_mask(structure, x0.size)
     stated_fit = None
     wall_time, iterations = 0.0, 0
-    if options.calibrate:  # the stated geometry's fit first: the start of the calibrated one
+    if options.calibrate:  # fits at fixed geometry first: the stated one, then the blocked-force start
         say("fitting at the stated geometry")
-        solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx), stats,
-                                structure, stated)
-        x0 = np.asarray(solution["x"], dtype=float).ravel()
+        x0, info = _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, stated)
         wall_time, iterations = info.wall_time, info.iterations
         stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
+        start = _start_geometry(data, stated, options, lbx[fixed], ubx[fixed])
+        if start is not None:
+            say("fitting at the braid angle the blocked force suggests")
+            guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, start)
+            guess[fixed] = geo.stated_x(start, structure.calibrate)
+            guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
+            other, info = _fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, stated)
+            wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
+            if float(nlp.sse(other, nlp.layout.pack(values))) < stated_fit:
+                x0 = other
     say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
         + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
     solution, info = _solve(nlp, values, x0, lbx, ubx, stats, structure, stated)
@@ -144,6 +147,7 @@ def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, s
     iterations, wall = 0, 0.0
     x = x0
     for _ in range(HINGE_ROUNDS):
+        _scale(nlp, values, x, stats, structure)
         solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
                                x0=x, p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
         iterations, wall = iterations + info.iterations, wall + info.wall_time
@@ -163,14 +167,53 @@ def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, s
     return solution, replace(info, iterations=iterations, wall_time=wall)
 
 
-def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
-    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum)."""
+def _scale(nlp, values, x, stats: Statistics, structure: Structure) -> None:
+    """Scales that make IPOPT's objective 1 at the start ``x`` (a warm start from a good point would
+    otherwise have an objective far below the barrier terms, which then pull the iterates away)."""
+    values["scale"] = values["scale_sse"] = 1.0
+    sse = max(float(nlp.sse(x, nlp.layout.pack(values))), 1e-12)
+    values["scale_sse"] = sse
+    if structure.objective == "least_squares":
+        values["scale"] = sse
+    else:
+        groups = structure.axial_groups + sum(levels for levels, _ in structure.radial)
+        values["scale"] = max(groups * math.sqrt(sse / max(stats.points, 1)), 1e-9)
+
+
+def _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, stated):
+    """The moduli fit with the calibrated entries held at their values in ``x0``."""
+    fixed = _geometry_mask(structure, x0.size)
+    solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx), stats,
+                            structure, stated)
+    return np.asarray(solution["x"], dtype=float).ravel(), info
+
+
+def _start_geometry(data, stated, options: FitOptions, low, high):
+    """The stated geometry with the braid angle of the blocked-force check (:mod:`.geometry`), when
+    the braid angle is calibrated, the check is possible and that angle is within the bounds."""
+    if "braid_angle" not in options.calibrate:
+        return None
+    blocked = geo.blocked_force(data, stated)
+    if blocked is None or blocked.consistent or blocked.fitting_angle is None:
+        return None
+    start = replace(stated, braid_angle=blocked.fitting_angle)
+    value = geo.stated_x(start, options.calibrate)
+    return start if np.all((low < value) & (value < high)) else None
+
+
+def _constraint_rows(data, stated, options: FitOptions, pressures, lengths, n: int, stats) -> np.ndarray:
+    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum);
+    with calibration, over the strains of every corner of the geometry bounds."""
     if options.drucker == "none":
         return np.zeros((0, n))
     if options.drucker == "sum":
         return drucker_rows(stated, options.degree, pressures, lengths, form="sum")
-    return drucker.bernstein_rows(stated, options.degree, pressures, lengths, reference_pressure=MPA,
-                                  pad=CALIBRATION_PAD if options.calibrate else 0.0)
+    corners = [stated]
+    if options.calibrate:
+        bounds = geo.bounds(data, options, stats.pipes)
+        corners = [geo.from_x(stated, options.calibrate, values)
+                   for values in itertools.product(*(bounds[name] for name in options.calibrate))]
+    return drucker.bernstein_rows(corners, options.degree, pressures, lengths, reference_pressure=MPA)
 
 
 def _geometry_mask(structure: Structure, size: int) -> np.ndarray:

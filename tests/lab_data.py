@@ -1,0 +1,120 @@
+"""Synthetic lab data that mimic real protocols, generated from known parameters (for the tests).
+
+Every force is computed from the baseline model (:class:`pampipe.model.muscle.Muscle` without
+effects) of a *true* muscle; what real data add is written out here explicitly, not through the
+effect library, so that the tests of the library check it against an independent statement:
+
+* isometric ramps: lengths held, pressure ramped up and down; an optional pressure hysteresis
+  F = F_ax − sgn(dP/dt)(h₀ + h₁P) (the venting leg above the filling leg);
+* force maps: a (P, L) grid where the muscle is slack (F_ax ≤ 0) records exactly 0 N;
+* stepped isobaric cycles with pressure levels that may be close together;
+* paper-style radial tests with one reading per pressure step.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from pampipe.experiment import ExperimentData, TestSpec, make_test_data
+from pampipe.model.muscle import Muscle
+from pampipe.model.pam import Pam
+
+DEG = np.pi / 180
+
+
+def truth(pam: Pam) -> Muscle:
+    return Muscle.from_pam(pam)
+
+
+def isometric_ramps(muscle: Muscle, lengths, *, top=600e3, points=200, cycles=2, hysteresis=(0.0, 0.0),
+                    noise=1.0, pressure_noise=0.0, rng=None) -> dict[str, np.ndarray]:
+    """Ramps 0 → ``top`` → 0 at each held length, ``points`` rows per leg; time advances 0.1 s a row.
+
+    Where the muscle is slack (force ≤ 0: it cannot pull itself that short yet) the load cell reads
+    0 N exactly. Returns SI columns and ``filling`` (+1 filling, −1 venting) as generated.
+    """
+    rng = rng or np.random.default_rng(0)
+    up = np.linspace(0.0, top, points, endpoint=False)
+    down = np.linspace(top, 0.0, points, endpoint=False)
+    path = np.tile(np.concatenate([up, down]), cycles)
+    sign = np.tile(np.repeat([1.0, -1.0], points), cycles)
+    pressure = np.concatenate([path for _ in lengths])
+    filling = np.concatenate([sign for _ in lengths])
+    length = np.repeat(np.asarray(lengths, float), path.size)
+    force = np.asarray(muscle.axial_force(pressure, length), float)
+    force = force - filling * (hysteresis[0] + hysteresis[1] * pressure)
+    force = np.where(force > 0, force + noise * rng.standard_normal(force.size), 0.0)  # slack: 0 N
+    measured = pressure + pressure_noise * rng.standard_normal(pressure.size)
+    return {"time": 0.1 * np.arange(force.size), "pressure": measured, "length": length, "force": force,
+            "filling": filling}
+
+
+def force_map(muscle: Muscle, pressures, lengths, *, noise=1.0, rng=None, order="pressure-major"
+              ) -> dict[str, np.ndarray]:
+    """One reading per (P, L) cell; 0 N exactly where the muscle is slack (F_ax ≤ 0).
+
+    ``order``: ``pressure-major`` (all lengths at one pressure, then the next), ``length-major`` or
+    ``shuffled`` (no time column: the rows carry no order).
+    """
+    rng = rng or np.random.default_rng(0)
+    pp, ll = np.meshgrid(np.asarray(pressures, float), np.asarray(lengths, float), indexing="ij")
+    if order == "length-major":
+        pp, ll = pp.T, ll.T
+    pressure, length = pp.ravel(), ll.ravel()
+    model = np.asarray(muscle.axial_force(pressure, length), float)
+    force = np.where(model > 0, model + noise * rng.standard_normal(model.size), 0.0)
+    if order == "shuffled":
+        k = rng.permutation(force.size)
+        pressure, length, force = pressure[k], length[k], force[k]
+    return {"pressure": pressure, "length": length, "force": force}
+
+
+def stepped(muscle: Muscle, levels, *, points=60, noise=1.0, pressure_noise=500.0, rng=None
+            ) -> dict[str, np.ndarray]:
+    """Isobaric cycles L₀ → L_free(P) → L₀ at each pressure level, with regulator noise."""
+    rng = rng or np.random.default_rng(0)
+    g = muscle.geometry
+    parts_p, parts_l = [], []
+    for level, short in zip(levels, muscle.free_length(np.asarray(levels, float)), strict=True):
+        path = np.concatenate([np.linspace(g.initial_length, short, points, endpoint=False),
+                               np.linspace(short, g.initial_length, points, endpoint=False)])
+        parts_l.append(path)
+        parts_p.append(np.full(path.size, float(level)))
+    pressure, length = np.concatenate(parts_p), np.concatenate(parts_l)
+    force = np.asarray(muscle.axial_force(pressure, length), float) + noise * rng.standard_normal(length.size)
+    return {"time": 0.1 * np.arange(length.size), "pressure": pressure + pressure_noise
+            * rng.standard_normal(length.size), "length": length, "force": force}
+
+
+def radial_steps(muscle: Muscle, pipe, *, load=0.0, readings=30, top=600e3, noise=1.0, rng=None
+                 ) -> dict[str, np.ndarray]:
+    """A paper-style radial test: ``readings`` pressure steps, one reading each."""
+    rng = rng or np.random.default_rng(0)
+    pressure = np.linspace(0.0, top, readings)
+    force = np.asarray(muscle.radial_force(pressure, pipe, load), float)
+    return {"pressure": pressure, "force": force + noise * rng.standard_normal(readings)}
+
+
+def experiment(pam: Pam, tests, *, stated=None, fit=None) -> ExperimentData:
+    """ExperimentData of (spec, columns) pairs; the fit sees ``stated`` geometry (default: the truth)."""
+    geometry = stated or pam.geometry
+    data = tuple(make_test_data(spec, {k: v for k, v in cols.items() if k != "filling"})
+                 for spec, cols in tests)
+    return ExperimentData(Path("lab.yaml"), Pam(pam.name, geometry), data, dict(fit or {}))
+
+
+def axial(name="axial", **changes) -> TestSpec:
+    return replace(TestSpec(name, "axial", Path(f"{name}.csv"), None, 0.0), **changes)
+
+
+def radial(name, pipe, load=0.0) -> TestSpec:
+    return TestSpec(name, "radial", Path(f"{name}.csv"), pipe, load)
+
+
+def off_by(geometry, *, angle_deg=0.0, length_mm=0.0):
+    """``geometry`` with the braid angle and the rest length shifted (a rough lab statement)."""
+    return replace(geometry, braid_angle=geometry.braid_angle + angle_deg * DEG,
+                   initial_length=geometry.initial_length + length_mm * 1e-3)
