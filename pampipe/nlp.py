@@ -69,12 +69,14 @@ def nlpsol(name: str, problem: dict, *, ipopt: dict | None = None, **options) ->
 
 
 def solve(solver: ca.Function, *, what: str, accept_acceptable: bool = False,
-          hints: Mapping[str, str] | None = None, **arguments) -> tuple[dict, SolverStats]:
+          hints: Mapping[str, str] | None = None, also_accept: tuple[str, ...] = (),
+          **arguments) -> tuple[dict, SolverStats]:
     """Call ``solver(**arguments)``; raise :class:`SolverError` naming ``what`` unless it converged.
 
-    ``accept_acceptable`` also accepts IPOPT's "Solved_To_Acceptable_Level"; ``hints`` replace the
-    generic words of :data:`IPOPT_STATUS` for this problem. An interrupt (Ctrl-C or SIGTERM during
-    the solve) raises KeyboardInterrupt.
+    ``accept_acceptable`` also accepts IPOPT's "Solved_To_Acceptable_Level" and ``also_accept`` the
+    statuses it names (the caller then checks the point itself); ``hints`` replace the generic words
+    of :data:`IPOPT_STATUS` for this problem. An interrupt (Ctrl-C or SIGTERM during the solve)
+    raises KeyboardInterrupt.
     """
     started = time.perf_counter()
     solution = solver(**arguments)
@@ -83,7 +85,7 @@ def solve(solver: ca.Function, *, what: str, accept_acceptable: bool = False,
     interrupts.check(raw)  # a signal during the solve, whatever status IPOPT then reports
     status = str(raw.get("return_status", "unknown"))
     acceptable = accept_acceptable and status == "Solved_To_Acceptable_Level"
-    success = bool(raw.get("success", False)) or acceptable
+    success = bool(raw.get("success", False)) or acceptable or status in also_accept
     stats = SolverStats("ipopt", status, success, int(raw.get("iter_count", -1)), wall, ca.__version__,
                         ipopt_version())
     if not success:

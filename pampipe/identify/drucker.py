@@ -121,7 +121,7 @@ def bernstein_rows(geometries, degree: int, pressures, lengths, *, reference_pre
     corners of a calibration's bounds): the union of their strain ranges, cut into as many equal
     intervals, so that the constraint holds whatever geometry the fit settles on.
     """
-    lengths = np.unique(np.asarray(lengths, float))
+    lengths = np.sort(np.asarray(lengths, float))  # not unique: the row count depends on len(lengths) only
     strains = [_strains(g, lengths) for g in geometries]
     if len(geometries) == 1:
         edges = [np.sort(strains[0][0]), np.sort(strains[0][1])]

@@ -5,10 +5,10 @@ user needs is known. This module answers for the numbers themselves:
 
 * the **envelope** of the data: the cells of a :data:`CELLS` × :data:`CELLS` grid over the tested
   (P, L) range of the axial tests that hold measured rows;
-* the axial force F_ax(P, L) at the centre of every cell of that range and above the largest
-  tested pressure (up to :data:`ABOVE` × P_max), grouped into regions: inside the envelope, in the
-  tested ranges but untested (e.g. the slack corner, or between held lengths), above the tested
-  pressures;
+* the axial force F_ax(P, L) grouped into regions: at the tested points themselves (a subsample of
+  the measured rows), at the centres of the cells of the tested ranges that hold no data (e.g. the
+  slack corner, or between held lengths: interpolation) and above the largest tested pressure (up
+  to :data:`ABOVE` × P_max: extrapolation);
 * at every pipe diameter of interest (the radial tests' and ``fit.pipe_diameters``): the
   anchoring pressure and the radial force at the largest tested pressure, with a flag saying
   whether the anchored length L(D_p) lies inside the envelope above the anchoring pressure (or the
@@ -34,6 +34,8 @@ from pampipe.model.muscle import Muscle
 
 #: Grid cells per axis over the tested (P, L) range.
 CELLS = 12
+#: Tested points (a uniform subsample of the measured rows) at which the inside is judged.
+INSIDE_POINTS = 200
 #: Pressures above the tested range are judged up to this multiple of the largest tested pressure.
 ABOVE = 1.25
 #: A prediction is determined when at most this share of its sensitivity is unidentifiable.
@@ -132,19 +134,20 @@ def predictions(data, structure: Structure, x, uncertainty, geometry, stated, op
         p_edges = np.linspace(pressure.min(), pressure.max(), CELLS + 1)
         l_edges = np.linspace(length.min(), length.max(), CELLS + 1)
         occupied = np.histogram2d(pressure, length, bins=[p_edges, l_edges])[0] > 0
-        regions = _regions(judged, muscles, occupied, p_edges, l_edges)
+        every = np.linspace(0, pressure.size - 1, min(pressure.size, INSIDE_POINTS)).astype(int)
+        regions = _regions(judged, muscles, occupied, p_edges, l_edges, pressure[every], length[every])
     pipes = _pipes(data, options, judged, muscles, geometry, occupied, p_edges, l_edges)
     return Predictions(None if p_edges is None else (float(p_edges[0]), float(p_edges[-1])),
                        None if l_edges is None else (float(l_edges[0]), float(l_edges[-1])), regions, pipes)
 
 
-def _regions(judged, muscles, occupied, p_edges, l_edges) -> tuple[Region, ...]:
+def _regions(judged, muscles, occupied, p_edges, l_edges, tested_p, tested_l) -> tuple[Region, ...]:
     pc, lc = 0.5 * (p_edges[1:] + p_edges[:-1]), 0.5 * (l_edges[1:] + l_edges[:-1])
     pp, ll = np.meshgrid(pc, lc, indexing="ij")
     above = np.linspace(p_edges[-1], ABOVE * p_edges[-1], 4)[1:]
     ap, al = np.meshgrid(above, lc[occupied[-1]] if occupied[-1].any() else lc, indexing="ij")
-    sets = [("inside the tested envelope", pp[occupied], ll[occupied]),
-            ("tested ranges, untested (P, L)", pp[~occupied], ll[~occupied]),
+    sets = [("at the tested (P, L) points", tested_p, tested_l),
+            ("in the tested ranges, untested", pp[~occupied], ll[~occupied]),
             (f"above the tested pressures (to {ABOVE:g} x)", ap.ravel(), al.ravel())]
     out = []
     for name, p, length in sets:

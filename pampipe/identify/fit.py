@@ -13,7 +13,6 @@ while it is negative (:mod:`.drucker`); (6) uncertainty from the Hessian at the 
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from dataclasses import replace
@@ -45,8 +44,15 @@ FIT_HINTS = {
                                    "(widen fit.bounds or check the data)",
 }
 LAW_NAMES = problem.LAW_NAMES
-#: Solves at most while slack cells change side (each re-solve starts from the last solution).
-HINGE_ROUNDS = 8
+#: IPOPT statuses after which the solve is restarted from its last point: the scale set at an
+#: infeasible start can leave the converged objective hundreds of times larger, where IPOPT's
+#: absolute tolerance can no longer be met; rescaled at the stopping point it converges.
+STALLED = ("Search_Direction_Becomes_Too_Small",)
+#: Solves at most while the problem's data follow the solution (slack cells changing side, Drucker
+#: intervals following a calibrated geometry); each re-solve starts from the last solution.
+UPDATE_ROUNDS = 8
+#: Drucker rows (unit max-norm) that moved less than this are kept.
+ROWS_MOVED = 1e-6
 
 
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
@@ -63,8 +69,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta
-    pressures, lengths = _grid(data, stats, options)
-    grid = _constraint_rows(data, stated, options, pressures, lengths, n, stats)
+    pressures, lengths, low = _grid(data, stats, options)
+    grid = _constraint_rows(stated, options, pressures, lengths, n)
     contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
     prior = problem.prior_kind(options)
     structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
@@ -85,12 +91,13 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
 
+    update = _updater(values, stats, structure, stated, options, pressures, low)
     fixed = _geometry_mask(structure, x0.size)
     stated_fit = None
     wall_time, iterations = 0.0, 0
     if options.calibrate:  # fits at fixed geometry first: the stated one, then the blocked-force start
         say("fitting at the stated geometry")
-        x0, info = _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, stated)
+        x0, info = _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
         wall_time, iterations = info.wall_time, info.iterations
         stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
         start = _start_geometry(data, stated, options, lbx[fixed], ubx[fixed])
@@ -99,13 +106,13 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
             guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, start)
             guess[fixed] = geo.stated_x(start, structure.calibrate)
             guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-            other, info = _fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, stated)
+            other, info = _fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, update)
             wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
             if float(nlp.sse(other, nlp.layout.pack(values))) < stated_fit:
                 x0 = other
     say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
         + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
-    solution, info = _solve(nlp, values, x0, lbx, ubx, stats, structure, stated)
+    solution, info = _solve(nlp, values, x0, lbx, ubx, stats, structure, update)
     x = np.asarray(solution["x"], dtype=float).ravel()
     wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
@@ -135,36 +142,62 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         excluded_rows=stats.excluded)
 
 
-def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, stated):
-    """IPOPT; with slack cells, re-solved until no slack cell changes side (the exact hinge).
+def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update):
+    """IPOPT, re-solved from its last point while ``update(x)`` changes the data of the problem.
 
-    A slack cell is clipped (predicts max(0, F) = 0) where the model at its mean is ≤ 0, live
-    otherwise; ``values["cells"]`` is updated in place. Returns (solution, statistics summed over
-    the solves).
+    ``update`` (see :func:`_updater`) moves slack cells between clipped and live and, with a
+    calibrated geometry, puts the Drucker intervals where the fitted geometry's strains are.
+    Returns (solution, statistics summed over the solves).
+    """
+    iterations, wall = 0, 0.0
+    x = x0
+    for _ in range(UPDATE_ROUNDS):
+        for attempt in range(2):  # a stalled solve is restarted once from where it stopped, rescaled
+            _scale(nlp, values, x, stats, structure)
+            solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
+                                   also_accept=() if attempt else STALLED, x0=x, p=nlp.layout.pack(values),
+                                   lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
+            iterations, wall = iterations + info.iterations, wall + info.wall_time
+            x = np.asarray(solution["x"], dtype=float).ravel()
+            if info.status not in STALLED:
+                break
+        if not update(x):
+            break
+    return solution, replace(info, iterations=iterations, wall_time=wall)
+
+
+def _updater(values, stats: Statistics, structure: Structure, stated, options: FitOptions, pressures, low):
+    """``update(x) -> changed`` for :func:`_solve`, changing ``values`` in place.
+
+    Slack cells: clipped (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise.
+    Calibrated geometry (tangent form): the Bernstein rows over the strains of the fitted geometry
+    for the grid's lengths, so that the constraint covers the range the model is used in.
     """
     slack = None if stats.cells is None else stats.cells.slack
     row = FIELDS.index("clipped")
-    iterations, wall = 0, 0.0
-    x = x0
-    for _ in range(HINGE_ROUNDS):
-        _scale(nlp, values, x, stats, structure)
-        solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
-                               x0=x, p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
-        iterations, wall = iterations + info.iterations, wall + info.wall_time
-        x = np.asarray(solution["x"], dtype=float).ravel()
-        if slack is None or not slack.any():
-            break
-        moments = values["cells"]
+    rows_follow = bool(structure.calibrate) and structure.grid_rows and options.drucker == "tangent"
+
+    def update(x) -> bool:
         geometry = geo.from_x(stated, structure.calibrate, x[_geometry_mask(structure, x.size)]) \
             if structure.calibrate else stated
-        theta = x[:stats.n_theta] * MPA
-        count = stats.cells.count
-        model = forces.axial_force(moments[1, :count] * MPA, moments[2, :count], geometry, theta, MPA)
-        clipped = (slack & (np.asarray(model) <= 0)).astype(float)
-        if np.array_equal(clipped, moments[row, :count]):
-            break
-        moments[row, :count] = clipped
-    return solution, replace(info, iterations=iterations, wall_time=wall)
+        changed = False
+        if slack is not None and slack.any():
+            moments, count = values["cells"], stats.cells.count
+            model = forces.axial_force(moments[1, :count] * MPA, moments[2, :count], geometry,
+                                       x[:stats.n_theta] * MPA, MPA)
+            clipped = (slack & (np.asarray(model) <= 0)).astype(float)
+            changed = not np.array_equal(clipped, moments[row, :count])
+            moments[row, :count] = clipped
+        if rows_follow:
+            lengths = _grid_lengths(geometry, stats.pipes, low, options)
+            rows = drucker.bernstein_rows([geometry], options.degree, pressures, lengths,
+                                          reference_pressure=MPA)
+            if np.max(np.abs(rows - values["grid"])) > ROWS_MOVED:
+                values["grid"] = rows
+                changed = True
+        return changed
+
+    return update
 
 
 def _scale(nlp, values, x, stats: Statistics, structure: Structure) -> None:
@@ -180,11 +213,11 @@ def _scale(nlp, values, x, stats: Statistics, structure: Structure) -> None:
         values["scale"] = max(groups * math.sqrt(sse / max(stats.points, 1)), 1e-9)
 
 
-def _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, stated):
+def _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update):
     """The moduli fit with the calibrated entries held at their values in ``x0``."""
     fixed = _geometry_mask(structure, x0.size)
     solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx), stats,
-                            structure, stated)
+                            structure, update)
     return np.asarray(solution["x"], dtype=float).ravel(), info
 
 
@@ -201,22 +234,17 @@ def _start_geometry(data, stated, options: FitOptions, low, high):
     return start if np.all((low < value) & (value < high)) else None
 
 
-def _constraint_rows(data, stated, options: FitOptions, pressures, lengths, n: int, stats) -> np.ndarray:
-    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum);
-    with calibration, over the strains of every corner of the geometry bounds."""
+def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
+    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum)."""
     if options.drucker == "none":
         return np.zeros((0, n))
     if options.drucker == "sum":
         return drucker_rows(stated, options.degree, pressures, lengths, form="sum")
-    corners = [stated]
-    if options.calibrate:
-        bounds = geo.bounds(data, options, stats.pipes)
-        corners = [geo.from_x(stated, options.calibrate, values)
-                   for values in itertools.product(*(bounds[name] for name in options.calibrate))]
-    return drucker.bernstein_rows(corners, options.degree, pressures, lengths, reference_pressure=MPA)
+    return drucker.bernstein_rows([stated], options.degree, pressures, lengths, reference_pressure=MPA)
 
 
 def _geometry_mask(structure: Structure, size: int) -> np.ndarray:
+    """True at the calibrated geometry entries (the last block of x)."""
     mask = np.zeros(size, dtype=bool)
     if structure.calibrate:
         mask[size - len(structure.calibrate):] = True
@@ -258,6 +286,8 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
 
 
 def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
+    """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
+    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
     geometry = data.pam.geometry
     tested = np.concatenate([t.pressure for t in data.tests])
     p_max = max(float(tested.max()), 1.0)
@@ -271,9 +301,15 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
         except SolverError:
             pass
     low = max(low, geometry.shortest_length * 1.001)
-    lengths = np.unique(np.concatenate([np.linspace(low, geometry.initial_length, options.grid_lengths),
-                                        pipe_lengths]))
-    return pressures, lengths
+    return pressures, _grid_lengths(geometry, stats.pipes, low, options), low
+
+
+def _grid_lengths(geometry, pipes, low, options: FitOptions) -> np.ndarray:
+    """``grid_lengths`` lengths from ``low`` to L₀ and the pipes' anchored lengths, sorted (a fixed count:
+    the NLP's Drucker rows keep their number when a calibrated geometry moves them)."""
+    pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in pipes]
+    return np.sort(np.concatenate([np.linspace(low, geometry.initial_length, options.grid_lengths),
+                                   pipe_lengths]))
 
 
 def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:
