@@ -150,9 +150,10 @@ def rate_sign(x: np.ndarray) -> np.ndarray:
     σ is estimated from the median absolute second difference (insensitive to ramps); the lag k
     (1, 2, 4, …) is the smallest whose central difference x[i+k] − x[i−k] has a median magnitude
     above 6σ, and a row gets the sign of that difference where it exceeds 3√2σ, the sign of the
-    row before it otherwise (turning points). Runs shorter than k between runs of the same sign
-    are noise and take their neighbours' sign. Returns zeros when x does not move consistently
-    along the series (held, or not in time order).
+    row 0 otherwise: a turning point or a dwell, where the direction (and any friction) is
+    undetermined. Runs shorter than k between runs of the same sign are noise and take their
+    neighbours' sign. Returns zeros when x does not move consistently along the series (held, or
+    not in time order).
     """
     x = np.asarray(x, dtype=float)
     n = x.size
@@ -172,7 +173,7 @@ def rate_sign(x: np.ndarray) -> np.ndarray:
         lag *= 2
     core = np.where(np.abs(delta) > 3 * np.sqrt(2) * sigma, np.sign(delta), 0).astype(np.int8)
     signs[lag:n - lag] = core
-    signs = _fill(signs)
+    signs[:lag], signs[n - lag:] = core[0], core[-1]
     return _drop_short_runs(signs, lag)
 
 
@@ -224,7 +225,7 @@ def cycles(signs: np.ndarray, groups: np.ndarray, order: np.ndarray | None) -> n
     out = np.zeros(n, dtype=np.int64)
     for group in np.unique(groups):
         rows = order[groups[order] == group]
-        s = signs[rows].astype(np.int64)
+        s = _fill(signs[rows]).astype(np.int64)  # a turning point (0) between + and − is one switch
         out[rows] = np.cumsum(np.concatenate([[0], (np.diff(s) < 0).astype(np.int64)]))
     return out
 

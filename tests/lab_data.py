@@ -61,15 +61,14 @@ def force_map(muscle: Muscle, pressures, lengths, *, noise=1.0, rng=None, order=
     """
     rng = rng or np.random.default_rng(0)
     pp, ll = np.meshgrid(np.asarray(pressures, float), np.asarray(lengths, float), indexing="ij")
+    model = np.asarray(muscle.axial_force(pp, ll), float)
+    force = np.where(model > 0, model + noise * rng.standard_normal(model.shape), 0.0)
+    k = np.arange(force.size)  # the same readings in every order
     if order == "length-major":
-        pp, ll = pp.T, ll.T
-    pressure, length = pp.ravel(), ll.ravel()
-    model = np.asarray(muscle.axial_force(pressure, length), float)
-    force = np.where(model > 0, model + noise * rng.standard_normal(model.size), 0.0)
-    if order == "shuffled":
+        k = k.reshape(pp.shape).T.ravel()
+    elif order == "shuffled":
         k = rng.permutation(force.size)
-        pressure, length, force = pressure[k], length[k], force[k]
-    return {"pressure": pressure, "length": length, "force": force}
+    return {"pressure": pp.ravel()[k], "length": ll.ravel()[k], "force": force.ravel()[k]}
 
 
 def stepped(muscle: Muscle, levels, *, points=60, noise=1.0, pressure_noise=500.0, rng=None

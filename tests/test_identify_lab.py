@@ -180,8 +180,11 @@ def test_a_ramp_stays_a_ramp_and_its_legs_follow_dP_dt(radial_pam, muscle):
     assert test.protocol == "isometric" and not test.has_levels
     np.testing.assert_allclose(test.level_length, [0.26, 0.29])
     assert test.direction_source == "time"
-    # turning points: the lagged difference may assign a few rows near each of the 8 turns late
-    assert np.mean(test.pressure_leg == cols["filling"]) > 0.98
+    # no row gets the wrong direction; rows within the lag of each of the 8 turning points get 0
+    # (undetermined: friction is anywhere in its band while the motion reverses)
+    known = test.pressure_leg != 0
+    assert np.all(test.pressure_leg[known] == cols["filling"][known])
+    assert np.mean(known) > 0.9
     assert not np.any(test.leg)  # no length rate in an isometric test
 
 
@@ -199,37 +202,26 @@ def test_shuffled_rows_with_a_time_column_keep_their_legs_and_without_it_say_unk
     np.testing.assert_array_equal(direction.pressure_leg, shuffled["filling"])
 
 
-@pytest.mark.parametrize("order", ["length-major", "pressure-major", "shuffled"])
-def test_identify_exits_0_in_every_row_order_with_the_same_fit(tmp_path, capsys, radial_pam, muscle, lengths,
-                                                               order):
-    """The CLI on CSV files of one force map written in three row orders: exit 0, the same fit."""
-    cols = force_map(muscle, np.linspace(100e3, 600e3, 6), lengths, noise=SIGMA, rng=np.random.default_rng(1),
-                     order=order)
-    path = write_experiment(tmp_path, "map", Pam(radial_pam.name, radial_pam.geometry),
-                            [(axial(), cols)])
-    code = main(["identify", str(path), "--json", "--degree", "1", "--calibrate", "braid_angle"])
-    out, err = capsys.readouterr()
-    assert code == 0, err
-    assert "Traceback" not in err
-    doc = json.loads(out)
-    # the statistics do not depend on the order: the RMSE agrees with the pressure-major fit to
-    # round-off in the sums (1e-6 relative)
-    reference = _reference_rmse(radial_pam, muscle, lengths)
-    assert doc["fit"]["rmse_N"] == pytest.approx(reference, rel=1e-6)
-    assert doc["geometry"]["calibrated"] == ["braid_angle"]
-    assert doc["fit"]["tests"][0]["levels"] is not None  # 6 pressure levels in every order
-
-
-_REFERENCE = {}
-
-
-def _reference_rmse(radial_pam, muscle, lengths):
-    if "rmse" not in _REFERENCE:
+def test_identify_exits_0_in_every_row_order_with_the_same_fit(tmp_path, capsys, radial_pam, muscle, lengths):
+    """The CLI on CSV files of one force map (the same readings) written length-major, pressure-major
+    and shuffled: exit 0 each time, and the same fit (the statistics do not depend on the order; the
+    sums agree to round-off, 1e-9 relative)."""
+    rmse = {}
+    for order in ("length-major", "pressure-major", "shuffled"):
         cols = force_map(muscle, np.linspace(100e3, 600e3, 6), lengths, noise=SIGMA,
-                         rng=np.random.default_rng(1))
-        data = experiment(radial_pam, [(axial(), cols)])
-        _REFERENCE["rmse"] = identify(data, FitOptions(degree=1, calibrate=("braid_angle",))).rmse
-    return _REFERENCE["rmse"]
+                         rng=np.random.default_rng(1), order=order)
+        path = write_experiment(tmp_path / order, "map", Pam(radial_pam.name, radial_pam.geometry),
+                                [(axial(), cols)])
+        code = main(["identify", str(path), "--json", "--degree", "1", "--calibrate", "braid_angle"])
+        out, err = capsys.readouterr()
+        assert code == 0, err
+        assert "Traceback" not in err
+        doc = json.loads(out)
+        assert doc["geometry"]["calibrated"] == ["braid_angle"]
+        assert len(doc["fit"]["tests"][0]["levels"]) == 6  # the 6 pressure levels in every order
+        rmse[order] = doc["fit"]["rmse_N"]
+    assert rmse["length-major"] == pytest.approx(rmse["pressure-major"], rel=1e-9)
+    assert rmse["shuffled"] == pytest.approx(rmse["pressure-major"], rel=1e-9)
 
 
 def test_radial_tests_with_30_readings_have_no_levels_and_still_fit(radial_pam, muscle, lengths):
@@ -254,11 +246,12 @@ def test_radial_tests_with_30_readings_have_no_levels_and_still_fit(radial_pam, 
 # ------------------------------------------------------------------------------------- hysteresis
 def _refit(muscle_truth, data, name, theta0):
     """Least squares over (θ, the effect's parameters) through Muscle with the effect on: an
-    independent refit (scipy, every row), not diagnose's."""
+    independent refit (scipy, row by row), not diagnose's. Rows at a turning point of the pressure
+    have no direction (0): the band is undetermined there, so every candidate is judged without them."""
     test = data.tests[0]
     effect = LIBRARY[name]
     params = effect.parameters
-    live = test.force > 0
+    live = (test.force > 0) & (test.pressure_leg != 0)  # measured rows off the turning points
 
     def residual(z):
         values = {p.name: z[8 + i] * p.scale for i, p in enumerate(params)}
