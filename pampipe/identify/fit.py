@@ -51,6 +51,9 @@ STALLED = ("Search_Direction_Becomes_Too_Small",)
 #: Solves at most while the problem's data follow the solution (slack cells changing side, Drucker
 #: intervals following a calibrated geometry); each re-solve starts from the last solution.
 UPDATE_ROUNDS = 8
+#: The objective's scale is at least this RMS residual [N] per row (a near-exact start would make it
+#: vanish and IPOPT's steps degenerate).
+SCALE_FLOOR = 1e-3
 #: Drucker rows (unit max-norm) that moved less than this are kept.
 ROWS_MOVED = 1e-6
 
@@ -150,17 +153,25 @@ def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, u
     Returns (solution, statistics summed over the solves).
     """
     iterations, wall = 0, 0.0
-    x = x0
-    for _ in range(UPDATE_ROUNDS):
-        for attempt in range(2):  # a stalled solve is restarted once from where it stopped, rescaled
-            _scale(nlp, values, x, stats, structure)
-            solution, info = solve(nlp.solver, what="the moduli fit (no result was written)", hints=FIT_HINTS,
-                                   also_accept=() if attempt else STALLED, x0=x, p=nlp.layout.pack(values),
-                                   lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
-            iterations, wall = iterations + info.iterations, wall + info.wall_time
-            x = np.asarray(solution["x"], dtype=float).ravel()
-            if info.status not in STALLED:
-                break
+    x, last = x0, None
+    for round_ in range(UPDATE_ROUNDS):
+        try:
+            for attempt in range(2):  # a stalled solve is restarted once from where it stopped, rescaled
+                _scale(nlp, values, x, stats, structure)
+                solution, info = solve(nlp.solver, what="the moduli fit (no result was written)",
+                                       hints=FIT_HINTS, also_accept=() if attempt else STALLED, x0=x,
+                                       p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
+                iterations, wall = iterations + info.iterations, wall + info.wall_time
+                x = np.asarray(solution["x"], dtype=float).ravel()
+                if info.status not in STALLED:
+                    break
+        except SolverError:
+            if round_ == 0:
+                raise
+            values.update(last[2])  # a refinement failed: keep the previous solve and its data
+            solution, info = last[0], last[1]
+            break
+        last = (solution, info, {k: np.array(v, copy=True) for k, v in values.items()})
         if not update(x):
             break
     return solution, replace(info, iterations=iterations, wall_time=wall)
@@ -204,7 +215,7 @@ def _scale(nlp, values, x, stats: Statistics, structure: Structure) -> None:
     """Scales that make IPOPT's objective 1 at the start ``x`` (a warm start from a good point would
     otherwise have an objective far below the barrier terms, which then pull the iterates away)."""
     values["scale"] = values["scale_sse"] = 1.0
-    sse = max(float(nlp.sse(x, nlp.layout.pack(values))), 1e-12)
+    sse = max(float(nlp.sse(x, nlp.layout.pack(values))), SCALE_FLOOR**2 * max(stats.points, 1))
     values["scale_sse"] = sse
     if structure.objective == "least_squares":
         values["scale"] = sse
