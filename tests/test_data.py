@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -109,11 +111,34 @@ def test_legs_and_cycles_of_a_triangle_wave():
     assert np.all(cycle[:19] == 0) and np.all(cycle[-15:] == 2)
 
 
-def test_oversized_file_is_refused_not_loaded(tmp_path, monkeypatch):
-    """Issue 7: a file beyond the row cap is refused with a clear message (cap lowered for the test)."""
-    monkeypatch.setattr(data_module, "MAX_ROWS", 1000)
-    monkeypatch.setattr(data_module, "BLOCK_BYTES", 2048)
+def test_a_file_that_would_not_fit_in_memory_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    """The row count is estimated from the file size; a file whose rows need more than the available
+    memory is refused with a clear message (the available memory is lowered for the test)."""
+    monkeypatch.setattr(data_module.os, "sysconf", lambda name: {"SC_AVPHYS_PAGES": 10,
+                                                                 "SC_PAGE_SIZE": 4096}[name])
     path = tmp_path / "big.csv"
     path.write_text("pressure [kPa], force [N]\n" + "100, 5\n" * 1300)
-    with pytest.raises(InputError, match="more than 1,000 data rows"):
+    with pytest.raises(InputError, match=r"would need .* GB of memory"):
         read_csv(path, required=("pressure", "force"))
+
+
+@pytest.mark.parametrize("text", ["1,2,3\n4,5,6\n", "1,2,3\n\n4,5,6\n", "1.5,-2e3,3\n4,5,6\n"])
+def test_the_fast_reader_gives_the_chunked_readers_numbers(tmp_path, monkeypatch, text):
+    path = write(tmp_path, "pressure [Pa],length [m],force [N]\n" + text * 50)
+    chunked = read_csv(path, required=AXIAL)
+    monkeypatch.setattr(data_module, "FAST_BYTES", 0)
+    fast = read_csv(path, required=AXIAL)
+    for name in AXIAL:
+        np.testing.assert_array_equal(fast[name], chunked[name])
+
+
+@pytest.mark.parametrize(("text", "expected"), [
+    ("1,2,3\n4,x,6\n", "line 3, column 2 (length): 'x' is not a"),
+    ("1,2,3\n4,5\n", "line 3: has 2 cells but the header has 3"),
+    ("1,2,nan\n", "line 2, column 3 (force): 'nan' is not a finite"),
+])
+def test_the_fast_reader_still_names_the_bad_line(tmp_path, monkeypatch, text, expected):
+    monkeypatch.setattr(data_module, "FAST_BYTES", 0)
+    path = write(tmp_path, "pressure [kPa],length [mm],force [N]\n" + text)
+    with pytest.raises(InputError, match=re.escape(expected)):
+        read_csv(path, required=AXIAL)

@@ -120,16 +120,21 @@ def axial_force_affine(length, geometry, theta, reference_pressure=1e6, *, diame
 def axial_force_regressors(pressure, length, geometry, degree, reference_pressure=1e6):
     """(offset, φ) with F_ax = offset + φ·θ: F_ax is linear in the moduli θ (for identification).
 
-    offset = P·area [N]; φ has 4(degree + 1) entries [N/Pa] ordered like θ.
+    offset = P·area [N]; φ has 4(degree + 1) entries [N/Pa] ordered like θ: ε₁^(j+1)·lever₁,
+    (P/P_ref)ε₁^(j+1)·lever₁, −ε₂^(j+1)·lever₂, −(P/P_ref)ε₂^(j+1)·lever₂, powers by repeated products.
     """
-    area, lever1, lever2 = axial_levers(length, geometry)
-    eps_axial, eps_hoop = strains(length, diameter_at_length(length, geometry), geometry)
+    diameter = diameter_at_length(length, geometry)
+    area, lever1, lever2 = axial_levers(length, geometry, diameter)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
     scaled = pressure / reference_pressure
-    powers_1 = [eps_axial ** (j + 1) for j in range(degree + 1)]
-    powers_2 = [eps_hoop ** (j + 1) for j in range(degree + 1)]
-    row = ([p * lever1 for p in powers_1] + [scaled * p * lever1 for p in powers_1]
-           + [-p * lever2 for p in powers_2] + [-scaled * p * lever2 for p in powers_2])
-    return pressure * area, row
+    rows = []
+    for eps, lever in ((eps_axial, lever1), (eps_hoop, -lever2)):
+        terms = [eps * lever]
+        for _ in range(degree):
+            terms.append(terms[-1] * eps)
+        rows.append(terms)
+        rows.append([scaled * t for t in terms])
+    return pressure * area, [t for block in rows for t in block]
 
 
 def anchoring_pressure(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):
