@@ -1,138 +1,148 @@
-"""Benchmark: `identify` vs scipy SLSQP (finite differences, the fmincon analogue) vs scipy least_squares.
+"""Benchmark: `pampipe identify` as a whole process against the strongest scipy script a user would write.
 
-Same data (the paper protocol generated from the demo moduli, 2 N force noise, scaled to 3·10³ …
-3·10⁶ rows), same model (the exact Eq. 9 / F_r = max(0, A(F_ax − F_a)) on every row), same start
-(pampipe's bounded linear least-squares guess), same bounds; SLSQP gets the same Drucker rows on the
-same grid as linear inequality constraints (their Jacobian by finite differences too, as fmincon
-would). least_squares has bounds only (no Drucker constraint): a speed reference.
+Peer: ``benchmarks/baseline_identify.py``: pandas' C reader, the same model in numpy written with
+products, ``scipy.optimize.least_squares`` (trf) with the analytic Jacobian (F_ax is linear in the
+moduli), pampipe's bounds, no Drucker constraint. Both read the same CSV files (the paper protocol
+generated from the demo moduli with 2 N force noise, scaled to 3·10⁴ … 3·10⁶ rows), both run as
+whole processes (imports, reading, fit, output) with one BLAS/OpenMP thread, alternating, and the
+median of ``--repeat`` runs is taken. The SSE of both is printed: the fits must agree (pampipe also
+holds Drucker stability, so its SSE can only be equal or slightly higher).
 
-Times: pampipe "build" is the NLP construction (cache cleared before each size), "solve" is
-everything else of `identify` (data reduction, IPOPT, uncertainty, exact per-row report). The
-baselines have no build; "solve" is the optimiser call. The objective is the exact sum of squared
-residuals over all rows (lower is better). Two ratios: baseline time / pampipe total time (build
-included: a single fit in a fresh process) and baseline time / pampipe solve time (the NLP is
-cached: every further fit of data with the same structure, e.g. refits, seeds, diagnose).
-The shared start is already close to the optimum, which favours the baselines.
+pampipe runs with its on-disk NLP cache warm (a first run fills it; its time is printed as the
+cold start). Peak memory is each child's maximum resident set (``os.wait4``).
 
-SLSQP and least_squares evaluate the model on every row at every finite-difference step; above
-``BASELINE_CAP`` rows they would run for many minutes, so they are skipped there (printed as such).
-Run: ``.venv/bin/python benchmarks/bench_identify.py [--sizes 3000 30000 ...] [--cap N]``.
+Second part: geometry calibration on a 10⁵-row isometric data set (ramps at 5 held lengths, the
+braid angle stated 3° and the rest length 1 mm off) against the plain fit of the same file, both
+whole processes.
+
+Run: ``.venv/bin/python benchmarks/bench_identify.py [--scales 10 100 1000] [--repeat 3]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import LinearConstraint, least_squares, minimize
 
-from pampipe.experiment import ExperimentData, make_test_data
-from pampipe.identify import FitOptions, identify, predict
-from pampipe.identify.fit import _decision_names_and_bounds, _initial_guess, _reference_theta
-from pampipe.identify.nlp import Structure, build_problem
-from pampipe.identify.statistics import drucker_rows, reduce_experiment
+from pampipe.experiment import TestSpec
 from pampipe.io.config import load_pam
-from pampipe.model.pam import Moduli, Pam
+from pampipe.io.pamfile import write_experiment
+from pampipe.model.muscle import Muscle
+from pampipe.model.pam import Pam
 from pampipe.synth import Protocol, generate
 
 ROOT = Path(__file__).resolve().parent.parent
-BASELINE_CAP = 300_000
+THREADS = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 
-def make_data(pam: Pam, scale: int) -> ExperimentData:
-    """≈ 2988·scale rows: 1800·scale axial (30·scale points per leg) and 1188·scale radial."""
-    protocol = Protocol(points_per_leg=30 * scale, radial_points=27 * scale)
-    tests = [make_test_data(spec, cols) for spec, cols in generate(pam, protocol, seed=scale)]
-    return ExperimentData(ROOT / "bench", Pam(pam.name, pam.geometry, pam.moduli), tuple(tests), {})
+def run(args, env) -> tuple[float, dict, float]:
+    """(wall seconds, the JSON it printed, peak RSS [MB]) of one child process (reaped by os.wait4)."""
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        started = time.perf_counter()
+        child = subprocess.Popen(args, stdout=out, stderr=err, env=env, cwd=ROOT)
+        _, status, usage = os.wait4(child.pid, 0)
+        wall = time.perf_counter() - started
+        child.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        if child.returncode:
+            raise RuntimeError(f"{args[:4]} failed: {err.read().decode()[-2000:]}")
+        return wall, json.loads(out.read()), usage.ru_maxrss / 1024
 
 
-def sse_of(data: ExperimentData, theta_mpa: np.ndarray) -> float:
-    pam = Pam(data.pam.name, data.pam.geometry, Moduli.from_vector(theta_mpa * 1e6))
-    return float(sum(np.sum((predict(pam, t) - t.force) ** 2) for t in data.tests))
+def paper_protocol(pam: Pam, scale: int, folder: Path) -> tuple[Path, Path, int]:
+    """(experiment file, baseline job file, rows) of ≈ 2988·scale rows."""
+    tests = generate(pam, Protocol(points_per_leg=30 * scale, radial_points=27 * scale), seed=scale)
+    path = write_experiment(folder, "bench", Pam(pam.name, pam.geometry), tests, overwrite=True)
+    g = pam.geometry
+    job = {"degree": 3, "geometry": {"initial_length": g.initial_length, "initial_diameter": g.initial_diameter,
+                                     "braid_angle": g.braid_angle, "bladder_thickness": g.bladder_thickness},
+           "tests": [{"kind": spec.kind, "csv": str(folder / "data" / "bench" / f"{spec.name}.csv"),
+                      "pipe_diameter": spec.pipe_diameter, "axial_load": spec.axial_load} for spec, _ in tests]}
+    job_path = folder / "job.json"
+    job_path.write_text(json.dumps(job))
+    return path, job_path, sum(cols["force"].size for _, cols in tests)
 
 
-def residual_vector(data: ExperimentData, theta_mpa: np.ndarray) -> np.ndarray:
-    pam = Pam(data.pam.name, data.pam.geometry, Moduli.from_vector(theta_mpa * 1e6))
-    return np.concatenate([predict(pam, t) - t.force for t in data.tests])
-
-
-def baseline_setup(data: ExperimentData, result):
-    """Start, bounds and Drucker rows identical to pampipe's."""
-    options = result.options
-    stats = reduce_experiment(data, degree=options.degree)
-    structure = Structure("shared", "least_squares", stats.n_theta, 1,
-                          tuple((r.levels, r.pipe) for r in stats.radial), len(stats.pipes), 0, 0,
-                          "constant", "none", 1, 1.0)
-    _, lower, upper = _decision_names_and_bounds(structure, stats, options)
-    x0 = np.clip(_initial_guess(structure, stats, stats.axial.combined(),
-                                _reference_theta(data, stats.n_theta), lower, upper),
-                 lower + 1e-6 * (upper - lower), upper - 1e-6 * (upper - lower))
-    grid = drucker_rows(data.pam.geometry, options.degree, result.drucker_grid["pressures"],
-                        result.drucker_grid["lengths"], form="tangent")
-    return x0, lower, upper, grid
-
-
-def run_slsqp(data, x0, lower, upper, grid):
-    scale = sse_of(data, x0)
-    started = time.perf_counter()
-    fit = minimize(lambda th: sse_of(data, th) / scale, x0, method="SLSQP",
-                   bounds=list(zip(lower, upper, strict=True)),
-                   constraints=[LinearConstraint(grid, 0, np.inf)],
-                   options={"maxiter": 500, "ftol": 1e-12})
-    return time.perf_counter() - started, sse_of(data, fit.x), f"{fit.message[:28]}"
-
-
-def run_least_squares(data, x0, lower, upper):
-    started = time.perf_counter()
-    fit = least_squares(lambda th: residual_vector(data, th), x0, bounds=(lower, upper), x_scale="jac")
-    return time.perf_counter() - started, sse_of(data, fit.x), f"{fit.message[:28]}"
+def isometric(pam: Pam, rows: int, folder: Path) -> Path:
+    """Ramps 0 → 600 kPa → 0 at 5 held lengths (slack rows read 0 N), stated geometry 3° and 1 mm off."""
+    muscle = Muscle.from_pam(pam)
+    g = pam.geometry
+    lengths = np.linspace(0.25, g.initial_length, 5)
+    per = rows // (5 * 2)
+    path = np.concatenate([np.linspace(0, 600e3, per, endpoint=False), np.linspace(600e3, 0, per, endpoint=False)])
+    pressure, length = np.tile(path, 5), np.repeat(lengths, path.size)
+    force = np.asarray(muscle.axial_force(pressure, length), float)
+    force = np.where(force > 0, force + 2.0 * np.random.default_rng(7).standard_normal(force.size), 0.0)
+    stated = Pam(pam.name, type(g)(g.initial_length + 1e-3, g.initial_diameter, g.braid_angle + math.radians(3),
+                                   g.bladder_thickness, g.wall))
+    columns = {"time": 0.1 * np.arange(force.size), "pressure": pressure, "length": length, "force": force}
+    return write_experiment(folder, "isometric", stated, [(TestSpec("ramps", "axial", Path("x"), None, 0.0),
+                                                           columns)], overwrite=True)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[1, 10, 100, 1000],
-                        help="multiples of ≈ 2988 rows (default 1 10 100 1000: 3e3 … 3e6)")
-    parser.add_argument("--cap", type=int, default=BASELINE_CAP, help="largest row count for the baselines")
+    parser.add_argument("--scales", type=int, nargs="+", default=[10, 100, 1000],
+                        help="multiples of ≈ 2988 rows (default 10 100 1000: 3·10⁴ … 3·10⁶)")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--calibration-rows", type=int, default=100_000)
     args = parser.parse_args()
     pam = load_pam(ROOT / "problems" / "pams" / "paper-radial-pam.yaml")
-    rows = []
-    header = (f"{'rows':>9}  {'method':<26}{'build s':>9}{'solve s':>10}{'total s':>10}"
-              f"{'SSE [N^2]':>14}{'vs total':>10}{'vs solve':>10}  status")
-    identify(make_data(pam, 1), FitOptions(degree=1))  # warm-up: load CasADi's IPOPT plugin once
-    print(header)
-    print("-" * len(header))
-    for scale in args.sizes:
-        data = make_data(pam, scale)
-        build_problem.cache_clear()
-        started = time.perf_counter()
-        result = identify(data, FitOptions())
-        total = time.perf_counter() - started
-        build = result.solver.build_time
-        solve = total - build
-        rows.append((data.points, "pampipe (IPOPT, exact)", build, solve, total, result.sse, 1.0, 1.0,
-                     result.status))
-        print(_line(rows[-1]), flush=True)
-        if data.points > args.cap:
-            print(f"{data.points:>9}  {'scipy SLSQP / least_squares':<26}  skipped: above the "
-                  f"{args.cap:,}-row cap (each finite-difference step evaluates every row)", flush=True)
-            continue
-        x0, lower, upper, grid = baseline_setup(data, result)
-        seconds, sse, status = run_slsqp(data, x0, lower, upper, grid)
-        rows.append((data.points, "scipy SLSQP (FD, Drucker)", 0.0, seconds, seconds, sse, seconds / total,
-                     seconds / solve, status))
-        print(_line(rows[-1]), flush=True)
-        seconds, sse, status = run_least_squares(data, x0, lower, upper)
-        rows.append((data.points, "scipy least_squares (FD)", 0.0, seconds, seconds, sse, seconds / total,
-                     seconds / solve, status + " (no Drucker)"))
-        print(_line(rows[-1]), flush=True)
+    with tempfile.TemporaryDirectory(prefix="bench-identify-") as tmp:
+        tmp = Path(tmp)
+        env = {**os.environ, **THREADS, "PAMPIPE_NLP_CACHE": str(tmp / "cache")}
+        pampipe = [sys.executable, "-m", "pampipe", "identify"]
+        baseline = [sys.executable, str(ROOT / "benchmarks" / "baseline_identify.py")]
+        print(f"load average {os.getloadavg()[0]:.2f}; one BLAS thread; median of {args.repeat} whole processes")
+        header = (f"{'rows':>9} {'pampipe s':>10} {'least_sq s':>11} {'lead':>7} {'SSE pampipe':>13} "
+                  f"{'SSE least_sq':>13} {'rel diff':>9} {'RSS MB':>14}")
+        print(header)
+        print("-" * len(header))
+        cold = None
+        for scale in args.scales:
+            folder = tmp / f"scale{scale}"
+            experiment, job, rows = paper_protocol(pam, scale, folder)
+            if cold is None:
+                cold = run([*pampipe, str(experiment), "--json"], env)[0]  # fills the NLP cache
+            ours, theirs = [], []
+            for _ in range(args.repeat):
+                ours.append(run([*pampipe, str(experiment), "--json"], env))
+                theirs.append(run([*baseline, str(job)], env))
+            t_ours = statistics.median(r[0] for r in ours)
+            t_theirs = statistics.median(r[0] for r in theirs)
+            sse_ours, sse_theirs = ours[0][1]["fit"]["sse_N2"], theirs[0][1]["sse_N2"]
+            print(f"{rows:>9} {t_ours:>10.3f} {t_theirs:>11.3f} {t_theirs / t_ours:>6.2f}x {sse_ours:>13.7g} "
+                  f"{sse_theirs:>13.7g} {(sse_ours - sse_theirs) / sse_theirs:>9.1e} "
+                  f"{max(r[2] for r in ours):>6.0f}/{max(r[2] for r in theirs):<6.0f}", flush=True)
+        print(f"first pampipe run with an empty NLP cache (build included): {cold:.3f} s")
 
-
-def _line(row) -> str:
-    points, method, build, solve, total, sse, ratio_total, ratio_solve, status = row
-    return (f"{points:>9}  {method:<26}{build:>9.3f}{solve:>10.3f}{total:>10.3f}{sse:>14.6g}"
-            f"{ratio_total:>9.1f}x{ratio_solve:>9.1f}x  {status}")
+        print(f"\ncalibration on {args.calibration_rows:,} isometric rows (braid angle 3 deg and L0 1 mm off)")
+        experiment = isometric(pam, args.calibration_rows, tmp / "isometric")
+        run([*pampipe, str(experiment), "--json", "--calibrate", "braid_angle", "--calibrate",
+             "initial_length"], env)  # fills the cache for this structure
+        plain = [run([*pampipe, str(experiment), "--json"], env) for _ in range(args.repeat)]
+        calibrated = [run([*pampipe, str(experiment), "--json", "--calibrate", "braid_angle", "--calibrate",
+                           "initial_length"], env) for _ in range(args.repeat)]
+        g = pam.geometry
+        for name, runs in (("plain (stated geometry)", plain), ("calibrated", calibrated)):
+            doc = runs[0][1]
+            geo = doc["geometry"]
+            print(f"{name:<24} {statistics.median(r[0] for r in runs):7.3f} s   RMSE {doc['fit']['rmse_N']:9.4g} N   "
+                  f"angle error {geo['braid_angle_from_axis_deg'] - math.degrees(g.braid_angle):+.4f} deg   "
+                  f"L0 error {(geo['initial_length_m'] - g.initial_length) * 1e3:+.4f} mm   "
+                  f"peak {max(r[2] for r in runs):.0f} MB")
+        ratio = statistics.median(r[0] for r in calibrated) / statistics.median(r[0] for r in plain)
+        print(f"calibration costs {ratio:.2f}x the plain fit")
 
 
 if __name__ == "__main__":

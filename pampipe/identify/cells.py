@@ -7,19 +7,22 @@ Two parts of the axial fit cannot use the exact QR reduction of :mod:`pampipe.id
 * **geometry calibration**: L₀, α₀ (and t₀) enter F_ax nonlinearly, so the regressors cannot be
   computed before the fit.
 
-Both use cells: the rows of one (test, pressure level, slack flag) are binned on a (P, L) grid
-(each row its own cell when the test has at most :data:`CELL_BUDGET` rows) and every cell keeps
-n, the means x̄ = P̄/P_ref, L̄, ȳ and the centred sums Σd_x², Σd_L², Σd_x d_L, Σd_x e, Σd_L e, Σe²
-(d = deviation from the mean, e = y − ȳ). With the model linearised about the cell mean,
-u ≈ u₀ + u_x d_x + u_L d_L, the cell's sum of squares is
+Both use cells: the rows of one (test, pressure level, slack flag) are binned in length (each row its
+own cell when the test has at most :data:`CELL_BUDGET` rows). About the cell mean
+(x̄ = P̄/P_ref, L̄) the model is expanded to second order; F_ax is affine in P at fixed L (§7), so
+u_xx = 0 and
 
-  SSE = n(w·u₀ − ȳ)² + w·[u_x²Σd_x² + u_L²Σd_L² + 2u_x u_L Σd_x d_L − 2u_x Σd_x e − 2u_L Σd_L e] + Σe²
+  u(x̄ + d_x, L̄ + d_L) = u₀ + u_x d_x + u_L d_L + ½u_LL d_L² + u_xL d_x d_L
 
-with w = 1 for measured rows and for slack rows where the model is positive, and w = 0 (the
-prediction max(0, F) = 0) for slack rows where it is not: w = 1 − ``clipped``, a flag that starts
-at 1 for every slack cell and is updated by the fit (:mod:`pampipe.identify.fit`). It is exact when
-each row is its own cell and, for binned data, exact to first order in the cell size: F_ax is
-affine in P at fixed L (§7), so only the curvature in L over a bin is neglected.
+holds to third order in d_L. With the basis v = [1, d_x, d_L, d_L², d_x d_L, e] (e = y − ȳ) each
+cell keeps the Gram matrix G = Σ v vᵀ over its rows (21 entries), and its sum of squares is
+
+  SSE = wᵀ G w,   w = [u₀ − ȳ, u_x, u_L, ½u_LL, u_xL, −1]
+
+for a live cell, and w = [−ȳ, 0, 0, 0, 0, −1] (= Σy²) for a clipped one: a slack cell where the
+model is ≤ 0 predicts max(0, F) = 0. The ``clipped`` flag starts at 1 for every slack cell and is
+updated by the fit (:mod:`pampipe.identify.fit`). The sum is exact when each row is its own cell
+and, for binned data, exact but for the third-order term u_LLL d_L³/6 (measured in the tests).
 """
 
 from __future__ import annotations
@@ -30,10 +33,14 @@ import numpy as np
 
 from pampipe.experiment import TestData
 
-#: Rows of the moments matrix.
-FIELDS = ("n", "x", "l", "y", "sxx", "sll", "sxl", "sxe", "sle", "see", "clipped")
+#: The expansion basis of a cell (see the module docstring).
+BASIS = ("1", "dx", "dl", "dl2", "dxdl", "e")
+#: Index pairs (i ≤ j) of the Gram entries, in storage order.
+PAIRS = tuple((i, j) for i in range(len(BASIS)) for j in range(i, len(BASIS)))
+#: Rows of the moments matrix: count, means, the clipped flag, then the Gram entries.
+FIELDS = ("n", "x", "l", "y", "clipped", *(f"g_{BASIS[i]}_{BASIS[j]}" for i, j in PAIRS))
 #: Cells at most per test; a test with fewer rows keeps one cell per row (exact).
-CELL_BUDGET = 2048
+CELL_BUDGET = 512
 #: Finest grid tried per axis (then halved until the occupied cells fit the budget).
 FINEST = 256
 
@@ -66,11 +73,12 @@ class Cells:
 
 
 def capacity(count: int) -> int:
-    """The NLP's cell capacity for ``count`` cells: the next power of four ≥ max(count, 64), so that
-    data sets of one protocol share one NLP whatever their row counts."""
+    """The NLP's cell capacity for ``count`` cells: the next power of two ≥ max(count, 64), so that
+    data sets of one protocol share one NLP whatever their row counts (binned tests hold at most
+    :data:`CELL_BUDGET` cells)."""
     size = 64
     while size < count:
-        size *= 4
+        size *= 2
     return size
 
 
@@ -107,21 +115,29 @@ def _test_cells(test: TestData, rows: np.ndarray, pref: float):
 
     xbar, lbar, ybar = total(x) / count, total(length) / count, total(y) / count
     dx, dl, e = x - xbar[cell], length - lbar[cell], y - ybar[cell]
+    basis = (np.ones(rows.size), dx, dl, dl * dl, dx * dl, e)
     first = np.zeros(cell_keys.size, dtype=np.int64)
     first[cell[::-1]] = np.arange(rows.size)[::-1]  # a row of each cell: its level and slack flag
-    moments = np.array([count, xbar, lbar, ybar, total(dx * dx), total(dl * dl), total(dx * dl),
-                        total(dx * e), total(dl * e), total(e * e), slack[first].astype(float)])
+    moments = np.array([count, xbar, lbar, ybar, slack[first].astype(float),
+                        *(total(basis[i] * basis[j]) for i, j in PAIRS)])
     return moments, level[first]
 
 
+def gram(moments) -> list[list]:
+    """The 6 × 6 Gram matrix of a cell (or of every cell, entrywise) from its moments column(s)."""
+    at = {pair: FIELDS.index(f"g_{BASIS[pair[0]]}_{BASIS[pair[1]]}") for pair in PAIRS}
+    return [[moments[at[(min(i, j), max(i, j))]] for j in range(len(BASIS))] for i in range(len(BASIS))]
+
+
 def _binned_key(x, length, level, slack) -> np.ndarray:
-    """A cell key per row on the finest (P, L) grid whose occupied cells fit :data:`CELL_BUDGET`."""
+    """A cell key per row: (level, slack, length bin) with the finest length grid whose occupied cells
+    fit :data:`CELL_BUDGET`. Pressure needs no bins of its own: F_ax is affine in P at fixed L, so the
+    expansion is exact across a level in P (to the third-order term d_x·d_L² it neglects)."""
     bins = FINEST
-    span_x, span_l = max(np.ptp(x), 1e-300), max(np.ptp(length), 1e-300)
+    span = max(float(np.ptp(length)), 1e-300)
     while True:
-        bx = np.minimum(((x - x.min()) / span_x * bins).astype(np.int64), bins - 1)
-        bl = np.minimum(((length - length.min()) / span_l * bins).astype(np.int64), bins - 1)
-        key = ((level * 2 + slack) * bins + bx) * bins + bl
+        bl = np.minimum(((length - length.min()) / span * bins).astype(np.int64), bins - 1)
+        key = (level * 2 + slack) * bins + bl
         if bins == 1 or np.unique(key).size <= CELL_BUDGET:
             return key
         bins //= 2

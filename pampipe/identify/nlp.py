@@ -18,7 +18,7 @@ Sum of squares:
   fit updates between solves until no cell changes side (an exact hinge, no smoothing); at
   the stated geometry the model at a cell's mean and its derivatives are linear rows in θ computed
   before the fit; with the geometry free one SX function of (cell, θ, geometry) gives the cell's
-  sum of squares and its exact Hessian, mapped over the cells (IPOPT gets that Hessian directly);
+  sum of squares and its Gauss-Newton Hessian, mapped over the cells (IPOPT gets that Hessian);
 * radial bin b with u(x) = u₀ + u₁d + u₂d² about x̄ (d = x − x̄): with m = s·softplus(u₀/s) and
   w = sigmoid(u₀/s) (the smoothed contact switch, width s = ``contact_smoothing``)
   SSE_b = n(m − ȳ)² + w[2(m − ȳ)u₂Σd² + u₁²Σd² + u₂²Σd⁴ + 2u₁u₂Σd³ − 2u₁Σde − 2u₂Σd²e] + Σe²,
@@ -43,7 +43,7 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from pampipe.identify.cells import FIELDS
+from pampipe.identify.cells import FIELDS, gram
 from pampipe.identify.statistics import SUB_BINS
 from pampipe.model import braid, forces
 from pampipe.model.ops import softplus
@@ -53,6 +53,8 @@ from pampipe.nlp import cached_functions, nlpsol
 MPA = 1e6
 #: Width of the softplus in (x − x_a)₊, in units of P_ref (1e-3 → 1 kPa at P_ref = 1 MPa).
 SMOOTH_X = 1e-3
+#: Derivatives of the model at a cell mean, rows of the linear cells (:func:`_linear_cells`).
+DERIVATIVES = ("u", "ux", "ul", "ull", "uxl")
 #: Calibratable geometry: name → (index in Geometry.as_vector(), SI value of one unit of x).
 GEOMETRY = {"braid_angle": (2, np.pi / 180), "initial_length": (0, 1e-3), "bladder_thickness": (3, 1e-3)}
 
@@ -119,7 +121,7 @@ class Structure:
         if self.cells:
             out.append(("cells", (len(FIELDS), self.cells)))
             if not self.calibrate:
-                out += [(f"cell_{k}", (self.cells, p + 1)) for k in ("u", "ux", "ul")]
+                out += [(f"cell_{k}", (self.cells, p + 1)) for k in DERIVATIVES]
             if self.objective == "sum_rmse":
                 out.append(("cell_groups", (g, self.cells)))
         for j, (levels, _) in enumerate(self.radial):
@@ -268,42 +270,55 @@ def _build(structure: Structure) -> dict[str, ca.Function]:
 
 def _linear_cells(par, theta):
     """SSE of every cell (C × 1) at the stated geometry, where F_ax is linear in θ: the model at the
-    cell mean and its x- and L-derivatives are rows ``off + Φθ`` computed before the fit."""
+    cell mean and its derivatives (u, u_x, u_L, u_LL, u_xL) are rows ``off + Φθ`` computed before the fit."""
     c = par["cells"].T  # C × fields
-    count, y, sxx, sll, sxl, sxe, sle, see, slack = (c[:, FIELDS.index(k)] for k in
-                                                     ("n", "y", "sxx", "sll", "sxl", "sxe", "sle", "see",
-                                                      "clipped"))
-    u, u_x, u_l = (par[f"cell_{k}"][:, 0] + ca.mtimes(par[f"cell_{k}"][:, 1:], theta)
-                   for k in ("u", "ux", "ul"))
-    return _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l)
+    derivatives = [par[f"cell_{k}"][:, 0] + ca.mtimes(par[f"cell_{k}"][:, 1:], theta) for k in DERIVATIVES]
+    return _cell_sse([c[:, k] for k in range(len(FIELDS))], *derivatives)
 
 
-def _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, clipped, u, u_x, u_l):
-    """The cell sum of squares of :mod:`pampipe.identify.cells` (elementwise); ``clipped`` cells
-    (slack cells where the model is ≤ 0, see fit.py) predict max(0, F) = 0 exactly."""
-    live = 1 - clipped
-    inner = u_x**2 * sxx + u_l**2 * sll + 2 * u_x * u_l * sxl - 2 * u_x * sxe - 2 * u_l * sle
-    return count * (live * u - y) ** 2 + live * inner + see
+def _cell_sse(moments, u, u_x, u_l, u_ll, u_xl):
+    """wᵀGw of :mod:`pampipe.identify.cells` (elementwise over cells); a clipped cell predicts 0."""
+    live = 1 - moments[FIELDS.index("clipped")]
+    ybar = moments[FIELDS.index("y")]
+    w = [live * u - ybar, live * u_x, live * u_l, live * u_ll / 2, live * u_xl, -1]
+    g = gram(moments)
+    total = 0
+    for i in range(len(w)):
+        for j in range(len(w)):
+            total = total + w[i] * g[i][j] * w[j]
+    return total
 
 
 def _calibration_cells(structure: Structure, par, var, geometry, x):
-    """(Σ cell SSE, its Hessian in x) with the geometry free: one SX function (value and exact
-    Hessian in (θ, geometry)) mapped over the cell capacity; Hessian in x by the chain rule."""
+    """(Σ cell SSE, its Gauss-Newton Hessian in x) with the geometry free.
+
+    One SX function per cell, mapped over the cell capacity: the SSE wᵀGw and 2JᵀGJ with
+    J = ∂w/∂(θ, geometry) (exact in θ, where w is linear; it drops the curvature of w in the geometry
+    times the residual, the usual least-squares approximation, at half the cost of the exact
+    Hessian); the Hessian in x by the chain rule.
+    """
     n = structure.n_theta
     moments = ca.SX.sym("cell", len(FIELDS))
     theta = ca.SX.sym("theta", n)
     g = ca.SX.sym("geometry", 4)
     shape = Geometry(g[0], g[1], g[2], g[3], structure.wall)
-    count, xbar, length, y, sxx, sll, sxl, sxe, sle, see, slack = (moments[i] for i in range(len(FIELDS)))
+    xbar, length = moments[FIELDS.index("x")], moments[FIELDS.index("l")]
     u = forces.axial_force(xbar * MPA, length, shape, theta * MPA, MPA)
     u_x, u_l = ca.jacobian(u, xbar), ca.jacobian(u, length)
-    sse = _cell_sse(count, y, sxx, sll, sxl, sxe, sle, see, slack, u, u_x, u_l)
-    z = ca.vertcat(theta, g)
-    hess = ca.hessian(sse, z)[0]
+    u_ll, u_xl = ca.jacobian(u_l, length), ca.jacobian(u_x, length)
+    column = [moments[k] for k in range(len(FIELDS))]
+    sse = _cell_sse(column, u, u_x, u_l, u_ll, u_xl)
+    live = 1 - moments[FIELDS.index("clipped")]
+    w = live * ca.vertcat(u, u_x, u_l, u_ll / 2, u_xl)
+    jac = ca.jacobian(w, ca.vertcat(theta, g))
+    gram_ = gram(column)
+    block = ca.vertcat(*[ca.horzcat(*gram_[i][:5]) for i in range(5)])
+    hess = 2 * ca.mtimes([jac.T, block, jac])
     inputs = [moments, theta, g]
     arguments = (par["cells"], var["theta"], _vector(geometry))
     values = ca.Function("cell", inputs, [sse]).map(structure.cells)(*arguments)
-    hessians = ca.Function("cell_hessian", inputs, [ca.reshape(hess, -1, 1)]).map(structure.cells)(*arguments)
+    hessians = ca.Function("cell_hessian", inputs, [ca.reshape(hess, -1, 1)])
+    hessians = hessians.map(structure.cells)(*arguments)
     size = n + 4
     z_of_x = ca.jacobian(ca.vertcat(var["theta"], _vector(geometry)), x)
     return ca.sum2(values), ca.mtimes([z_of_x.T, ca.reshape(ca.sum2(hessians), size, size), z_of_x])

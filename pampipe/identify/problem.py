@@ -104,9 +104,10 @@ def parameters(structure: Structure, stats: Statistics, grid, contact_base, cont
 
 
 def linear_cells(stats: Statistics, capacity: int, geometry) -> dict:
-    """Rows [offset, φ] (θ in MPa) of the model u, ∂u/∂x and ∂u/∂L at every cell mean, at the stated
-    geometry (x = P/P_ref). u is affine in x, so the x-derivative is an exact difference; the
-    L-derivative is a central difference with h = 10⁻⁷ m (truncation ~h², far below round-off)."""
+    """Rows [offset, φ] (θ in MPa) of the model u and its derivatives u_x, u_L, u_LL, u_xL at every cell
+    mean, at the stated geometry (x = P/P_ref). u is affine in x, so x-differences are exact; the
+    L-derivatives are central differences with h = 10⁻⁵ m (truncation ~h² relative, round-off
+    ~10⁻¹⁶·F/h², both far below what the cell sums resolve)."""
     c = stats.cells.moments
     x, length = c[1], c[2]
 
@@ -114,9 +115,13 @@ def linear_cells(stats: Statistics, capacity: int, geometry) -> dict:
         offset, phi = _regressors(xv * MPA, lv, geometry, stats.degree)
         return np.column_stack([offset, phi])
 
-    h = 1e-7
-    out = {"cell_u": rows(x, length), "cell_ux": rows(x + 0.5, length) - rows(x - 0.5, length),
-           "cell_ul": (rows(x, length + h) - rows(x, length - h)) / (2 * h)}
+    h = 1e-5
+    mid, up, down = rows(x, length), rows(x, length + h), rows(x, length - h)
+    x_up = rows(x + 0.5, length + h) - rows(x - 0.5, length + h)
+    x_down = rows(x + 0.5, length - h) - rows(x - 0.5, length - h)
+    out = {"cell_u": mid, "cell_ux": rows(x + 0.5, length) - rows(x - 0.5, length),
+           "cell_ul": (up - down) / (2 * h), "cell_ull": (up - 2 * mid + down) / h**2,
+           "cell_uxl": (x_up - x_down) / (2 * h)}
     return {k: np.vstack([v, np.zeros((capacity - v.shape[0], v.shape[1]))]) for k, v in out.items()}
 
 
