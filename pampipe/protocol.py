@@ -202,31 +202,34 @@ def _drop_short_runs(signs: np.ndarray, shortest: int) -> np.ndarray:
     return np.repeat(values, ends - starts)
 
 
-def directions(x: np.ndarray, groups: np.ndarray | None, order: np.ndarray | None) -> np.ndarray:
-    """:func:`rate_sign` of ``x`` within each group, in time ``order`` (None: recorded order)."""
-    n = x.size
+def _segments(groups: np.ndarray | None, order: np.ndarray | None, n: int):
+    """(rows in group-then-time order, bounds of each group in it)."""
     order = np.arange(n) if order is None else order
-    groups = np.zeros(n, dtype=np.int64) if groups is None else groups
-    out = np.zeros(n, dtype=np.int8)
+    if groups is None:
+        return order, np.array([0, n])
     grouped = groups[order]
     by_group = np.argsort(grouped, kind="stable")
-    bounds = np.searchsorted(grouped[by_group], np.arange(grouped.max() + 2)) if n else [0]
+    rows = order[by_group]
+    return rows, np.concatenate([[0], np.flatnonzero(np.diff(grouped[by_group])) + 1, [n]])
+
+
+def directions(x: np.ndarray, groups: np.ndarray | None, order: np.ndarray | None) -> np.ndarray:
+    """:func:`rate_sign` of ``x`` within each group, in time ``order`` (None: recorded order)."""
+    out = np.zeros(x.size, dtype=np.int8)
+    rows, bounds = _segments(groups, order, x.size)
     for a, b in itertools.pairwise(bounds):
-        rows = order[by_group[a:b]]
-        if rows.size:
-            out[rows] = rate_sign(x[rows])
+        out[rows[a:b]] = rate_sign(x[rows[a:b]])
     return out
 
 
 def cycles(signs: np.ndarray, groups: np.ndarray, order: np.ndarray | None) -> np.ndarray:
-    """Cycle index per row: +1 at every switch from +1 to −1 within a group, in time order."""
-    n = signs.size
-    order = np.arange(n) if order is None else order
-    out = np.zeros(n, dtype=np.int64)
-    for group in np.unique(groups):
-        rows = order[groups[order] == group]
-        s = _fill(signs[rows]).astype(np.int64)  # a turning point (0) between + and − is one switch
-        out[rows] = np.cumsum(np.concatenate([[0], (np.diff(s) < 0).astype(np.int64)]))
+    """Cycle index per row: +1 at every switch from +1 to −1 within a group, in time order (a
+    turning point, direction 0, between + and − is one switch)."""
+    out = np.zeros(signs.size, dtype=np.int64)
+    rows, bounds = _segments(groups, order, signs.size)
+    for a, b in itertools.pairwise(bounds):
+        s = _fill(signs[rows[a:b]]).astype(np.int64)
+        out[rows[a:b]] = np.cumsum(np.concatenate([[0], (np.diff(s) < 0).astype(np.int64)]))
     return out
 
 

@@ -133,12 +133,19 @@ def predictions(data, structure: Structure, x, uncertainty, geometry, stated, op
         length = np.concatenate([t.length[t.force > 0] for t in axial])
         p_edges = np.linspace(pressure.min(), pressure.max(), CELLS + 1)
         l_edges = np.linspace(length.min(), length.max(), CELLS + 1)
-        occupied = np.histogram2d(pressure, length, bins=[p_edges, l_edges])[0] > 0
+        occupied = np.zeros((CELLS, CELLS), dtype=bool)
+        occupied[_bin(pressure, p_edges), _bin(length, l_edges)] = True
         every = np.linspace(0, pressure.size - 1, min(pressure.size, INSIDE_POINTS)).astype(int)
         regions = _regions(judged, muscles, occupied, p_edges, l_edges, pressure[every], length[every])
     pipes = _pipes(data, options, judged, muscles, geometry, occupied, p_edges, l_edges)
     return Predictions(None if p_edges is None else (float(p_edges[0]), float(p_edges[-1])),
                        None if l_edges is None else (float(l_edges[0]), float(l_edges[-1])), regions, pipes)
+
+
+def _bin(values, edges) -> np.ndarray:
+    """Index of the grid cell of every value (the last edge belongs to the last cell)."""
+    span = max(edges[-1] - edges[0], 1e-300)
+    return np.minimum(((values - edges[0]) / span * (edges.size - 1)).astype(np.int64), edges.size - 2)
 
 
 def _regions(judged, muscles, occupied, p_edges, l_edges, tested_p, tested_l) -> tuple[Region, ...]:

@@ -170,12 +170,11 @@ class Problem:
     solver: ca.Function
     sse: ca.Function  # (x, p) -> Σ SSE [N²]
     hessian: ca.Function  # (x, p) -> ∇²[(SSE + prior)/2] [N²/unit²]
-    constraints: ca.Function  # (x, p) -> g (normalised Drucker rows, ≥ 0)
     build_time: float  # [s] to build, or to load from the disk cache
     origin: str  # "built" or "disk"
     n_x: int
     n_g: int
-    n_nodes: int  # symbolic size of the objective (independent of the row count)
+    n_nodes: int  # symbolic size of the sum of squares (independent of the row count)
 
 
 def sigmoid(t):
@@ -190,9 +189,8 @@ def build_problem(structure: Structure) -> Problem:
     layout = Layout(structure.parameters())
     solver = functions["solver"]
     return Problem(structure, layout, solver, functions["sse"], functions["hessian"],
-                   functions["constraints"], time.perf_counter() - started, origin,
-                   int(solver.size1_in("x0")), int(solver.size1_in("lbg")),
-                   int(functions["objective"].n_nodes()))
+                   time.perf_counter() - started, origin, int(solver.size1_in("x0")),
+                   int(solver.size1_in("lbg")), int(functions["sse"].n_nodes()))
 
 
 def _build(structure: Structure) -> dict[str, ca.Function]:
@@ -263,9 +261,7 @@ def _build(structure: Structure) -> dict[str, ca.Function]:
                     ipopt={"max_iter": structure.max_iterations, "tol": structure.tolerance,
                            "mu_strategy": "monotone"}, **options)
     return {"solver": solver, "sse": ca.Function("sse", [x, p], [sse]),
-            "hessian": ca.Function("hessian", [x, p], [hess]),
-            "constraints": ca.Function("drucker", [x, p], [g]),
-            "objective": ca.Function("objective", [x, p], [f])}
+            "hessian": ca.Function("hessian", [x, p], [hess])}
 
 
 def _linear_cells(par, theta):

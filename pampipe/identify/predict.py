@@ -14,19 +14,24 @@ from pampipe.identify.result import LevelFit, TestFit
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli, Pam
 
+#: Rows evaluated at a time (the model's temporaries stay a few MB whatever the row count).
+CHUNK = 1 << 16
+
 
 def predict(pam: Pam, test: TestData) -> np.ndarray:
     """Model force [N] at every row of ``test``: F_ax(P, L) (axial) or F_r(P; D_p, F_a) (radial)."""
     muscle = Muscle.from_pam(pam)
-    if test.kind == "axial":
-        force = muscle.axial_force(test.pressure, test.length, leg=test.leg, pressure_leg=_pressure_leg(test))
-    else:
-        force = muscle.radial_force(test.pressure, test.spec.pipe_diameter, test.spec.axial_load)
-    return np.asarray(force, dtype=float) * np.ones(test.points)
-
-
-def _pressure_leg(test: TestData):
-    return 0.0 if test.pressure_leg is None else test.pressure_leg
+    out = np.empty(test.points)
+    pressure_leg = np.zeros(test.points) if test.pressure_leg is None else test.pressure_leg
+    for start in range(0, test.points, CHUNK):
+        rows = slice(start, start + CHUNK)
+        if test.kind == "axial":
+            force = muscle.axial_force(test.pressure[rows], test.length[rows], leg=test.leg[rows],
+                                       pressure_leg=pressure_leg[rows])
+        else:
+            force = muscle.radial_force(test.pressure[rows], test.spec.pipe_diameter, test.spec.axial_load)
+        out[rows] = force
+    return out
 
 
 def residuals(pam: Pam, test: TestData) -> np.ndarray:

@@ -16,8 +16,8 @@ from pampipe.identify import geometry as geo
 from pampipe.identify.cells import capacity
 from pampipe.identify.nlp import Structure
 from pampipe.identify.options import FitOptions
-from pampipe.identify.statistics import MPA, Statistics, radial_coefficients, tangent_rows
-from pampipe.model import bladder, braid, forces
+from pampipe.identify.statistics import MPA, Statistics, radial_coefficients, regressors, tangent_rows
+from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli
 
 LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
@@ -112,7 +112,7 @@ def linear_cells(stats: Statistics, capacity: int, geometry) -> dict:
     x, length = c[1], c[2]
 
     def rows(xv, lv):
-        offset, phi = _regressors(xv * MPA, lv, geometry, stats.degree)
+        offset, phi = regressors(xv * MPA, lv, geometry, stats.degree)
         return np.column_stack([offset, phi])
 
     h = 1e-5
@@ -123,12 +123,6 @@ def linear_cells(stats: Statistics, capacity: int, geometry) -> dict:
            "cell_ul": (up - down) / (2 * h), "cell_ull": (up - 2 * mid + down) / h**2,
            "cell_uxl": (x_up - x_down) / (2 * h)}
     return {k: np.vstack([v, np.zeros((capacity - v.shape[0], v.shape[1]))]) for k, v in out.items()}
-
-
-def _regressors(pressure, length, geometry, degree):
-    offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, MPA)
-    phi = np.column_stack([np.broadcast_to(np.asarray(v, float), pressure.shape) for v in row]) * MPA
-    return np.asarray(offset, float) * np.ones(pressure.shape), phi
 
 
 def group_points(stats: Statistics) -> np.ndarray:
@@ -206,7 +200,7 @@ def initial_guess(structure: Structure, stats: Statistics, reference, lower, upp
     if stats.cells is not None:
         c = stats.cells.moments
         measured = (c[0] > 0) & ~stats.cells.slack
-        offset, phi = _regressors(c[1, measured] * MPA, c[2, measured], geometry, stats.degree)
+        offset, phi = regressors(c[1, measured] * MPA, c[2, measured], geometry, stats.degree)
         w = np.sqrt(c[0, measured])
         rows["theta"][0].append(w[:, None] * phi)
         rows["theta"][1].append(w * (c[3, measured] - offset))

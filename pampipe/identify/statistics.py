@@ -37,8 +37,8 @@ from pampipe.model.pam import Geometry
 MPA = 1e6
 #: Equal-count pressure sub-bins per radial pressure level.
 SUB_BINS = 8
-#: Rows per QR chunk (bounds the memory of the regressor matrix: 2¹⁴ × 17 × 8 B ≈ 2 MB).
-CHUNK = 1 << 14
+#: Rows per chunk of the one pass (bounds the regressor matrix: 2¹⁶ × 17 × 8 B ≈ 9 MB).
+CHUNK = 1 << 16
 RADIAL_MOMENTS = ("n", "x", "y", "sdd", "sddd", "sdddd", "sde", "sdde", "see")
 
 
@@ -159,11 +159,20 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate) ->
                       excluded)
 
 
-def _regressors(pressure, length, geometry, degree, pref):
-    """(offset [N], Φ [N/MPa]) of F_ax = offset + Φ·θ_MPa."""
+def regressors(pressure, length, geometry, degree, pref=MPA):
+    """(offset [N], Φ [N/MPa]) of F_ax = offset + Φ·θ_MPa, arrays over the rows."""
+    block = _augmented(pressure, length, np.zeros(np.shape(length)), geometry, degree, pref)
+    return -block[:, -1], block[:, :-1]
+
+
+def _augmented(pressure, length, force, geometry, degree, pref) -> np.ndarray:
+    """[Φ | y] (rows × (p + 1)) with y = F − offset: one pass, written into one array."""
     offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, pref)
-    phi = np.column_stack([np.broadcast_to(np.asarray(c, dtype=float), pressure.shape) for c in row])
-    return np.asarray(offset, dtype=float), phi * MPA
+    block = np.empty((np.size(length), len(row) + 1))
+    for j, column in enumerate(row):
+        np.multiply(column, MPA, out=block[:, j])
+    np.subtract(force, offset, out=block[:, -1])
+    return block
 
 
 def _qr_r(block: np.ndarray, width: int) -> np.ndarray:
@@ -175,25 +184,38 @@ def _qr_r(block: np.ndarray, width: int) -> np.ndarray:
 
 
 def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, bins):
-    """((test, level), level pressure, rows, R, z, rest) of every level with rows among ``rows``."""
+    """((test, level), level pressure, rows, R, z, rest) of every level with rows among ``rows``.
+
+    One pass over the rows in chunks: the regressors of a chunk are computed once and each level's
+    R is updated by a QR of [R; its rows of the chunk] (TSQR).
+    """
     p = 4 * (degree + 1)
-    level = test.level[rows]
-    order = rows[np.argsort(level, kind="stable")]
-    bounds = np.searchsorted(test.level[order], np.arange(test.level_pressure.size + 1))
-    for lev, (a, b) in enumerate(itertools.pairwise(bounds)):
-        members = order[a:b]
-        if members.size == 0:
-            continue
-        if average:
-            block, count = _leg_average(test, members, geometry, degree, pref, bins)
-            r_aug = _qr_r(block, p + 1)
-        else:
-            count, r_aug = members.size, np.zeros((p + 1, p + 1))
-            for start in range(0, members.size, CHUNK):
-                chunk = members[start:start + CHUNK]
-                offset, phi = _regressors(test.pressure[chunk], test.length[chunk], geometry, degree, pref)
-                r_aug = _qr_r(np.vstack([r_aug, np.column_stack([phi, test.force[chunk] - offset])]), p + 1)
-        yield ((index, lev), test.level_pressure[lev], count, r_aug[:p, :p], r_aug[:p, p], r_aug[p, p] ** 2)
+    levels = test.level_pressure.size
+    if average:
+        level = test.level[rows]
+        order = rows[np.argsort(level, kind="stable")]
+        bounds = np.searchsorted(test.level[order], np.arange(levels + 1))
+        for lev, (a, b) in enumerate(itertools.pairwise(bounds)):
+            if b > a:
+                block, count = _leg_average(test, order[a:b], geometry, degree, pref, bins)
+                r_aug = _qr_r(block, p + 1)
+                yield ((index, lev), test.level_pressure[lev], count, r_aug[:p, :p], r_aug[:p, p],
+                       r_aug[p, p] ** 2)
+        return
+    r_aug = np.zeros((levels, p + 1, p + 1))
+    count = np.zeros(levels, dtype=np.int64)
+    for start in range(0, rows.size, CHUNK):
+        chunk = rows[start:start + CHUNK]
+        block = _augmented(test.pressure[chunk], test.length[chunk], test.force[chunk], geometry, degree,
+                           pref)
+        level = test.level[chunk]
+        for lev in np.unique(level):
+            mine = level == lev
+            r_aug[lev] = _qr_r(np.vstack([r_aug[lev], block[mine]]), p + 1)
+            count[lev] += int(mine.sum())
+    for lev in np.flatnonzero(count):
+        yield ((index, lev), test.level_pressure[lev], count[lev], r_aug[lev, :p, :p], r_aug[lev, :p, p],
+               r_aug[lev, p, p] ** 2)
 
 
 def _leg_average(test: TestData, rows, geometry, degree, pref, bins):
@@ -204,8 +226,8 @@ def _leg_average(test: TestData, rows, geometry, degree, pref, bins):
     sums = None
     for start in range(0, rows.size, CHUNK):
         chunk = rows[start:start + CHUNK]
-        offset, phi = _regressors(test.pressure[chunk], test.length[chunk], geometry, degree, pref)
-        values = np.column_stack([phi, test.force[chunk] - offset])
+        values = _augmented(test.pressure[chunk], test.length[chunk], test.force[chunk], geometry, degree,
+                            pref)
         w = which[start:start + CHUNK]
         part = np.stack([np.bincount(w, weights=values[:, j], minlength=bins)
                          for j in range(values.shape[1])], 1)
