@@ -130,19 +130,31 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
 
 def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,
              degree: int | None = None, average_legs: bool | None = None, drucker: str | None = None,
-             max_iterations: int | None = None, base=None, progress: Progress | None = None):
-    """Fit the bladder moduli to the experiment's tests (`pampipe identify`).
+             max_iterations: int | None = None, calibrate: Sequence[str] | None = None,
+             slack: str | None = None, pipe_diameter=None, base=None, progress: Progress | None = None):
+    """Fit the bladder moduli (and the ``calibrate``d geometry) to an experiment (`pampipe identify`).
 
-    Options override the experiment's ``fit:`` block. Returns an
-    :class:`pampipe.identify.IdentifyResult`; its ``fitted_pam(pam)`` is the muscle to write.
+    Options override the experiment's ``fit:`` block; ``calibrate`` and ``pipe_diameter`` (a value or
+    a list, unit strings accepted) add to it. Returns an :class:`pampipe.identify.IdentifyResult`; its
+    ``fitted_pam(pam)`` is the muscle to write.
     """
+    from pampipe.errors import InputError
     from pampipe.identify import identify as run
-    from pampipe.identify.options import fit_options
+    from pampipe.identify.options import CALIBRATABLE, fit_options
 
     spec, data = load_experiment(experiment, base=base, progress=progress)
     options = fit_options(spec.fit, {"mode": mode, "objective": objective, "degree": degree,
                                      "average_legs": average_legs, "drucker": drucker,
-                                     "max_iterations": max_iterations}, source=spec.source)
+                                     "max_iterations": max_iterations, "slack": slack}, source=spec.source)
+    unknown = [name for name in calibrate or () if name not in CALIBRATABLE]
+    if unknown:
+        raise InputError(f"calibrate: {unknown[0]!r} cannot be calibrated; allowed: "
+                         f"{', '.join(CALIBRATABLE)}.")
+    options = options.calibrating(*(calibrate or ()))
+    diameters = _si(pipe_diameter, "length", "pipe_diameter")
+    if diameters is not None:
+        extra = [diameters] if isinstance(diameters, float) else diameters
+        options = options.with_overrides(pipe_diameters=(*options.pipe_diameters, *extra))
     return run(data, options, progress=progress if data.points >= 100_000 else None)
 
 
