@@ -43,7 +43,7 @@ def assert_same(closed, bisected):
 
 def test_the_library_says_which_effects_have_a_closed_form():
     assert set(CLOSED) == {"braid_friction", "contact_stiffening", "pressure_offset", "axial_preload",
-                           "wall_friction"}
+                           "wall_friction", "pressure_hysteresis"}
     for name in set(effects.LIBRARY) - set(CLOSED):
         assert len(effects.get_effect(name).no_closed_form) > 40  # a sentence for the user
 

@@ -357,3 +357,15 @@ def test_written_pam_file_carries_the_calibrated_geometry(tmp_path, capsys, radi
     assert doc["geometry"]["calibrated"] == ["braid_angle"]
     low, high = doc["geometry"]["intervals"]["braid_angle_from_axis_deg"]
     assert low < math.degrees(g.braid_angle) < high
+
+
+def test_isometric_plots_draw_force_against_pressure(tmp_path, capsys, radial_pam, muscle):
+    g = radial_pam.geometry
+    cols = isometric_ramps(muscle, [0.27, g.initial_length], noise=SIGMA, pressure_noise=200.0,
+                           rng=np.random.default_rng(6), points=50)
+    path = write_experiment(tmp_path, "iso", Pam(radial_pam.name, g), [(axial(), cols)])
+    code = main(["identify", str(path), "--degree", "1", "--plots", str(tmp_path / "plots")])
+    _, err = capsys.readouterr()
+    assert code == 0, err
+    names = sorted(p.name for p in (tmp_path / "plots").glob("*.png"))
+    assert names == ["drucker_margin.png", "isometric_fit.png", "residuals.png"]

@@ -28,7 +28,9 @@ VALUES = {"braid_friction": {"f0": "8 N", "f1": "20 N/MPa"},
           "end_effects": {"volume_taper": 0.3, "end_length": 0.5},
           "contact_stiffening": {"axial_increment": "0.4 MPa", "hoop_increment": "0.7 MPa"},
           "pressure_offset": {"offset": "9 kPa", "gain": 1.03},
-          "axial_preload": {"preload": "55 N", "pulley_friction": 0.05}, "wall_friction": {"lock": 0.01}}
+          "axial_preload": {"preload": "55 N", "pulley_friction": 0.05}, "wall_friction": {"lock": 0.01},
+          "pressure_hysteresis": {"h0": "6 N", "h1": "15 N/MPa"},
+          "prestrain": {"axial_prestrain": 0.004, "hoop_prestrain": 0.02}}
 CASES = [None, *LIBRARY]
 
 

@@ -197,6 +197,8 @@ class Prestrain(Effect):
         Parameter("axial_prestrain", "-", "dimensionless", 1.0, -0.1, 0.1, 0.0, "ε₁,pre"),
         Parameter("hoop_prestrain", "-", "dimensionless", 1.0, -0.1, 0.1, 0.0, "ε₂,pre"),
     )
+    no_closed_form = ("the prestrain adds stress terms to the anchored force that are not moduli increments, "
+                      "which is all the closed form carries in the pipe")
 
     def axial_increment(self, state, values):
         g = state.geometry
