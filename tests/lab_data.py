@@ -37,12 +37,15 @@ def isometric_ramps(muscle: Muscle, lengths, *, top=600e3, points=200, cycles=2,
     0 N exactly. Returns SI columns and ``filling`` (+1 filling, −1 venting) as generated.
     """
     rng = rng or np.random.default_rng(0)
-    up = np.linspace(0.0, top, points, endpoint=False)
-    down = np.linspace(top, 0.0, points, endpoint=False)
-    path = np.tile(np.concatenate([up, down]), cycles)
-    sign = np.tile(np.repeat([1.0, -1.0], points), cycles)
-    pressure = np.concatenate([path for _ in lengths])
-    filling = np.concatenate([sign for _ in lengths])
+    step = top / points
+    paths, signs = [], []
+    for _ in range(len(lengths) * cycles):  # every ramp sampled at its own phase: no pressure repeats
+        phase = rng.uniform(0.0, step)
+        paths += [np.linspace(phase, top - step + phase, points), np.linspace(top - phase, phase, points)]
+        signs += [np.ones(points), -np.ones(points)]
+    path = np.concatenate(paths[:2 * cycles])
+    pressure = np.concatenate(paths)
+    filling = np.concatenate(signs)
     length = np.repeat(np.asarray(lengths, float), path.size)
     force = np.asarray(muscle.axial_force(pressure, length), float)
     force = force - filling * (hysteresis[0] + hysteresis[1] * pressure)

@@ -104,7 +104,6 @@ def test_without_calibration_the_mismatch_is_named(radial_pam, force_map_data):
     assert not any("blocked-force" in w for w in right.warnings)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize(("angle", "length_mm"), [(5.0, 0.0), (-4.0, 1.0), (3.0, -1.0)])
 def test_calibration_from_a_rough_statement_on_isometric_ramps(radial_pam, muscle, angle, length_mm):
     """Isometric ramps at four held lengths (3200 rows), braid angle stated up to 5° off: the
@@ -362,7 +361,7 @@ def test_written_pam_file_carries_the_calibrated_geometry(tmp_path, capsys, radi
 def test_isometric_plots_draw_force_against_pressure(tmp_path, capsys, radial_pam, muscle):
     g = radial_pam.geometry
     cols = isometric_ramps(muscle, [0.27, g.initial_length], noise=SIGMA, pressure_noise=200.0,
-                           rng=np.random.default_rng(6), points=50)
+                           rng=np.random.default_rng(6), points=200)
     path = write_experiment(tmp_path, "iso", Pam(radial_pam.name, g), [(axial(), cols)])
     code = main(["identify", str(path), "--degree", "1", "--plots", str(tmp_path / "plots")])
     _, err = capsys.readouterr()
