@@ -162,3 +162,11 @@ def _bernstein(a: float, b: float, degree: int) -> np.ndarray:
         for kk in range(i + 1):
             basis[i, kk] = comb(i, kk) / comb(degree, kk)
     return basis @ shift
+
+
+def grid_lengths(geometry, pipes, low, options) -> np.ndarray:
+    """``grid_lengths`` lengths from ``low`` to L₀ and the pipes' anchored lengths, sorted (a fixed count:
+    the NLP's Drucker rows keep their number when a calibrated geometry moves them)."""
+    pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in pipes]
+    return np.sort(np.concatenate([np.linspace(low, geometry.initial_length, options.grid_lengths),
+                                   pipe_lengths]))

@@ -1,4 +1,4 @@
-"""`identify(data, options)`: reduce, build (cached), initialise, solve, check, analyse, report.
+"""`identify(data, options)`: reduce, build (cached), initialise, solve (:mod:`.solve`), check, report.
 
 Steps: (1) one pass over the rows → sufficient statistics and cells; (2) the NLP for this problem
 structure (built once, cached in memory and on disk); (3) initial guess = bounded linear least
@@ -25,39 +25,19 @@ from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
 from pampipe.identify import drucker, envelope, problem
 from pampipe.identify import geometry as geo
-from pampipe.identify.cells import FIELDS
-from pampipe.identify.nlp import Structure, build_problem
+from pampipe.identify.nlp import build_problem
 from pampipe.identify.options import FitOptions, parse_fit_options
 from pampipe.identify.predict import evaluate_tests
 from pampipe.identify.result import MPA, Calibration, IdentifyResult, SolverInfo
+from pampipe.identify.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identify.statistics import Statistics, drucker_rows, reduce_experiment
 from pampipe.identify.uncertainty import analyse
-from pampipe.model import bladder, braid, forces
+from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
-from pampipe.nlp import solve
 
 #: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
-FIT_HINTS = {
-    "Maximum_Iterations_Exceeded": "IPOPT stopped at the iteration limit (raise fit.max_iterations)",
-    "Infeasible_Problem_Detected": "no moduli satisfy the bounds and the Drucker constraints together "
-                                   "(widen fit.bounds or check the data)",
-}
 LAW_NAMES = problem.LAW_NAMES
-#: IPOPT statuses after which the solve is restarted from its last point: the scale set at an
-#: infeasible start can leave the converged objective hundreds of times larger, where IPOPT's
-#: absolute tolerance can no longer be met; rescaled at the stopping point it converges.
-STALLED = ("Search_Direction_Becomes_Too_Small",)
-#: Solves at most while the problem's data follow the solution (slack cells changing side, Drucker
-#: intervals following a calibrated geometry); each re-solve starts from the last solution.
-UPDATE_ROUNDS = 8
-#: The objective's scale is at least this RMS residual [N] per row (a near-exact start would make it
-#: vanish and IPOPT's steps degenerate).
-SCALE_FLOOR = 1e-3
-#: Drucker rows (unit max-norm) that moved less than this are kept.
-ROWS_MOVED = 1e-6
-
-
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
     """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6)."""
     options = options or parse_fit_options(data.fit, source=data.source)
@@ -94,13 +74,13 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
 
-    update = _updater(values, stats, structure, stated, options, pressures, low)
-    fixed = _geometry_mask(structure, x0.size)
+    update = updater(values, stats, structure, stated, options, pressures, low)
+    fixed = geometry_mask(structure, x0.size)
     stated_fit = None
     wall_time, iterations = 0.0, 0
     if options.calibrate:  # fits at fixed geometry first: the stated one, then the blocked-force start
         say("fitting at the stated geometry")
-        x0, info = _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+        x0, info = fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
         wall_time, iterations = info.wall_time, info.iterations
         stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
         start = _start_geometry(data, stated, options, lbx[fixed], ubx[fixed])
@@ -109,13 +89,13 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
             guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, start)
             guess[fixed] = geo.stated_x(start, structure.calibrate)
             guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-            other, info = _fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, update)
+            other, info = fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, update)
             wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
             if float(nlp.sse(other, nlp.layout.pack(values))) < stated_fit:
                 x0 = other
     say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
         + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
-    solution, info = _solve(nlp, values, x0, lbx, ubx, stats, structure, update)
+    solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
     x = np.asarray(solution["x"], dtype=float).ravel()
     wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
@@ -145,93 +125,6 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         excluded_rows=stats.excluded)
 
 
-def _solve(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update):
-    """IPOPT, re-solved from its last point while ``update(x)`` changes the data of the problem.
-
-    ``update`` (see :func:`_updater`) moves slack cells between clipped and live and, with a
-    calibrated geometry, puts the Drucker intervals where the fitted geometry's strains are.
-    Returns (solution, statistics summed over the solves).
-    """
-    iterations, wall = 0, 0.0
-    x, last = x0, None
-    for round_ in range(UPDATE_ROUNDS):
-        try:
-            for attempt in range(2):  # a stalled solve is restarted once from where it stopped, rescaled
-                _scale(nlp, values, x, stats, structure)
-                solution, info = solve(nlp.solver, what="the moduli fit (no result was written)",
-                                       hints=FIT_HINTS, also_accept=() if attempt else STALLED, x0=x,
-                                       p=nlp.layout.pack(values), lbx=lbx, ubx=ubx, lbg=0, ubg=ca.inf)
-                iterations, wall = iterations + info.iterations, wall + info.wall_time
-                x = np.asarray(solution["x"], dtype=float).ravel()
-                if info.status not in STALLED:
-                    break
-        except SolverError:
-            if round_ == 0:
-                raise
-            values.update(last[2])  # a refinement failed: keep the previous solve and its data
-            solution, info = last[0], last[1]
-            break
-        last = (solution, info, {k: np.array(v, copy=True) for k, v in values.items()})
-        if not update(x):
-            break
-    return solution, replace(info, iterations=iterations, wall_time=wall)
-
-
-def _updater(values, stats: Statistics, structure: Structure, stated, options: FitOptions, pressures, low):
-    """``update(x) -> changed`` for :func:`_solve`, changing ``values`` in place.
-
-    Slack cells: clipped (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise.
-    Calibrated geometry (tangent form): the Bernstein rows over the strains of the fitted geometry
-    for the grid's lengths, so that the constraint covers the range the model is used in.
-    """
-    slack = None if stats.cells is None else stats.cells.slack
-    row = FIELDS.index("clipped")
-    rows_follow = bool(structure.calibrate) and structure.grid_rows and options.drucker == "tangent"
-
-    def update(x) -> bool:
-        geometry = geo.from_x(stated, structure.calibrate, x[_geometry_mask(structure, x.size)]) \
-            if structure.calibrate else stated
-        changed = False
-        if slack is not None and slack.any():
-            moments, count = values["cells"], stats.cells.count
-            model = forces.axial_force(moments[1, :count] * MPA, moments[2, :count], geometry,
-                                       x[:stats.n_theta] * MPA, MPA)
-            clipped = (slack & (np.asarray(model) <= 0)).astype(float)
-            changed = not np.array_equal(clipped, moments[row, :count])
-            moments[row, :count] = clipped
-        if rows_follow:
-            lengths = _grid_lengths(geometry, stats.pipes, low, options)
-            rows = drucker.bernstein_rows([geometry], options.degree, pressures, lengths,
-                                          reference_pressure=MPA)
-            if np.max(np.abs(rows - values["grid"])) > ROWS_MOVED:
-                values["grid"] = rows
-                changed = True
-        return changed
-
-    return update
-
-
-def _scale(nlp, values, x, stats: Statistics, structure: Structure) -> None:
-    """Scales that make IPOPT's objective 1 at the start ``x`` (a warm start from a good point would
-    otherwise have an objective far below the barrier terms, which then pull the iterates away)."""
-    values["scale"] = values["scale_sse"] = 1.0
-    sse = max(float(nlp.sse(x, nlp.layout.pack(values))), SCALE_FLOOR**2 * max(stats.points, 1))
-    values["scale_sse"] = sse
-    if structure.objective == "least_squares":
-        values["scale"] = sse
-    else:
-        groups = structure.axial_groups + sum(levels for levels, _ in structure.radial)
-        values["scale"] = max(groups * math.sqrt(sse / max(stats.points, 1)), 1e-9)
-
-
-def _fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update):
-    """The moduli fit with the calibrated entries held at their values in ``x0``."""
-    fixed = _geometry_mask(structure, x0.size)
-    solution, info = _solve(nlp, values, x0, np.where(fixed, x0, lbx), np.where(fixed, x0, ubx), stats,
-                            structure, update)
-    return np.asarray(solution["x"], dtype=float).ravel(), info
-
-
 def _start_geometry(data, stated, options: FitOptions, low, high):
     """The stated geometry with the braid angle of the blocked-force check (:mod:`.geometry`), when
     the braid angle is calibrated, the check is possible and that angle is within the bounds."""
@@ -252,14 +145,6 @@ def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) ->
     if options.drucker == "sum":
         return drucker_rows(stated, options.degree, pressures, lengths, form="sum")
     return drucker.bernstein_rows([stated], options.degree, pressures, lengths, reference_pressure=MPA)
-
-
-def _geometry_mask(structure: Structure, size: int) -> np.ndarray:
-    """True at the calibrated geometry entries (the last block of x)."""
-    mask = np.zeros(size, dtype=bool)
-    if structure.calibrate:
-        mask[size - len(structure.calibrate):] = True
-    return mask
 
 
 def _check(data: ExperimentData, options: FitOptions) -> None:
@@ -312,15 +197,7 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
         except SolverError:
             pass
     low = max(low, geometry.shortest_length * 1.001)
-    return pressures, _grid_lengths(geometry, stats.pipes, low, options), low
-
-
-def _grid_lengths(geometry, pipes, low, options: FitOptions) -> np.ndarray:
-    """``grid_lengths`` lengths from ``low`` to L₀ and the pipes' anchored lengths, sorted (a fixed count:
-    the NLP's Drucker rows keep their number when a calibrated geometry moves them)."""
-    pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in pipes]
-    return np.sort(np.concatenate([np.linspace(low, geometry.initial_length, options.grid_lengths),
-                                   pipe_lengths]))
+    return pressures, drucker.grid_lengths(geometry, stats.pipes, low, options), low
 
 
 def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:
