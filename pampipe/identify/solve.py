@@ -38,7 +38,7 @@ UPDATE_ROUNDS = 8
 #: vanish and IPOPT's steps degenerate).
 SCALE_FLOOR = 1e-3
 #: Drucker rows (unit max-norm) that moved less than this are kept.
-ROWS_MOVED = 1e-6
+ROWS_MOVED = 1e-3
 
 
 def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update):
@@ -76,7 +76,9 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
 def updater(values, stats: Statistics, structure: Structure, stated, options: FitOptions, pressures, low):
     """``update(x) -> changed`` for :func:`_solve`, changing ``values`` in place.
 
-    Slack cells: clipped (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise.
+    Slack cells: clipped (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise; a
+    set of sides already solved is not solved again (a cell whose model sits at F ≈ 0 would flip
+    back and forth).
     Calibrated geometry (tangent form): the Bernstein rows over the strains of the fitted geometry
     for the grid's lengths, so that the constraint covers the range the model is used in.
     """
@@ -84,17 +86,21 @@ def updater(values, stats: Statistics, structure: Structure, stated, options: Fi
     row = FIELDS.index("clipped")
     rows_follow = bool(structure.calibrate) and structure.grid_rows and options.drucker == "tangent"
 
+    seen = set()
+
     def update(x) -> bool:
         geometry = geo.from_x(stated, structure.calibrate, x[geometry_mask(structure, x.size)]) \
             if structure.calibrate else stated
         changed = False
         if slack is not None and slack.any():
             moments, count = values["cells"], stats.cells.count
+            seen.add(moments[row, :count].tobytes())
             model = forces.axial_force(moments[1, :count] * MPA, moments[2, :count], geometry,
                                        x[:stats.n_theta] * MPA, MPA)
             clipped = (slack & (np.asarray(model) <= 0)).astype(float)
-            changed = not np.array_equal(clipped, moments[row, :count])
-            moments[row, :count] = clipped
+            if clipped.tobytes() not in seen:  # a side already tried would only cycle (a cell at F ≈ 0)
+                changed = True
+                moments[row, :count] = clipped
         if rows_follow:
             lengths = drucker.grid_lengths(geometry, stats.pipes, low, options)
             rows = drucker.bernstein_rows([geometry], options.degree, pressures, lengths,
