@@ -42,14 +42,14 @@ ROWS_MOVED = 1e-3
 
 
 def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update):
-    """IPOPT, re-solved from its last point while ``update(x)`` changes the data of the problem.
+    """IPOPT, re-solved from its last point while ``update(x, seen)`` changes the data of the problem.
 
     ``update`` (see :func:`_updater`) moves slack cells between clipped and live and, with a
     calibrated geometry, puts the Drucker intervals where the fitted geometry's strains are.
     Returns (solution, statistics summed over the solves).
     """
     iterations, wall = 0, 0.0
-    x, last = x0, None
+    x, last, seen = x0, None, set()
     for round_ in range(UPDATE_ROUNDS):
         try:
             for attempt in range(2):  # a stalled solve is restarted once from where it stopped, rescaled
@@ -68,17 +68,17 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
             solution, info = last[0], last[1]
             break
         last = (solution, info, {k: np.array(v, copy=True) for k, v in values.items()})
-        if not update(x):
+        if not update(x, seen):
             break
     return solution, replace(info, iterations=iterations, wall_time=wall)
 
 
 def updater(values, stats: Statistics, structure: Structure, stated, options: FitOptions, pressures, low):
-    """``update(x) -> changed`` for :func:`_solve`, changing ``values`` in place.
+    """``update(x, seen) -> changed`` for :func:`solve_fit`, changing ``values`` in place.
 
     Slack cells: clipped (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise; a
-    set of sides already solved is not solved again (a cell whose model sits at F ≈ 0 would flip
-    back and forth).
+    set of sides already solved in this :func:`solve_fit` (``seen``) is not solved again (a cell
+    whose model sits at F ≈ 0 would flip back and forth).
     Calibrated geometry (tangent form): the Bernstein rows over the strains of the fitted geometry
     for the grid's lengths, so that the constraint covers the range the model is used in.
     """
@@ -86,9 +86,7 @@ def updater(values, stats: Statistics, structure: Structure, stated, options: Fi
     row = FIELDS.index("clipped")
     rows_follow = bool(structure.calibrate) and structure.grid_rows and options.drucker == "tangent"
 
-    seen = set()
-
-    def update(x) -> bool:
+    def update(x, seen: set) -> bool:
         geometry = geo.from_x(stated, structure.calibrate, x[geometry_mask(structure, x.size)]) \
             if structure.calibrate else stated
         changed = False
