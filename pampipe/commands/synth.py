@@ -9,7 +9,7 @@ from pampipe.commands.common import add_output_options, emit, integer_type, quan
 from pampipe.errors import InputError
 from pampipe.io import bundled
 from pampipe.io.config import load_pam
-from pampipe.io.csvfile import MAX_ROWS
+from pampipe.io.csvfile import check_rows
 from pampipe.io.pamfile import write_experiment
 from pampipe.synth import Protocol, comments, generate
 
@@ -49,9 +49,8 @@ def run(args: argparse.Namespace) -> int:
     rows = {"axial": len(protocol.pressures) * protocol.cycles * 2 * protocol.points_per_leg,
             "radial": len(protocol.radial_pressures) * protocol.radial_points}
     for kind, count in rows.items():
-        if count > MAX_ROWS:
-            raise InputError(f"synth: the {kind} test would have {count:,} rows, more than the {MAX_ROWS:,} "
-                             "pampipe reads; lower --cycles, --points-per-leg or --radial-points.")
+        check_rows(count, where=f"synth: the {kind} test's",
+                   advice="lower --cycles, --points-per-leg or --radial-points")
     if args.force_noise < 0 or args.pressure_noise < 0:
         raise InputError("--force-noise and --pressure-noise must not be negative.")
     if not args.name or "/" in args.name or args.name.startswith("."):

@@ -84,9 +84,10 @@ def read_csv(path: Path, *, required: tuple[str, ...], progress: Progress | None
     """Read a CSV file into SI columns keyed by quantity name (``pressure``, ``length``, ...).
 
     ``fast`` chooses pandas' parser (default: for a file above :data:`FAST_BYTES`). Raises
-    :class:`InputError` naming the file, the line and the column for: a missing or unreadable file, an empty file, a header without data, a header cell without a ``[unit]``,
-    an unknown unit or one of the wrong dimension, a missing required column, a duplicate column,
-    a row with the wrong number of cells, a non-numeric cell, NaN or infinity.
+    :class:`InputError` naming the file, the line and the column for: a missing or unreadable file,
+    an empty file, a header without data, a header cell without a ``[unit]``, an unknown unit or one
+    of the wrong dimension, a missing required column, a duplicate column, a row with the wrong
+    number of cells, a non-numeric cell, NaN or infinity, or rows that would not fit in memory.
     """
     path = Path(path)
     with open_input(path, what="data file") as handle:
@@ -97,17 +98,21 @@ def read_csv(path: Path, *, required: tuple[str, ...], progress: Progress | None
 
 def check_memory(path: Path, size: int, line_bytes: int) -> None:
     """Refuse a file whose rows (estimated from its size and its first line's length) would need more
-    than the available memory (:data:`BYTES_PER_ROW` a row); skipped where the OS does not say."""
+    than the available memory (:data:`BYTES_PER_ROW` a row)."""
+    check_rows(size / max(line_bytes, 8), where=f"{path}: about", advice="thin the file out (every k-th "
+               "row keeps the statistics) or split it into several tests")
+
+
+def check_rows(rows: float, *, where: str, advice: str) -> None:
+    """InputError when ``rows`` data rows would need more than the available memory
+    (:data:`BYTES_PER_ROW` a row); skipped where the OS does not say how much is available."""
     try:
         available = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):
         return
-    rows = size / max(line_bytes, 8)
     if rows * BYTES_PER_ROW > available:
-        needed = rows * BYTES_PER_ROW / 2**30
-        raise InputError(f"{path}: about {rows:,.0f} data rows would need {needed:.3g} GB of memory and "
-                         f"{available / 2**30:.3g} GB are available; thin the file out (every k-th row "
-                         "keeps the statistics) or split it into several tests.")
+        raise InputError(f"{where} {rows:,.0f} data rows would need {rows * BYTES_PER_ROW / 2**30:.3g} GB of "
+                         f"memory and {available / 2**30:.3g} GB are available; {advice}.")
 
 
 def _numpy_block(chunk: bytes) -> np.ndarray:
