@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import math
+import sys
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
+from pampipe.commands.plan_text import FULL_TABLE, PRESSURE_UNITS, SHOWN, plan_text
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import check_output
-from pampipe.report import table
 from pampipe.units import to_si
 
 NAME = "plan"
@@ -20,14 +20,20 @@ EPILOG = """\
 Every segment is the only anchor in some gait step, so in each section each segment must hold the whole
 load W = g(M|sin(incline)| + friction cos(incline)(M - m_segment)) + tether_drag alone, with
 friction*pi*F_r >= safety_factor*W (docs/physics.md section 8). The plan is the least such pressure, never
-below the pressure at which the loaded muscle touches the wall.
+below the pressure at which the loaded muscle touches the wall. Where a bore has a tolerance the plan
+holds over the whole range: each segment is planned in the worst bore. The contact margin is the plan
+above the pressure at which the unloaded muscle first touches the largest bore; under 5 % of that
+pressure it is warned about. A route may be a path through a pipe network (route: {network: ky4,
+from: J-315, to: J-897, friction: 0.3}) or, without from/to, every pipe of it, with the coverage.
 
 examples:
   pampipe plan problems/missions/vertical-climb-3in.yaml
-  pampipe plan MISSION.yaml --max-payload --json -o plan.json --plots plots/
+  pampipe plan MISSION.yaml --max-payload --json -o plan.json --plots plots/ --units psi
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95
+  pampipe plan problems/missions/ky4-route.yaml --plots plots/
 
-exit codes: 0 every section planned; 2 bad input; 3 some section infeasible (one reason per section)."""
+exit codes: 0 every section planned (a whole network: at least one pipe can be served); 2 bad input;
+3 some section infeasible (one reason per section), or no pipe of a whole network can be served."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -48,6 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--solver", choices=("kkt", "ipopt"), default="kkt",
                         help="kkt: Newton on the NLP's KKT conditions (default, fast); ipopt: the same "
                              "NLP solved by IPOPT")
+    parser.add_argument("--units", choices=PRESSURE_UNITS, default="kPa",
+                        help="pressure unit of the tables and plots (default kPa); the JSON stays in Pa")
+    parser.add_argument("--all-sections", action="store_true",
+                        help=f"list every section even on routes of more than {FULL_TABLE} sections")
     add_output_options(parser)
 
 
@@ -71,53 +81,25 @@ def run(args: argparse.Namespace) -> int:
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload)
     document = plan.to_dict()
-    emit(args, document, _text(plan))
+    for warning in plan.warnings:
+        print(f"warning: {warning}", file=sys.stderr, flush=True)
+    emit(args, document, plan_text(plan, unit=args.units, all_sections=args.all_sections))
     if args.output is not None:
         write_json(args.output, document, args)
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.plan import plot_plan
 
-        for path in plot_plan(plan, args.plots):
+        for path in plot_plan(plan, args.plots, unit=args.units):
             say(args, f"wrote {path}")
+    if plan.coverage is not None and plan.arrays.route.origin.whole:
+        if plan.coverage.pipes_feasible == 0:
+            raise InfeasibleError(f"no pipe of network {plan.arrays.route.origin.network.name} can be served; "
+                                  "the coverage above says why.")
+        return 0
     if not plan.feasible:
-        bad = [s.name for s in plan.sections if not s.feasible]
-        raise InfeasibleError(f"{len(bad)} of {len(plan.sections)} sections cannot be planned "
-                              f"({', '.join(bad)}); the reasons are listed above.")
+        bad = plan.arrays.route.name[sorted(plan.arrays.reasons)].tolist()
+        shown = ", ".join(bad[:SHOWN]) + (f" and {len(bad) - SHOWN} more" if len(bad) > SHOWN else "")
+        raise InfeasibleError(f"{len(bad)} of {len(plan.arrays.route)} sections cannot be planned "
+                              f"({shown}); the reasons are listed above.")
     return 0
-
-
-def _text(plan) -> str:
-    head = (f"plan for {plan.mission}: supply {plan.supply_pressure / 1e3:.4g} kPa, payload "
-            f"{plan.payload:.4g} kg, safety factor {plan.safety_factor:g}, load path {plan.load_path}"
-            + (f", confidence {plan.confidence:.3g}" if plan.confidence is not None else ""))
-    uncertain = plan.confidence is not None
-    headers = ["section", "segment", "P [kPa]", *(["P_nominal [kPa]"] if uncertain else []),
-               "P_anchor [kPa]", "hold W [N]", "capacity [N]", "margin", "ok"]
-    rows = []
-    for sec in plan.sections:
-        if not sec.segments:
-            rows.append((sec.name, *["-"] * (len(headers) - 2), "NO"))
-            continue
-        for seg in sec.segments:
-            nominal = [seg.nominal_pressure / 1e3] if uncertain else []
-            rows.append((sec.name, seg.name, seg.pressure / 1e3, *nominal, seg.anchoring_pressure / 1e3,
-                         seg.required_hold, seg.holding_capacity,
-                         seg.margin if math.isfinite(seg.margin) else "inf",
-                         "yes" if seg.feasible else "NO"))
-    parts = [head, table(headers, rows)]
-    parts.append("margin = capacity / W (the safety factor where no slip sets the pressure); P_anchor: "
-                 "the pressure at which the unloaded muscle touches the wall.")
-    if plan.max_payload is not None:
-        limit = plan.max_payload
-        if limit.payload is None:
-            parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at "
-                         f"{limit.supply_pressure / 1e3:.4g} kPa.")
-        else:
-            parts.append(f"max payload at {limit.supply_pressure / 1e3:.4g} kPa: {limit.payload:.4g} kg, "
-                         f"limited by {limit.segment} in section {limit.section!r}.")
-    if plan.feasible:
-        parts.append("feasible: every segment holds in every section within the supply.")
-    else:
-        parts.append("INFEASIBLE:\n  " + "\n  ".join(plan.reasons))
-    return "\n".join(parts)

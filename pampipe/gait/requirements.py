@@ -71,7 +71,7 @@ def section_needs(mission: Mission, index: int, options: GaitOptions) -> tuple[M
         raise InfeasibleError(f"section {section.name!r} cannot be crossed: {a.reasons[index]}")
     needs = []
     for i, (segment, muscle) in enumerate(zip(mission.segments, plan.muscles, strict=True)):
-        d = section.diameter
+        d = float(a.diameter[index, i])  # the plan's bore: the worst of the section's range
         contact, required = float(a.anchoring_pressure[index, i]), float(a.pressure[index, i])
         if options.vented_pressure >= contact:
             raise InputError(f"{mission.source}: gait.vented_pressure: {options.vented_pressure:.6g} Pa "

@@ -15,8 +15,9 @@ import numpy as np
 from pydantic import AfterValidator, Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.io.routes import listed_route, network_route
 from pampipe.io.yamlfile import load_mapping
-from pampipe.mission import Mission, Section, Segment
+from pampipe.mission import Mission, Segment
 from pampipe.model.domain import check_geometry
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
@@ -244,19 +245,36 @@ class UncertainFriction(Strict):
 class SectionSchema(Strict):
     name: str = Field(min_length=1)
     length: RouteLength
-    inner_diameter: Length
+    inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.pipes.bore
     incline: Incline = 0.0
     friction: Friction | UncertainFriction
+
+
+class NetworkRouteSchema(Strict):
+    """``route: {network, from, to, friction}``: a path through a pipe network (docs/commands.md §7.3)."""
+
+    network: str = Field(min_length=1)
+    from_node: str | int | None = Field(default=None, alias="from")
+    to_node: str | int | None = Field(default=None, alias="to")
+    friction: Friction | UncertainFriction
+    tolerance: str | float | int | None = None  # of every pipe's bore: a length or a percentage
+    sd: str | float | int | None = None  # standard deviation of every pipe's bore
 
 
 class MissionSchema(Strict):
     robot: RobotSchema
     supply_pressure: PositivePressure
-    safety_factor: quantity("dimensionless", ge=1, le=100) = 1.0
+    safety_factor: quantity("dimensionless", ge=1, le=100) | None = None
     load_path: Literal["through_anchor", "distributed", "none"] = "through_anchor"
     tether_drag: NonNegativeForce = 0.0
-    route: list[SectionSchema] = Field(min_length=1)
+    route: Annotated[list[SectionSchema], Field(min_length=1)] | NetworkRouteSchema
     gait: dict[str, Any] | None = None  # options of `gait`; validated there
+
+
+#: The safety factor of a mission that gives none, and what the commands say about it.
+DEFAULT_SAFETY_FACTOR = 1.0
+NO_SAFETY_FACTOR = ("the mission gives no safety_factor, so 1 is used: the plan holds exactly the load, with no "
+                    "margin for friction, load or model error; write e.g. 'safety_factor: 1.5'.")
 
 
 # ---------------------------------------------------------------------------------------- loaders
@@ -302,15 +320,16 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
     if len({s.name for s in segments}) != len(segments):
         raise InputError(f"{path}: robot.segments: segment names must be unique, got "
                          f"{[s.name for s in segments]}.")
-    route = []
-    for sec in schema.route:
-        fr = sec.friction
-        value, sd = (fr.value, fr.sd) if isinstance(fr, UncertainFriction) else (fr, 0.0)
-        route.append(Section(sec.name, sec.length, sec.inner_diameter, sec.incline, value, sd))
-    if len({s.name for s in route}) != len(route):
-        raise InputError(f"{path}: route: section names must be unique.")
-    return Mission(path, segments, schema.robot.payload, schema.supply_pressure, schema.safety_factor,
-                   schema.load_path, schema.tether_drag, tuple(route), dict(schema.gait or {}))
+    warnings = ()
+    safety_factor = schema.safety_factor
+    if safety_factor is None:
+        safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (f"{path}: {NO_SAFETY_FACTOR}",)
+    if isinstance(schema.route, NetworkRouteSchema):
+        route = network_route(path, schema.route, segments)
+    else:
+        route = listed_route(path, schema.route)
+    return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
+                   schema.load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings)
 
 
 def _resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:

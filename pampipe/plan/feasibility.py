@@ -1,13 +1,19 @@
 """Why a section cannot be planned: one plain sentence per infeasible section (the plan issue, item 3).
 
-Reasons, checked in this order for each section (the first that applies is reported):
-1. zero wall friction: no anchor can grip;
-2. the pipe is narrower than a muscle at rest (D_p ≤ D₀);
-3. the pipe is wider than the braid can ever reach (D_p ≥ D(B/√3), docs/physics.md §2);
+Reasons, checked in this order for each section (the first that applies is reported; its code in
+brackets, counted by a whole-network plan's coverage):
+1. zero wall friction: no anchor can grip [``zero_friction``];
+2. the pipe is narrower than a muscle at rest (D_low ≤ D₀) [``narrower_than_muscle``];
+3. the pipe is wider than the braid can ever reach (D_high ≥ D(B/√3), docs/physics.md §2)
+   [``wider_than_braid``];
 4. the pipe is wider than the muscle reaches at supply pressure (L_free(P_supply) > L(D_p),
-   i.e. the unloaded anchoring pressure exceeds the supply, docs/physics.md §7);
-5. no pressure up to the model's 100 MPa limit holds the load;
-6. the pressure needed to hold the load exceeds the supply (with the largest payload it allows).
+   i.e. the unloaded anchoring pressure exceeds the supply, docs/physics.md §7) [``beyond_reach``];
+5. no pressure up to the model's 100 MPa limit holds the load [``cannot_hold``];
+6. the pressure needed to hold the load exceeds the supply (with the largest payload it allows)
+   [``above_supply``].
+
+With a bore range (a tolerance), each sentence names the bore that fails: the smallest for 2, the
+largest for 3 and 4, the worst bore (where the pressure is largest) for 5 and 6.
 """
 
 from __future__ import annotations
@@ -26,15 +32,25 @@ def element_feasible(elements: Elements, solution: Solution, supply: float) -> n
     return elements.valid & np.isfinite(solution.pressure) & (solution.pressure <= supply)
 
 
+#: Reason codes in the order they are checked, with the words coverage reports use.
+REASONS = {"zero_friction": "zero wall friction", "narrower_than_muscle": "narrower than the muscles at rest",
+           "wider_than_braid": "wider than the braids can open",
+           "beyond_reach": "wider than the muscles reach at the supply pressure",
+           "cannot_hold": "no pressure holds the load", "above_supply": "needs more than the supply pressure"}
+
+
 def section_reasons(mission, muscles, elements: Elements, solution: Solution,
-                    payloads: np.ndarray, *, confidence: float | None = None) -> dict[int, str]:
-    """{section index: one sentence} for the sections that cannot be planned (feasible ones are absent).
+                    payloads: np.ndarray, *, confidence: float | None = None):
+    """({section index: one sentence}, {section index: reason code}) for the sections that cannot be
+    planned (feasible ones are absent).
 
     ``payloads`` are the element payload limits [kg] of :func:`pampipe.plan.payload.element_payloads`.
     """
     feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1)
-    return {s: _reason(mission, muscles, s, elements, solution, payloads[s], confidence)
-            for s in np.flatnonzero(~feasible).tolist()}
+    sentences, codes = {}, {}
+    for s in np.flatnonzero(~feasible).tolist():
+        codes[s], sentences[s] = _reason(mission, muscles, s, elements, solution, payloads[s], confidence)
+    return sentences, codes
 
 
 def _names(mission, mask) -> str:
@@ -44,47 +60,66 @@ def _names(mission, mask) -> str:
     return " and ".join(names)
 
 
+def _mm(length: float) -> str:
+    return f"{length * 1e3:.4g} mm"
+
+
 def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
-            confidence: float | None) -> str:
+            confidence: float | None) -> tuple[str, str]:
+    """(code, sentence) of the first reason that applies to section ``s``."""
     sec, supply = mission.route[s], mission.supply_pressure
-    pipe = f"the {sec.diameter * 1e3:.4g} mm pipe"
+    ranged = sec.diameter_high > sec.diameter_low
+    pipe = f"the {_mm(sec.diameter)} pipe"
+    if ranged or (sec.label and sec.label != _mm(sec.diameter)):
+        pipe += f" ({sec.label})"
+
+    def at(which: str, bore: float) -> str:
+        return f", at its {which} bore of {_mm(bore)}," if ranged else ""
+
     pams = [seg.pam for seg in mission.segments]
     if sec.friction <= 0:
-        return (f"the wall friction is zero, so no muscle can grip the wall of {pipe} and the robot "
-                "can neither hold on nor push itself along.")
-    narrow = np.array([sec.diameter <= p.geometry.initial_diameter for p in pams])
+        return "zero_friction", (f"the wall friction is zero, so no muscle can grip the wall of {pipe} and the "
+                                 "robot can neither hold on nor push itself along.")
+    narrow = np.array([sec.diameter_low <= p.geometry.initial_diameter for p in pams])
     if narrow.any():
         rest = min(p.geometry.initial_diameter for p, n in zip(pams, narrow, strict=True) if n)
-        return (f"{pipe} is not wider than {_names(mission, narrow)} at rest ({rest * 1e3:.4g} mm), so "
-                "it cannot expand against the wall to anchor.")
-    wide = np.array([sec.diameter >= p.geometry.largest_diameter for p in pams])
+        return "narrower_than_muscle", (
+            f"{pipe} is{at('smallest', sec.diameter_low)} not wider than {_names(mission, narrow)} at rest "
+            f"({_mm(rest)}), so it cannot expand against the wall to anchor.")
+    wide = np.array([sec.diameter_high >= p.geometry.largest_diameter for p in pams])
     if wide.any():
         reach = min(p.geometry.largest_diameter for p, w in zip(pams, wide, strict=True) if w)
-        return (f"{pipe} is wider than the braid of {_names(mission, wide)} can ever open (at most "
-                f"{reach * 1e3:.4g} mm, where the contractile force vanishes), so it cannot anchor.")
-    short = e.free_anchoring[s] > supply
+        return "wider_than_braid", (
+            f"{pipe} is{at('largest', sec.diameter_high)} wider than the braid of {_names(mission, wide)} can "
+            f"ever open (at most {_mm(reach)}, where the contractile force vanishes), so it cannot anchor.")
+    touch = np.maximum(e.free_anchoring[s], e.largest_bore_anchoring[s])
+    short = touch > supply
     if short.any():
-        i = int(np.argmax(e.free_anchoring[s]))
-        return (f"{pipe} is wider than {_names(mission, short)} reach{'es' if short.sum() == 1 else ''} "
-                f"at the {supply / 1e3:.4g} kPa supply{_free_diameter(muscles[i], supply)}; "
-                f"touching the wall needs {e.free_anchoring[s, i] / 1e3:.4g} kPa.")
+        i = int(np.argmax(touch))
+        largest = e.largest_bore_anchoring[s, i] >= e.free_anchoring[s, i]
+        bore = at("largest", sec.diameter_high) if largest else at("worst", e.diameter[s, i])
+        return "beyond_reach", (
+            f"{pipe} is{bore} wider than {_names(mission, short)} reach{'es' if short.sum() == 1 else ''} "
+            f"at the {supply / 1e3:.4g} kPa supply{_free_diameter(muscles[i], supply)}; touching the wall "
+            f"needs {touch[i] / 1e3:.4g} kPa.")
     pressure = solution.pressure[s]
+    worst = f" in its worst bore, {_mm(e.diameter[s, int(np.argmax(pressure))])}," if ranged else ""
     stuck = ~np.isfinite(pressure)
     if stuck.any():
         i = int(np.argmax(stuck))
-        return (f"{_names(mission, stuck)} cannot hold the {e.load[s, i]:.4g} N load at any pressure up "
-                "to 100 MPa in this pipe.")
+        return "cannot_hold", (f"{_names(mission, stuck)} cannot hold the {e.load[s, i]:.4g} N load at any "
+                               f"pressure up to 100 MPa in this pipe{worst.rstrip(',')}.")
     i = int(np.argmax(pressure))
-    hold = (f"{mission.segments[i].name} needs {pressure[i] / 1e3:.4g} kPa to hold "
+    hold = (f"{mission.segments[i].name} needs {pressure[i] / 1e3:.4g} kPa{worst} to hold "
             f"{e.load[s, i]:.4g} N with safety factor {mission.safety_factor:g}"
             f"{'' if confidence is None else f' at {confidence:.3g} confidence'}, more than the "
             f"{supply / 1e3:.4g} kPa supply")
     if confidence is not None:
-        return hold + "."
+        return "above_supply", hold + "."
     payload = float(payloads.min())
     if payload >= 0:
-        return f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of payload here."
-    return f"{hold}; at the supply it cannot even carry its own weight here, with no payload."
+        return "above_supply", f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of payload here."
+    return "above_supply", f"{hold}; at the supply it cannot even carry its own weight here, with no payload."
 
 
 def _free_diameter(muscle: Muscle, supply: float) -> str:

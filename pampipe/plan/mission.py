@@ -15,6 +15,7 @@ from pampipe.plan.payload import element_payloads, payload_limit
 from pampipe.plan.problem import Elements, build_elements, mission_muscles
 from pampipe.plan.result import MissionPlan, PlanArrays
 from pampipe.plan.solve import Solution, solve
+from pampipe.plan.warnings import plan_warnings, route_coverage
 
 #: Largest accepted relative disagreement between the NLP and its cross-check.
 CHECK_TOLERANCE = 1e-6
@@ -45,22 +46,24 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     nominal = None
     if confidence is not None:
         nominal = solution.pressure
-        pressure = confidence_pressure(mission, muscles, nominal, confidence)
+        pressure = confidence_pressure(mission, muscles, nominal, confidence, diameter=elements.diameter)
         solution = dataclasses.replace(solution, pressure=pressure,
                                        slip_active=solution.slip_active | (pressure > nominal))
     payloads = element_payloads(mission, muscles, elements)
-    reasons = section_reasons(mission, muscles, elements, solution, payloads, confidence=confidence)
-    arrays = _arrays(mission, muscles, elements, solution, reasons, nominal)
+    reasons, codes = section_reasons(mission, muscles, elements, solution, payloads, confidence=confidence)
+    arrays = _arrays(mission, muscles, elements, solution, reasons, codes, nominal)
     limit = payload_limit(mission, payloads) if with_max_payload else None
+    served = None if mission.route.origin is None else route_coverage(mission.route, codes)
     return MissionPlan(feasible=not reasons, arrays=arrays,
                        mission=str(mission.source), supply_pressure=mission.supply_pressure,
                        safety_factor=mission.safety_factor, load_path=mission.load_path,
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
                        checks=checks, confidence=confidence, max_payload=limit, muscles=muscles,
-                       kappa=elements.kappa)
+                       kappa=elements.kappa, warnings=plan_warnings(mission, arrays, confidence),
+                       coverage=served)
 
 
-def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, nominal) -> PlanArrays:
+def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, nominal) -> PlanArrays:
     pressure = np.where(np.isfinite(solution.pressure) & e.valid, solution.pressure, 0.0)
     capacity, radial, contact = (np.stack(c, axis=1) for c in zip(*(
         _evaluate(m, e, pressure[:, i], i) for i, m in enumerate(muscles)), strict=True))
@@ -72,7 +75,8 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, nominal)
         air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
         feasible=element_feasible(e, solution, mission.supply_pressure), complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
-        route=mission.route, reasons=reasons)
+        route=mission.route, reasons=reasons, diameter=np.array(e.diameter),
+        largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes)
 
 
 def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):

@@ -8,6 +8,9 @@ some step, so in every section each segment must hold the section's whole load a
   W = g·(M·|sin φ| + μ·cos φ·(M − m_i)) + tether_drag  [N]  (:func:`pampipe.model.slip.incline_load`).
 * No slip: μπF_r(P, D_s, κW) ≥ SF·W, asked of the segment's :class:`~pampipe.model.muscle.Muscle`.
 * Contact: P ≥ max(P_a(κW), 0), the pressure at which the loaded muscle presses on the wall.
+* A bore range [D_low, D_high] (a tolerance): each element is planned in its worst bore, the D of the
+  range where the least holding pressure is largest (:func:`pampipe.plan.bores.worst_bores`), so that the
+  plan holds over the whole range; the element's other numbers are those of that bore.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ import numpy as np
 
 from pampipe.model.muscle import Muscle
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.plan.bores import worst_bores
 
 #: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
 #: table itself, linear in elements (benchmarks/bench_plan.py).
@@ -41,7 +45,8 @@ class Elements:
     ``volume``, ``free_anchoring``) is computed on first use.
     """
 
-    diameter: np.ndarray  # D_s [m] (a placeholder inside the muscle's range where invalid)
+    diameter: np.ndarray  # D_s [m], the worst bore of the range (a placeholder inside the muscle's range where invalid)
+    diameter_high: np.ndarray  # the largest bore of the range [m] (the same placeholder where invalid)
     load: np.ndarray  # W [N], required hold
     load_per_payload: np.ndarray  # ∂W/∂payload = g(|sin φ| + μ cos φ) [N/kg]
     friction: np.ndarray  # μ [-]
@@ -49,7 +54,7 @@ class Elements:
     least_pressure: np.ndarray  # [Pa] the least pressure that presses and holds (inf: none, or invalid)
     kappa: float  # κ of the load path
     safety_factor: float  # SF
-    valid: np.ndarray  # inside the model's domain: D₀ < D < D(B/√3) and μ > 0
+    valid: np.ndarray  # inside the model's domain over the whole range: D₀ < D_low, D_high < D(B/√3), μ > 0
     muscles: tuple = field(repr=False)  # the segments' Muscle objects
 
     @property
@@ -69,8 +74,13 @@ class Elements:
 
     @cached_property
     def free_anchoring(self) -> np.ndarray:
-        """P_a(0) [Pa]: the unloaded muscle reaches the wall."""
+        """P_a(0) [Pa]: the unloaded muscle reaches the wall (of the worst bore)."""
         return self._per_segment(lambda m, i: m.anchoring_pressure(self.diameter[:, i], 0.0))
+
+    @cached_property
+    def largest_bore_anchoring(self) -> np.ndarray:
+        """P_a(D_high, 0) [Pa]: the unloaded muscle first touches the wall everywhere in the range."""
+        return self._per_segment(lambda m, i: m.anchoring_pressure(self.diameter_high[:, i], 0.0))
 
     def _per_segment(self, value) -> np.ndarray:
         out = np.empty(self.load.shape[::-1])
@@ -85,14 +95,32 @@ def mission_muscles(mission) -> tuple[Muscle, ...]:
                  for i, seg in enumerate(mission.segments))
 
 
-def route_columns(route) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(diameter [m], incline [rad], friction) arrays of a route: a sequence of
-    :class:`~pampipe.mission.Section`, or columns that carry those three arrays as attributes.
+@dataclass(frozen=True)
+class RouteColumns:
+    """The arrays of a route the planner reads (SI): bore range, incline and friction per section."""
+
+    diameter: np.ndarray  # nominal bore [m]
+    low: np.ndarray  # smallest bore [m]
+    high: np.ndarray  # largest bore [m]
+    incline: np.ndarray  # [rad]
+    friction: np.ndarray
+
+
+def route_columns(route) -> RouteColumns:
+    """The columns of a route: a :class:`~pampipe.mission.Route`, a sequence of
+    :class:`~pampipe.mission.Section`, or any object with ``diameter``, ``incline`` and ``friction`` arrays
+    (and optionally ``diameter_low``/``diameter_high``; without them the bore is exact).
     """
     keys = ("diameter", "incline", "friction")
     if all(hasattr(route, key) for key in keys):
-        return tuple(np.asarray(getattr(route, key), dtype=float) for key in keys)
-    return tuple(np.fromiter(map(attrgetter(key), route), dtype=float, count=len(route)) for key in keys)
+        get = {key: np.asarray(getattr(route, key), dtype=float) for key in keys}
+        for key in ("diameter_low", "diameter_high"):
+            get[key] = np.asarray(getattr(route, key, get["diameter"]), dtype=float)
+    else:
+        get = {key: np.fromiter(map(attrgetter(key), route), dtype=float, count=len(route))
+               for key in (*keys, "diameter_low", "diameter_high")}
+    return RouteColumns(get["diameter"], get["diameter_low"], get["diameter_high"], get["incline"],
+                        get["friction"])
 
 
 def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | None = None,
@@ -103,40 +131,48 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
     A muscle without effects is evaluated once per element (:meth:`Muscle.affine_coefficients`), and
     the loaded anchoring pressure and the least holding pressure (the NLP's KKT point,
     :meth:`Muscle.least_holding_pressure`) follow from its coefficients in the same pass; sin φ and
-    cos φ are taken once per section; the work runs over :data:`CHUNK` sections at a time.
+    cos φ are taken once per section; the work runs over :data:`CHUNK` sections at a time. Sections with
+    a bore range are first searched for their worst bore (:func:`~pampipe.plan.bores.worst_bores`).
     """
     payload = mission.payload if payload is None else float(payload)
-    diameter, incline, friction = route_columns(mission.route if route is None else route)
-    count, segments = diameter.shape[0], len(muscles)
+    r = route_columns(mission.route if route is None else route)
+    count, segments = r.diameter.shape[0], len(muscles)
     total_mass = sum(seg.mass for seg in mission.segments) + payload
     valid = np.empty((segments, count), dtype=bool)
     for i, muscle in enumerate(muscles):
         g = muscle.geometry
-        np.logical_and(diameter > g.initial_diameter, diameter < g.largest_diameter, out=valid[i])
-        valid[i] &= friction > 0
-    shared_diameter = bool(valid.all())
-    keys = ["load", "anchoring", "least_pressure"] + ([] if shared_diameter else ["diameter"])
+        np.logical_and(r.low > g.initial_diameter, r.high < g.largest_diameter, out=valid[i])
+        valid[i] &= r.friction > 0
+    ranged = r.high > r.low
+    shared_diameter = bool(valid.all()) and not ranged.any()
+    keys = ["load", "anchoring", "least_pressure"] + ([] if shared_diameter else ["diameter", "diameter_high"])
     blocks = {key: np.empty((segments, count)) for key in keys}
     per_kg = np.empty(count)
     kappa, safety = mission.kappa, mission.safety_factor
     for part in chunks(count):
-        d, mu = diameter[part], friction[part]
-        rise, run = np.abs(np.sin(incline[part])), np.cos(incline[part])
+        mu = r.friction[part]
+        rise, run = np.abs(np.sin(r.incline[part])), np.cos(r.incline[part])
         per_kg[part] = STANDARD_GRAVITY * (rise + mu * run)
         for i, (seg, muscle) in enumerate(zip(mission.segments, muscles, strict=True)):
             g = muscle.geometry
-            safe = d if shared_diameter else np.where(valid[i, part], d, 0.5 * (g.initial_diameter
-                                                                                 + g.largest_diameter))
             load = incline_load(total_mass, seg.mass, rise, run, mu, mission.tether_drag)
+            if shared_diameter:
+                safe = high = r.diameter[part]
+            else:
+                middle = 0.5 * (g.initial_diameter + g.largest_diameter)
+                low, high = (np.where(valid[i, part], v[part], middle) for v in (r.low, r.high))
+                safe = low if not ranged[part].any() else worst_bores(
+                    muscle, low, high, load, kappa=kappa, friction=mu, safety_factor=safety)
             c = None if muscle.has_effects else muscle.affine_coefficients(safe)
             least = muscle.least_holding_pressure(safe, load, kappa=kappa, friction=mu, safety_factor=safety,
                                                   anchored=c)
-            values = {"load": load, "diameter": safe,
+            values = {"load": load, "diameter": safe, "diameter_high": high,
                       "least_pressure": np.where(valid[i, part], least, np.inf),
                       "anchoring": muscle.anchoring_pressure(safe, kappa * load, anchored=c)}
             for key, block in blocks.items():
                 block[i, part] = values[key]
     columns = {key: block.T for key, block in blocks.items()}
-    for key, value in (("friction", friction), ("load_per_payload", per_kg), ("diameter", diameter)):
+    for key, value in (("friction", r.friction), ("load_per_payload", per_kg), ("diameter", r.diameter),
+                       ("diameter_high", r.diameter)):
         columns.setdefault(key, np.broadcast_to(value[:, None], (count, segments)))
     return Elements(**columns, kappa=kappa, safety_factor=safety, valid=valid.T, muscles=tuple(muscles))

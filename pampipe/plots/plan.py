@@ -7,33 +7,45 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.report import new_figure, save_figure
+from pampipe.units import to_si
 
 MAX_CURVES = 8  # sections drawn in the capacity plot (the first ones with a plan)
 
 
-def plot_plan(plan, folder: Path) -> list[Path]:
-    """Write required_pressure.png and holding_capacity.png into ``folder``.
+def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
+    """Write required_pressure.png and holding_capacity.png into ``folder``, pressures in ``unit``; for a
+    route read from a network also network_pressure.png, and for any route but a whole network
+    route_profile.png (:mod:`pampipe.plots.network`).
 
     Every number drawn comes from ``plan`` (a :class:`pampipe.plan.MissionPlan`), curves included.
     """
-    return [_required_pressure(plan, folder), _holding_capacity(plan, folder)]
+    from pampipe.plots.network import network_pressure, route_profile
+
+    scale = to_si(f"1 {unit}", "pressure")
+    paths = [_required_pressure(plan, folder, unit, scale), _holding_capacity(plan, folder, unit, scale)]
+    origin = plan.arrays.route.origin
+    if origin is None or not origin.whole:
+        paths.append(route_profile(plan, folder, unit, scale))
+    if origin is not None:
+        drawn = network_pressure(plan, folder, unit, scale)
+        paths += [drawn] if drawn is not None else []
+    return paths
 
 
-def _required_pressure(plan, folder: Path) -> Path:
+def _required_pressure(plan, folder: Path, unit: str, scale: float) -> Path:
     fig, ax = new_figure(figsize=(8, 4.5))
-    edges = np.concatenate([[0.0], np.cumsum([s.length for s in plan.sections])])
-    for k, name in enumerate(plan.arrays.segment_names):
-        values = [sec.segments[k].pressure / 1e3 if sec.segments else np.nan for sec in plan.sections]
+    a = plan.arrays
+    edges = np.concatenate([[0.0], np.cumsum(a.route.length)])
+    for k, name in enumerate(a.segment_names):
+        values = np.where(a.complete, a.pressure[:, k], np.nan) / scale
         ax.stairs(values, edges, baseline=None, lw=2.2 - 0.5 * k, label=f"{name}: planned pressure")
-    anchoring = [max(s.anchoring_pressure for s in sec.segments) / 1e3 if sec.segments else np.nan
-                 for sec in plan.sections]
+    anchoring = np.where(a.complete, np.max(a.largest_bore_anchoring, axis=1), np.nan) / scale
     ax.stairs(anchoring, edges, baseline=None, color="grey", ls=":", lw=1.5,
-              label="anchoring pressure (no load)")
-    ax.axhline(plan.supply_pressure / 1e3, color="C3", ls="--", lw=1.2, label="supply pressure")
-    for sec, a, b in zip(plan.sections, edges[:-1], edges[1:], strict=True):
-        if not sec.feasible:
-            ax.axvspan(a, b, color="C3", alpha=0.12, lw=0)
-    if len(plan.sections) <= 30:
+              label="anchoring pressure (no load, largest bore)")
+    ax.axhline(plan.supply_pressure / scale, color="C3", ls="--", lw=1.2, label="supply pressure")
+    for s in sorted(a.reasons):
+        ax.axvspan(edges[s], edges[s + 1], color="C3", alpha=0.12, lw=0)
+    if len(a.route) <= 30:
         top = ax.secondary_xaxis("top")
         tilted = len(plan.sections) > 3
         top.set_xticks((edges[:-1] + edges[1:]) / 2, [sec.name for sec in plan.sections],
@@ -41,14 +53,14 @@ def _required_pressure(plan, folder: Path) -> Path:
         for label, sec in zip(top.get_xticklabels(), plan.sections, strict=True):
             label.set_color("k" if sec.feasible else "C3")
     ax.set_ylim(bottom=0)
-    ax.set(xlabel="distance along the route [m]", ylabel="gauge pressure [kPa]",
+    ax.set(xlabel="distance along the route [m]", ylabel=f"gauge pressure [{unit}]",
            title="required anchoring pressure along the route (red band: infeasible section)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     return save_figure(fig, folder, "required_pressure.png")
 
 
-def _holding_capacity(plan, folder: Path) -> Path:
+def _holding_capacity(plan, folder: Path, unit: str, scale: float) -> Path:
     fig, ax = new_figure(figsize=(8, 4.8))
     drawn = [(s, sec) for s, sec in enumerate(plan.sections) if sec.segments][:MAX_CURVES]
     top = max([plan.supply_pressure] + [max(x.pressure for x in sec.segments) for _, sec in drawn])
@@ -59,18 +71,18 @@ def _holding_capacity(plan, folder: Path) -> Path:
         capacity = plan.capacity_curve(s, k, grid)
         color = f"C{n % 10}"
         capacity = np.where(capacity > 0, capacity, np.nan)  # zero before contact: off the log axis
-        ax.plot(grid / 1e3, capacity, color=color, lw=1.5,
-                label=f"{sec.name} ({point.name}, {sec.diameter * 1e3:.1f} mm, "
+        ax.plot(grid / scale, capacity, color=color, lw=1.5,
+                label=f"{sec.name} ({point.name}, {point.worst_diameter * 1e3:.1f} mm, "
                       f"W = {point.required_hold:.3g} N)")
         ax.axhline(plan.safety_factor * point.required_hold, color=color, ls="--", lw=0.8)
-        ax.plot(point.pressure / 1e3, point.holding_capacity, "o", color=color, ms=7,
+        ax.plot(point.pressure / scale, point.holding_capacity, "o", color=color, ms=7,
                 mec="k" if point.feasible else "C3", mew=1.2)
-    ax.axvline(plan.supply_pressure / 1e3, color="C3", ls="--", lw=1.2, label="supply pressure")
+    ax.axvline(plan.supply_pressure / scale, color="C3", ls="--", lw=1.2, label="supply pressure")
     needed = [plan.safety_factor * x.required_hold for _, sec in drawn for x in sec.segments]
     positive = [v for v in needed if v > 0] or [1.0]
     ax.set_yscale("log")
     ax.set_ylim(0.3 * min(positive), 3 * max(max(positive), _capacity_at(plan, drawn, top)))
-    ax.set(xlabel="gauge pressure P [kPa]", ylabel="holding capacity μπF_r [N]",
+    ax.set(xlabel=f"gauge pressure P [{unit}]", ylabel="holding capacity μπF_r [N]",
            title=f"holding capacity vs pressure (dashed: {plan.safety_factor:g} × required hold; "
                  "dots: operating points)\n(curves start where the muscle touches the wall)")
     ax.grid(alpha=0.3)

@@ -1,0 +1,180 @@
+"""The text report of `pampipe plan`: the sections as parsed, the plan, coverage and warnings (docs/commands.md §5).
+
+Pressures are shown in the unit of ``--units`` (kPa, psi or bar; the JSON stays SI). Routes of more
+than :data:`FULL_TABLE` sections are summarised: the sections that need the most pressure, the
+infeasible ones, and one row per bore; ``--all-sections`` lists every one.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pampipe.plan.result import CONTACT_MARGIN, thin_contact
+from pampipe.report import table
+from pampipe.units import to_si
+
+#: Pressure units of --units, as the quantity parser reads them.
+PRESSURE_UNITS = ("kPa", "psi", "bar")
+FULL_TABLE = 60  # sections listed in full; longer routes are summarised
+SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
+INCH = 0.0254
+
+
+def pressure_scale(unit: str) -> float:
+    """Pa per ``unit`` (kPa, psi or bar)."""
+    return to_si(f"1 {unit}", "pressure")
+
+
+def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
+    """The whole report: header, route, sections as parsed, plan, coverage, payload and verdict."""
+    scale = pressure_scale(unit)
+    route = plan.arrays.route
+    rows = _shown_rows(plan, all_sections)
+    parts = [_header(plan, unit, scale)]
+    origin = route.origin
+    if origin is not None:
+        parts.append(_network_line(plan))
+    if rows.size < len(route):
+        parts.append(f"{len(route)} sections: showing the {rows.size} that need the most pressure"
+                     + ("" if origin is not None and origin.whole else " or cannot be planned")
+                     + " (--all-sections lists every one; --json has them all).")
+    parts += ["sections as parsed:", _parsed_table(plan, rows)]
+    if rows.size < len(route):
+        parts += ["by bore:", _bore_table(plan, unit, scale)]
+    parts += [f"plan (pressures in {unit}, gauge; each segment in the worst bore of its section's range):",
+              _plan_table(plan, rows, unit, scale),
+              f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = P - P_anchor "
+              f"(warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the safety factor where "
+              "no slip sets the pressure)."]
+    if plan.coverage is not None:
+        parts.append(_coverage_text(plan.coverage, "the network" if origin.whole else "the route"))
+    if plan.max_payload is not None:
+        limit = plan.max_payload
+        supply = f"{limit.supply_pressure / scale:.4g} {unit}"
+        if limit.payload is None:
+            parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at {supply}.")
+        else:
+            parts.append(f"max payload at {supply}: {limit.payload:.4g} kg, limited by {limit.segment} in "
+                         f"section {limit.section!r}.")
+    if plan.feasible:
+        parts.append("feasible: every segment holds in every section, over each bore's range, within the supply.")
+    elif origin is None or not origin.whole:
+        parts.append("INFEASIBLE:\n  " + "\n  ".join(_limited(plan.reasons)))
+    return "\n".join(parts)
+
+
+def _header(plan, unit: str, scale: float) -> str:
+    given = "" if not any("safety_factor" in w for w in plan.warnings) else " (none given: default)"
+    return (f"plan for {plan.mission}: supply {plan.supply_pressure / scale:.4g} {unit}, payload {plan.payload:.4g} "
+            f"kg, safety factor {plan.safety_factor:g}{given}, load path {plan.load_path}"
+            + (f", confidence {plan.confidence:.3g}" if plan.confidence is not None else ""))
+
+
+def _network_line(plan) -> str:
+    route = plan.arrays.route
+    origin = route.origin
+    net = origin.network
+    if origin.whole:
+        return (f"route: every pipe of network {net.name} ({net.source}): {len(route)} pipes, "
+                f"{route.length.sum() / 1e3:.4g} km; inclines are |asin(dz/length)| (direction unknown).")
+    return (f"route: network {net.name} ({net.source}) from {origin.from_node} to {origin.to_node}: {len(route)} "
+            f"pipes, {route.length.sum():.6g} m, the shortest path through the pipes the robot passes "
+            f"({origin.excluded} of {len(net.pipe_ids)} pipes excluded by their bore); bends are reported, not "
+            "planned.")
+
+
+def _shown_rows(plan, all_sections: bool) -> np.ndarray:
+    """Section indices to list: all of them, or the largest pressures and the infeasible ones."""
+    n = len(plan.arrays.route)
+    if all_sections or n <= FULL_TABLE:
+        return np.arange(n)
+    a = plan.arrays
+    feasible = a.feasible.all(axis=1)
+    pressure = np.where(feasible, plan.section_pressure, -np.inf)
+    largest = np.argsort(-pressure, kind="stable")[:min(SHOWN, int(feasible.sum()))]
+    whole = a.route.origin is not None and a.route.origin.whole  # coverage counts the others
+    bad = np.array([] if whole else sorted(a.reasons)[:SHOWN], dtype=int)
+    return np.union1d(largest, bad)
+
+
+def _parsed_table(plan, rows: np.ndarray) -> str:
+    """Each section as parsed: bore in mm and in (range, as written), length, incline, μ, largest W."""
+    route, a = plan.arrays.route, plan.arrays
+    origin = route.origin
+    bends = origin is not None and not origin.whole
+    headers = ["section", "bore [mm]", "bore [in]", "range [mm]", "bore as given", "length [m]",
+               "incline [deg]", "friction", "W [N]", *(["bend [deg]"] if bends else [])]
+    out = []
+    for s in rows.tolist():
+        low, high = route.diameter_low[s] * 1e3, route.diameter_high[s] * 1e3
+        friction = f"{route.friction[s]:.4g}" + (f" ± {route.friction_sd[s]:.3g}" if route.friction_sd[s] else "")
+        row = [route.name[s], route.diameter[s] * 1e3, route.diameter[s] / INCH,
+               f"{low:.5g}-{high:.5g}" if high > low else "-", route.section_label(s), route.length[s],
+               math.degrees(route.incline[s]), friction, float(np.max(a.required_hold[s]))]
+        if bends:
+            bend = origin.bend[s]
+            row.append("-" if math.isnan(bend) else math.degrees(bend))
+        out.append(row)
+    return table(headers, out)
+
+
+def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
+    a = plan.arrays
+    uncertain = plan.confidence is not None
+    ranged = bool(a.route.toleranced.any())
+    headers = ["section", "segment", f"P [{unit}]", *([f"P_nominal [{unit}]"] if uncertain else []),
+               *(["worst bore [mm]"] if ranged else []), f"P_anchor [{unit}]", f"contact margin [{unit}]",
+               "W [N]", "capacity [N]", "margin", "ok"]
+    out = []
+    for s in rows.tolist():
+        if not a.complete[s]:
+            out.append((a.route.name[s], *["-"] * (len(headers) - 2), "NO"))
+            continue
+        for i, name in enumerate(a.segment_names):
+            p, touch, hold = a.pressure[s, i], a.largest_bore_anchoring[s, i], a.required_hold[s, i]
+            capacity = a.holding_capacity[s, i]
+            margin = (p - touch) / scale
+            out.append((a.route.name[s], name, p / scale,
+                        *([a.nominal_pressure[s, i] / scale] if uncertain else []),
+                        *([a.diameter[s, i] * 1e3] if ranged else []), touch / scale,
+                        f"{margin:.4g} (thin)" if thin_contact(p, touch) else float(margin), float(hold),
+                        float(capacity), float(capacity / hold) if hold > 0 else "inf",
+                        "yes" if a.feasible[s, i] else "NO"))
+    return table(headers, out)
+
+
+def _bore_table(plan, unit: str, scale: float) -> str:
+    """One row per nominal bore: pipes, length, pipes planned, and the largest pressure among them."""
+    route = plan.arrays.route
+    pressure = plan.section_pressure
+    feasible = np.ones(len(route), dtype=bool)
+    feasible[list(plan.arrays.reasons)] = False
+    rows = []
+    for d in np.unique(route.diameter).tolist():
+        at = route.diameter == d
+        ok = at & feasible
+        top = float(np.max(pressure[ok])) / scale if ok.any() else "-"
+        rows.append((d * 1e3, d / INCH, int(at.sum()), float(route.length[at].sum()), int(ok.sum()), top))
+    return table(["bore [mm]", "bore [in]", "pipes", "length [m]", "planned", f"largest P [{unit}]"], rows)
+
+
+def _coverage_text(coverage, scope: str) -> str:
+    from pampipe.plan.feasibility import REASONS
+
+    share = coverage.pipes_feasible / coverage.pipes_total if coverage.pipes_total else 0.0
+    length = coverage.length_feasible / coverage.length_total if coverage.length_total else 0.0
+    text = (f"coverage of {scope}: {coverage.pipes_feasible} of {coverage.pipes_total} pipes ({share:.1%}), "
+            f"{coverage.length_feasible / 1e3:.4g} of {coverage.length_total / 1e3:.4g} km ({length:.1%}) can be "
+            "served")
+    if coverage.reasons:
+        text += "; the others: " + "; ".join(f"{REASONS.get(code, code)}: {count}"
+                                              for code, count in coverage.reasons.items())
+    return text + "."
+
+
+def _limited(reasons: list[str]) -> list[str]:
+    if len(reasons) <= SHOWN:
+        return reasons
+    return [*reasons[:SHOWN], f"... and {len(reasons) - SHOWN} more (--json lists every reason)"]
