@@ -94,8 +94,8 @@ def run(args: argparse.Namespace) -> int:
             say(args, f"wrote {path}")
     if plan.coverage is not None and plan.arrays.route.origin.whole:
         if plan.coverage.pipes_feasible == 0:
-            raise InfeasibleError(f"no pipe of network {plan.arrays.route.origin.network.name} can be served; "
-                                  "the coverage above says why.")
+            name = plan.arrays.route.origin.network.name
+            raise InfeasibleError(f"no pipe of network {name} can be served; the coverage above says why.")
         return 0
     if not plan.feasible:
         bad = plan.arrays.route.name[sorted(plan.arrays.reasons)].tolist()

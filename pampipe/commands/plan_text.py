@@ -1,4 +1,4 @@
-"""The text report of `pampipe plan`: the sections as parsed, the plan, coverage and warnings (docs/commands.md §5).
+"""The text report of `pampipe plan`: sections as parsed, the plan, coverage (docs/commands.md §5, §7.3).
 
 Pressures are shown in the unit of ``--units`` (kPa, psi or bar; the JSON stays SI). Routes of more
 than :data:`FULL_TABLE` sections are summarised: the sections that need the most pressure, the
@@ -45,21 +45,23 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
         parts += ["by bore:", _bore_table(plan, unit, scale)]
     parts += [f"plan (pressures in {unit}, gauge; each segment in the worst bore of its section's range):",
               _plan_table(plan, rows, unit, scale),
-              f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = P - P_anchor "
-              f"(warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the safety factor where "
-              "no slip sets the pressure)."]
+              f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
+              f"P - P_anchor (warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the "
+              "safety factor where no slip sets the pressure)."]
     if plan.coverage is not None:
         parts.append(_coverage_text(plan.coverage, "the network" if origin.whole else "the route"))
     if plan.max_payload is not None:
         limit = plan.max_payload
         supply = f"{limit.supply_pressure / scale:.4g} {unit}"
         if limit.payload is None:
-            parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at {supply}.")
+            parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at "
+                         f"{supply}.")
         else:
             parts.append(f"max payload at {supply}: {limit.payload:.4g} kg, limited by {limit.segment} in "
                          f"section {limit.section!r}.")
     if plan.feasible:
-        parts.append("feasible: every segment holds in every section, over each bore's range, within the supply.")
+        parts.append("feasible: every segment holds in every section, over each bore's range, within the "
+                     "supply.")
     elif origin is None or not origin.whole:
         parts.append("INFEASIBLE:\n  " + "\n  ".join(_limited(plan.reasons)))
     return "\n".join(parts)
@@ -67,8 +69,8 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
 
 def _header(plan, unit: str, scale: float) -> str:
     given = "" if not any("safety_factor" in w for w in plan.warnings) else " (none given: default)"
-    return (f"plan for {plan.mission}: supply {plan.supply_pressure / scale:.4g} {unit}, payload {plan.payload:.4g} "
-            f"kg, safety factor {plan.safety_factor:g}{given}, load path {plan.load_path}"
+    return (f"plan for {plan.mission}: supply {plan.supply_pressure / scale:.4g} {unit}, payload "
+            f"{plan.payload:.4g} kg, safety factor {plan.safety_factor:g}{given}, load path {plan.load_path}"
             + (f", confidence {plan.confidence:.3g}" if plan.confidence is not None else ""))
 
 
@@ -79,10 +81,10 @@ def _network_line(plan) -> str:
     if origin.whole:
         return (f"route: every pipe of network {net.name} ({net.source}): {len(route)} pipes, "
                 f"{route.length.sum() / 1e3:.4g} km; inclines are |asin(dz/length)| (direction unknown).")
-    return (f"route: network {net.name} ({net.source}) from {origin.from_node} to {origin.to_node}: {len(route)} "
-            f"pipes, {route.length.sum():.6g} m, the shortest path through the pipes the robot passes "
-            f"({origin.excluded} of {len(net.pipe_ids)} pipes excluded by their bore); bends are reported, not "
-            "planned.")
+    return (f"route: network {net.name} ({net.source}) from {origin.from_node} to {origin.to_node}: "
+            f"{len(route)} pipes, {route.length.sum():.6g} m, the shortest path through the pipes the robot "
+            f"passes ({origin.excluded} of {len(net.pipe_ids)} pipes excluded by their bore); bends are "
+            "reported, not planned.")
 
 
 def _shown_rows(plan, all_sections: bool) -> np.ndarray:
@@ -109,7 +111,8 @@ def _parsed_table(plan, rows: np.ndarray) -> str:
     out = []
     for s in rows.tolist():
         low, high = route.diameter_low[s] * 1e3, route.diameter_high[s] * 1e3
-        friction = f"{route.friction[s]:.4g}" + (f" ± {route.friction_sd[s]:.3g}" if route.friction_sd[s] else "")
+        sd = route.friction_sd[s]
+        friction = f"{route.friction[s]:.4g}" + (f" ± {sd:.3g}" if sd else "")
         row = [route.name[s], route.diameter[s] * 1e3, route.diameter[s] / INCH,
                f"{low:.5g}-{high:.5g}" if high > low else "-", route.section_label(s), route.length[s],
                math.degrees(route.incline[s]), friction, float(np.max(a.required_hold[s]))]
@@ -166,8 +169,8 @@ def _coverage_text(coverage, scope: str) -> str:
     share = coverage.pipes_feasible / coverage.pipes_total if coverage.pipes_total else 0.0
     length = coverage.length_feasible / coverage.length_total if coverage.length_total else 0.0
     text = (f"coverage of {scope}: {coverage.pipes_feasible} of {coverage.pipes_total} pipes ({share:.1%}), "
-            f"{coverage.length_feasible / 1e3:.4g} of {coverage.length_total / 1e3:.4g} km ({length:.1%}) can be "
-            "served")
+            f"{coverage.length_feasible / 1e3:.4g} of {coverage.length_total / 1e3:.4g} km ({length:.1%}) "
+            "can be served")
     if coverage.reasons:
         text += "; the others: " + "; ".join(f"{REASONS.get(code, code)}: {count}"
                                               for code, count in coverage.reasons.items())

@@ -273,8 +273,8 @@ class MissionSchema(Strict):
 
 #: The safety factor of a mission that gives none, and what the commands say about it.
 DEFAULT_SAFETY_FACTOR = 1.0
-NO_SAFETY_FACTOR = ("the mission gives no safety_factor, so 1 is used: the plan holds exactly the load, with no "
-                    "margin for friction, load or model error; write e.g. 'safety_factor: 1.5'.")
+NO_SAFETY_FACTOR = ("the mission gives no safety_factor, so 1 is used: the plan holds exactly the load, with "
+                    "no margin for friction, load or model error; write e.g. 'safety_factor: 1.5'.")
 
 
 # ---------------------------------------------------------------------------------------- loaders

@@ -1,4 +1,4 @@
-"""A mission's ``route:`` as columns (:class:`pampipe.mission.Route`), from a list or a network (docs/formats.md §4).
+"""A mission's ``route:`` as columns (:class:`pampipe.mission.Route`), listed or a network (formats.md §4).
 
 * A list of sections: each ``inner_diameter`` is read by :func:`pampipe.pipes.bore` (a length, ``{value}``,
   ``{nps, schedule}`` or ``{dn, sdr}``, with ``tolerance`` and ``sd``), once per distinct value.
@@ -24,17 +24,23 @@ def listed_route(path: Path, sections) -> Route:
     if len(set(names)) != len(names):
         raise InputError(f"{path}: route: section names must be unique.")
     cache: dict = {}
-    bores = [_bore(path, s.inner_diameter, f"route[{i}].inner_diameter", cache) for i, s in enumerate(sections)]
-    friction = [(s.friction.value, s.friction.sd) if hasattr(s.friction, "sd") else (s.friction, 0.0)
-                for s in sections]
+    bores = [_bore(path, s.inner_diameter, f"route[{i}].inner_diameter", cache)
+             for i, s in enumerate(sections)]
+    friction = [_friction(s.friction) for s in sections]
 
     def column(values) -> np.ndarray:
         return np.fromiter(values, dtype=float, count=len(sections))
 
-    return Route(np.array(names, dtype=str), column(s.length for s in sections), column(b.nominal for b in bores),
-                 column(s.incline for s in sections), column(f[0] for f in friction),
+    return Route(np.array(names, dtype=str), column(s.length for s in sections),
+                 column(b.nominal for b in bores), column(s.incline for s in sections),
+                 column(f[0] for f in friction),
                  column(f[1] for f in friction), column(b.low for b in bores), column(b.high for b in bores),
                  column(b.sd for b in bores), label=np.array([b.label for b in bores], dtype=str))
+
+
+def _friction(friction) -> tuple[float, float]:
+    """(μ, σ_μ) of a friction given as a number or as ``{value, sd}``."""
+    return (friction.value, friction.sd) if hasattr(friction, "sd") else (friction, 0.0)
 
 
 def _bore(path: Path, value, where: str, cache: dict) -> BoreSpec:
@@ -68,7 +74,7 @@ def network_route(path: Path, spec, segments) -> Route:
     """
     from pampipe.network import load_network, route_sections, whole_network
 
-    mu, mu_sd = (spec.friction.value, spec.friction.sd) if hasattr(spec.friction, "sd") else (spec.friction, 0.0)
+    mu, mu_sd = _friction(spec.friction)
     given = [spec.from_node is not None, spec.to_node is not None]
     if any(given) and not all(given):
         raise InputError(f"{path}: route: give both 'from' and 'to' (a route between two nodes) or neither "
@@ -95,9 +101,9 @@ def network_route(path: Path, spec, segments) -> Route:
         except InputError as exc:
             raise InputError(f"{path}: route: {exc}") from None
         except InfeasibleError as exc:
-            raise InfeasibleError(f"{path}: route: {exc} The robot passes bores wider than its muscles at rest "
-                                  f"({rest * 1e3:.4g} mm) and anchors in bores narrower than its braids open to "
-                                  f"({reach * 1e3:.4g} mm).") from None
+            raise InfeasibleError(f"{path}: route: {exc} The robot passes bores wider than its muscles at "
+                                  f"rest ({rest * 1e3:.4g} mm) and anchors in bores narrower than its braids "
+                                  f"open to ({reach * 1e3:.4g} mm).") from None
         excluded = int(sum(not passable(d) for d in net.diameter.tolist()))
     index = {node: i for i, node in enumerate(net.node_ids.tolist())}
     entry = np.array([index[n] for n in sections.from_node.tolist()], dtype=np.int64)
@@ -117,7 +123,8 @@ def network_route(path: Path, spec, segments) -> Route:
 
 def _network_bores(path: Path, spec, diameters: np.ndarray) -> list[BoreSpec]:
     """The bore range of each distinct pipe diameter of the network, with the route's tolerance and sd."""
-    extra = {key: value for key, value in (("tolerance", spec.tolerance), ("sd", spec.sd)) if value is not None}
+    extra = {key: value for key, value in (("tolerance", spec.tolerance), ("sd", spec.sd))
+             if value is not None}
     out = []
     for d in np.unique(diameters).tolist():
         try:

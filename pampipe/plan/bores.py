@@ -26,7 +26,7 @@ import numpy as np
 from pampipe.model.muscle import Muscle, Structure
 
 GRID = 16  # cells of the scan over a bore range
-GOLDEN_STEPS = 40  # bracket of 2/16 of the range shrinks by 0.618⁴⁰ ≈ 4e-9: P* to round-off at a smooth maximum
+GOLDEN_STEPS = 40  # the bracket (2/16 of the range) shrinks by 0.618⁴⁰ ≈ 4e-9: P* to round-off at a maximum
 _RATIO = (math.sqrt(5) - 1) / 2
 
 
@@ -51,18 +51,20 @@ def slope(muscle: Muscle, diameter, load, *, kappa, friction, safety_factor) -> 
     d, w, mu = np.broadcast_arrays(*(np.asarray(v, dtype=float).ravel() for v in (diameter, load, friction)))
     if d.size == 0:
         return np.empty(0)
-    row = (lambda v: np.asarray(v, dtype=float).reshape(1, -1))
-    out = function.map(d.size)(row(d), row(w), kappa, row(mu), safety_factor, muscle.parameter_vector())
+    out = function.map(d.size)(d[None, :], w[None, :], kappa, mu[None, :], safety_factor,
+                               muscle.parameter_vector())
     return np.asarray(out, dtype=float).ravel()
 
 
-def worst_bores(muscle: Muscle, low, high, load, *, kappa: float, friction, safety_factor: float) -> np.ndarray:
+def worst_bores(muscle: Muscle, low, high, load, *, kappa: float, friction,
+                safety_factor: float) -> np.ndarray:
     """The bore [m] in [low, high] where :meth:`Muscle.least_holding_pressure` is largest, per element.
 
     ``low``, ``high``, ``load`` [N] and ``friction`` are arrays of one length (low ≤ high, both inside the
     muscle's domain); where low = high the answer is low.
     """
-    low, high, load, friction = (np.asarray(v, dtype=float) for v in np.broadcast_arrays(low, high, load, friction))
+    low, high, load, friction = (np.asarray(v, dtype=float)
+                                 for v in np.broadcast_arrays(low, high, load, friction))
     out = low.copy()
     rows = np.flatnonzero(high > low)
     if rows.size == 0:
@@ -72,7 +74,8 @@ def worst_bores(muscle: Muscle, low, high, load, *, kappa: float, friction, safe
     def pressure(d, take=slice(None)):
         shape = (-1,) + (1,) * (np.ndim(d) - 1)
         return muscle.least_holding_pressure(d, np.reshape(w[take], shape), kappa=kappa,
-                                             friction=np.reshape(mu[take], shape), safety_factor=safety_factor)
+                                             friction=np.reshape(mu[take], shape),
+                                             safety_factor=safety_factor)
 
     grid = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, GRID + 1)
     values = pressure(grid)

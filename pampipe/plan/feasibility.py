@@ -78,8 +78,8 @@ def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads:
 
     pams = [seg.pam for seg in mission.segments]
     if sec.friction <= 0:
-        return "zero_friction", (f"the wall friction is zero, so no muscle can grip the wall of {pipe} and the "
-                                 "robot can neither hold on nor push itself along.")
+        return "zero_friction", (f"the wall friction is zero, so no muscle can grip the wall of {pipe} and "
+                                 "the robot can neither hold on nor push itself along.")
     narrow = np.array([sec.diameter_low <= p.geometry.initial_diameter for p in pams])
     if narrow.any():
         rest = min(p.geometry.initial_diameter for p, n in zip(pams, narrow, strict=True) if n)
@@ -90,8 +90,9 @@ def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads:
     if wide.any():
         reach = min(p.geometry.largest_diameter for p, w in zip(pams, wide, strict=True) if w)
         return "wider_than_braid", (
-            f"{pipe} is{at('largest', sec.diameter_high)} wider than the braid of {_names(mission, wide)} can "
-            f"ever open (at most {_mm(reach)}, where the contractile force vanishes), so it cannot anchor.")
+            f"{pipe} is{at('largest', sec.diameter_high)} wider than the braid of {_names(mission, wide)} "
+            f"can ever open (at most {_mm(reach)}, where the contractile force vanishes), so it cannot "
+            "anchor.")
     touch = np.maximum(e.free_anchoring[s], e.largest_bore_anchoring[s])
     short = touch > supply
     if short.any():
@@ -118,7 +119,8 @@ def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads:
         return "above_supply", hold + "."
     payload = float(payloads.min())
     if payload >= 0:
-        return "above_supply", f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of payload here."
+        return "above_supply", (f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of "
+                                "payload here.")
     return "above_supply", f"{hold}; at the supply it cannot even carry its own weight here, with no payload."
 
 

@@ -45,7 +45,7 @@ class Elements:
     ``volume``, ``free_anchoring``) is computed on first use.
     """
 
-    diameter: np.ndarray  # D_s [m], the worst bore of the range (a placeholder inside the muscle's range where invalid)
+    diameter: np.ndarray  # D_s [m], the range's worst bore (a placeholder in the muscle's range if invalid)
     diameter_high: np.ndarray  # the largest bore of the range [m] (the same placeholder where invalid)
     load: np.ndarray  # W [N], required hold
     load_per_payload: np.ndarray  # ∂W/∂payload = g(|sin φ| + μ cos φ) [N/kg]
@@ -145,7 +145,8 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
         valid[i] &= r.friction > 0
     ranged = r.high > r.low
     shared_diameter = bool(valid.all()) and not ranged.any()
-    keys = ["load", "anchoring", "least_pressure"] + ([] if shared_diameter else ["diameter", "diameter_high"])
+    keys = ["load", "anchoring", "least_pressure"]
+    keys += [] if shared_diameter else ["diameter", "diameter_high"]
     blocks = {key: np.empty((segments, count)) for key in keys}
     per_kg = np.empty(count)
     kappa, safety = mission.kappa, mission.safety_factor

@@ -220,8 +220,9 @@ class MissionPlan:
                                 nominal_pressure=None if nominal is None else nominal[s][i],
                                 worst_diameter=worst[i], largest_bore_anchoring_pressure=touch[i])
                     for i, seg in enumerate(a.segment_names))
-            out.append(SectionPlan(name, reason is None, reason, segments, length, d, incline, mu, (low, high),
-                                   sd, r.section_label(s), mu_sd, None if networks is None else networks[s]))
+            out.append(SectionPlan(name, reason is None, reason, segments, length, d, incline, mu,
+                                   (low, high), sd, r.section_label(s), mu_sd,
+                                   None if networks is None else networks[s]))
         return tuple(out)
 
     @property

@@ -23,8 +23,8 @@ def plan_warnings(mission, arrays: PlanArrays, confidence: float | None) -> tupl
     out += _thin_contact(arrays)
     route = arrays.route
     if confidence is None and np.any(route.diameter_sd > 0):
-        out.append(f"{int(np.count_nonzero(route.diameter_sd > 0))} section(s) give the bore's sd, which only "
-                   "--confidence uses; this plan holds over each bore's tolerance range.")
+        out.append(f"{int(np.count_nonzero(route.diameter_sd > 0))} section(s) give the bore's sd, which "
+                   "only --confidence uses; this plan holds over each bore's tolerance range.")
     origin = route.origin
     if origin is not None and origin.clipped.any():
         names = route.name[origin.clipped]
@@ -41,8 +41,9 @@ def _thin_contact(a: PlanArrays) -> list[str]:
     out = []
     for s in rows[:LISTED].tolist():
         i = int(np.argmin(np.where(thin[s], a.contact_margin[s], np.inf)))
-        out.append(f"{a.route.name[s]}: {a.segment_names[i]} is planned only {a.contact_margin[s, i] / 1e3:.3g} "
-                   f"kPa above first touching the largest bore ({a.route.diameter_high[s] * 1e3:.4g} mm) at "
+        out.append(f"{a.route.name[s]}: {a.segment_names[i]} is planned only "
+                   f"{a.contact_margin[s, i] / 1e3:.3g} kPa above first touching the largest bore "
+                   f"({a.route.diameter_high[s] * 1e3:.4g} mm) at "
                    f"{a.largest_bore_anchoring[s, i] / 1e3:.4g} kPa, under {CONTACT_MARGIN:.0%} of it"
                    + (": in a slightly wider pipe it would not grip; give the bore's tolerance so that the "
                       "plan covers it." if not out else "."))

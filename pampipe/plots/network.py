@@ -30,7 +30,8 @@ def route_profile(plan, folder: Path, unit: str, scale: float) -> Path:
     top.fill_between(distance, elevation, elevation.min(), color="C2", alpha=0.12)
     top.set(ylabel="elevation [m]", title="route profile: elevation and planned pressure along the route")
     top.grid(alpha=0.3)
-    bottom.stairs(pressure, distance, baseline=None, color="C0", lw=2, label="planned pressure (largest segment)")
+    bottom.stairs(pressure, distance, baseline=None, color="C0", lw=2,
+                  label="planned pressure (largest segment)")
     bottom.stairs(touch, distance, baseline=None, color="grey", ls=":", lw=1.5,
                   label="first touches the largest bore (no load)")
     supply = plan.supply_pressure / scale
