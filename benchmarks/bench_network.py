@@ -1,15 +1,24 @@
-"""Benchmark of network routes (issue 12): reading a network into columnar sections vs the demo plan.
+"""Benchmark of network routes and long missions (issue 12): reading, planning, and the demo plan as the unit.
 
-Times, in one run: importing wntr (once), reading ky4 (1,156 pipes) into :class:`pampipe.network.Network`,
-its whole-network sections, the route J-315 -> J-897, and ``plan_mission`` on the bundled two-section demo.
-Prints the ratio of the network read to the demo plan. Goal (issue 12): a whole-network plan of ky4 takes
-about as long as the demo plan; the read, measured here, must be a small part of it.
+Times, in one run (one BLAS thread):
 
-Against what a user would write with the same tools, in the same run (one BLAS thread): the read
-against wntr's own ``WaterNetworkModel`` (which pampipe calls, then turns into arrays), and the route
-against ``wntr``'s graph with ``networkx.dijkstra_path`` weighted by pipe length (same pipes expected).
+* importing wntr, in a fresh interpreter (pampipe imports it only when a mission names a network);
+* reading ky4 (1,156 pipes) into :class:`pampipe.network.Network`, its whole-network sections, the route
+  J-315 -> J-897, against what a user would write with the same tools: wntr's own ``WaterNetworkModel``
+  (which pampipe calls, then turns into arrays) and ``networkx.dijkstra_path`` on wntr's pipes;
+* ``plan`` of the mission ``route: {network: ky4}`` (every pipe, with the coverage) and of the route
+  J-315 -> J-897 with a 2 % bore tolerance: the mission read (network included, wntr already imported)
+  and ``plan_mission``, each against the demo plan (read + plan of the bundled two-section mission);
+* a synthetic route of 10⁵ sections written as a YAML mission, a fifth of them with a bore tolerance: parse
+  time against plan time, and both against the demo plan;
+* the worst-bore search of those 10⁵ sections against the strongest simple alternative: a dense scan of
+  65 bores per range with the same vectorised closed form (time ratio, and the scan's largest shortfall);
+* ``pampipe plan`` on the whole ky4 network and on the demo as commands (fresh processes: imports, wntr's
+  included, and the JSON).
 
-    .venv/bin/python benchmarks/bench_network.py [--network ky4] [--repeat 5]
+Goal (issue 12): a whole-network plan of ky4 takes about as long as ``pampipe plan`` on the demo.
+
+    .venv/bin/python benchmarks/bench_network.py [--repeat 5] [--sections 100000]
 """
 
 from __future__ import annotations
@@ -17,16 +26,25 @@ from __future__ import annotations
 import argparse
 import itertools
 import math
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
 from threadpoolctl import threadpool_limits
 
 from pampipe.io.config import load_mission
 from pampipe.network import load_network, route_sections, whole_network
 from pampipe.plan import plan_mission
+from pampipe.plan.bores import worst_bores
+from pampipe.plan.problem import mission_muscles
 
-DEMO = Path(__file__).resolve().parent.parent / "problems" / "missions" / "vertical-climb-3in.yaml"
+ROOT = Path(__file__).resolve().parent.parent
+MISSIONS = ROOT / "problems" / "missions"
+DEMO = MISSIONS / "vertical-climb-3in.yaml"
+BORES = ("3 in", "3.5 in", "80 mm", "{nps: 3, schedule: 40, tolerance: 1 %}", "{dn: 110, sdr: 26}")
 
 
 def timed(fn, repeat: int):
@@ -39,25 +57,67 @@ def timed(fn, repeat: int):
     return best, result
 
 
+def command(*args: str, repeat: int) -> float:
+    """Best wall time [s] of a fresh ``python -m pampipe ARGS`` process."""
+
+    def run():
+        subprocess.run([sys.executable, "-m", "pampipe", *args], check=False, capture_output=True, cwd=ROOT)
+
+    return timed(run, repeat)[0]
+
+
+def write_mission(folder: Path, sections: int) -> Path:
+    """The demo robot on ``sections`` sections: varied lengths, bores (a fifth with a tolerance), inclines."""
+    head = DEMO.read_text().split("route:")[0].replace("../pams", str(ROOT / "problems" / "pams"))
+    path = folder / f"mission-{sections}.yaml"
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(head + "route:\n")
+        for i in range(sections):
+            handle.write(f"  - {{name: s{i}, length: {1 + i % 7} m, inner_diameter: {BORES[i % 5]}, "
+                         f"incline: {i % 90 - 45} deg, friction: {0.2 + 0.05 * (i % 4):g}}}\n")
+    return path
+
+
+def ky4_mission(folder: Path, route: str) -> Path:
+    path = folder / "ky4.yaml"
+    path.write_text(DEMO.read_text().split("route:")[0].replace("../pams", str(ROOT / "problems" / "pams"))
+                    + f"route: {route}\n")
+    return path
+
+
+def peer_scan(muscle, low, high, load, *, kappa, friction, safety_factor, points: int = 65):
+    """The largest least holding pressure on ``points`` evenly spaced bores of each range (vectorised)."""
+    grid = low[:, None] + (high - low)[:, None] * np.linspace(0.0, 1.0, points)
+    pressure = muscle.least_holding_pressure(grid, load[:, None], kappa=kappa, friction=friction[:, None],
+                                             safety_factor=safety_factor)
+    return pressure.max(axis=1)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--network", default="ky4", help="wntr network name or .inp file (default ky4)")
     parser.add_argument("--repeat", type=int, default=5, help="runs per timing; the best is kept (5)")
+    parser.add_argument("--sections", type=int, default=100_000, help="sections of the synthetic route")
     args = parser.parse_args()
+    rows: list[tuple[str, float]] = []
 
-    import_time, _ = timed(lambda: __import__("wntr"), 1)
-    read_time, net = timed(lambda: load_network(args.network), args.repeat)
+    probe = "import time; t = time.perf_counter(); import wntr; print(time.perf_counter() - t)"
+    imports = [float(subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                                    check=True).stdout) for _ in range(3)]
+    rows.append(("wntr import, fresh interpreter (best of 3) [s]", min(imports)))
+
+    demo_time, _ = timed(lambda: plan_mission(load_mission(DEMO)), args.repeat)
+    rows.append(("demo plan: read + plan_mission, 2 sections [ms]", demo_time * 1e3))
+
+    read_time, net = timed(lambda: load_network("ky4"), args.repeat)
     whole_time, sections = timed(lambda: whole_network(net, friction=0.3), args.repeat)
-    start, end = ("J-315", "J-897") if net.name == "ky4" else (net.node_ids[0], net.node_ids[-1])
-    route_time, route = timed(lambda: route_sections(net, start, end, friction=0.3), args.repeat)
+    route_time, route = timed(lambda: route_sections(net, "J-315", "J-897", friction=0.3), args.repeat)
     import networkx as nx
     import wntr
     from wntr.library import model_library
 
-    path = model_library.get_filepath(args.network) if args.network in model_library.model_name_list \
-        else args.network
-    peer_read_time, model = timed(lambda: wntr.network.WaterNetworkModel(str(path)), args.repeat)
+    peer_read_time, model = timed(lambda: wntr.network.WaterNetworkModel(model_library.get_filepath("ky4")),
+                                  args.repeat)
 
     def peer_route():
         graph = nx.Graph()
@@ -65,28 +125,69 @@ def main() -> None:
             a, b = pipe.start_node_name, pipe.end_node_name
             if a != b and (not graph.has_edge(a, b) or graph[a][b]["length"] > pipe.length):
                 graph.add_edge(a, b, length=pipe.length, pipe=pipe_id)
-        nodes = nx.dijkstra_path(graph, start, end, weight="length")
+        nodes = nx.dijkstra_path(graph, "J-315", "J-897", weight="length")
         return [graph[a][b]["pipe"] for a, b in itertools.pairwise(nodes)]
 
     peer_route_time, peer_pipes = timed(peer_route, args.repeat)
-    same = list(route.name) == peer_pipes
-    mission = load_mission(DEMO)
-    plan_mission(mission)  # build the planner once, as a running service would have
-    plan_time, _ = timed(lambda: plan_mission(load_mission(DEMO)), args.repeat)
+    rows += [(f"read ky4 ({len(sections)} pipes) into arrays [ms]", read_time * 1e3),
+             ("  wntr WaterNetworkModel alone (the peer's read) [ms]", peer_read_time * 1e3),
+             ("  ratio pampipe read / wntr read", read_time / peer_read_time),
+             ("whole-network sections [ms]", whole_time * 1e3),
+             (f"route J-315 -> J-897 ({len(route)} pipes) [ms]", route_time * 1e3),
+             ("  networkx dijkstra_path route (graph built) [ms]", peer_route_time * 1e3),
+             ("  ratio pampipe route / networkx route", route_time / peer_route_time)]
 
-    rows = [("wntr import (first, once) [ms]", import_time * 1e3),
-            (f"read {net.name} ({len(sections)} pipes) into arrays [ms]", read_time * 1e3),
-            ("whole-network sections [ms]", whole_time * 1e3),
-            (f"route {start} -> {end} ({len(route)} pipes) [ms]", route_time * 1e3),
-            ("demo plan (load + plan_mission, 2 sections) [ms]", plan_time * 1e3),
-            ("ratio (read + sections) / demo plan", (read_time + whole_time) / plan_time),
-            ("wntr WaterNetworkModel alone (the peer's read) [ms]", peer_read_time * 1e3),
-            ("ratio pampipe read / wntr read", read_time / peer_read_time),
-            ("networkx dijkstra_path route (graph built) [ms]", peer_route_time * 1e3),
-            ("ratio pampipe route / networkx route", route_time / peer_route_time)]
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        for label, spec in (("whole ky4 network", "{network: ky4, friction: 0.3}"),
+                            ("ky4 route J-315 -> J-897, 2 % tolerance",
+                             "{network: ky4, from: J-315, to: J-897, friction: 0.3, tolerance: 2 %}")):
+            path = ky4_mission(folder, spec)
+            load_time, mission = timed(lambda path=path: load_mission(path), args.repeat)
+            plan_time, plan = timed(lambda mission=mission: plan_mission(mission), args.repeat)
+            rows += [(f"{label}: read mission (network, route) [ms]", load_time * 1e3),
+                     (f"{label}: plan_mission, {len(mission.route)} sections [ms]", plan_time * 1e3),
+                     ("  ratio (read + plan) / demo plan", (load_time + plan_time) / demo_time)]
+            if plan.coverage is not None and mission.route.origin.whole:
+                rows.append((f"  pipes served of {plan.coverage.pipes_total}", plan.coverage.pipes_feasible))
+
+        path = write_mission(folder, args.sections)
+        parse_time, mission = timed(lambda: load_mission(path), 1)
+        plan_time, _ = timed(lambda: plan_mission(mission), max(1, args.repeat // 2))
+        rows += [(f"synthetic route: parse {args.sections} sections (YAML -> SI columns) [s]", parse_time),
+                 (f"synthetic route: plan_mission, {args.sections} sections [s]", plan_time),
+                 ("  ratio parse / plan", parse_time / plan_time),
+                 ("  ratio plan / demo plan", plan_time / demo_time)]
+
+        r = mission.route
+        ranged = np.flatnonzero(r.diameter_high > r.diameter_low)
+        muscle = mission_muscles(mission)[0]
+        load = np.full(ranged.size, 30.0)
+        keys = {"kappa": 1.0, "friction": r.friction[ranged], "safety_factor": 1.5}
+        ours_time, worst = timed(lambda: worst_bores(muscle, r.diameter_low[ranged], r.diameter_high[ranged],
+                                                      load, **keys), args.repeat)
+        exact = muscle.least_holding_pressure(worst, load, **keys)
+        scan_time, scanned = timed(lambda: peer_scan(muscle, r.diameter_low[ranged], r.diameter_high[ranged],
+                                                      load, **keys), args.repeat)
+        rows += [(f"worst bore of {ranged.size} ranges, one segment (pampipe) [ms]", ours_time * 1e3),
+                 ("  dense scan of 65 bores per range (peer) [ms]", scan_time * 1e3),
+                 ("  ratio pampipe / scan", ours_time / scan_time),
+                 ("  scan's largest shortfall below pampipe (relative)",
+                  float(np.max((exact - scanned) / exact)))]
+
+        whole_path = ky4_mission(folder, "{network: ky4, friction: 0.3}")
+        cli_whole = command("plan", str(whole_path), "--json", repeat=max(1, args.repeat // 2))
+        cli_demo = command("plan", str(DEMO), "--json", repeat=max(1, args.repeat // 2))
+        rows += [("pampipe plan --json, whole ky4 (fresh process) [s]", cli_whole),
+                 ("pampipe plan --json, demo (fresh process) [s]", cli_demo),
+                 ("  ratio whole ky4 / demo, as commands", cli_whole / cli_demo),
+                 ("  ratio (whole ky4 - wntr import) / demo, as commands",
+                  (cli_whole - min(imports)) / cli_demo)]
+
     for label, value in rows:
-        print(f"{label:<52}{value:10.3f}")
-    print(f"networkx and pampipe choose the same pipes: {same}")
+        print(f"{label:<72}{value:12.4g}")
+    print(f"networkx and pampipe choose the same pipes: {list(route.name) == peer_pipes}")
+
 
 if __name__ == "__main__":
     with threadpool_limits(limits=1):

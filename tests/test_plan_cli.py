@@ -68,7 +68,10 @@ def test_every_bundled_mission_gives_a_plan_or_a_reason(cli):
         out = cli("plan", path, "--json")
         assert out.returncode in (0, 3), (path, out.stderr)
         doc = json.loads(out.stdout)
-        assert doc["feasible"] is (out.returncode == 0)
+        if doc.get("coverage", {}).get("scope") == "network":  # every pipe of a network: some may fail
+            assert (out.returncode == 0) is (doc["coverage"]["pipes_feasible"] > 0)
+        else:
+            assert doc["feasible"] is (out.returncode == 0)
         for section in doc["sections"]:
             assert section["feasible"] or (isinstance(section["reason"], str) and section["reason"])
         assert "Traceback" not in out.stderr

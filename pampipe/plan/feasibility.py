@@ -45,12 +45,50 @@ def section_reasons(mission, muscles, elements: Elements, solution: Solution,
     planned (feasible ones are absent).
 
     ``payloads`` are the element payload limits [kg] of :func:`pampipe.plan.payload.element_payloads`.
+    The geometric reasons (1-3) are found for all sections at once; only the others need the plan.
     """
     feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1)
+    rows = np.flatnonzero(~feasible)
+    r = mission.route
+    rest = np.array([seg.pam.geometry.initial_diameter for seg in mission.segments])
+    reach = np.array([seg.pam.geometry.largest_diameter for seg in mission.segments])
+    zero = (r.friction[rows] <= 0).tolist()
+    narrow = r.diameter_low[rows, None] <= rest
+    wide = r.diameter_high[rows, None] >= reach
     sentences, codes = {}, {}
-    for s in np.flatnonzero(~feasible).tolist():
-        codes[s], sentences[s] = _reason(mission, muscles, s, elements, solution, payloads[s], confidence)
+    for k, s in enumerate(rows.tolist()):
+        pipe, ranged = _pipe(r, s)
+
+        def at(which: str, bore: float, ranged=ranged) -> str:
+            return f", at its {which} bore of {_mm(bore)}," if ranged else ""
+
+        if zero[k]:
+            codes[s], sentences[s] = "zero_friction", (
+                f"the wall friction is zero, so no muscle can grip the wall of {pipe} and the robot can "
+                "neither hold on nor push itself along.")
+        elif narrow[k].any():
+            codes[s], sentences[s] = "narrower_than_muscle", (
+                f"{pipe} is{at('smallest', r.diameter_low[s])} not wider than {_names(mission, narrow[k])} "
+                f"at rest ({_mm(rest[narrow[k]].min())}), so it cannot expand against the wall to anchor.")
+        elif wide[k].any():
+            codes[s], sentences[s] = "wider_than_braid", (
+                f"{pipe} is{at('largest', r.diameter_high[s])} wider than the braid of "
+                f"{_names(mission, wide[k])} can ever open (at most {_mm(reach[wide[k]].min())}, where the "
+                "contractile force vanishes), so it cannot anchor.")
+        else:
+            codes[s], sentences[s] = _loaded_reason(mission, muscles, s, elements, solution, payloads[s],
+                                                    confidence, pipe, ranged)
     return sentences, codes
+
+
+def _pipe(route, s: int) -> tuple[str, bool]:
+    """('the 77.92 mm pipe (NPS 3 Sch 40 (ASME B36.10M) ± 1 mm)', has a range) of section ``s``."""
+    ranged = bool(route.diameter_high[s] > route.diameter_low[s])
+    pipe = f"the {_mm(route.diameter[s])} pipe"
+    label = route.section_label(s)
+    if ranged or label != _mm(route.diameter[s]):
+        pipe += f" ({label})"
+    return pipe, ranged
 
 
 def _names(mission, mask) -> str:
@@ -64,41 +102,20 @@ def _mm(length: float) -> str:
     return f"{length * 1e3:.4g} mm"
 
 
-def _reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
-            confidence: float | None) -> tuple[str, str]:
-    """(code, sentence) of the first reason that applies to section ``s``."""
-    sec, supply = mission.route[s], mission.supply_pressure
-    ranged = sec.diameter_high > sec.diameter_low
-    pipe = f"the {_mm(sec.diameter)} pipe"
-    if ranged or (sec.label and sec.label != _mm(sec.diameter)):
-        pipe += f" ({sec.label})"
+def _loaded_reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
+                   confidence: float | None, pipe: str, ranged: bool) -> tuple[str, str]:
+    """(code, sentence) of reasons 4-6 for section ``s``, whose pipe the muscles fit."""
+    supply = mission.supply_pressure
 
     def at(which: str, bore: float) -> str:
         return f", at its {which} bore of {_mm(bore)}," if ranged else ""
 
-    pams = [seg.pam for seg in mission.segments]
-    if sec.friction <= 0:
-        return "zero_friction", (f"the wall friction is zero, so no muscle can grip the wall of {pipe} and "
-                                 "the robot can neither hold on nor push itself along.")
-    narrow = np.array([sec.diameter_low <= p.geometry.initial_diameter for p in pams])
-    if narrow.any():
-        rest = min(p.geometry.initial_diameter for p, n in zip(pams, narrow, strict=True) if n)
-        return "narrower_than_muscle", (
-            f"{pipe} is{at('smallest', sec.diameter_low)} not wider than {_names(mission, narrow)} at rest "
-            f"({_mm(rest)}), so it cannot expand against the wall to anchor.")
-    wide = np.array([sec.diameter_high >= p.geometry.largest_diameter for p in pams])
-    if wide.any():
-        reach = min(p.geometry.largest_diameter for p, w in zip(pams, wide, strict=True) if w)
-        return "wider_than_braid", (
-            f"{pipe} is{at('largest', sec.diameter_high)} wider than the braid of {_names(mission, wide)} "
-            f"can ever open (at most {_mm(reach)}, where the contractile force vanishes), so it cannot "
-            "anchor.")
     touch = np.maximum(e.free_anchoring[s], e.largest_bore_anchoring[s])
     short = touch > supply
     if short.any():
         i = int(np.argmax(touch))
         largest = e.largest_bore_anchoring[s, i] >= e.free_anchoring[s, i]
-        bore = at("largest", sec.diameter_high) if largest else at("worst", e.diameter[s, i])
+        bore = at("largest", mission.route.diameter_high[s]) if largest else at("worst", e.diameter[s, i])
         return "beyond_reach", (
             f"{pipe} is{bore} wider than {_names(mission, short)} reach{'es' if short.sum() == 1 else ''} "
             f"at the {supply / 1e3:.4g} kPa supply{_free_diameter(muscles[i], supply)}; touching the wall "
