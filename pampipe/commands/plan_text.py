@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 
-from pampipe.plan.result import CONTACT_MARGIN, thin_contact
 from pampipe.report import table
 from pampipe.units import to_si
 
@@ -29,6 +28,7 @@ def pressure_scale(unit: str) -> float:
 
 def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
     """The whole report: header, route, sections as parsed, plan, coverage, payload and verdict."""
+    from pampipe.plan.result import CONTACT_MARGIN  # the plan package is loaded by the run, not --help
     scale = pressure_scale(unit)
     route = plan.arrays.route
     rows = _shown_rows(plan, all_sections)
@@ -124,6 +124,8 @@ def _parsed_table(plan, rows: np.ndarray) -> str:
 
 
 def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
+    from pampipe.plan.result import thin_contact
+
     a = plan.arrays
     uncertain = plan.confidence is not None
     ranged = bool(a.route.toleranced.any())

@@ -8,7 +8,11 @@ Library API::
     plan = plan_mission(load_mission("mission.yaml"))          # -> MissionPlan
     plan.feasible, plan.sections[0].segments[0].pressure       # SI units
     plan.arrays.pressure                                       # (sections, 3) array, for long routes
+    plan.arrays.diameter, plan.arrays.contact_margin           # worst bore [m], P - P_a(D_high) [Pa]
+    plan.warnings, plan.coverage                               # sentences; pipes served (network routes)
     limit = max_payload(mission)                               # -> PayloadLimit (kg, limiting section)
+
+A bore range (a tolerance) is planned in its worst bore (:func:`pampipe.plan.bores.worst_bores`).
 """
 
 from pampipe.plan.mission import plan_mission

@@ -8,10 +8,14 @@ deviations that only ``--confidence`` uses, and network pipes whose length is sh
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from pampipe.network import Coverage, coverage
 from pampipe.plan.result import CONTACT_MARGIN, PlanArrays, thin_contact
+
+if TYPE_CHECKING:
+    from pampipe.network import Coverage
 
 #: Sections named one by one in a warning; the others are counted.
 LISTED = 10
@@ -61,6 +65,8 @@ def _listed(names: np.ndarray) -> str:
 def route_coverage(route, reasons: dict[int, str]) -> Coverage:
     """Pipes and length a network plan serves (the whole network's, or the route's pipes); ``reasons`` maps
     infeasible sections to reason codes."""
+    from pampipe.network import coverage  # network routes only: keep it off plan's start-up path
+
     feasible = np.ones(len(route), dtype=bool)
     feasible[list(reasons)] = False
     per_pipe = [None] * len(route)
