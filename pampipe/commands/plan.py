@@ -7,13 +7,15 @@ import sys
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
-from pampipe.commands.plan_text import FULL_TABLE, PRESSURE_UNITS, SHOWN, plan_text
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import check_output
 from pampipe.units import to_si
 
 NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
+#: Pressure units of --units, as the quantity parser reads them.
+PRESSURE_UNITS = ("kPa", "psi", "bar")
+FULL_TABLE = 60  # sections the text report lists in full; longer routes are summarised
 
 
 EPILOG = """\
@@ -74,6 +76,7 @@ def _probability(text: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
+    from pampipe.commands.plan_text import SHOWN, plan_text
 
     mission = api.load_mission(args.mission)
     if args.output is not None:

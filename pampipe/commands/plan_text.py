@@ -11,12 +11,10 @@ import math
 
 import numpy as np
 
+from pampipe.commands.plan import FULL_TABLE
 from pampipe.report import table
 from pampipe.units import to_si
 
-#: Pressure units of --units, as the quantity parser reads them.
-PRESSURE_UNITS = ("kPa", "psi", "bar")
-FULL_TABLE = 60  # sections listed in full; longer routes are summarised
 SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
 INCH = 0.0254
 
