@@ -109,7 +109,7 @@ def _describe(schema_cls: type[BaseModel], err: dict, rename: dict[str, str], ta
     if kind == "extra_forbidden":
         import difflib
 
-        allowed = _allowed_keys(schema_cls, loc[:-1])
+        allowed = _allowed_keys(schema_cls, err["loc"][:-1], tags)
         close = difflib.get_close_matches(str(loc[-1]), allowed, n=1)
         return (f"unknown key {show(key)}" + (f"; did you mean '{close[0]}'?" if close else "")
                 + (f" (allowed keys here: {', '.join(allowed)})" if allowed else ""))
@@ -159,18 +159,38 @@ def _schema_names(cls) -> set[str]:
     return names
 
 
-def _allowed_keys(schema_cls: type[BaseModel], loc: list) -> list[str]:
+def _allowed_keys(schema_cls: type[BaseModel], loc: tuple, tags: set[str]) -> list[str]:
+    """The keys (as written: aliases such as ``from``) of the mapping at ``loc``; a union member named
+    in ``loc`` (pydantic's tag) picks that member."""
     cls: Any = schema_cls
+    annotation = None
     for part in loc:
         if isinstance(part, int):
+            continue
+        if _is_union_tag(part, tags):
+            cls = _model_named(annotation, part) or cls
             continue
         field = cls.model_fields.get(part) if isinstance(cls, type) and issubclass(cls, BaseModel) else None
         if field is None:
             return []
-        cls = _model_in(field.annotation)
+        annotation = field.annotation
+        cls = _model_in(annotation)
         if cls is None:
             return []
-    return list(cls.model_fields) if isinstance(cls, type) and issubclass(cls, BaseModel) else []
+    if not (isinstance(cls, type) and issubclass(cls, BaseModel)):
+        return []
+    return [field.alias or name for name, field in cls.model_fields.items()]
+
+
+def _model_named(annotation, name: str) -> type[BaseModel] | None:
+    """The model class called ``name`` among the members of ``annotation``, if any."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation if annotation.__name__ == name else None
+    for arg in getattr(annotation, "__args__", ()):
+        found = _model_named(arg, name)
+        if found is not None:
+            return found
+    return None
 
 
 def _model_in(annotation) -> type[BaseModel] | None:
