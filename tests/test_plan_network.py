@@ -187,8 +187,8 @@ Units LPS
 
 
 def test_route_errors_name_what_is_wrong(tmp_path):
-    with pytest.raises(InputError, match=r"unknown key 'route.frm'; did you mean 'from'\? \(allowed keys here: "
-                                         r"network, from, to, friction, tolerance, sd\)"):
+    keys = r"\(allowed keys here: network, from, to, friction, tolerance, sd\)"
+    with pytest.raises(InputError, match=r"unknown key 'route.frm'; did you mean 'from'\? " + keys):
         load(mission({"network": "ky4", "frm": "J-315", "to": "J-897", "friction": 0.3}))
     with pytest.raises(InputError, match="give both 'from' and 'to'"):
         load(mission({"network": "ky4", "from": "J-315", "friction": 0.3}))
