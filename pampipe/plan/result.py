@@ -135,9 +135,9 @@ class PlanArrays:
     segment_names: tuple[str, ...]
     route: object  # the mission's Route (columns)
     reasons: dict[int, str]  # {section index: why it cannot be planned}, infeasible sections only
-    diameter: np.ndarray | None = None  # [m], the worst bore of each element
-    largest_bore_anchoring: np.ndarray | None = None  # [Pa], P_a(D_high, 0)
-    reason_codes: dict[int, str] = field(default_factory=dict)  # {section index: reason kind}
+    diameter: np.ndarray  # [m], the worst bore of each element
+    largest_bore_anchoring: np.ndarray  # [Pa], P_a(D_high, 0) (NaN where the pipe is impassable)
+    reason_codes: dict[int, str]  # {section index: reason code}, infeasible sections only
 
     @property
     def contact_margin(self) -> np.ndarray:
