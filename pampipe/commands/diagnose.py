@@ -5,11 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, integer_type, say
+from pampipe.commands.common import add_output_options, emit, say
+from pampipe.diagnose import structure
 from pampipe.diagnose.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.io.files import check_output
+from pampipe.io.files import check_not_input
 from pampipe.io.pamfile import write_pam
 from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.report import table
@@ -28,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--effect", action="append", choices=list(LIBRARY), metavar="NAME",
                         help="test only this effect (repeatable; default: all of "
                              f"{', '.join(LIBRARY)})")
-    parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
+    parser.add_argument("--folds", type=int, default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
@@ -38,18 +39,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pampipe.diagnose.workflow import diagnose
+    from pampipe.errors import InputError
 
+    if args.folds < 2:
+        raise InputError(f"--folds {args.folds}: need at least 2 folds for cross-validation.")
     experiment = load_experiment(args.experiment)
     if args.output is not None:
-        check_output(args.output, experiment.input_files, option="-o")
+        check_not_input(args.output, experiment.input_files, option="-o")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
     emit(args, result.as_document(), report(result))
     if args.output is not None:
         write_pam(args.output, result.augmented_pam(),
                   comments=[f"Written by `pampipe diagnose` from {experiment.source}.",
-                            "Moduli refitted in shared mode together with the selected effect: "
-                            f"{result.selected}."])
+                            f"Verdict: {result.verdict.verdict}. Moduli refitted in shared mode together "
+                            f"with the selected effects: {' + '.join(result.selected_effects) or 'none'}."])
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.diagnose import plot_diagnosis
@@ -66,57 +70,92 @@ def say_err(args, text: str) -> None:
     print(f"diagnose: {text}", file=sys.stderr, flush=True)
 
 
-def _parameters(candidate) -> str:
-    if candidate.effect == "none":
-        return "-"
+def _parameters(summary) -> str:
+    """The effects' parameters with their joint 95 % intervals, in display units."""
     cells = []
-    for p in get_effect(candidate.effect).parameters:
-        value = candidate.parameters[p.name] / p.scale
-        low, high = (v / p.scale for v in candidate.intervals[p.name])
-        unit = "" if p.unit == "-" else f" {p.unit}"
-        cells.append(f"{p.name} = {value:.4g}{unit} [{low:.4g}, {high:.4g}]")
-    return "; ".join(cells)
+    for name in summary.effects:
+        for p in get_effect(name).parameters:
+            value = summary.parameters[name][p.name] / p.scale
+            unit = "" if p.unit == "-" else f" {p.unit}"
+            band = summary.intervals.get(name, {}).get(p.name, (float("nan"),) * 2)
+            low, high = (v / p.scale for v in band)
+            cells.append(f"{name}.{p.name} = {value:.4g}{unit} [{low:.4g}, {high:.4g}]")
+    return "; ".join(cells) or "-"
+
+
+def _strongest(check) -> str:
+    name, p = min(check.p_values().items(), key=lambda item: item[1])
+    return f"{name} (p = {p:.2g})"
+
+
+def _span(low: float, high: float, scale: float, digits: int) -> str:
+    return f"{low * scale:.{digits}f}-{high * scale:.{digits}f}"
 
 
 def report(result) -> str:
-    """The human-readable report: noise, signatures, regions, candidates, decision, before/after."""
+    """The human-readable report: noise floors and checks, the steps, the verdict, before/after."""
     base, chosen = result.baseline, result.chosen
-    noise = {n.test: n for n in result.noise}
-    parts = [f"{result.source}: {sum(t.points for t in base.tests):,} rows in {len(base.tests)} tests; "
-             f"baseline = shared moduli ({result.baseline_source}), sum of test RMSE {base.sum_rmse:.4g} N"]
-    parts.append("Where the baseline disagrees (RMSE against the noise floor from repeated points):\n"
-                 + table(
-        ["test", "kind", "points", "noise floor [N]", "RMSE [N]", "RMSE/floor"],
-        [(t.name, t.kind, t.points, noise[t.name].sigma, t.rmse, t.rmse / noise[t.name].sigma)
-         for t in base.tests]))
-    hints = {}
-    for e in LIBRARY.values():
-        hints.setdefault(e.signature, []).append(e.name)
-    parts.append("Residual signatures (score ~ N(0,1) for pure noise; large = systematic):\n" + table(
-        ["signature", "fitted RMS [N]", "score", "points to"],
-        [(s.name, s.rms, s.score, ", ".join(hints.get(s.name, ["(any)"]))) for s in result.signatures]))
-    parts.append("Largest systematic residuals (mean of model - data per cell):\n" + table(
-        ["test", "P [kPa]", "L [mm] / state", "rows", "mean [N]", "RMSE [N]", "score"],
-        [(r.test, f"{r.pressure[0] / 1e3:.0f}-{r.pressure[1] / 1e3:.0f}",
-          (f"{r.length[0] * 1e3:.1f}-{r.length[1] * 1e3:.1f}" if r.length is not None
-           else ("anchored" if r.anchored else "free")), r.rows, r.mean, r.rmse, r.score)
-         for r in result.regions]))
-    rows = [(i + 1, c.effect, c.delta_bic, "-" if c.cv_rmse is None else f"{c.cv_rmse:.4g}", c.sum_rmse,
-             _parameters(c), c.wall_time) for i, c in enumerate(result.candidates)]
-    parts.append(f"Candidates, ranked by BIC (baseline CV RMSE {base.cv_rmse:.4g} N):\n" + table(
-        ["rank", "effect", "dBIC", "CV RMSE [N]", "sum RMSE [N]", "parameters [95 % interval]", "time [s]"],
-        rows))
-    decision = f"Selected: {result.selected} ({result.reason})."
-    if result.confounded_with:
-        decision += f" Caution: {result.confounded_with} explains the data almost as well (confounded)."
-    if result.selected != "none":
-        decision += f"\n  {get_effect(result.selected).summary}; parameters: {_parameters(chosen)}"
-    parts.append(decision)
-    after = {t.name: t.rmse for t in chosen.tests}
-    parts.append("RMSE per test, before and after the refit:\n" + table(
-        ["test", "before [N]", "after [N]", "noise floor [N]", "after/floor"],
-        [(t.name, t.rmse, after[t.name], noise[t.name].sigma, after[t.name] / noise[t.name].sigma)
-         for t in base.tests])
-        + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}; "
-        f"total time {result.timings['total_wall_time_s']:.1f} s")
+    checks_before = result.baseline_model.assessment.tests
+    checks_after = result.chosen_model.assessment.tests
+    cells = result.cells
+    parts = [f"{result.source}: {cells.rows:,} rows in {len(base.tests)} tests, reduced to {cells.size:,} "
+             f"cells; baseline = shared moduli ({result.baseline_source}), sum of test RMSE "
+             f"{base.sum_rmse:.4g} N"]
+    rows = []
+    for t, floor, check in zip(base.tests, result.noise, checks_before, strict=True):
+        interval = floor.interval
+        band = "-" if interval is None else _span(*interval, 1.0, 2)
+        rows.append((t.name, t.points, floor.sigma, band, f"{floor.method} ({floor.dof:.0f} dof)", t.rmse,
+                     t.rmse / floor.sigma, check.at_noise, "-" if check.at_noise else _strongest(check)))
+    parts.append("Baseline against the noise floor of each test (checks at family level "
+                 f"{structure.ALPHA:.0%}, Bonferroni):\n" + table(
+        ["test", "points", "floor [N]", "95 % [N]", "floor from", "RMSE [N]", "RMSE/floor", "at noise",
+         "strongest structure"], rows))
+    notes = [f"  {f.test}: {f.note}" for f in result.noise if f.note]
+    if notes:
+        parts.append("Noise-floor notes:\n" + "\n".join(notes))
+    for step in result.steps:
+        if not step.trials:
+            continue
+        title = {"add": f"added {step.effect}", "remove": f"removed {step.effect}",
+                 "keep": "every effect kept", "stop": "no addition clears the margins"}[step.action]
+        parts.append(f"Step {step.number} ({step.wall_time:.1f} s): {title}; model: "
+                     f"{' + '.join(step.effects) or 'baseline'}\n" + table(
+            ["effect", "dBIC", "CV ratio", "where share", "where focus", "eligible", "note", "time [s]"],
+            [(t.effect, t.delta_bic, "-" if t.cv_ratio is None else f"{t.cv_ratio:.3f}",
+              f"{t.where_share:.0%}" if step.action in ("add", "stop") else "-",
+              f"{t.where_focus:.0%}" if step.action in ("add", "stop") else "-", t.eligible, t.note or "-",
+              t.wall_time) for t in step.trials]))
+    verdict = result.verdict
+    decision = [f"Verdict: {verdict.verdict}. {verdict.reason}."]
+    if result.selected_effects:
+        decision.append(f"  selected: {' + '.join(result.selected_effects)}; parameters (joint 95 % "
+                        f"intervals): {_parameters(chosen)}")
+        for name in result.selected_effects:
+            decision.append(f"  {name}: {get_effect(name).summary}")
+    for c in result.confounded:
+        text = f"  caution: {c['effect']} and {c['with']} explain the data almost equally (confounded)"
+        if c["separate_by"]:
+            sep = c["separate_by"]
+            text += (f"; {sep['experiment']} would separate them (predictions differ by "
+                     f"{sep['max_difference_N']:.3g} N, {sep['ratio']:.3g}x the noise floor)")
+        decision.append(text)
+    if verdict.probes_removed > 0:
+        decision.append(f"  on the tests that held the residual, the library removes "
+                        f"{verdict.library_removed:.4g} N^2 and generic probes "
+                        f"{verdict.probes_removed:.4g} N^2")
+    parts.append("\n".join(decision))
+    parts.append("RMSE per test, before and after:\n" + table(
+        ["test", "before [N]", "after [N]", "floor [N]", "after/floor", "at noise after"],
+        [(t.name, t.rmse, a.rmse, f.sigma, a.rmse / f.sigma, c.at_noise)
+         for t, a, f, c in zip(base.tests, chosen.tests, result.noise, checks_after, strict=True)])
+        + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}")
+    if verdict.remaining:
+        parts.append("Where structured residual remains:\n" + table(
+            ["test", "signature", "p", "P [kPa]", "L [mm]", "cells", "rows", "mean [N]"],
+            [(w.test, w.signature, f"{w.p_value:.2g}", _span(*w.pressure, 1e-3, 0),
+              "-" if w.length is None else _span(*w.length, 1e3, 1), w.cells, w.rows, w.mean_residual)
+             for w in verdict.remaining]))
+    timings = result.timings
+    parts.append("Time: " + ", ".join(f"{k.removesuffix('_time_s')} {v:.1f} s" for k, v in timings.items()))
     return "\n\n".join(parts)

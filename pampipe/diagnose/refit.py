@@ -1,22 +1,29 @@
-"""The baseline + effect NLP: shared moduli θ and the effect's parameters η fitted to every row.
+"""The baseline + effects NLP: shared moduli θ and the parameters η of a set of effects, fitted to cells.
 
-Decision vector x = [θ (MPa; b at P_ref), η (the effect's display units, O(1))]. Objective: the
-mean squared force residual over the rows with non-zero weight,
+Decision vector x = [θ (MPa; b at P_ref), η of each effect in registry order (display units, O(1))].
+Objective: the weighted mean squared force residual over the cells (:mod:`.cells`),
 
-  J(x) = Σ_i w_i (F_model,i(x) − F_i)² / Σ_i w_i,
+  J(x) = Σ_c w_c (F_model(P̄_c, L̄_c; x) − F̄_c)² / Σ_c w_c,   w_c = n_c (0 for held-out cells),
 
-with F_model from :meth:`pampipe.model.muscle.Muscle.axial_force` (axial rows) and
-:meth:`~pampipe.model.muscle.Muscle.radial_force` (radial rows, softplus contact switch of
-width ``smoothing``). Bounds as in docs/physics.md §6 (a_k0 ∈ [0, 50] MPa, others ±50 MPa) plus each
-parameter's own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a (P, L) grid (docs/physics.md §6).
+which is Σ_rows (F_model − F)²/n up to a constant when each cell's rows share (P, L). F_model comes
+from the one model door, :class:`pampipe.model.muscle.Muscle`, built by ``Muscle.symbolic`` for the
+:class:`~pampipe.model.muscle.Structure` (wall, degree, effects): axial cells use
+:meth:`~pampipe.model.muscle.Muscle.axial_force`, radial cells
+:meth:`~pampipe.model.muscle.Muscle.radial_force` (softplus contact switch of width ``SMOOTHING``).
+Bounds as in docs/physics.md §6 (a_k0 ∈ [0, 50] MPa, others ±50 MPa) plus each effect parameter's
+own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a fixed (P, L) grid (docs/physics.md §6).
 
-Built once per (effect, wall, degree, rows): a per-row residual ``casadi.Function`` is mapped over
-the rows with ``.map(n)``, so the build size does not grow with n; every row value, the weights,
-the geometry and the grid are NLP parameters. Cross-validation only changes the weights.
+Built once per (effects, wall, degree, padded cell counts): a per-cell residual ``casadi.Function``
+(one evaluation for exact cells, the two-point mean of :mod:`.cells` for binned ones) is mapped over
+the cells with ``.map(n)``, so the build does not grow with the data; cell counts are
+padded up to a few fixed sizes (zero-weight cells) so that data sets of similar size share a build.
+Every cell value, the weights, the geometry and the grid are NLP parameters; cross-validation only
+changes the weights.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from functools import cache
@@ -24,7 +31,7 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
-from pampipe.model.effects import get_effect
+from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.model.muscle import Muscle, Structure
 from pampipe.nlp import nlpsol, solve
 
@@ -36,99 +43,135 @@ SMOOTHING = 1.0
 IPOPT_OPTIONS = {"tol": 1e-9, "acceptable_tol": 1e-8, "max_iter": 500, "bound_relax_factor": 1e-8}
 
 
+def canonical(effects) -> tuple[str, ...]:
+    """A set of effect names in registry order (the key of every build and every report)."""
+    names = set(effects or ())
+    for name in names:
+        get_effect(name)  # unknown names fail here
+    return tuple(name for name in LIBRARY if name in names)
+
+
+def effect_parameters(effects: tuple[str, ...]) -> list[tuple[str, object]]:
+    """[(effect, Parameter)] in the order of η."""
+    return [(name, p) for name in effects for p in get_effect(name).parameters]
+
+
+def padded(n: int) -> int:
+    """The build size for n cells: the least of {2^j, 1.25·2^j, 1.5·2^j, 1.75·2^j} ≥ n (≥ 16)."""
+    if n <= 16:
+        return 16 if n else 0
+    base = 2 ** (math.ceil(math.log2(n)) - 1)
+    return next(int(base * f) for f in (1.25, 1.5, 1.75, 2.0) if base * f >= n)
+
+
+#: The NLP's data blocks: (kind, binned). Each column is one cell: P̄, x, y, F̄, w, s_P, s_x with
+#: x, y = L̄, leg (axial) or D_p, F_a (radial) and s the within-cell spread of the swept coordinate;
+#: a binned cell is evaluated at (P̄ ± s_P, x ± s_x) and the two values averaged.
+BLOCKS = (("axial", False), ("axial", True), ("radial", False), ("radial", True))
+ROWS = 7
+
+
 @dataclass(frozen=True)
-class Rows:
-    """Every row of an experiment as NLP data (SI), in recorded order within each kind.
+class Blocks:
+    """Cells as NLP data, one (7, N) array per entry of :data:`BLOCKS`, padded with zero-weight
+    copies; ``index[b]`` gives the cell of each real column of block b."""
 
-    ``axial`` is (5, n_a): P, L, leg, F, weight; ``radial`` is (5, n_r): P, D_p, F_a, F, weight.
-    ``test``/``level`` give each row's test index and pressure level (for folds and reports).
-    """
-
-    axial: np.ndarray
-    radial: np.ndarray
-    axial_test: np.ndarray
-    radial_test: np.ndarray
-    axial_level: np.ndarray
-    radial_level: np.ndarray
-    axial_cycle: np.ndarray
+    data: tuple[np.ndarray, ...]
+    index: tuple[np.ndarray, ...]
 
     @property
-    def n(self) -> int:
-        return self.axial.shape[1] + self.radial.shape[1]
+    def sizes(self) -> tuple[int, ...]:
+        return tuple(d.shape[1] for d in self.data)
 
-    def weighted(self, axial_weight: np.ndarray, radial_weight: np.ndarray) -> Rows:
-        a, r = self.axial.copy(), self.radial.copy()
-        a[4], r[4] = axial_weight, radial_weight
-        return Rows(a, r, self.axial_test, self.radial_test, self.axial_level, self.radial_level,
-                    self.axial_cycle)
+    def weighted(self, weight: np.ndarray) -> Blocks:
+        """The same blocks with cell weights ``weight`` (padding stays at 0)."""
+        data = []
+        for block, index in zip(self.data, self.index, strict=True):
+            block = block.copy()
+            block[4, :index.size] = weight[index]
+            data.append(block)
+        return Blocks(tuple(data), self.index)
+
+    def scatter(self, values: np.ndarray, size: int) -> np.ndarray:
+        """Values given per column of the concatenated blocks (first axis) back in cell order."""
+        out = np.zeros((size, *np.shape(values)[1:]))
+        start = 0
+        for block, index in zip(self.data, self.index, strict=True):
+            out[index] = values[start:start + index.size]
+            start += block.shape[1]
+        return out
 
 
-def rows_of(data) -> Rows:
-    """Rows of an :class:`pampipe.experiment.ExperimentData`."""
-    a_parts, r_parts, a_test, r_test, a_lev, r_lev, a_cyc = [], [], [], [], [], [], []
-    for index, t in enumerate(data.tests):
-        ones = np.ones(t.points)
-        if t.kind == "axial":
-            a_parts.append(np.vstack([t.pressure, t.length, t.leg.astype(float), t.force, ones]))
-            a_test.append(np.full(t.points, index))
-            a_lev.append(t.level)
-            a_cyc.append(t.cycle)
-        else:
-            r_parts.append(np.vstack([t.pressure, ones * t.spec.pipe_diameter, ones * t.spec.axial_load,
-                                      t.force, ones]))
-            r_test.append(np.full(t.points, index))
-            r_lev.append(t.level)
-
-    def cat(parts, rows=5):
-        return np.hstack(parts) if parts else np.zeros((rows, 0))
-
-    def flat(parts):
-        return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, dtype=np.int64)
-
-    return Rows(cat(a_parts), cat(r_parts), flat(a_test), flat(r_test), flat(a_lev), flat(r_lev),
-                flat(a_cyc))
+def blocks_of(cells) -> Blocks:
+    """NLP data of :class:`.cells.Cells` (weights = counts)."""
+    axial_x = np.where(cells.axial, cells.length, cells.diameter)
+    axial_y = np.where(cells.axial, cells.leg, cells.load)
+    spread_p = np.where(cells.swept_length, 0.0, cells.spread)
+    spread_x = np.where(cells.swept_length, cells.spread, 0.0)
+    binned = cells.spread > 0
+    data, indices = [], []
+    for kind, spread in BLOCKS:
+        index = np.flatnonzero((cells.axial == (kind == "axial")) & (binned == spread))
+        n = index.size
+        out = np.zeros((ROWS, padded(n)))
+        if n:
+            out[:, :n] = np.vstack([cells.pressure[index], axial_x[index], axial_y[index], cells.force[index],
+                                    cells.count[index], spread_p[index], spread_x[index]])
+            out[:4, n:] = out[:4, :1]  # padding: copies of the first cell, weight 0
+        data.append(out)
+        indices.append(index)
+    return Blocks(tuple(data), tuple(indices))
 
 
 @dataclass(frozen=True)
 class Problem:
-    """A built NLP and its helpers: residual and Jacobian of the mapped rows."""
+    """A built NLP and its helpers: residual and Jacobian of the mapped cells."""
 
     solver: ca.Function
-    residuals: ca.Function  # (x, p) -> unweighted residuals of all rows (axial then radial)
-    jacobian: ca.Function  # (x, p) -> ∂(weighted residuals)/∂x
+    residuals: ca.Function  # (x, p) -> unweighted residuals of all columns (blocks in order)
+    jacobian: ca.Function  # (x, p) -> ∂(√w·residual)/∂x
     n_theta: int
     n_eta: int
     build_time: float
 
 
 @cache
-def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_radial: int) -> Problem:
-    """The NLP for one effect (None: the baseline) and one data structure (built once, cached)."""
+def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple[int, ...]) -> Problem:
+    """The NLP for one set of effects (() : the baseline) and one padded data size (built once)."""
     started = time.perf_counter()
-    n_theta = 4 * (degree + 1)
-    params = get_effect(effect).parameters if effect else ()
-    theta, eta = ca.SX.sym("theta", n_theta), ca.SX.sym("eta", len(params))
-    row, smooth = ca.SX.sym("row", 5), ca.SX.sym("smooth")
-    sym = Muscle.symbolic(Structure(wall, degree))
-    geometry, pref, g = sym.muscle.geometry, sym.muscle.reference_pressure, sym.p[:4]
-    values = {p.name: eta[i] * p.scale for i, p in enumerate(params)}
-    # θ in MPa (b at P_ref, always 1 MPa in the fit) and η in display units are the decision variables
-    muscle = Muscle(geometry, theta * MPA, pref, effects={effect: values} if effect else None)
-    axial = muscle.axial_force(row[0], row[1], leg=row[2])
-    radial = muscle.radial_force(row[0], row[1], row[2], smoothing=smooth)
-    xs = ca.vertcat(theta, eta)
+    structure = Structure(wall, degree, False, effects)
+    sym = Muscle.symbolic(structure)
+    params = effect_parameters(effects)
+    n_theta = structure.n_theta
+    row, smooth = ca.SX.sym("row", ROWS), ca.SX.sym("smooth")
+    muscle = sym.muscle
+    models = {"axial": ca.Function("axial_model", [row, sym.p, smooth],
+                                   [muscle.axial_force(row[0], row[1], leg=row[2])]),
+              "radial": ca.Function("radial_model", [row, sym.p, smooth],
+                                    [muscle.radial_force(row[0], row[1], row[2], smoothing=smooth)])}
+    # decision variables: θ in MPa (b at P_ref = 1 MPa in the fit) and η in display units
+    xs = ca.SX.sym("x", n_theta + len(params))
+    g, pref = ca.SX.sym("g", 4), ca.SX.sym("pref")
+    scales = ca.DM([p.scale for _, p in params]) if params else ca.DM.zeros(0, 1)
+    p_expr = ca.vertcat(g, pref, xs[:n_theta] * MPA, xs[n_theta:] * scales)
     inputs = [row, xs, g, pref, smooth]
-    # per-row residual and its gradient, in SX (cheap), then mapped over the rows
-    f_axial = ca.Function("axial_row", inputs, [axial - row[3], ca.gradient(axial, xs)])
-    f_radial = ca.Function("radial_row", inputs, [radial - row[3], ca.gradient(radial, xs)])
+    shift = ca.vertcat(row[5], row[6], 0, 0, 0, 0, 0)
+    cell_functions = []
+    for kind, binned in BLOCKS:
+        model = models[kind]
+        if binned:  # two-point (unscented) mean over the cell's spread
+            value = (model(row + shift, p_expr, smooth) + model(row - shift, p_expr, smooth)) / 2
+        else:
+            value = model(row, p_expr, smooth)
+        cell_functions.append(ca.Function(f"{kind}_cell", inputs, [value - row[3], ca.gradient(value, xs)]))
 
     nx = n_theta + len(params)
     x = ca.MX.sym("x", nx)
-    data_a, data_r = ca.MX.sym("axial", 5, n_axial), ca.MX.sym("radial", 5, n_radial)
+    blocks = [ca.MX.sym(f"block{b}", ROWS, n) for b, n in enumerate(sizes)]
     g_p, pref_p, smooth_p = ca.MX.sym("g", 4), ca.MX.sym("pref"), ca.MX.sym("smooth")
     grid_p, grid_l = ca.MX.sym("grid_p", GRID[0] * GRID[1]), ca.MX.sym("grid_l", GRID[0] * GRID[1])
     res_parts, jac_parts, w_parts = [], [], []
-    for fun, block, n in ((f_axial, data_a, n_axial), (f_radial, data_r, n_radial)):
+    for fun, block, n in zip(cell_functions, blocks, sizes, strict=True):
         if n:
             r, j = fun.map(n)(block, x, g_p, pref_p, smooth_p)
             res_parts.append(r)
@@ -140,7 +183,7 @@ def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_ra
     drucker = _drucker_function(wall, degree).map(GRID[0] * GRID[1])(grid_p.T, grid_l.T, x[:n_theta],
                                                                      g_p, pref_p)
     constraints = ca.vec(drucker.T)
-    p = ca.vertcat(ca.vec(data_a), ca.vec(data_r), g_p, pref_p, smooth_p, grid_p, grid_l)
+    p = ca.vertcat(*(ca.vec(b) for b in blocks), g_p, pref_p, smooth_p, grid_p, grid_l)
     weighted_jac = jac_t * ca.repmat(w, nx, 1)
     gradient = 2 * ca.mtimes(weighted_jac, res.T) / total
     # Gauss-Newton Hessian of the Lagrangian: 2JᵀWJ/Σw (the Drucker constraints are linear in θ)
@@ -149,8 +192,8 @@ def build_problem(effect: str | None, wall: str, degree: int, n_axial: int, n_ra
                           [ca.triu(lam_f * 2 * ca.mtimes(weighted_jac, jac_t.T) / total)])
     grad_f = ca.Function("grad_f", [x, p], [objective, gradient])
     nlp = {"x": x, "p": p, "f": objective, "g": constraints}
-    solver = nlpsol(f"refit_{effect or 'baseline'}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian,
-                    grad_f=grad_f)
+    label = "_".join(effects) or "baseline"
+    solver = nlpsol(f"refit_{label}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian, grad_f=grad_f)
     residuals = ca.Function("residuals", [x, p], [res.T])
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
     return Problem(solver, residuals, jacobian, n_theta, len(params), time.perf_counter() - started)
@@ -170,87 +213,123 @@ def _drucker_function(wall: str, degree: int) -> ca.Function:
 
 @dataclass(frozen=True)
 class Fit:
-    """One solved refit: x, the residual of every row, and solver facts."""
+    """One solved refit: x, the residual of every cell (model − mean data [N]) and solver facts."""
 
-    effect: str | None
+    effects: tuple[str, ...]
     x: np.ndarray
-    residual_axial: np.ndarray  # model − data [N], unweighted
-    residual_radial: np.ndarray
+    residual: np.ndarray  # per cell [N], cell order
     objective: float
     status: str
     iterations: int
-    wall_time: float
-    jacobian: np.ndarray | None = None
+    wall_time: float  # [s] build (when new) + solve
+    jacobian: np.ndarray | None = None  # per cell, ∂(√n·r)/∂x
 
     @property
-    def eta(self) -> np.ndarray:
-        params = get_effect(self.effect).parameters if self.effect else ()
-        return self.x[self.x.size - len(params):]
+    def n_eta(self) -> int:
+        return len(effect_parameters(self.effects))
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.x[:self.x.size - self.n_eta]
+
+    def eta(self) -> dict[str, np.ndarray]:
+        """{effect: η (display units)}."""
+        out, start = {}, self.x.size - self.n_eta
+        for name in self.effects:
+            k = len(get_effect(name).parameters)
+            out[name] = self.x[start:start + k]
+            start += k
+        return out
+
+    def effect_values(self) -> dict[str, dict[str, float]]:
+        """{effect: {parameter: SI value}}."""
+        out = {}
+        for name, eta in self.eta().items():
+            params = get_effect(name).parameters
+            out[name] = {p.name: float(v * p.scale) for p, v in zip(params, eta, strict=True)}
+        return out
 
 
 class Refitter:
-    """Fits the baseline and baseline + effect models to one experiment's rows (warm starts)."""
+    """Fits the baseline and baseline + effects models to one experiment's cells (warm starts)."""
 
-    def __init__(self, data, rows: Rows, *, degree: int = 3, reference_pressure: float = MPA):
-        self.data, self.rows, self.degree, self.pref = data, rows, degree, reference_pressure
+    def __init__(self, data, cells, *, degree: int = 3, reference_pressure: float = MPA):
+        self.data, self.cells, self.degree, self.pref = data, cells, degree, reference_pressure
         self.geometry = data.pam.geometry
-        self.grid = _grid(data, rows)
+        self.blocks = blocks_of(cells)
+        self.grid = _grid(data, cells)
 
-    def bounds(self, effect: str | None):
+    def bounds(self, effects: tuple[str, ...]):
         k = self.degree + 1
         low = np.full(4 * k, -50.0)
         high = np.full(4 * k, 50.0)
         low[[0, 2 * k]] = 0.0
-        params = get_effect(effect).parameters if effect else ()
+        params = [p for _, p in effect_parameters(effects)]
         low = np.concatenate([low, [p.lower / p.scale for p in params]])
         high = np.concatenate([high, [p.upper / p.scale for p in params]])
         return low, high
 
-    def null_eta(self, effect: str | None) -> np.ndarray:
-        params = get_effect(effect).parameters if effect else ()
-        return np.array([p.null / p.scale for p in params])
+    def start(self, effects: tuple[str, ...], theta0: np.ndarray, known: dict[str, np.ndarray] | None = None
+              ) -> np.ndarray:
+        """x₀: θ₀ (MPa) and each effect's η from ``known`` or its null value."""
+        parts = [np.asarray(theta0, dtype=float)]
+        for name in effects:
+            params = get_effect(name).parameters
+            parts.append(np.asarray(known[name]) if known and name in known
+                         else np.array([p.null / p.scale for p in params]))
+        return np.concatenate(parts)
 
-    def parameters(self, rows: Rows | None = None) -> np.ndarray:
-        rows = rows or self.rows
-        return np.concatenate([rows.axial.ravel(order="F"), rows.radial.ravel(order="F"),
-                               self.geometry.as_vector(), [self.pref, SMOOTHING], *self.grid])
+    def parameters(self, blocks: Blocks | None = None) -> np.ndarray:
+        blocks = blocks or self.blocks
+        return np.concatenate([*(b.ravel(order="F") for b in blocks.data), self.geometry.as_vector(),
+                               [self.pref, SMOOTHING], *self.grid])
 
-    def problem(self, effect: str | None) -> Problem:
-        return build_problem(effect, self.geometry.wall, self.degree, self.rows.axial.shape[1],
-                             self.rows.radial.shape[1])
+    def problem(self, effects: tuple[str, ...]) -> Problem:
+        return build_problem(effects, self.geometry.wall, self.degree, self.blocks.sizes)
 
-    def fit(self, effect: str | None, theta0: np.ndarray, *, eta0=None, rows: Rows | None = None,
-            jacobian: bool = False) -> Fit:
-        """Solve from θ₀ (MPa) and η₀ (default: the null value); raise SolverError on failure."""
-        problem = self.problem(effect)
-        low, high = self.bounds(effect)
-        eta0 = self.null_eta(effect) if eta0 is None else eta0
-        x0 = np.clip(np.concatenate([theta0, eta0]), low, high)
-        p = self.parameters(rows)
-        sol, stats = solve(problem.solver, what=f"the {effect or 'baseline'} refit", accept_acceptable=True,
+    def fit(self, effects, theta0: np.ndarray, *, known: dict[str, np.ndarray] | None = None,
+            weight: np.ndarray | None = None, jacobian: bool = False) -> Fit:
+        """Solve from θ₀ (MPa) and η₀ (``known`` or null); raise SolverError on failure.
+
+        ``weight`` replaces the cell counts as weights (cross-validation: 0 for held-out cells).
+        """
+        effects = canonical(effects)
+        started = time.perf_counter()
+        problem = self.problem(effects)
+        low, high = self.bounds(effects)
+        x0 = np.clip(self.start(effects, theta0, known), low, high)
+        blocks = self.blocks if weight is None else self.blocks.weighted(weight)
+        p = self.parameters(blocks)
+        label = " + ".join(effects) or "baseline"
+        sol, stats = solve(problem.solver, what=f"the {label} refit", accept_acceptable=True,
                            x0=x0, p=p, lbx=low, ubx=high, lbg=0, ubg=ca.inf)
         x = np.clip(np.asarray(sol["x"], dtype=float).ravel(), low, high)  # IPOPT relaxes bounds by 1e-8
         res = np.asarray(problem.residuals(x, p), dtype=float).ravel()
-        n_a = self.rows.axial.shape[1]
-        jac = np.asarray(problem.jacobian(x, p), dtype=float) if jacobian else None
-        return Fit(effect, x, res[:n_a], res[n_a:], float(sol["f"]), stats.status, stats.iterations,
-                   stats.wall_time, jac)
+        residual = self.blocks.scatter(res, self.cells.size)
+        jac = None
+        if jacobian:
+            jac = self.blocks.scatter(np.asarray(problem.jacobian(x, self.parameters()), dtype=float),
+                                      self.cells.size)
+        return Fit(effects, x, residual, float(sol["f"]), stats.status, stats.iterations,
+                   time.perf_counter() - started, jac)
 
     def moduli_si(self, x: np.ndarray) -> np.ndarray:
-        """θ in Pa (b at P_ref) from the NLP's MPa vector."""
-        k = self.degree + 1
-        theta = np.asarray(x[:4 * k], dtype=float) * MPA
-        return theta
+        """θ in Pa (b at P_ref = 1 MPa) from the NLP's MPa vector."""
+        return np.asarray(x[:4 * (self.degree + 1)], dtype=float) * MPA
+
+    def muscle(self, fit: Fit) -> Muscle:
+        """The fitted model as a numeric :class:`Muscle` (for row residuals, anchoring and plots)."""
+        return Muscle(self.geometry, self.moduli_si(fit.x), MPA, effects=fit.effect_values() or None)
 
 
-def _grid(data, rows: Rows):
+def _grid(data, cells):
     """Drucker grid (pressures × lengths) flattened: tested pressures and L ∈ [L_min, L₀]."""
     geometry = data.pam.geometry
-    pressures = np.concatenate([rows.axial[0], rows.radial[0], [0.0]])
+    pressures = np.concatenate([cells.pressure, [0.0]])
     lengths = [geometry.initial_length]
-    if rows.axial.shape[1]:
-        lengths.append(float(rows.axial[1].min()))
-    for d in np.unique(rows.radial[1]):
+    if np.any(cells.axial):
+        lengths.append(float(np.nanmin(cells.length[cells.axial])))
+    for d in np.unique(cells.diameter[~cells.axial]):
         lengths.append(float(np.sqrt(geometry.braid_length**2 - (geometry.turns * np.pi * d) ** 2)))
     low = max(min(lengths), geometry.shortest_length * 1.001)
     pp, ll = np.meshgrid(np.linspace(max(pressures.min(), 0.0), pressures.max(), GRID[0]),

@@ -1,11 +1,15 @@
-"""`diagnose(data)`: baseline → residual structure → one refit per effect → scores → decision.
+"""`diagnose(data)`: cells → baseline → noise floors → checks → forward/backward selection → verdict.
 
-1. Baseline: `identify` in ``shared`` moduli mode (one set of moduli for every test), polished by
+1. Rows are reduced to cells (:mod:`.cells`), so every refit below has a size bounded whatever the
+   row count.
+2. Baseline: `identify` in ``shared`` moduli mode (one set of moduli for every test), polished by
    the refit NLP of :mod:`.refit` so that baseline and candidates share one objective.
-2. Residual structure of the baseline: noise floor per test, signatures, worst regions.
-3. Every effect of the library: baseline + effect refit, warm-started from the baseline.
-4. BIC for all, cross-validated RMSE for the baseline and the candidates that pass the BIC
-   margin, intervals, the decision (:mod:`.selection`).
+3. Noise floor per test from the baseline residual (:mod:`.noise`); checks of every test
+   (:mod:`.structure`).
+4. Forward selection of effects from the library, joint refits, then a backward step
+   (:mod:`.search`).
+5. The verdict (:mod:`.verdict`); intervals of the selected set; for confounded alternatives, the
+   experiment that would separate them (:mod:`.separate`); row residuals for the plots.
 """
 
 from __future__ import annotations
@@ -15,27 +19,20 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pampipe.diagnose import selection, signatures
-from pampipe.diagnose.refit import MPA, Fit, Refitter, rows_of
-from pampipe.diagnose.result import Candidate, DiagnoseResult, TestRmse
+from pampipe.diagnose import noise, selection, structure
+from pampipe.diagnose.cells import reduce_rows
+from pampipe.diagnose.refit import MPA, SMOOTHING, Fit, Refitter
+from pampipe.diagnose.result import DiagnoseResult, summarize
+from pampipe.diagnose.search import Model, Search
+from pampipe.diagnose.separate import separating_experiment
+from pampipe.diagnose.verdict import decide
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
 from pampipe.model.effects import LIBRARY, get_effect
-from pampipe.model.muscle import Muscle
 
 DEGREE = 3
 #: Generic start when neither identify nor the PAM gives moduli: E₁ = 1.5 MPa, E₂ = 4.4 MPa.
 GENERIC_THETA = np.array([1.5, 0, 0, 0, 0, 0, 0, 0, 4.4, 0, 0, 0, 0, 0, 0, 0])
-
-
-def _per_test(data: ExperimentData, rows, fit: Fit) -> tuple[np.ndarray, ...]:
-    """Split a fit's residuals back into the tests' recorded rows."""
-    out = []
-    for index, _test in enumerate(data.tests):
-        ra = fit.residual_axial[rows.axial_test == index]
-        rr = fit.residual_radial[rows.radial_test == index]
-        out.append(ra if ra.size else rr)
-    return tuple(out)
 
 
 def _initial_theta(data: ExperimentData, say) -> tuple[np.ndarray, str]:
@@ -63,82 +60,94 @@ def _b_scale(reference_pressure: float) -> np.ndarray:
     return scale
 
 
-def _candidate(name, fit: Fit, data, rows, refitter, n, base_bic, wall) -> Candidate:
-    residuals = _per_test(data, rows, fit)
-    tests = tuple(TestRmse(t.name, t.kind, t.points, float(np.sqrt(np.mean(r**2))))
-                  for t, r in zip(data.tests, residuals, strict=True))
-    b = selection.bic(fit, n)
-    params = selection.intervals(fit, n) if fit.effect else {}
-    return Candidate(name, refitter.moduli_si(fit.x), {k: v[0] for k, v in params.items()},
-                     {k: (v[1], v[2]) for k, v in params.items()}, selection.sse(fit), b,
-                     b - (b if base_bic is None else base_bic), tests, None, fit.iterations, wall, fit.status,
-                     residuals)
+def anchoring_pressures(data: ExperimentData, refitter: Refitter, fit: Fit) -> tuple[float | None, ...]:
+    """The fitted model's anchoring pressure [Pa] of each radial test (None for axial tests)."""
+    muscle = refitter.muscle(fit)
+    out = []
+    for test in data.tests:
+        if test.kind != "radial":
+            out.append(None)
+            continue
+        value = float(np.asarray(muscle.anchoring_pressure(test.spec.pipe_diameter, test.spec.axial_load)))
+        out.append(value if np.isfinite(value) else None)
+    return tuple(out)
+
+
+def row_residuals(data: ExperimentData, refitter: Refitter, fit: Fit) -> tuple[np.ndarray, ...]:
+    """Model − data [N] at every recorded row, through :class:`pampipe.model.muscle.Muscle`."""
+    muscle = refitter.muscle(fit)
+    out = []
+    for test, leg in zip(data.tests, refitter.cells.row_leg, strict=True):
+        if test.kind == "axial":
+            model = muscle.axial_force(test.pressure, test.length, leg=leg)
+        else:
+            model = muscle.radial_force(test.pressure, test.spec.pipe_diameter, test.spec.axial_load,
+                                        smoothing=SMOOTHING)
+        out.append(np.asarray(model, dtype=float) - test.force)
+    return tuple(out)
 
 
 def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: int = selection.FOLDS,
-             cross_validate_top: int = 3, progress: Callable[[str], None] | None = None) -> DiagnoseResult:
-    """Name the effect missing from the baseline model of ``data`` (see the module docstring)."""
+             reduce: bool = True, progress: Callable[[str], None] | None = None) -> DiagnoseResult:
+    """Find the effects missing from the baseline model of ``data`` (see the module docstring)."""
     say = progress or (lambda _text: None)
     started = time.perf_counter()
-    names = list(LIBRARY) if effects is None else list(effects)
+    names = list(LIBRARY) if effects is None else list(dict.fromkeys(effects))
     for name in names:
         try:
             get_effect(name)
         except KeyError as exc:
             raise InputError(str(exc.args[0])) from None
-    rows = rows_of(data)
-    n = rows.n
+    n = data.points
     if n <= 4 * (DEGREE + 1) + 4:
         raise InputError(f"{data.source}: {n} data rows are too few to diagnose a "
-                         f"{4 * (DEGREE + 1)}-parameter "
-                         "model; record more points.")
-    refitter = Refitter(data, rows, degree=DEGREE)
+                         f"{4 * (DEGREE + 1)}-parameter model; record more points.")
+    timings = {}
+    t0 = time.perf_counter()
+    cells = reduce_rows(data, reduce=reduce)
+    timings["reduce_time_s"] = time.perf_counter() - t0
+    say(f"{n:,} rows reduced to {cells.size:,} cells in {timings['reduce_time_s']:.2f} s")
+    refitter = Refitter(data, cells, degree=DEGREE)
     theta0, source = _initial_theta(data, say)
     t0 = time.perf_counter()
-    base_fit = refitter.fit(None, theta0, jacobian=True)
-    baseline = _candidate("none", base_fit, data, rows, refitter, n, None, time.perf_counter() - t0)
-    timings = {"baseline_wall_time_s": time.perf_counter() - started}
+    base_fit = refitter.fit((), theta0, jacobian=True)
+    floors = noise.noise_floors(data, cells, base_fit.residual)
 
-    noise = tuple(signatures.noise_floor(t, r) for t, r in zip(data.tests, baseline.residuals, strict=True))
-    pooled = float(np.sqrt(sum(f.sigma**2 * t.points for f, t in zip(noise, data.tests, strict=True)) / n))
-    fitted = Muscle(data.pam.geometry, refitter.moduli_si(base_fit.x), MPA)
-    anchoring = tuple(float(fitted.anchoring_pressure(t.spec.pipe_diameter, t.spec.axial_load))
-                      if t.kind == "radial" else None for t in data.tests)
-    sigs = tuple(signatures.signatures(data, list(baseline.residuals), list(anchoring), pooled))
-    regs = tuple(signatures.regions(data, list(baseline.residuals), list(anchoring), pooled))
+    def assess(fit: Fit):
+        return structure.assess(data, cells, fit, floors, anchoring_pressures(data, refitter, fit))
 
-    fits, candidates = {}, []
-    for name in names:
-        say(f"refit: baseline + {name}")
-        t0 = time.perf_counter()
-        fit = refitter.fit(name, base_fit.x, jacobian=True)
-        fits[name] = fit
-        candidates.append(_candidate(name, fit, data, rows, refitter, n, baseline.bic,
-                                     time.perf_counter() - t0))
-    candidates.sort(key=lambda c: c.bic)
+    def refit(chosen, start: Model) -> Fit:
+        return refitter.fit(chosen, start.fit.theta, known=start.fit.eta(), jacobian=True)
 
-    say(f"cross-validation over {folds} folds of pressure levels")
+    search = Search(cells, refit, assess, lambda fit: selection.cross_validate(refitter, fit, k=folds), say)
+    baseline = search.taken(search.model(base_fit))
+    timings["baseline_time_s"] = time.perf_counter() - t0
+    say(f"baseline: {len(baseline.assessment.misfit)} of {len(data.tests)} tests off the noise "
+        f"({timings['baseline_time_s']:.1f} s)")
     t0 = time.perf_counter()
-    base_cv = selection.cross_validate(refitter, base_fit, k=folds)
-    baseline = _with(baseline, cv_rmse=base_cv, wall_time=baseline.wall_time + time.perf_counter() - t0)
-    ranked = []
-    for rank, c in enumerate(candidates):
-        if rank < cross_validate_top and c.delta_bic <= -selection.BIC_MARGIN:
-            t0 = time.perf_counter()
-            cv = selection.cross_validate(refitter, fits[c.effect], k=folds)
-            c = _with(c, cv_rmse=cv, wall_time=c.wall_time + time.perf_counter() - t0)
-        ranked.append(c)
-    ratio = max(t.rmse / f.sigma for t, f in zip(baseline.tests, noise, strict=True))
-    chosen, reason, confounded = selection.decide(ratio, [
-        {"effect": c.effect, "delta_bic": c.delta_bic,
-         "cv_ratio": None if c.cv_rmse is None else c.cv_rmse / base_cv} for c in ranked])
-    timings["total_wall_time_s"] = time.perf_counter() - started
-    return DiagnoseResult(data.source, data.pam, baseline, tuple(ranked), chosen, reason, confounded, noise,
-                          sigs,
-                          regs, anchoring, source, timings, data)
+    final, steps = search.run(baseline, names)
+    timings["selection_time_s"] = time.perf_counter() - t0
+    test_names = [t.name for t in data.tests]
+    verdict = decide(test_names, baseline.assessment, final.assessment, final.effects)
+    chosen = final if verdict.effects else baseline
 
-
-def _with(candidate: Candidate, **changes) -> Candidate:
-    from dataclasses import replace
-
-    return replace(candidate, **changes)
+    t0 = time.perf_counter()
+    confounded = []
+    for step in steps:
+        if step.action != "add" or step.effect not in chosen.effects:
+            continue
+        trials = {t.effect: t for t in step.trials}
+        for other in step.confounded:
+            separate = separating_experiment(data, refitter, trials[step.effect].model.fit,
+                                             trials[other].model.fit, floors)
+            confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
+    timings["separate_time_s"] = time.perf_counter() - t0
+    summaries = {"baseline": summarize(baseline, baseline.bic, data, cells, refitter),
+                 "selected": summarize(chosen, baseline.bic, data, cells, refitter)}
+    residuals = (row_residuals(data, refitter, baseline.fit), row_residuals(data, refitter, chosen.fit))
+    timings["total_time_s"] = time.perf_counter() - started
+    return DiagnoseResult(data.source, data.pam, data=data, cells=cells, noise=floors,
+                          baseline_model=baseline, chosen_model=chosen, steps=tuple(steps), verdict=verdict,
+                          confounded=tuple(confounded), summaries=summaries, residuals=residuals,
+                          baseline_source=source, timings=timings, refitter=refitter,
+                          anchoring=anchoring_pressures(data, refitter, baseline.fit))

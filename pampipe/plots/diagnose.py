@@ -1,12 +1,17 @@
-"""Plots of `diagnose`: residuals before/after against the signature variables, and where they were.
+"""Plots of `diagnose`: residuals before/after against the signature variables, where they were, the steps.
 
-* ``residuals.png``: model − data before (top row, baseline) and after (bottom row, refit with the
-  selected effect) against the length split by the sign of L̇ (axial tests), the pressure, the
-  pressure above anchoring (radial tests) and each radial test (load, pipe); the noise floor ±2σ
-  is shaded.
-* ``disagreement_map.png``: the mean residual of every (test, pressure level) cell, before and after,
-  in units of its standard error (|value| > 3 is systematic), so the missing effect shows where it acts.
-* ``candidates.png``: ΔBIC and the sum of test RMSE of each candidate.
+Every number drawn is read from the :class:`pampipe.diagnose.result.DiagnoseResult`: the row
+residuals of the baseline and of the selected model (computed by the command through
+:class:`pampipe.model.muscle.Muscle`), the noise floors, the baseline's anchoring pressures, the
+cells' checks and the steps of the selection. Nothing is refitted or re-evaluated here.
+
+* ``residuals.png``: model − data before (top row) and after (bottom row) against the length split
+  by the sign of L̇ (axial tests), the pressure, the pressure above anchoring (radial tests) and each
+  radial test; the noise floor ±2σ is shaded.
+* ``disagreement_map.png``: the mean residual of every (test, pressure level) cell before and after,
+  in units of its standard error (|value| > 3 is systematic).
+* ``candidates.png``: ΔBIC of every refit tried, step by step, and the sum of test RMSE of the
+  baseline and of each model taken, against the sum of the noise floors.
 """
 
 from __future__ import annotations
@@ -25,31 +30,37 @@ def plot_diagnosis(result, folder: Path) -> list[Path]:
     return [_residuals(result, folder), _map(result, folder), _candidates(result, folder)]
 
 
+def _label(result) -> str:
+    effects = result.selected_effects
+    return f"with {' + '.join(effects)}" if effects else "baseline (nothing named)"
+
+
 def _residuals(result, folder):
     data = result.data
-    before, after = result.baseline.residuals, result.chosen.residuals
     sigma = float(np.sqrt(np.mean([n.sigma**2 for n in result.noise])))
     fig, axes = new_figure(2, 4, figsize=(17, 8), sharey="col")
-    for row, (label, residuals) in enumerate((("baseline", before),
-                                              (f"with {result.selected}", after))):
+    for row, (label, residuals) in enumerate((("baseline", result.residuals[0]),
+                                              (_label(result), result.residuals[1]))):
         ax_len, ax_p, ax_c, ax_t = axes[row]
         radial_names = []
         for index, (test, r) in enumerate(zip(data.tests, residuals, strict=True)):
             if test.kind == "axial":
-                for leg, name in ((1, "lengthening"), (-1, "shortening")):
-                    m = test.leg == leg
+                leg = result.cells.row_leg[index]
+                for sign, name in ((1, "lengthening"), (-1, "shortening")):
+                    m = leg == sign
                     ax_len.plot(test.length[m] * 1e3, r[m], ".", ms=2, color=COLORS[name], alpha=0.5,
-                                label=f"{name} (L' {'>' if leg > 0 else '<'} 0)")
+                                label=f"{name} (L' {'>' if sign > 0 else '<'} 0)")
                 ax_p.plot(test.pressure / 1e3, r, ".", ms=2, color="0.4", alpha=0.4)
             else:
                 p_anchor = result.anchoring[index] or 0.0
+                after = test.pressure > p_anchor
                 ax_p.plot(test.pressure / 1e3, r, ".", ms=2, color=COLORS["radial"], alpha=0.4)
                 ax_c.plot((test.pressure - p_anchor) / 1e3, r, ".", ms=3, alpha=0.6, label=test.name)
                 pos = len(radial_names)
-                ax_t.plot(pos + 0.25 * np.random.default_rng(index).uniform(-1, 1, r.size), r, ".", ms=2,
-                          alpha=0.6)
-                ax_t.plot([pos - 0.35, pos + 0.35], [r[test.pressure > p_anchor].mean()] * 2
-                          if np.any(test.pressure > p_anchor) else [0, 0], "k-", lw=2)
+                jitter = 0.25 * np.random.default_rng(index).uniform(-1, 1, r.size)
+                ax_t.plot(pos + jitter, r, ".", ms=2, alpha=0.6)
+                mean = r[after].mean() if np.any(after) else 0.0
+                ax_t.plot([pos - 0.35, pos + 0.35], [mean, mean], "k-", lw=2)
                 radial_names.append(test.name)
         for ax in axes[row]:
             ax.axhspan(-2 * sigma, 2 * sigma, color="0.85", zorder=0)
@@ -66,16 +77,18 @@ def _residuals(result, folder):
         ax_t.set_xticks(range(len(radial_names)), radial_names, rotation=30, ha="right", fontsize=7)
         if row == 0:
             _dedupe_legend(ax_len)
-            ax_c.legend(fontsize=6, markerscale=3)
-    fig.suptitle(f"{Path(str(result.source)).name}: residuals before and after "
-                 f"(grey band: noise floor ±2σ = ±{2 * sigma:.2g} N); selected: {result.selected}")
+            if radial_names:
+                ax_c.legend(fontsize=6, markerscale=3)
+    fig.suptitle(f"{Path(str(result.source)).name}: residuals before and after (grey band: noise floor "
+                 f"±2σ = ±{2 * sigma:.2g} N); verdict: {result.verdict.verdict}")
     return save_figure(fig, folder, "residuals.png")
 
 
 def _dedupe_legend(ax):
     handles, labels = ax.get_legend_handles_labels()
-    unique = dict(zip(labels, handles, strict=True))
-    ax.legend(unique.values(), unique.keys(), fontsize=7, markerscale=4)
+    if labels:
+        unique = dict(zip(labels, handles, strict=True))
+        ax.legend(unique.values(), unique.keys(), fontsize=7, markerscale=4)
 
 
 def _cells(result, residuals):
@@ -92,11 +105,12 @@ def _cells(result, residuals):
 
 
 def _map(result, folder):
-    names, pressures, z_before = _cells(result, result.baseline.residuals)
-    _, _, z_after = _cells(result, result.chosen.residuals)
-    limit = max(5.0, float(np.nanpercentile(np.abs(z_before), 95)))
+    names, pressures, z_before = _cells(result, result.residuals[0])
+    _, _, z_after = _cells(result, result.residuals[1])
+    finite = np.abs(z_before[np.isfinite(z_before)])
+    limit = max(5.0, float(np.percentile(finite, 95))) if finite.size else 5.0
     fig, axes = new_figure(1, 2, figsize=(15, 0.5 * len(names) + 3), sharey=True)
-    for ax, z, label in ((axes[0], z_before, "baseline"), (axes[1], z_after, f"with {result.selected}")):
+    for ax, z, label in ((axes[0], z_before, "baseline"), (axes[1], z_after, _label(result))):
         image = ax.imshow(z, cmap="RdBu_r", vmin=-limit, vmax=limit, aspect="auto")
         ax.set_xticks(range(len(pressures)), [str(p) for p in pressures], rotation=45)
         ax.set_yticks(range(len(names)), names)
@@ -111,21 +125,31 @@ def _map(result, folder):
 
 
 def _candidates(result, folder):
-    cands = list(result.candidates)
-    fig, (ax_bic, ax_rmse) = new_figure(1, 2, figsize=(13, 4.5))
-    names = [c.effect for c in cands]
-    colors = ["tab:orange" if c.effect == result.selected else "tab:gray" for c in cands]
-    ax_bic.barh(names, [c.delta_bic for c in cands], color=colors)
+    steps = [s for s in result.steps if s.trials]
+    fig, (ax_bic, ax_rmse) = new_figure(1, 2, figsize=(14, 0.35 * sum(len(s.trials) for s in steps) + 3))
+    labels, values, colors = [], [], []
+    for step in steps:
+        for trial in step.trials:
+            sign = "-" if step.action in ("remove", "keep") else "+"
+            labels.append(f"step {step.number}: {sign}{trial.effect}")
+            values.append(trial.delta_bic if np.isfinite(trial.delta_bic) else 0.0)
+            taken = step.action in ("add", "remove") and trial.effect == step.effect
+            colors.append("tab:orange" if taken else ("tab:gray" if trial.model is not None else "tab:red"))
+    ax_bic.barh(labels, values, color=colors)
     ax_bic.axvline(-10, color="k", ls=":", lw=1)
+    ax_bic.axvline(10, color="k", ls=":", lw=1)
     ax_bic.set_xscale("symlog", linthresh=10)
-    ax_bic.set_xlabel("BIC(candidate) - BIC(baseline)  (< -10 needed)")
+    ax_bic.set_xlabel("BIC(tried) - BIC(model before the step)  (orange: taken)")
     ax_bic.invert_yaxis()
-    ax_rmse.barh(["baseline", *names], [result.baseline.sum_rmse, *[c.sum_rmse for c in cands]],
-                 color=["tab:blue", *colors])
+    taken = [s for s in steps if s.action in ("add", "remove")]
+    names = ["baseline"] + [f"step {s.number}: {' + '.join(s.effects)}" for s in taken]
+    sums = [result.baseline.sum_rmse] + [result.step_sum_rmse(s) for s in taken]
+    ax_rmse.barh(names, sums, color="tab:blue")
     floor = sum(n.sigma for n in result.noise)
     ax_rmse.axvline(floor, color="k", ls="--", lw=1, label=f"sum of noise floors {floor:.3g} N")
     ax_rmse.set_xlabel("sum over tests of RMSE [N]")
     ax_rmse.invert_yaxis()
     ax_rmse.legend(fontsize=8)
-    fig.suptitle(f"candidates (selected: {result.selected})")
+    fig.suptitle(f"selection steps (verdict: {result.verdict.verdict}; named: "
+                 f"{' + '.join(result.selected_effects) or 'none'})")
     return save_figure(fig, folder, "candidates.png")
