@@ -14,7 +14,7 @@ the m tests made in one assessment, :data:`ALPHA` = 1 %):
 
   - *probes*, cheap generic terms that say only that something is there and where it lives, never
     named as physics: ``pressure`` (a cubic in P per test: 1, P, P², P³ as Legendre polynomials),
-    ``first_cycle`` (first-cycle indicator × [1, s, P, sP]), ``time_drift`` (t and t² per test),
+    ``first_cycle`` (first-cycle indicator × [1, s, P, sP]), ``time_drift`` (1, t and t² per test),
     ``rate`` (the sweep rate dL/dt or dP/dt per test);
   - *signatures* that point at library effects: ``length`` (a cubic in the stroke position s),
     ``length_rate`` / ``pressure_rate`` (the direction d and d·P: hysteresis), ``contact`` (step
@@ -25,7 +25,7 @@ A test is *at the noise* when none of its tests rejects. Its *excess* is max(SS_
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -106,6 +106,8 @@ class Assessment:
     tests: tuple[TestCheck, ...]
     alpha_each: float
     probe_ss: tuple[float, ...]  # per test: SS left after all probes + linearised refit [N²]
+    #: {probe family or "all probes": (SS removed jointly with a linearised refit [N²], terms)}
+    probe_families: dict = field(default_factory=dict)
 
     @property
     def misfit(self) -> tuple[int, ...]:
@@ -149,7 +151,7 @@ def families_of(cells, index: np.ndarray, anchoring: float | None, swept: str, t
     t = cells.time[index]
     if np.ptp(t) > 0:
         tt = _scaled(t)
-        out["time_drift"] = np.column_stack([tt, (3 * tt**2 - 1) / 2])
+        out["time_drift"] = np.column_stack([ones, tt, (3 * tt**2 - 1) / 2])
     rate = cells.rate[index]
     if timed and np.ptp(rate) > 0:
         out["rate"] = (rate / np.max(np.abs(rate)))[:, None]
@@ -181,7 +183,7 @@ def assess(data, cells, fit, floors, anchoring, *, alpha: float = ALPHA) -> Asse
     y_perp = y - basis @ (basis.T @ y)
     leverage = np.sum(basis**2, axis=1)
 
-    pending, probe_columns = [], []
+    pending, probe_columns = [], {}
     for i, (test, floor) in enumerate(zip(data.tests, floors, strict=True)):
         index = cells.of_test(i)
         fams = families_of(cells, index, anchoring[i], cells.swept[i], cells.timed[i])
@@ -193,13 +195,19 @@ def assess(data, cells, fit, floors, anchoring, *, alpha: float = ALPHA) -> Asse
             q = _basis(perp)
             gains[name] = (float(np.sum((q.T @ y_perp) ** 2)), q.shape[1])
             if name in PROBES:
-                probe_columns.append(perp)
+                probe_columns.setdefault(name, []).append(perp)
         pending.append((i, test, floor, index, gains))
 
     n_tests = sum(3 + len(g) for *_, g in pending)
     alpha_each = alpha / max(n_tests, 1)
-    q_all = _basis(np.hstack(probe_columns)) if probe_columns else np.zeros((cells.size, 0))
+    removed = {}
+    for name, columns in probe_columns.items():
+        q = _basis(np.hstack(columns))
+        removed[name] = (float(np.sum((q.T @ y_perp) ** 2)), q.shape[1])
+    every = [c for columns in probe_columns.values() for c in columns]
+    q_all = _basis(np.hstack(every)) if every else np.zeros((cells.size, 0))
     after_probes = y_perp - q_all @ (q_all.T @ y_perp)
+    removed["all probes"] = (float(np.sum((q_all.T @ y_perp) ** 2)), q_all.shape[1])
 
     checks, probe_ss = [], []
     for i, test, floor, index, gains in pending:
@@ -225,7 +233,7 @@ def assess(data, cells, fit, floors, anchoring, *, alpha: float = ALPHA) -> Asse
         checks.append(TestCheck(test.name, ss, rmse, floor.sigma, lack_dof, float(lack_ratio) if np.isfinite(
             lack_ratio) else 0.0, lack_p, serial, serial_p, within_p, families, at_noise, excess, where))
         probe_ss.append(float(np.sum(after_probes[index] ** 2)))
-    return Assessment(tuple(checks), alpha_each, tuple(probe_ss))
+    return Assessment(tuple(checks), alpha_each, tuple(probe_ss), removed)
 
 
 def _serial(cells, index, y, sigma2) -> tuple[float, float]:

@@ -25,7 +25,7 @@ from pampipe.diagnose.refit import MPA, SMOOTHING, Fit, Refitter
 from pampipe.diagnose.result import DiagnoseResult, summarize
 from pampipe.diagnose.search import Model, Search
 from pampipe.diagnose.separate import separating_experiment
-from pampipe.diagnose.verdict import decide
+from pampipe.diagnose.verdict import Scores, decide
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
 from pampipe.model.effects import LIBRARY, get_effect
@@ -128,7 +128,8 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     final, steps = search.run(baseline, names)
     timings["selection_time_s"] = time.perf_counter() - t0
     test_names = [t.name for t in data.tests]
-    verdict = decide(test_names, baseline.assessment, final.assessment, final.effects)
+    scores = Scores(cells.rows, baseline.sse, baseline.fit.x.size, final.sse, final.fit.x.size)
+    verdict = decide(test_names, baseline.assessment, final.assessment, final.effects, scores)
     chosen = final if verdict.effects else baseline
 
     t0 = time.perf_counter()
