@@ -248,7 +248,7 @@ def test_noise_floor_falls_back_and_never_returns_nan():
 def test_checks_hold_their_level_on_pure_noise_and_see_structure():
     """Pure noise after a fitted offset: over 200 replicates the family-wise rejection rate stays
     near α = 1 % (binomial: ≤ 6 of 200 has probability > 0.98 at 1 %); a 1 N hysteresis band
-    (σ = 2 N, 1600 rows: z ≈ 20) is always seen, as the length_rate signature."""
+    (σ = 2 N, 800 rows: z ≈ 14) is seen, as the direction of motion."""
     rejected = 0
     for seed in range(200):
         data = _experiment([(AXIAL, _axial_columns(2.0, seed=100 + seed))])
@@ -267,7 +267,8 @@ def test_checks_hold_their_level_on_pure_noise_and_see_structure():
     residual = np.average(cells.force, weights=cells.count) - cells.force
     floors = noise.noise_floors(data, cells, residual)
     check = structure.assess(data, cells, _fake_fit(cells, residual), floors, (None,))
-    assert not check.at_noise and check.tests[0].where.signature == "length_rate"
+    # at one constant speed a Coulomb band and a damper are the same term: either name is right
+    assert not check.at_noise and check.tests[0].where.signature in ("length_rate", "rate")
 
 
 def test_verdict_rules():
@@ -293,9 +294,9 @@ def test_verdict_rules():
 
 
 def test_refit_build_does_not_grow_with_the_data():
-    """The NLP maps one per-cell function: the same instruction count for 64 and 8192 cells."""
-    small = build_problem(("braid_friction", "axial_preload"), "thick", 3, (64, 0, 32, 0))
-    large = build_problem(("braid_friction", "axial_preload"), "thick", 3, (8192, 4096, 32, 0))
+    """The NLP maps one per-cell function per block: the same instruction count for 144 and 14 352 cells."""
+    small = build_problem(("braid_friction", "axial_preload"), "thick", 3, (64, 32, 32, 16))
+    large = build_problem(("braid_friction", "axial_preload"), "thick", 3, (8192, 4096, 2048, 16))
     assert small.residuals.n_instructions() == large.residuals.n_instructions()
     assert len(BLOCKS) == 4
 
