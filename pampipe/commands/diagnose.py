@@ -83,9 +83,17 @@ def _parameters(summary) -> str:
     return "; ".join(cells) or "-"
 
 
+#: Check names of :mod:`pampipe.diagnose.structure` that an effect's ``signature`` may go by.
+ALIASES = {"length": ("length", "stroke_ends"), "contact": ("contact", "axial_load")}
+
+
 def _strongest(check) -> str:
+    """The check that rejects most strongly, and the library effects whose signature it is."""
     name, p = min(check.p_values().items(), key=lambda item: item[1])
-    return f"{name} (p = {p:.2g})"
+    names = ALIASES.get(name, (name,))
+    hints = [e.name for e in LIBRARY.values() if e.signature in names]
+    shown = f"p = {p:.2g}" if p > 0 else "p < 1e-300"
+    return f"{name} ({shown})" + (f" -> {', '.join(hints)}" if hints else "")
 
 
 def _span(low: float, high: float, scale: float, digits: int) -> str:

@@ -1,6 +1,8 @@
-"""`pampipe diagnose` (docs/physics.md §9): where model and data disagree, which effect is missing.
+"""`pampipe diagnose` (docs/physics.md §9): where model and data disagree, which effects are missing.
 
-Modules: :mod:`.refit` (the baseline + effect NLP), :mod:`.signatures` (residual structure and the
-noise floor), :mod:`.selection` (BIC, cross-validation, intervals), :mod:`.hidden` (synthetic
-experiments with a hidden effect), :mod:`.result` (frozen results), :mod:`.run` (orchestration).
+Modules: :mod:`.cells` (rows reduced per test), :mod:`.refit` (the baseline + effects NLP),
+:mod:`.noise` (noise floors), :mod:`.structure` (checks of a fit, probes), :mod:`.search` (forward
+and backward selection), :mod:`.selection` (BIC, cross-validation, intervals), :mod:`.verdict`,
+:mod:`.separate` (experiments that separate confounded models), :mod:`.hidden` (synthetic experiments
+with hidden effects), :mod:`.result` (frozen results), :mod:`.workflow` (orchestration).
 """
