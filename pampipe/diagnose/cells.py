@@ -83,6 +83,7 @@ class Cells:
     row_leg: tuple[np.ndarray, ...] = field(repr=False, default=())  # per test: the model's leg per row
     swept: tuple[str, ...] = ()  # per test: "length" (isobaric) or "pressure"
     timed: tuple[bool, ...] = ()  # per test: has a usable time column
+    moving: tuple[float, ...] = ()  # per test: share of rows read while the swept coordinate moves
     serial_within: tuple[tuple[float, float, int], ...] = ()  # per test: (ρ, ρ under white noise, pairs)
 
     @property
@@ -114,7 +115,7 @@ def reduce_rows(data, *, reduce: bool = True) -> Cells:
         sequence_offset = int(part["sequence"].max()) + 1 if part["count"].size else sequence_offset
         repeat_offset = int(part["repeat"].max()) + 1 if part["count"].size else repeat_offset
         parts.append(part)
-    per_test = ("row_cell", "row_leg", "swept", "timed", "serial_within")
+    per_test = ("row_cell", "row_leg", "swept", "timed", "moving", "serial_within")
     names = [f for f in Cells.__dataclass_fields__ if f not in per_test]
     arrays = {name: np.concatenate([p[name] for p in parts]) for name in names}
     return Cells(**arrays, **{name: tuple(p[name] for p in parts) for name in per_test})
@@ -183,6 +184,7 @@ def _rates(sweep: np.ndarray, t: np.ndarray, order: np.ndarray, group: np.ndarra
     rate = np.zeros(sweep.size)
     if not timed:
         return rate
+    still = TIE * (float(np.ptp(sweep)) or 1.0) / max(float(np.ptp(t)), 1e-300)  # below: held still
     ordered_group = group[order]
     for g in np.unique(group):
         rows = order[ordered_group == g]
@@ -191,7 +193,7 @@ def _rates(sweep: np.ndarray, t: np.ndarray, order: np.ndarray, group: np.ndarra
         dt = np.gradient(t[rows])
         ok = dt > 0
         rate[rows[ok]] = np.gradient(sweep[rows])[ok] / dt[ok]
-    return rate
+    return np.where(np.abs(rate) > still, rate, 0.0)
 
 
 def _isobaric(pressure: np.ndarray, length: np.ndarray) -> bool:
@@ -273,6 +275,7 @@ def _test_cells(index: int, test, max_exact: float, held_limit: float) -> dict:
         "swept_length": np.full(m, swept == "length"), "sequence": sequence, "repeat": repeat,
         "quantile": rank / max(unique.size, 1), "within_ss": within_ss, "within_dof": within_dof,
         "row_cell": row_cell, "row_leg": leg, "swept": swept, "timed": timed, "serial_within": serial_within,
+        "moving": float(np.mean(rate != 0)) if n else 0.0,
     }
 
 

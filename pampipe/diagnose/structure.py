@@ -15,7 +15,7 @@ the m tests made in one assessment, :data:`ALPHA` = 1 %):
   - *probes*, cheap generic terms that say only that something is there and where it lives, never
     named as physics: ``pressure`` (a cubic in P per test: 1, P, P², P³ as Legendre polynomials),
     ``first_cycle`` (first-cycle indicator × [1, s, P, sP]), ``time_drift`` (1, t and t² per test),
-    ``rate`` (the sweep rate dL/dt or dP/dt per test);
+    ``rate`` (the sweep rate dL/dt or dP/dt per test, where most readings are taken while moving);
   - *signatures* that point at library effects: ``length`` (a cubic in the stroke position s),
     ``length_rate`` / ``pressure_rate`` (the direction d and d·P: hysteresis), ``contact`` (step
     and hinge at the fitted anchoring pressure, radial tests).
@@ -134,7 +134,7 @@ def _scaled(values: np.ndarray) -> np.ndarray:
     return 2 * (values - values.min()) / span - 1 if span > 0 else np.zeros(values.size)
 
 
-def families_of(cells, index: np.ndarray, anchoring: float | None, swept: str, timed: bool) -> dict:
+def families_of(cells, index: np.ndarray, anchoring: float | None, swept: str, moving: float) -> dict:
     """{family: feature matrix (cells of the test × k)} that apply to one test."""
     p = _scaled(cells.pressure[index])
     s = 2 * cells.sweep[index] - 1
@@ -153,7 +153,7 @@ def families_of(cells, index: np.ndarray, anchoring: float | None, swept: str, t
         tt = _scaled(t)
         out["time_drift"] = np.column_stack([ones, tt, (3 * tt**2 - 1) / 2])
     rate = cells.rate[index]
-    if timed and np.ptp(rate) > 0:
+    if moving >= 0.5 and np.ptp(rate) > 0:  # a rate term needs readings taken while moving
         out["rate"] = (rate / np.max(np.abs(rate)))[:, None]
     if anchoring is not None and not cells.axial[index[0]]:
         after = (cells.pressure[index] > anchoring).astype(float)
@@ -186,7 +186,7 @@ def assess(data, cells, fit, floors, anchoring, *, alpha: float = ALPHA) -> Asse
     pending, probe_columns = [], {}
     for i, (test, floor) in enumerate(zip(data.tests, floors, strict=True)):
         index = cells.of_test(i)
-        fams = families_of(cells, index, anchoring[i], cells.swept[i], cells.timed[i])
+        fams = families_of(cells, index, anchoring[i], cells.swept[i], cells.moving[i])
         gains = {}
         for name, features in fams.items():
             full = np.zeros((cells.size, features.shape[1]))
