@@ -90,16 +90,28 @@ class Search:
         self.cells, self._refit, self._assess, self._cv, self.say = cells, refit, assess, cross_validate, say
         self.n_tests = int(cells.test.max()) + 1 if cells.size else 0
         self.cache: dict[tuple[str, ...], Model] = {}
+        self.cv_values: dict[tuple[str, ...], float] = {}
+
+    def cv(self, model: Model) -> float:
+        """The model's cross-validated RMSE [N], computed once (only when a decision needs it)."""
+        if model.effects not in self.cv_values:
+            self.cv_values[model.effects] = self._cv(model.fit)
+        return self.cv_values[model.effects]
+
+    def with_cv(self, model: Model) -> Model:
+        """The model with its cross-validated RMSE where one was computed."""
+        return Model(model.fit, model.bic, model.sse, model.test_ss, self.cv_values.get(model.effects),
+                     model.assessment)
 
     def model(self, fit: Fit) -> Model:
         ss = np.bincount(self.cells.test, weights=self.cells.count * fit.residual**2, minlength=self.n_tests)
         return Model(fit, selection.bic(fit, self.cells), selection.sse(fit, self.cells), ss)
 
     def taken(self, model: Model) -> Model:
-        """The model with its cross-validation and assessment (once)."""
-        cv = model.cv_rmse if model.cv_rmse is not None else self._cv(model.fit)
+        """The model with its assessment (once)."""
         assessment = model.assessment or self._assess(model.fit)
-        out = Model(model.fit, model.bic, model.sse, model.test_ss, cv, assessment)
+        out = Model(model.fit, model.bic, model.sse, model.test_ss, self.cv_values.get(model.effects),
+                    assessment)
         self.cache[model.effects] = out
         return out
 
@@ -189,11 +201,11 @@ class Search:
             ratio = None
             if not notes and validated < CV_TOP and not any(t.eligible for t in out):
                 started = time.perf_counter()
-                cv = self._cv(trial.model.fit)
+                cv, reference = self.cv(trial.model), self.cv(current)
                 validated += 1
-                model = Model(trial.model.fit, trial.model.bic, trial.model.sse, trial.model.test_ss, cv)
+                model = self.with_cv(trial.model)
                 self.cache[trial.effects] = model
-                ratio = cv / current.cv_rmse if current.cv_rmse and np.isfinite(cv) else None
+                ratio = cv / reference if reference and np.isfinite(cv) and np.isfinite(reference) else None
                 trial = Trial(trial.effect, trial.effects, model, trial.delta_bic, ratio, trial.where_share,
                               trial.where_focus, False, "", trial.wall_time + time.perf_counter() - started)
                 if ratio is None or ratio > 1 - CV_MARGIN:
@@ -216,12 +228,12 @@ class Search:
                 out.append(Trial(name, effects, None, np.inf, None, 0.0, 0.0, False, error, wall))
                 continue
             started = time.perf_counter()
-            cv = model.cv_rmse if model.cv_rmse is not None else self._cv(model.fit)
-            model = Model(model.fit, model.bic, model.sse, model.test_ss, cv)
+            cv, reference = self.cv(model), self.cv(current)
+            model = self.with_cv(model)
             self.cache[effects] = model
-            ratio = cv / current.cv_rmse if current.cv_rmse and np.isfinite(cv) else None
+            ratio = cv / reference if reference and np.isfinite(cv) and np.isfinite(reference) else None
             delta = model.bic - current.bic
-            needed = delta >= BIC_MARGIN and ratio is not None and current.cv_rmse <= (1 - CV_MARGIN) * cv
+            needed = delta >= BIC_MARGIN and ratio is not None and reference <= (1 - CV_MARGIN) * cv
             note = ("needed" if needed
                     else f"removing it costs {delta:.1f} BIC, CV ratio {ratio or float('nan'):.3f}")
             out.append(Trial(name, effects, model, delta, ratio, 0.0, 0.0, not needed, note,

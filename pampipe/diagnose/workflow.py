@@ -143,6 +143,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
                                              trials[other].model.fit, floors)
             confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
     timings["separate_time_s"] = time.perf_counter() - t0
+    baseline, chosen = search.with_cv(baseline), search.with_cv(chosen)
     summaries = {"baseline": summarize(baseline, baseline.bic, data, cells, refitter),
                  "selected": summarize(chosen, baseline.bic, data, cells, refitter)}
     residuals = (row_residuals(data, refitter, baseline.fit), row_residuals(data, refitter, chosen.fit))
