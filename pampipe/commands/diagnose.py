@@ -96,6 +96,10 @@ def _strongest(check) -> str:
     return f"{name} ({shown})" + (f" -> {', '.join(hints)}" if hints else "")
 
 
+def _percent(share: float) -> str:
+    return f"{round(share, 2) + 0.0:.0%}"  # + 0.0: no "-0%" for a round-off below zero
+
+
 def _span(low: float, high: float, scale: float, digits: int) -> str:
     return f"{low * scale:.{digits}f}-{high * scale:.{digits}f}"
 
@@ -131,8 +135,8 @@ def report(result) -> str:
                      f"{' + '.join(step.effects) or 'baseline'}\n" + table(
             ["effect", "dBIC", "CV ratio", "where share", "where focus", "eligible", "note", "time [s]"],
             [(t.effect, t.delta_bic, "-" if t.cv_ratio is None else f"{t.cv_ratio:.3f}",
-              f"{t.where_share:.0%}" if step.action in ("add", "stop") else "-",
-              f"{t.where_focus:.0%}" if step.action in ("add", "stop") else "-", t.eligible, t.note or "-",
+              _percent(t.where_share) if step.action in ("add", "stop") else "-",
+              _percent(t.where_focus) if step.action in ("add", "stop") else "-", t.eligible, t.note or "-",
               t.wall_time) for t in step.trials]))
     verdict = result.verdict
     decision = [f"Verdict: {verdict.verdict}. {verdict.reason}."]

@@ -196,8 +196,9 @@ class Search:
             if trial.delta_bic > -BIC_MARGIN:
                 notes.append(f"BIC not {BIC_MARGIN:g} lower")
             if trial.where_share < WHERE_SHARE or trial.where_focus < WHERE_FOCUS:
-                notes.append(f"removes {trial.where_share:.0%} of the excess where the residual was "
-                             f"({trial.where_focus:.0%} of its gain there)")
+                share, focus = (round(v, 2) + 0.0 for v in (trial.where_share, trial.where_focus))
+                notes.append(f"removes {share:.0%} of the excess where the residual was "
+                             f"({focus:.0%} of its gain there)")
             ratio = None
             if not notes and validated < CV_TOP and not any(t.eligible for t in out):
                 started = time.perf_counter()

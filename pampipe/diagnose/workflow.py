@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
@@ -108,8 +109,8 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     timings["reduce_time_s"] = time.perf_counter() - t0
     say(f"{n:,} rows reduced to {cells.size:,} cells in {timings['reduce_time_s']:.2f} s")
     refitter = Refitter(data, cells, degree=DEGREE)
-    theta0, source = _initial_theta(data, say)
     t0 = time.perf_counter()
+    theta0, source = _initial_theta(data, say)
     base_fit = refitter.fit((), theta0, jacobian=True)
     floors = noise.noise_floors(data, cells, base_fit.residual)
 
@@ -143,6 +144,14 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
                                              trials[other].model.fit, floors)
             confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
     timings["separate_time_s"] = time.perf_counter() - t0
+    if confounded:
+        words = []
+        for c in confounded:
+            text = f"{c['effect']} and {c['with']} explain the data about equally well (confounded)"
+            if c["separate_by"]:
+                text += f"; {c['separate_by']['experiment']} would separate them"
+            words.append(text)
+        verdict = replace(verdict, reason=f"{verdict.reason}; " + "; ".join(words))
     baseline, chosen = search.with_cv(baseline), search.with_cv(chosen)
     summaries = {"baseline": summarize(baseline, baseline.bic, data, cells, refitter),
                  "selected": summarize(chosen, baseline.bic, data, cells, refitter)}
