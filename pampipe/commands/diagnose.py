@@ -5,12 +5,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, say
+from pampipe.commands.common import add_output_options, emit, integer_type, say
 from pampipe.diagnose import structure
 from pampipe.diagnose.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.io.files import check_not_input
+from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
 from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.report import table
@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--effect", action="append", choices=list(LIBRARY), metavar="NAME",
                         help="test only this effect (repeatable; default: all of "
                              f"{', '.join(LIBRARY)})")
-    parser.add_argument("--folds", type=int, default=FOLDS, metavar="K",
+    parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
@@ -39,13 +39,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pampipe.diagnose.workflow import diagnose
-    from pampipe.errors import InputError
-
-    if args.folds < 2:
-        raise InputError(f"--folds {args.folds}: need at least 2 folds for cross-validation.")
     experiment = load_experiment(args.experiment)
     if args.output is not None:
-        check_not_input(args.output, experiment.input_files, option="-o")
+        check_output(args.output, experiment.input_files, option="-o")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
     emit(args, result.as_document(), report(result))
@@ -169,5 +165,6 @@ def report(result) -> str:
               "-" if w.length is None else _span(*w.length, 1e3, 1), w.cells, w.rows, w.mean_residual)
              for w in verdict.remaining]))
     timings = result.timings
-    parts.append("Time: " + ", ".join(f"{k.removesuffix('_time_s')} {v:.1f} s" for k, v in timings.items()))
+    parts.append("Time: " + ", ".join(f"{k.removesuffix('_wall_time_s')} {v:.1f} s"
+                                      for k, v in timings.items()))
     return "\n\n".join(parts)

@@ -160,6 +160,10 @@ class DiagnoseResult:
             return None
         return summarize(trial.model, self.baseline.bic, self.data, self.cells, self.refitter)
 
+    def to_dict(self) -> dict:
+        """The `diagnose --json` document (docs/commands.md §6)."""
+        return self.as_document()
+
     def as_document(self) -> dict:
         chosen = self.chosen
         before = self.baseline_model.assessment.tests
