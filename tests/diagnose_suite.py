@@ -85,6 +85,9 @@ def outcome_class(outcome: dict) -> str:
         return verdict
     if truth <= named:
         return "all named" + (" (+extra)" if named - truth else "")
+    flagged = named | set(outcome["confounded"])
+    if truth <= flagged:  # a true effect named as the flagged, confounded alternative of a named one
+        return "all named or flagged"
     if named & truth:
         return "one named"
     return "none named"

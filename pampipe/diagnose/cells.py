@@ -13,13 +13,14 @@ evaluated at two points per binned cell, see below). The second term does not de
 How rows are grouped (per test; nothing here depends on the row order or on pressure *levels*):
 
 * **order in time**: the ``time`` column where it is given, else the recorded order;
-* **path**: an axial test is *isobaric* (P held, L swept) when each pressure bin holds more distinct
-  lengths than each length bin holds pressures, else *isometric* (L held, P swept); a radial test
-  sweeps P. The held coordinate is binned into ≤ :data:`HELD_BINS` groups (exact values when few);
-* **direction** (sign of the sweep rate in time order within a held group, computed here; it is
-  the model's leg, the sign of dL/dt, for isobaric axial tests; without a time column an isobaric
-  test keeps the experiment's legs) and **cycle group** (first
-  cycle of a held group: until the direction first returns to its initial sign; then later cycles);
+* **path**: the protocol of :mod:`pampipe.protocol` (``test.protocol``): isobaric and mixed axial
+  tests sweep L, isometric axial tests and radial tests sweep P. The other coordinate, *held*, is
+  binned into ≤ :data:`HELD_BINS` groups (exact values when few);
+* **directions and cycles** as the experiment found them (:mod:`pampipe.protocol`: in time order, or
+  from a direction column; 0 where unknown): the model's legs (signs of dL/dt and dP/dt), the
+  direction of the swept variable, and the first cycle (``test.cycle == 0``); the rows of a cell
+  share all of them, and the slack flag (an axial reading of exactly 0 N, where the model is
+  max(0, F), :func:`slack_rows`);
 * **sweep bin**: exact values when a held group has ≤ :data:`MAX_EXACT` distinct ones, else
   :data:`SWEEP_BINS` equal-width bins over the group's span (the same edges for every direction and
   cycle, so cells of different cycles at one set point line up as *repeats*).
@@ -55,7 +56,8 @@ class Cells:
 
     ``row_cell[i]`` maps the rows of test i (recorded order) to their cell; ``sequence`` numbers the
     paths (test, held group, direction, cycle group) along which ``sweep`` increases; ``repeat``
-    numbers the set points (test, held group, direction, sweep bin) shared across cycle groups.
+    numbers the set points (test, held group, direction, legs, slack flag, sweep bin) shared across
+    cycle groups (cells whose model values coincide).
     """
 
     test: np.ndarray  # test index
@@ -65,7 +67,9 @@ class Cells:
     length: np.ndarray  # L̄ [m] (axial; NaN for radial)
     diameter: np.ndarray  # D_p [m] (radial; NaN for axial)
     load: np.ndarray  # F_a [N] (radial)
-    leg: np.ndarray  # the model's sign of L̇ (axial tests), mean over the cell
+    leg: np.ndarray  # the model's sign of dL/dt (axial tests), mean over the cell
+    pressure_leg: np.ndarray  # the model's sign of dP/dt (axial tests)
+    slack: np.ndarray  # bool: slack rows (recorded exactly 0 N, axial), where the model is max(0, F)
     direction: np.ndarray  # sign of the sweep rate (−1, 0, +1)
     first: np.ndarray  # bool: first cycle of its held group
     force: np.ndarray  # F̄ [N]
@@ -80,7 +84,6 @@ class Cells:
     within_ss: np.ndarray  # [N²]
     within_dof: np.ndarray
     row_cell: tuple[np.ndarray, ...] = field(repr=False)
-    row_leg: tuple[np.ndarray, ...] = field(repr=False, default=())  # per test: the model's leg per row
     swept: tuple[str, ...] = ()  # per test: "length" (isobaric) or "pressure"
     timed: tuple[bool, ...] = ()  # per test: has a usable time column
     moving: tuple[float, ...] = ()  # per test: share of rows read while the swept coordinate moves
@@ -115,7 +118,7 @@ def reduce_rows(data, *, reduce: bool = True) -> Cells:
         sequence_offset = int(part["sequence"].max()) + 1 if part["count"].size else sequence_offset
         repeat_offset = int(part["repeat"].max()) + 1 if part["count"].size else repeat_offset
         parts.append(part)
-    per_test = ("row_cell", "row_leg", "swept", "timed", "moving", "serial_within")
+    per_test = ("row_cell", "swept", "timed", "moving", "serial_within")
     names = [f for f in Cells.__dataclass_fields__ if f not in per_test]
     arrays = {name: np.concatenate([p[name] for p in parts]) for name in names}
     return Cells(**arrays, **{name: tuple(p[name] for p in parts) for name in per_test})
@@ -145,40 +148,6 @@ def _keys(values: np.ndarray, limit: float, bins: int) -> np.ndarray:
     return np.minimum(((values - values.min()) / span * bins).astype(np.int64), bins - 1)
 
 
-def _directions(sweep: np.ndarray, order: np.ndarray, group: np.ndarray, window: int = 2) -> np.ndarray:
-    """Sign of the sweep rate per row: central difference over ±``window`` rows in time order within
-    each held group; zeros take the previous sign (the first sign at the start)."""
-    out = np.zeros(sweep.size, dtype=np.int64)
-    ordered_group = group[order]
-    for g in np.unique(group):
-        rows = order[ordered_group == g]
-        values = sweep[rows]
-        if values.size < 2:
-            continue
-        padded = np.concatenate([np.full(window, values[0]), values, np.full(window, values[-1])])
-        sign = np.sign(padded[2 * window:] - padded[:-2 * window]).astype(np.int64)
-        nonzero = np.flatnonzero(sign)
-        if nonzero.size:
-            last = np.maximum(np.searchsorted(nonzero, np.arange(sign.size), "right") - 1, 0)
-            out[rows] = sign[nonzero[last]]
-    return out
-
-
-def _first_cycle(direction: np.ndarray, order: np.ndarray, group: np.ndarray) -> np.ndarray:
-    """True for the rows of each held group until, in time order, the direction has left its initial
-    sign and returned to it (the first cycle)."""
-    first = np.ones(direction.size, dtype=bool)
-    ordered_group = group[order]
-    for g in np.unique(group):
-        rows = order[ordered_group == g]
-        d = direction[rows]
-        start = d[0] if d.size else 0
-        left = np.cumsum(d != start) > 0
-        back = left & (d == start)
-        first[rows] = np.cumsum(back) == 0
-    return first
-
-
 def _rates(sweep: np.ndarray, t: np.ndarray, order: np.ndarray, group: np.ndarray, timed: bool) -> np.ndarray:
     """d(sweep)/dt per row [unit/s] by central differences in time within held groups (0 untimed)."""
     rate = np.zeros(sweep.size)
@@ -196,35 +165,27 @@ def _rates(sweep: np.ndarray, t: np.ndarray, order: np.ndarray, group: np.ndarra
     return np.where(np.abs(rate) > still, rate, 0.0)
 
 
-def _isobaric(pressure: np.ndarray, length: np.ndarray) -> bool:
-    """True when pressure bins hold more distinct lengths than length bins hold pressures."""
-    kp = _keys(pressure, HELD_BINS, HELD_BINS)
-    kl = _keys(length, HELD_BINS, HELD_BINS)
-    pairs = np.unique(np.column_stack([kp, kl]), axis=0)
-    per_pressure = pairs.shape[0] / max(np.unique(kp).size, 1)
-    per_length = pairs.shape[0] / max(np.unique(kl).size, 1)
-    return per_pressure >= per_length
-
-
 def _test_cells(index: int, test, max_exact: float, held_limit: float) -> dict:
     n = test.points
     order, t, timed = time_order(test)
     pressure = np.asarray(test.pressure, dtype=float)
     axial = test.kind == "axial"
     length = np.asarray(test.length, dtype=float) if axial else np.full(n, np.nan)
-    if axial and _isobaric(pressure, length):
+    if axial and test.protocol in ("isobaric", "mixed"):
         swept, held, sweep = "length", pressure, length
     else:
         swept, held, sweep = "pressure", (length if axial else np.zeros(n)), pressure
     held_key = _keys(held, held_limit, HELD_BINS)
-    given = np.asarray(test.leg, dtype=float) if axial else np.zeros(n)
-    if swept == "length" and not timed and np.any(given != 0):
-        direction = np.sign(given).astype(np.int64)  # no time column: the experiment's legs
-    else:
-        direction = _directions(sweep, order, held_key)
-    # the model's leg (sign of dL/dt, braid friction): the direction of isobaric tests, else 0
-    leg = direction.astype(float) if swept == "length" else np.zeros(n)
-    first = _first_cycle(direction, order, held_key)
+    # the model's directions (sign of dL/dt, of dP/dt) as the experiment found them (time order,
+    # a direction column, or 0 where unknown); the swept variable's one groups the rows
+    leg = np.asarray(test.leg, dtype=float) if axial else np.zeros(n)
+    pressure_leg = (np.zeros(n) if test.pressure_leg is None or not axial
+                    else np.asarray(test.pressure_leg, dtype=float))
+    swept_sign = leg if swept == "length" else np.asarray(
+        test.pressure_leg if test.pressure_leg is not None else np.zeros(n), dtype=float)
+    direction = np.sign(swept_sign).astype(np.int64)
+    first = np.asarray(test.cycle) == 0
+    slack = slack_rows(test)
     rate = _rates(sweep, t, order, held_key, timed)
 
     # sweep bins per held group (shared by all directions and cycles of the group)
@@ -240,7 +201,9 @@ def _test_cells(index: int, test, max_exact: float, held_limit: float) -> dict:
     dir_code = direction + 1  # 0, 1, 2
     cyc = (~first).astype(np.int64)
     big = int(sweep_key.max(initial=0)) + 1
-    key = ((held_key * 3 + dir_code) * 2 + cyc) * big + sweep_key
+    # rows of a cell share every input of the model: legs, slack flag (and the swept direction)
+    model_code = ((np.sign(leg) + 1) * 3 + np.sign(pressure_leg) + 1).astype(np.int64) * 2 + slack
+    key = (((held_key * 3 + dir_code) * 2 + cyc) * 18 + model_code) * big + sweep_key
     _, row_cell, count = np.unique(key, return_inverse=True, return_counts=True)
     row_cell = row_cell.astype(np.int64)
     m = count.size
@@ -259,7 +222,9 @@ def _test_cells(index: int, test, max_exact: float, held_limit: float) -> dict:
     cell_sweep_key = np.zeros(m, dtype=np.int64)
     cell_sweep_key[row_cell] = sweep_key
     sequence = _dense((cell_held * 3 + cell_dir + 1) * 2 + (~cell_first).astype(np.int64))
-    repeat = _dense((cell_held * 3 + cell_dir + 1) * big + cell_sweep_key)
+    cell_model = np.zeros(m, dtype=np.int64)
+    cell_model[row_cell] = model_code
+    repeat = _dense(((cell_held * 3 + cell_dir + 1) * 18 + cell_model) * big + cell_sweep_key)
     p_mean = mean(pressure)
     span_p = float(np.ptp(p_mean)) if m else 0.0
     rounded = np.round((p_mean - p_mean.min()) / (span_p * 1e-3)) if span_p > 0 else np.zeros(m)
@@ -270,13 +235,24 @@ def _test_cells(index: int, test, max_exact: float, held_limit: float) -> dict:
         "pressure": p_mean, "length": mean(length) if axial else np.full(m, np.nan),
         "diameter": np.full(m, np.nan if axial else float(spec.pipe_diameter)),
         "load": np.full(m, 0.0 if axial else float(spec.axial_load)), "leg": mean(leg),
+        "pressure_leg": mean(pressure_leg), "slack": mean(slack.astype(float)) > 0.5,
         "direction": cell_dir, "first": cell_first, "force": mean(force), "time": mean(t),
         "rate": mean(rate), "sweep": mean(position), "spread": _spread(row_cell, m, count, sweep),
         "swept_length": np.full(m, swept == "length"), "sequence": sequence, "repeat": repeat,
         "quantile": rank / max(unique.size, 1), "within_ss": within_ss, "within_dof": within_dof,
-        "row_cell": row_cell, "row_leg": leg, "swept": swept, "timed": timed, "serial_within": serial_within,
+        "row_cell": row_cell, "swept": swept, "timed": timed, "serial_within": serial_within,
         "moving": float(np.mean(rate != 0)) if n else 0.0,
     }
+
+
+def slack_rows(test) -> np.ndarray:
+    """Rows of an axial test that recorded exactly 0 N (a slack muscle, docs/commands.md §7.1).
+
+    Only exact zeros: a noisy reading below zero near F = 0 is noise, and splitting cells by its
+    sign would bias both halves' means.
+    """
+    force = np.asarray(test.force)
+    return force == 0 if test.kind == "axial" else np.zeros(force.size, dtype=bool)
 
 
 def _spread(cell: np.ndarray, m: int, count: np.ndarray, values: np.ndarray) -> np.ndarray:

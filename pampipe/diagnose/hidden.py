@@ -50,6 +50,7 @@ MAGNITUDES: dict[str, dict[str, float]] = {
     "pressure_offset": {"offset": 8e3},  # 8 kPa (the paper quotes 28-35 kPa of pressure noise)
     "axial_preload": {"preload": 40.0},  # rope, clamp and fitting weight
     "wall_friction": {"lock": 0.005},  # λμ_w: 1.7 % of μ_w = 0.3 locked in
+    "prestrain": {"axial_prestrain": -0.004, "hoop_prestrain": 0.012},  # zero-strain length ≈ 1 mm off
 }
 
 #: Effects outside the library and their magnitudes (SI).
@@ -125,9 +126,10 @@ def _delta(hidden: Muscle, base: Muscle, test, pressure=None) -> np.ndarray:
     """F_hidden − F_base at the test's rows (at ``pressure`` instead of the recorded one if given)."""
     pressure = test.pressure if pressure is None else pressure
     if test.kind == "axial":
-        leg = test.leg.astype(float)
-        out = (hidden.axial_force(pressure, test.length, leg=leg)
-               - base.axial_force(pressure, test.length, leg=leg))
+        legs = {"leg": test.leg.astype(float),
+                "pressure_leg": 0.0 if test.pressure_leg is None else test.pressure_leg.astype(float)}
+        out = (hidden.axial_force(pressure, test.length, **legs)
+               - base.axial_force(pressure, test.length, **legs))
     else:
         args = (test.spec.pipe_diameter, test.spec.axial_load)
         out = hidden.radial_force(pressure, *args) - base.radial_force(pressure, *args)

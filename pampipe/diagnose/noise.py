@@ -20,7 +20,8 @@ neither (too few rows), the fallback is the dof-weighted pool of the other tests
 then of all tests, said in ``note``; if no test has a floor, σ is taken as the test's own RMSE
 (``method = "assumed"``, ν = 0: that test cannot be tested against the noise).
 
-The uncertainty is stated as a 95 % interval from σ̂²ν/σ² ~ χ²_ν.
+Slack cells (readings of exactly 0 N) carry no noise and are left out of both estimates. The
+uncertainty is stated as a 95 % interval from σ̂²ν/σ² ~ χ²_ν.
 """
 
 from __future__ import annotations
@@ -113,6 +114,7 @@ def noise_floors(data, cells, residual: np.ndarray) -> tuple[NoiseFloor, ...]:
     found = []
     for i, test in enumerate(data.tests):
         index = cells.of_test(i)
+        index = index[~cells.slack[index]]  # exact zeros of a slack muscle carry no noise
         ss_rep, dof_rep = repeats_estimate(cells, index, residual)
         var_hp, dof_hp = neighbours_estimate(cells, index, residual)
         rep = float(np.sqrt(ss_rep / dof_rep)) if dof_rep > 0 else None

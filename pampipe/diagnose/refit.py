@@ -8,7 +8,8 @@ Objective: the weighted mean squared force residual over the cells (:mod:`.cells
 which is Σ_rows (F_model − F)²/n up to a constant when each cell's rows share (P, L). F_model comes
 from the one model door, :class:`pampipe.model.muscle.Muscle`, built by ``Muscle.symbolic`` for the
 :class:`~pampipe.model.muscle.Structure` (wall, degree, effects): axial cells use
-:meth:`~pampipe.model.muscle.Muscle.axial_force`, radial cells
+:meth:`~pampipe.model.muscle.Muscle.axial_force` with both legs (max(0, F) at slack cells, readings
+of exactly 0 N, as `identify`'s ``fit.slack: unilateral``), radial cells
 :meth:`~pampipe.model.muscle.Muscle.radial_force` (softplus contact switch of width ``SMOOTHING``).
 Bounds as in docs/physics.md §6 (a_k0 ∈ [0, 50] MPa, others ±50 MPa) plus each effect parameter's
 own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a fixed (P, L) grid (docs/physics.md §6).
@@ -32,6 +33,7 @@ import casadi as ca
 import numpy as np
 
 from pampipe.model.effects import LIBRARY, get_effect
+from pampipe.model.forces import contact_switch
 from pampipe.model.muscle import Muscle, Structure
 from pampipe.nlp import nlpsol, solve
 
@@ -64,11 +66,13 @@ def padded(n: int) -> int:
     return next(int(base * f) for f in (1.25, 1.5, 1.75, 2.0) if base * f >= n)
 
 
-#: The NLP's data blocks: (kind, binned). Each column is one cell: P̄, x, y, F̄, w, s_P, s_x with
-#: x, y = L̄, leg (axial) or D_p, F_a (radial) and s the within-cell spread of the swept coordinate;
-#: a binned cell is evaluated at (P̄ ± s_P, x ± s_x) and the two values averaged.
+#: The NLP's data blocks: (kind, binned). Each column is one cell: P̄, x, y, F̄, w, s_P, s_x, p_leg,
+#: slack with x, y = L̄, leg (axial) or D_p, F_a (radial), s the within-cell spread of the swept
+#: coordinate, p_leg the sign of dP/dt and slack 1 for slack cells (axial: the model is max(0, F)
+#: there, as softplus of width SMOOTHING); a binned cell is evaluated at (P̄ ± s_P, x ± s_x) and
+#: the two values averaged.
 BLOCKS = (("axial", False), ("axial", True), ("radial", False), ("radial", True))
-ROWS = 7
+ROWS = 9
 
 
 @dataclass(frozen=True)
@@ -116,7 +120,8 @@ def blocks_of(cells) -> Blocks:
         out = np.zeros((ROWS, padded(n)))
         if n:
             out[:, :n] = np.vstack([cells.pressure[index], axial_x[index], axial_y[index], cells.force[index],
-                                    cells.count[index], spread_p[index], spread_x[index]])
+                                    cells.count[index], spread_p[index], spread_x[index],
+                                    cells.pressure_leg[index], cells.slack[index].astype(float)])
             out[:4, n:] = out[:4, :1]  # padding: copies of the first cell, weight 0
         data.append(out)
         indices.append(index)
@@ -145,8 +150,9 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     n_theta = structure.n_theta
     row, smooth = ca.SX.sym("row", ROWS), ca.SX.sym("smooth")
     muscle = sym.muscle
-    models = {"axial": ca.Function("axial_model", [row, sym.p, smooth],
-                                   [muscle.axial_force(row[0], row[1], leg=row[2])]),
+    axial = muscle.axial_force(row[0], row[1], leg=row[2], pressure_leg=row[7])
+    unilateral = row[8] * contact_switch(axial, smooth) + (1 - row[8]) * axial  # slack cells: max(0, F)
+    models = {"axial": ca.Function("axial_model", [row, sym.p, smooth], [unilateral]),
               "radial": ca.Function("radial_model", [row, sym.p, smooth],
                                     [muscle.radial_force(row[0], row[1], row[2], smoothing=smooth)])}
     # decision variables: θ in MPa (b at P_ref = 1 MPa in the fit) and η in display units
@@ -155,7 +161,7 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     scales = ca.DM([p.scale for _, p in params]) if params else ca.DM.zeros(0, 1)
     p_expr = ca.vertcat(g, pref, xs[:n_theta] * MPA, xs[n_theta:] * scales)
     inputs = [row, xs, g, pref, smooth]
-    shift = ca.vertcat(row[5], row[6], 0, 0, 0, 0, 0)
+    shift = ca.vertcat(row[5], row[6], ca.DM.zeros(ROWS - 2, 1))
     cell_functions = []
     for kind, binned in BLOCKS:
         model = models[kind]

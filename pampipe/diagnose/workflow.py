@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from pampipe.diagnose import noise, selection, structure
-from pampipe.diagnose.cells import reduce_rows
+from pampipe.diagnose.cells import reduce_rows, slack_rows
 from pampipe.diagnose.refit import MPA, SMOOTHING, Fit, Refitter
 from pampipe.diagnose.result import DiagnoseResult, summarize
 from pampipe.diagnose.search import Model, Search
@@ -30,6 +30,7 @@ from pampipe.diagnose.verdict import Scores, decide
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
 from pampipe.model.effects import LIBRARY, get_effect
+from pampipe.model.forces import contact_switch
 
 DEGREE = 3
 #: Generic start when neither identify nor the PAM gives moduli: E₁ = 1.5 MPa, E₂ = 4.4 MPa.
@@ -78,9 +79,12 @@ def row_residuals(data: ExperimentData, refitter: Refitter, fit: Fit) -> tuple[n
     """Model − data [N] at every recorded row, through :class:`pampipe.model.muscle.Muscle`."""
     muscle = refitter.muscle(fit)
     out = []
-    for test, leg in zip(data.tests, refitter.cells.row_leg, strict=True):
+    for test in data.tests:
         if test.kind == "axial":
-            model = muscle.axial_force(test.pressure, test.length, leg=leg)
+            pressure_leg = 0.0 if test.pressure_leg is None else test.pressure_leg.astype(float)
+            model = muscle.axial_force(test.pressure, test.length, leg=test.leg.astype(float),
+                                       pressure_leg=pressure_leg)
+            model = np.where(slack_rows(test), contact_switch(model, SMOOTHING), model)  # as in the refit
         else:
             model = muscle.radial_force(test.pressure, test.spec.pipe_diameter, test.spec.axial_load,
                                         smoothing=SMOOTHING)

@@ -45,7 +45,7 @@ def _residuals(result, folder):
         radial_names = []
         for index, (test, r) in enumerate(zip(data.tests, residuals, strict=True)):
             if test.kind == "axial":
-                leg = result.cells.row_leg[index]
+                leg = test.leg
                 for sign, name in ((1, "lengthening"), (-1, "shortening")):
                     m = leg == sign
                     ax_len.plot(test.length[m] * 1e3, r[m], ".", ms=2, color=COLORS[name], alpha=0.5,
