@@ -32,7 +32,7 @@ SIZES = {"1e4": (2, 150, 60), "1e5": (4, 500, 900), "3e5": (6, 1250, 2700)}
 
 CHILD = """
 import json, resource, sys, time
-from pampipe.diagnose.hidden import hidden_experiment, hidden_protocol
+from pampipe.diagnosis.hidden import hidden_experiment, hidden_protocol
 from pampipe.io.config import load_pam
 cycles, points, radial, mode = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 pam = load_pam(sys.argv[5])
@@ -41,11 +41,11 @@ data = hidden_experiment(pam, "contact_stiffening", seed=3,
 before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 started = time.perf_counter()
 if mode == "identify":
-    from pampipe.identify import identify, parse_fit_options
+    from pampipe.identification import identify, parse_fit_options
     identify(data, parse_fit_options({}).with_overrides(mode="shared"))
     doc = {}
 else:
-    from pampipe.diagnose.workflow import diagnose
+    from pampipe.diagnosis.workflow import diagnose
     result = diagnose(data, reduce=(mode == "binned"))
     doc = {"verdict": result.verdict.verdict, "effects": list(result.selected_effects),
            "cells": result.cells.size, "steps": [[s.action, s.effect, s.wall_time] for s in result.steps]}
@@ -65,8 +65,8 @@ def child(size: str, mode: str) -> dict:
 
 
 def example() -> None:
-    from pampipe.diagnose.workflow import diagnose
-    from pampipe.identify import identify, parse_fit_options
+    from pampipe.diagnosis.workflow import diagnose
+    from pampipe.identification import identify, parse_fit_options
     from pampipe.io.config import load_experiment
     from pampipe.io.csvfile import load_experiment_data
     from pampipe.report import table

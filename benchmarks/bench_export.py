@@ -31,7 +31,7 @@ from pampipe.export.law import mission_law
 from pampipe.export.sources import source
 from pampipe.io.config import load_mission
 from pampipe.model import slip
-from pampipe.plan.problem import mission_muscles
+from pampipe.planning.problem import mission_muscles
 
 MISSION = Path(__file__).resolve().parent.parent / "problems" / "missions" / "vertical-climb-3in.yaml"
 

@@ -31,16 +31,16 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
-from pampipe.gait import gait_options, optimal_gait, sequential_gait
-from pampipe.gait.optimal import _problem, solve_optimal
-from pampipe.gait.pneumatics import Chamber, pressure_rate
-from pampipe.gait.requirements import MuscleNeed
-from pampipe.gait.schedule import MIDDLE, PHASES, ControlPlan
-from pampipe.gait.simulation import simulate
 from pampipe.io.config import load_mission
+from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
+from pampipe.locomotion.optimal import _problem, solve_optimal
+from pampipe.locomotion.pneumatics import Chamber, pressure_rate
+from pampipe.locomotion.requirements import MuscleNeed
+from pampipe.locomotion.schedule import MIDDLE, PHASES, ControlPlan
+from pampipe.locomotion.simulation import simulate
 from pampipe.model import slip
 from pampipe.model.muscle import Muscle
-from pampipe.plan import plan_mission
+from pampipe.planning import plan_mission
 
 DEMO = Path(__file__).resolve().parent.parent / "problems" / "missions" / "vertical-climb-3in.yaml"
 

@@ -37,9 +37,9 @@ from threadpoolctl import threadpool_limits
 
 from pampipe.io.config import load_mission
 from pampipe.network import load_network, route_sections, whole_network
-from pampipe.plan import plan_mission
-from pampipe.plan.bores import worst_bores
-from pampipe.plan.problem import mission_muscles
+from pampipe.planning import plan_mission
+from pampipe.planning.bores import worst_bores
+from pampipe.planning.problem import mission_muscles
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSIONS = ROOT / "problems" / "missions"

@@ -46,9 +46,9 @@ from threadpoolctl import threadpool_limits
 from pampipe.io.config import load_mission
 from pampipe.mission import Section
 from pampipe.model import forces, slip
-from pampipe.plan import plan_mission
-from pampipe.plan.problem import CHUNK, build_elements, mission_muscles
-from pampipe.plan.solve import solve
+from pampipe.planning import plan_mission
+from pampipe.planning.problem import CHUNK, build_elements, mission_muscles
+from pampipe.planning.solve import solve
 
 ROOT = Path(__file__).resolve().parent.parent
 DEMO = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
@@ -56,7 +56,7 @@ DEMO = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
 
 @dataclasses.dataclass(frozen=True)
 class Columns:
-    """A route as arrays (what :func:`pampipe.plan.problem.route_columns` reads)."""
+    """A route as arrays (what :func:`pampipe.planning.problem.route_columns` reads)."""
 
     diameter: np.ndarray
     incline: np.ndarray

@@ -80,11 +80,11 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
     """One muscle in one or more pipes under one or more axial loads (`pampipe simulate`).
 
     ``pipe_diameter`` and ``axial_load``: a value or a list; ``pressure``: a list (default: the
-    paper's 69…689 kPa). Returns a :class:`pampipe.simulate.SimulateResult`.
+    paper's 69…689 kPa). Returns a :class:`pampipe.simulation.SimulateResult`.
     """
     from pampipe.errors import InputError
-    from pampipe.simulate import PAPER_PRESSURES
-    from pampipe.simulate import simulate as run
+    from pampipe.simulation import PAPER_PRESSURES
+    from pampipe.simulation import simulate as run
 
     model = load_pam(pam, base=base)
     diameters = _as_list(_si(pipe_diameter, "length", "pipe_diameter"))
@@ -102,9 +102,9 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
          max_payload: bool = False, base=None):
     """The least anchoring pressure of every segment in every section (`pampipe plan`).
 
-    Returns a :class:`pampipe.plan.MissionPlan` (``to_dict()``: the JSON document).
+    Returns a :class:`pampipe.planning.MissionPlan` (``to_dict()``: the JSON document).
     """
-    from pampipe.plan import plan_mission
+    from pampipe.planning import plan_mission
 
     started = time.perf_counter()
     result = plan_mission(load_mission(mission, base=base), payload=_si(payload, "mass", "payload"),
@@ -115,7 +115,7 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
 def gait(mission: Source, *, section: str | None = None, optimal: bool = False, base=None,
          progress: Progress | None = None) -> GaitReport:
     """The peristaltic schedule in one section; with ``optimal`` also the time-optimal gait (`gait`)."""
-    from pampipe.gait import gait_options, optimal_gait, sequential_gait
+    from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
 
     model = load_mission(mission, base=base)
     options = gait_options(model.gait, source=model.source)
@@ -135,12 +135,12 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
     """Fit the bladder moduli (and the ``calibrate``d geometry) to an experiment (`pampipe identify`).
 
     Options override the experiment's ``fit:`` block; ``calibrate`` and ``pipe_diameter`` (a value or
-    a list, unit strings accepted) add to it. Returns an :class:`pampipe.identify.IdentifyResult`; its
+    a list, unit strings accepted) add to it. Returns an :class:`pampipe.identification.IdentifyResult`; its
     ``fitted_pam(pam)`` is the muscle to write.
     """
     from pampipe.errors import InputError
-    from pampipe.identify import identify as run
-    from pampipe.identify.options import CALIBRATABLE, fit_options
+    from pampipe.identification import identify as run
+    from pampipe.identification.options import CALIBRATABLE, fit_options
 
     spec, data = load_experiment(experiment, base=base, progress=progress)
     options = fit_options(spec.fit, {"mode": mode, "objective": objective, "degree": degree,
@@ -162,11 +162,11 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
              base=None, progress: Progress | None = None):
     """Name the effect the model misses, refit with it, show the gap shrink (`pampipe diagnose`).
 
-    Returns a :class:`pampipe.diagnose.result.DiagnoseResult`; ``augmented_pam()`` is the muscle
+    Returns a :class:`pampipe.diagnosis.result.DiagnoseResult`; ``augmented_pam()`` is the muscle
     with its effects.
     """
-    from pampipe.diagnose.selection import FOLDS
-    from pampipe.diagnose.workflow import diagnose as run
+    from pampipe.diagnosis.selection import FOLDS
+    from pampipe.diagnosis.workflow import diagnose as run
     from pampipe.errors import InputError
 
     folds = FOLDS if folds is None else folds
@@ -249,7 +249,7 @@ def _objective(name: str, kind):
 class GaitReport:
     """The sequential gait and, if asked for, the time-optimal one; ``to_dict()`` is `gait --json`."""
 
-    sequential: object  # pampipe.gait.GaitResult
+    sequential: object  # pampipe.locomotion.GaitResult
     optimal: object | None = None
 
     @property

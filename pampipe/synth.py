@@ -24,7 +24,7 @@ import numpy as np
 from pampipe.experiment import TestSpec
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
-from pampipe.simulate import PAPER_PRESSURES
+from pampipe.simulation import PAPER_PRESSURES
 
 #: The paper's pipes [m] and hanging load [N].
 PAPER_PIPES = (0.0762, 0.0889)

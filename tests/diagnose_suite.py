@@ -1,6 +1,6 @@
 """The hidden-effect suites of `diagnose`: a TUNING set and a separate TEST set.
 
-* ``TUNING``: the seeds and magnitudes used while choosing the thresholds of pampipe.diagnose
+* ``TUNING``: the seeds and magnitudes used while choosing the thresholds of pampipe.diagnosis
   (noise-floor level, Bonferroni α, BIC and CV margins, the where-shares, the library share).
   Never used by an assertion.
 * ``TEST``: different seeds and different magnitudes (scales 0.7 and 1.4 of the defaults for pairs
@@ -20,7 +20,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass
 
-from pampipe.diagnose.hidden import FOREIGN, MAGNITUDES
+from pampipe.diagnosis.hidden import FOREIGN, MAGNITUDES
 
 
 @dataclass(frozen=True)
@@ -60,8 +60,8 @@ def held_out_cases() -> list[Case]:
 
 def run_case(case: Case) -> dict:
     """Diagnose one case; the outcome as a plain dict (picklable)."""
-    from pampipe.diagnose.hidden import hidden_experiment
-    from pampipe.diagnose.workflow import diagnose
+    from pampipe.diagnosis.hidden import hidden_experiment
+    from pampipe.diagnosis.workflow import diagnose
     from pampipe.io.config import load_pam
     from tests.conftest import PROBLEMS
 

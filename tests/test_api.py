@@ -133,3 +133,27 @@ def test_identify_writes_a_pam_whose_tricky_name_reads_back(tmp_path):
     result = run_cli("identify", tmp_path / "exp.yaml", "--degree", "1", "-o", tmp_path / "fit.yaml")
     assert result.returncode == 0, result.stderr
     assert load_pam(tmp_path / "fit.yaml").name == "yes # 1: 'x'"
+
+
+def test_the_api_names_stay_functions_after_every_module_is_imported():
+    """`pampipe.plan(...)` must not turn into a subpackage once some module imported `pampipe.<name>.x`.
+
+    A fresh interpreter imports every pampipe module first (as a long notebook session would), then
+    calls ``pampipe.plan`` twice: both calls must be the API function and give the same pressures.
+    """
+    code = """
+import importlib, pkgutil, pampipe
+for info in pkgutil.walk_packages(pampipe.__path__, "pampipe."):
+    if not info.name.startswith(("pampipe.examples", "pampipe.__main__")):
+        importlib.import_module(info.name)
+from pampipe import api
+expected = {n: getattr(api, n, pampipe.Muscle) for n in pampipe.__all__ if n != "__version__"}
+clashes = [n for n, value in expected.items() if getattr(pampipe, n) is not value]
+assert not clashes, clashes
+first = pampipe.plan("problems/missions/vertical-climb-3in.yaml").arrays.pressure
+second = pampipe.plan("problems/missions/vertical-climb-3in.yaml", payload="2 kg").arrays.pressure
+assert (first == second).all()
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr

@@ -1,6 +1,6 @@
 """`pampipe diagnose`: the bundled example end to end, a quick subset of the hidden-effect suite, the parts.
 
-Data with hidden effects come from known parameters (pampipe.diagnose.hidden); the force noise used
+Data with hidden effects come from known parameters (pampipe.diagnosis.hidden); the force noise used
 to generate them (σ = 2 N, white) is the reference for "fits to the noise". Seeds and magnitudes
 here belong to the TEST set of tests/diagnose_suite.py (never used to tune a threshold); the full
 suites and their acceptance rates are in test_diagnose_slow.py (marked slow).
@@ -15,17 +15,17 @@ import numpy as np
 import pytest
 
 from pampipe import experiment
-from pampipe.diagnose import noise, structure, verdict
-from pampipe.diagnose.cells import reduce_rows
-from pampipe.diagnose.hidden import MAGNITUDES, hidden_experiment, hidden_protocol
-from pampipe.diagnose.refit import BLOCKS, Fit, build_problem
-from pampipe.diagnose.workflow import diagnose
+from pampipe.diagnosis import noise, structure, verdict
+from pampipe.diagnosis.cells import reduce_rows
+from pampipe.diagnosis.hidden import MAGNITUDES, hidden_experiment, hidden_protocol
+from pampipe.diagnosis.refit import BLOCKS, Fit, build_problem
+from pampipe.diagnosis.workflow import diagnose
 from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.io.config import load_pam
 from pampipe.io.files import to_json
 from pampipe.io.pamfile import write_pam
 from pampipe.model.muscle import Muscle
-from pampipe.simulate import simulate_anchored
+from pampipe.simulation import simulate_anchored
 from pampipe.synth import PAPER_PIPES
 from tests.conftest import PROBLEMS, run_cli
 
@@ -138,7 +138,7 @@ def test_clean_data_says_none(radial_pam_module):
 def test_short_radial_ramps_through_the_cli(radial_pam_module, tmp_path):
     """Radial tests with 30 readings, one per pressure (every row its own level): exit 0 with --json,
     and every noise floor finite (the bug of issue 11: a NaN floor and exit 3)."""
-    from pampipe.diagnose.hidden import hidden_tests
+    from pampipe.diagnosis.hidden import hidden_tests
     from pampipe.io.pamfile import write_experiment
 
     protocol = replace(hidden_protocol(), radial_pressures=tuple(np.linspace(0, 689e3, 30)), radial_points=1)

@@ -24,8 +24,8 @@ from multiprocessing import get_context
 import numpy as np
 import pytest
 
-from pampipe.diagnose.hidden import MAGNITUDES, hidden_experiment, hidden_protocol, hidden_tests
-from pampipe.diagnose.workflow import diagnose
+from pampipe.diagnosis.hidden import MAGNITUDES, hidden_experiment, hidden_protocol, hidden_tests
+from pampipe.diagnosis.workflow import diagnose
 from pampipe.io.pamfile import write_experiment
 from tests.conftest import run_cli
 from tests.diagnose_suite import held_out_cases, outcome_class, run_case

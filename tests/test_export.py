@@ -8,7 +8,7 @@ Test data: sections drawn with the fixed seeds below, inside each mission's enve
 below the widest rest diameter to 5 % above the narrowest braid limit, inclines over ±90°, 5 % zero
 friction, payloads 0-60 kg), so that every reason code occurs. Tolerances are the issue's: 1e-9
 relative in double and 1e-4 in float, relative to max(P, 1 kPa) as in plan's own cross-check
-(pampipe.plan.checks.PRESSURE_FLOOR): float's absolute error is ~1e-6 of the anchoring pressure
+(pampipe.planning.checks.PRESSURE_FLOOR): float's absolute error is ~1e-6 of the anchoring pressure
 (~10⁵ Pa), since P = P_a + x cancels, so a pressure of a few hundred pascals has no 1e-4 relative
 meaning in float. Worst seen: 3.3e-14 in double; in float 1.4e-5 relative at 4.4 MPa, and 0.065 Pa at
 907 Pa (7.1e-5 relative, 6.5e-5 against the floor).
@@ -32,8 +32,8 @@ from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
 from pampipe.io.files import to_json
 from pampipe.mission import Section
-from pampipe.plan import plan_mission
-from pampipe.plan.checks import PRESSURE_FLOOR
+from pampipe.planning import plan_mission
+from pampipe.planning.checks import PRESSURE_FLOOR
 from tests import export_c
 from tests.conftest import PROBLEMS
 

@@ -23,7 +23,7 @@ import pytest
 
 from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
-from pampipe.plan import plan_mission
+from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
 
 pytestmark = pytest.mark.slow

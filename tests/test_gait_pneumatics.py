@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.gait.options import Gas, Valve
-from pampipe.gait.pneumatics import (
+from pampipe.locomotion.options import Gas, Valve
+from pampipe.locomotion.pneumatics import (
     GAS_CONSTANT,
     ISO_DENSITY,
     ISO_TEMPERATURE,

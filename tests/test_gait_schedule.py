@@ -6,10 +6,10 @@ import dataclasses
 
 import pytest
 
-from pampipe.gait import gait_options, optimal_gait, sequential_gait
-from pampipe.gait.optimal import _problem
-from pampipe.gait.schedule import ANCHORS
 from pampipe.io.config import load_mission
+from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
+from pampipe.locomotion.optimal import _problem
+from pampipe.locomotion.schedule import ANCHORS
 from tests.conftest import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from pampipe.errors import SolverError
-from pampipe.gait import gait_options
-from pampipe.gait.options import GaitOptions, Gas, Valve
-from pampipe.gait.pneumatics import GAS_CONSTANT, ISO_DENSITY, ISO_TEMPERATURE, Chamber
-from pampipe.gait.requirements import section_needs
-from pampipe.gait.schedule import ControlPlan, lengths, positions
-from pampipe.gait.simulation import simulate
 from pampipe.io.config import load_mission
+from pampipe.locomotion import gait_options
+from pampipe.locomotion.options import GaitOptions, Gas, Valve
+from pampipe.locomotion.pneumatics import GAS_CONSTANT, ISO_DENSITY, ISO_TEMPERATURE, Chamber
+from pampipe.locomotion.requirements import section_needs
+from pampipe.locomotion.schedule import ControlPlan, lengths, positions
+from pampipe.locomotion.simulation import simulate
 from tests.conftest import PROBLEMS
 
 ATM = 101325.0

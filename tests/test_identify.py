@@ -11,9 +11,9 @@ import pytest
 
 from pampipe.errors import SolverError
 from pampipe.experiment import ExperimentData, make_test_data
-from pampipe.identify import FitOptions, identify, predict
-from pampipe.identify.fit import LAW_NAMES
-from pampipe.identify.nlp import build_problem
+from pampipe.identification import FitOptions, identify, predict
+from pampipe.identification.fit import LAW_NAMES
+from pampipe.identification.nlp import build_problem
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.model import bladder, braid

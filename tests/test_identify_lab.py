@@ -19,9 +19,9 @@ import pytest
 from scipy.optimize import least_squares
 
 from pampipe.cli import main
-from pampipe.identify import FitOptions, identify
-from pampipe.identify.drucker import bernstein_rows, minimum
-from pampipe.identify.statistics import drucker_rows
+from pampipe.identification import FitOptions, identify
+from pampipe.identification.drucker import bernstein_rows, minimum
+from pampipe.identification.statistics import drucker_rows
 from pampipe.io.config import load_pam
 from pampipe.io.pamfile import write_experiment
 from pampipe.model import braid

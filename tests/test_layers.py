@@ -1,6 +1,7 @@
 """The import direction of the layers holds (docs/physics.md is physics; this is architecture).
 
-    cli -> commands -> api -> {identify, plan, gait, diagnose, synth, simulate, ...} -> model -> errors
+    cli -> commands -> api -> {identification, planning, locomotion, diagnosis, synth, simulation, ...}
+        -> model -> errors
     io (file formats) -> {experiment, mission, model, units}; plots read results only.
 
 Rules, checked on every module's imports (``import`` and ``from ... import``, anywhere in the file):
@@ -19,7 +20,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent / "pampipe"
-SCIENCE = ("identify", "plan", "gait", "diagnose", "synth", "simulate", "design", "export")
+SCIENCE = ("identification", "planning", "locomotion", "diagnosis", "synth", "simulation", "design", "export")
 RULES = [
     # (modules the rule applies to, forbidden import prefixes)
     (("model",), ("io", "api", "commands", "cli", "plots", "report", *SCIENCE, "experiment", "mission",
@@ -79,10 +80,10 @@ def test_the_checker_catches_violations():
     assert violations("model.bad", bad_model) == ["pampipe.model.bad imports pampipe.io.config"]
     bad_plot = pampipe_imports("from ..model import forces", "plots.bad")
     assert violations("plots.bad", bad_plot) == ["pampipe.plots.bad imports pampipe.model"]
-    science = pampipe_imports("def f():\n    from pampipe.io import pamfile\n", "identify.bad")
-    assert violations("identify.bad", science) == ["pampipe.identify.bad imports pampipe.io"]
-    fine = pampipe_imports("from pampipe.model.muscle import Muscle", "plan.fine")
-    assert violations("plan.fine", fine) == []
+    science = pampipe_imports("def f():\n    from pampipe.io import pamfile\n", "identification.bad")
+    assert violations("identification.bad", science) == ["pampipe.identification.bad imports pampipe.io"]
+    fine = pampipe_imports("from pampipe.model.muscle import Muscle", "planning.fine")
+    assert violations("planning.fine", fine) == []
 
 
 @pytest.mark.parametrize("path", sorted(ROOT.rglob("*.py")), ids=lambda p: module_name(p) or "pampipe")

@@ -6,7 +6,7 @@ h = range / 20 000 ≤ 0.5 µm and |P''| ≲ 1e9 Pa/m² here, that is below 1e-4
 pressures (0.1 to 2 MPa), so a correct search meets 1e-6 with a wide margin, while a search that took the
 nominal bore or the wrong end of the range misses by 0.5 % to 1.5 % in the constructed cases below.
 
-The cases where P*(D) is not monotone (physics in :mod:`pampipe.plan.bores`):
+The cases where P*(D) is not monotone (physics in :mod:`pampipe.planning.bores`):
 
 * **U** (amplification against anchoring): the demo muscle holding a heavy load (a 255 kg robot up a
   riser, μ = 0.1, SF 2): the slip term SF·W/(μπA F₁) falls with D faster than the anchoring pressure
@@ -29,9 +29,9 @@ from pampipe.io.config import load_mission
 from pampipe.mission import Section
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
-from pampipe.plan import plan_mission
-from pampipe.plan.bores import worst_bores
-from pampipe.plan.problem import mission_muscles
+from pampipe.planning import plan_mission
+from pampipe.planning.bores import worst_bores
+from pampipe.planning.problem import mission_muscles
 from tests.conftest import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

@@ -11,7 +11,7 @@ from pampipe.errors import InputError
 from pampipe.io.config import load_mission
 from pampipe.model import slip
 from pampipe.model.muscle import Muscle
-from pampipe.plan import plan_mission
+from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
 
 UNCERTAIN = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"

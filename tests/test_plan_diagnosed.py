@@ -15,7 +15,7 @@ import yaml
 from pampipe.cli import main
 from pampipe.io.config import load_mission
 from pampipe.model import braid, forces, slip
-from pampipe.plan import max_payload, plan_mission
+from pampipe.planning import max_payload, plan_mission
 from tests.conftest import PROBLEMS
 
 SECTIONS = [

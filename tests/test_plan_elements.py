@@ -9,9 +9,9 @@ import pytest
 
 from pampipe.io.config import load_mission
 from pampipe.mission import Section
-from pampipe.plan import plan_mission, problem
-from pampipe.plan.problem import build_elements, mission_muscles
-from pampipe.plan.solve import solve
+from pampipe.planning import plan_mission, problem
+from pampipe.planning.problem import build_elements, mission_muscles
+from pampipe.planning.solve import solve
 from tests.conftest import PROBLEMS
 
 FIELDS = ("diameter", "length", "volume", "load", "load_per_payload", "friction", "anchoring",

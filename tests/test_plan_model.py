@@ -1,4 +1,4 @@
-"""`pampipe.plan` as a library: the NLP against the closed form and root finding, limits, monotonicity.
+"""`pampipe.planning` as a library: the NLP against the closed form and root finding, limits, monotonicity.
 
 Independent references: the closed form of docs/physics.md §8
 (P_req = [W(SF/(μπA) + κ) − F_ax(0, L_p)]/∂_P F_ax), scipy's brentq on the full model's holding
@@ -19,8 +19,8 @@ from pampipe.io.config import load_mission
 from pampipe.mission import Mission, Section, Segment
 from pampipe.model import braid, forces, slip
 from pampipe.model.pam import Moduli
-from pampipe.plan import max_payload, plan_mission
-from pampipe.plan.solve import block_solver
+from pampipe.planning import max_payload, plan_mission
+from pampipe.planning.solve import block_solver
 from tests.conftest import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

@@ -19,7 +19,7 @@ from pampipe import api
 from pampipe.cli import main
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.model import forces
-from pampipe.plan.problem import mission_muscles
+from pampipe.planning.problem import mission_muscles
 from tests.conftest import PROBLEMS
 from tests.test_plan_bores import scan_maximum
 

@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, integer_type, say
-from pampipe.diagnose import structure
-from pampipe.diagnose.selection import FOLDS
+from pampipe.diagnosis import structure
+from pampipe.diagnosis.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
@@ -38,7 +38,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pampipe.diagnose.workflow import diagnose
+    from pampipe.diagnosis.workflow import diagnose
     experiment = load_experiment(args.experiment)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
@@ -79,7 +79,7 @@ def _parameters(summary) -> str:
     return "; ".join(cells) or "-"
 
 
-#: Check names of :mod:`pampipe.diagnose.structure` that an effect's ``signature`` may go by.
+#: Check names of :mod:`pampipe.diagnosis.structure` that an effect's ``signature`` may go by.
 ALIASES = {"length": ("length", "stroke_ends"), "contact": ("contact", "axial_load")}
 
 

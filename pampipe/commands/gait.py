@@ -9,8 +9,8 @@ from pathlib import Path
 
 from pampipe import api
 from pampipe.commands.common import add_output_options, emit, say
-from pampipe.gait.result import GaitResult
-from pampipe.gait.schedule import POSITION_KEYS
+from pampipe.locomotion.result import GaitResult
+from pampipe.locomotion.schedule import POSITION_KEYS
 from pampipe.report import table
 
 NAME = "gait"

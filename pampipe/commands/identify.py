@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say
-from pampipe.identify import identify
-from pampipe.identify.options import fit_options
+from pampipe.identification import identify
+from pampipe.identification.options import fit_options
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output

@@ -26,7 +26,7 @@ def pressure_scale(unit: str) -> float:
 
 def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
     """The whole report: header, route, sections as parsed, plan, coverage, payload and verdict."""
-    from pampipe.plan.result import CONTACT_MARGIN  # the plan package is loaded by the run, not --help
+    from pampipe.planning.result import CONTACT_MARGIN  # the plan package is loaded by the run, not --help
     scale = pressure_scale(unit)
     route = plan.arrays.route
     rows = _shown_rows(plan, all_sections)
@@ -122,7 +122,7 @@ def _parsed_table(plan, rows: np.ndarray) -> str:
 
 
 def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
-    from pampipe.plan.result import thin_contact
+    from pampipe.planning.result import thin_contact
 
     a = plan.arrays
     uncertain = plan.confidence is not None
@@ -164,7 +164,7 @@ def _bore_table(plan, unit: str, scale: float) -> str:
 
 
 def _coverage_text(coverage, scope: str) -> str:
-    from pampipe.plan.feasibility import REASONS
+    from pampipe.planning.feasibility import REASONS
 
     share = coverage.pipes_feasible / coverage.pipes_total if coverage.pipes_total else 0.0
     length = coverage.length_feasible / coverage.length_total if coverage.length_total else 0.0

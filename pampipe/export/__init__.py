@@ -10,7 +10,7 @@ Library API (no file I/O here: the texts come back, :mod:`pampipe.commands.expor
 
 ``pampipe.export_mission`` (:mod:`pampipe.api`) takes a file path or a dict and hashes the inputs.
 The law is :meth:`pampipe.model.muscle.Muscle.closed_form_pressure` on CasADi symbols, written to C
-by :mod:`pampipe.export.cgen`; the gait table is :func:`pampipe.gait.sequential_gait` per section.
+by :mod:`pampipe.export.cgen`; the gait table is :func:`pampipe.locomotion.sequential_gait` per section.
 """
 
 from __future__ import annotations

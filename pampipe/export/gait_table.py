@@ -1,7 +1,7 @@
 """The gait schedule of every route section, as `pampipe gait` computes it, for a constant C table.
 
 Each crossable section gets the seven steps of the sequential gait (docs/physics.md §8.1, §8.5) from
-:func:`pampipe.gait.sequential_gait`: the valve action of each segment during the transition into the
+:func:`pampipe.locomotion.sequential_gait`: the valve action of each segment during the transition into the
 step (+1 fill from the supply, −1 vent, 0 closed; the sign of the gait's valve command), the anchored
 segments, the transition's duration and the pressures at the end of the step.
 """
@@ -14,7 +14,7 @@ import numpy as np
 
 from pampipe.errors import InfeasibleError
 from pampipe.export.law import Law, Reason
-from pampipe.gait import gait_options, sequential_gait
+from pampipe.locomotion import gait_options, sequential_gait
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.model import slip
-from pampipe.plan.problem import mission_muscles
+from pampipe.planning.problem import mission_muscles
 
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
 

@@ -1,6 +1,6 @@
 """Plots of `diagnose`: residuals before/after against the signature variables, where they were, the steps.
 
-Every number drawn is read from the :class:`pampipe.diagnose.result.DiagnoseResult`: the row
+Every number drawn is read from the :class:`pampipe.diagnosis.result.DiagnoseResult`: the row
 residuals of the baseline and of the selected model (computed by the command through
 :class:`pampipe.model.muscle.Muscle`), the noise floors, the baseline's anchoring pressures, the
 cells' checks and the steps of the selection. Nothing is refitted or re-evaluated here.

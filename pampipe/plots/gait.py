@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.gait.result import GaitResult
-from pampipe.gait.schedule import ANCHORS, STEPS
+from pampipe.locomotion.result import GaitResult
+from pampipe.locomotion.schedule import ANCHORS, STEPS
 from pampipe.report import new_figure, save_figure
 
 COLORS = ("C0", "C1", "C2")

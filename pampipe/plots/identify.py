@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.identify.curves import fit_curves
+from pampipe.identification.curves import fit_curves
 from pampipe.report import new_figure, save_figure
 
 #: At most this many measured points per panel are drawn (a uniform subsample of the rows).

@@ -17,7 +17,7 @@ def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
     route read from a network also network_pressure.png, and for any route but a whole network
     route_profile.png (:mod:`pampipe.plots.network`).
 
-    Every number drawn comes from ``plan`` (a :class:`pampipe.plan.MissionPlan`), curves included.
+    Every number drawn comes from ``plan`` (a :class:`pampipe.planning.MissionPlan`), curves included.
     """
     from pampipe.plots.network import network_pressure, route_profile
 

@@ -10,7 +10,7 @@ from pampipe.report import new_figure, save_figure
 def plot_simulation(result, folder: Path) -> list[Path]:
     """Write radial_force.png, free_contraction.png and amplification.png into ``folder``.
 
-    Every number drawn comes from ``result`` (a :class:`pampipe.simulate.SimulateResult`).
+    Every number drawn comes from ``result`` (a :class:`pampipe.simulation.SimulateResult`).
     """
     cases, curves, name = result.cases, result.curves, result.pam
     grid = curves.pressure

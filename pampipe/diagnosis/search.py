@@ -1,0 +1,243 @@
+"""Forward selection of several effects, then a backward step (every fit joint: moduli + all effects).
+
+Forward: from the current model (first the baseline), refit it with each library effect not yet in
+it, warm-started. An addition is *eligible* when it
+
+1. lowers BIC by at least :data:`BIC_MARGIN` (Kass & Raftery: > 10 is "very strong");
+2. lowers the cross-validated RMSE by at least :data:`CV_MARGIN` (additions are cross-validated in
+   BIC order until one passes, at most :data:`CV_TOP` of them);
+3. reduces the residual *where it was*: of the tests the current model leaves off the noise
+   (:mod:`.structure`), it removes at least :data:`WHERE_SHARE` of their excess sum of squares, and
+   at least :data:`WHERE_FOCUS` of everything it removes is removed there.
+
+The eligible addition with the lowest BIC is taken; every other addition within BIC_MARGIN of it
+(eligible or not) is *confounded* with it. Forward stops when no addition is eligible or when
+every test is at the noise. Backward: each effect of a set of two or more is removed in turn; the
+weakest whose removal does not cost both BIC_MARGIN of BIC and CV_MARGIN of cross-validated RMSE is
+dropped, and so on.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pampipe.diagnosis import selection
+from pampipe.diagnosis.refit import Fit, canonical
+from pampipe.diagnosis.structure import Assessment
+from pampipe.errors import SolverError
+
+BIC_MARGIN = 10.0
+CV_MARGIN = 0.02
+CV_TOP = 3
+WHERE_SHARE = 0.25
+WHERE_FOCUS = 0.5
+
+
+@dataclass(frozen=True)
+class Model:
+    """A fitted model and its scores (``assessment`` only for models that were taken)."""
+
+    fit: Fit
+    bic: float
+    sse: float
+    test_ss: np.ndarray = field(repr=False)  # Σ n r̄² per test [N²]
+    cv_rmse: float | None = None
+    assessment: Assessment | None = None
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        return self.fit.effects
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One refit tried at one step."""
+
+    effect: str  # the effect added (forward) or removed (backward)
+    effects: tuple[str, ...]  # the model tried
+    model: Model | None  # None: the solve failed
+    delta_bic: float  # BIC(tried) − BIC(current)
+    cv_ratio: float | None  # cv_rmse(tried) / cv_rmse(current)
+    where_share: float  # share of the misfit tests' excess removed (forward)
+    where_focus: float  # share of the removed SS that was on the misfit tests (forward)
+    eligible: bool
+    note: str
+    wall_time: float
+
+
+@dataclass(frozen=True)
+class Step:
+    number: int
+    action: str  # "add", "remove", "stop"
+    effect: str | None
+    effects: tuple[str, ...]  # the model after the step
+    trials: tuple[Trial, ...]  # ranked by BIC
+    confounded: tuple[str, ...]
+    wall_time: float
+
+
+class Search:
+    """Runs the selection for one experiment; ``refit(effects, start)`` and ``assess(fit)`` come
+    from the workflow."""
+
+    def __init__(self, cells, refit: Callable[[tuple[str, ...], Model], Fit],
+                 assess: Callable[[Fit], Assessment], cross_validate: Callable[[Fit], float],
+                 say: Callable[[str], None]):
+        self.cells, self._refit, self._assess, self._cv, self.say = cells, refit, assess, cross_validate, say
+        self.n_tests = int(cells.test.max()) + 1 if cells.size else 0
+        self.cache: dict[tuple[str, ...], Model] = {}
+        self.cv_values: dict[tuple[str, ...], float] = {}
+
+    def cv(self, model: Model) -> float:
+        """The model's cross-validated RMSE [N], computed once (only when a decision needs it)."""
+        if model.effects not in self.cv_values:
+            self.cv_values[model.effects] = self._cv(model.fit)
+        return self.cv_values[model.effects]
+
+    def with_cv(self, model: Model) -> Model:
+        """The model with its cross-validated RMSE where one was computed."""
+        return Model(model.fit, model.bic, model.sse, model.test_ss, self.cv_values.get(model.effects),
+                     model.assessment)
+
+    def model(self, fit: Fit) -> Model:
+        ss = np.bincount(self.cells.test, weights=self.cells.count * fit.residual**2, minlength=self.n_tests)
+        return Model(fit, selection.bic(fit, self.cells), selection.sse(fit, self.cells), ss)
+
+    def taken(self, model: Model) -> Model:
+        """The model with its assessment (once)."""
+        assessment = model.assessment or self._assess(model.fit)
+        out = Model(model.fit, model.bic, model.sse, model.test_ss, self.cv_values.get(model.effects),
+                    assessment)
+        self.cache[model.effects] = out
+        return out
+
+    def _try(self, effects: tuple[str, ...], start: Model) -> tuple[Model | None, float, str]:
+        started = time.perf_counter()
+        if effects in self.cache:
+            return self.cache[effects], 0.0, ""
+        try:
+            model = self.model(self._refit(effects, start))
+        except SolverError as exc:
+            return None, time.perf_counter() - started, str(exc)
+        self.cache[effects] = model
+        return model, time.perf_counter() - started, ""
+
+    def run(self, baseline: Model, names: list[str]) -> tuple[Model, list[Step]]:
+        current = self.taken(baseline)
+        steps: list[Step] = []
+        while True:
+            started = time.perf_counter()
+            misfit = current.assessment.misfit
+            remaining = [n for n in names if n not in current.effects]
+            if not misfit or not remaining:
+                why = "every test is at the noise" if not misfit else "no effect left to add"
+                steps.append(Step(len(steps) + 1, "stop", None, current.effects, (), (), 0.0))
+                self.say(f"step {len(steps)}: stop ({why})")
+                break
+            trials = self._forward_trials(current, remaining, misfit)
+            eligible = [t for t in trials if t.eligible]
+            wall = time.perf_counter() - started
+            if not eligible:
+                steps.append(Step(len(steps) + 1, "stop", None, current.effects, tuple(trials), (), wall))
+                self.say(f"step {len(steps)}: no eligible addition ({wall:.1f} s)")
+                break
+            best = eligible[0]
+            confounded = tuple(t.effect for t in trials if t is not best and t.model is not None
+                               and t.delta_bic - best.delta_bic < BIC_MARGIN and t.delta_bic <= -BIC_MARGIN)
+            current = self.taken(best.model)
+            wall = time.perf_counter() - started
+            steps.append(Step(len(steps) + 1, "add", best.effect, current.effects, tuple(trials), confounded,
+                              wall))
+            self.say(f"step {len(steps)}: add {best.effect} (dBIC {best.delta_bic:.1f}) in {wall:.1f} s")
+        while len(current.effects) >= 2:
+            started = time.perf_counter()
+            trials = self._backward_trials(current)
+            removable = [t for t in trials if t.eligible]
+            wall = time.perf_counter() - started
+            if not removable:
+                steps.append(Step(len(steps) + 1, "keep", None, current.effects, tuple(trials), (), wall))
+                self.say(f"step {len(steps)}: backward, every effect kept ({wall:.1f} s)")
+                break
+            weakest = removable[0]
+            current = self.taken(weakest.model)
+            steps.append(Step(len(steps) + 1, "remove", weakest.effect, current.effects, tuple(trials), (),
+                              wall))
+            self.say(f"step {len(steps)}: remove {weakest.effect} ({wall:.1f} s)")
+        return current, steps
+
+    def _forward_trials(self, current: Model, remaining: list[str], misfit: tuple[int, ...]) -> list[Trial]:
+        excess = current.assessment.excess(misfit)
+        rows = []
+        for name in remaining:
+            effects = canonical((*current.effects, name))
+            self.say(f"refit: {' + '.join(effects)}")
+            model, wall, error = self._try(effects, current)
+            if model is None:
+                rows.append(Trial(name, effects, None, np.inf, None, 0.0, 0.0, False, error, wall))
+                continue
+            removed = current.test_ss - model.test_ss
+            on_misfit = float(removed[list(misfit)].sum())
+            total = float(removed.sum())
+            share = on_misfit / excess if excess > 0 else 0.0
+            focus = on_misfit / total if total > 0 else 0.0
+            rows.append(Trial(name, effects, model, model.bic - current.bic, None, share, focus, False, "",
+                              wall))
+        rows.sort(key=lambda t: t.delta_bic)
+        out, validated = [], 0
+        for trial in rows:
+            notes = []
+            if trial.model is None:
+                out.append(trial)
+                continue
+            if trial.delta_bic > -BIC_MARGIN:
+                notes.append(f"BIC not {BIC_MARGIN:g} lower")
+            if trial.where_share < WHERE_SHARE or trial.where_focus < WHERE_FOCUS:
+                share, focus = (round(v, 2) + 0.0 for v in (trial.where_share, trial.where_focus))
+                notes.append(f"removes {share:.0%} of the excess where the residual was "
+                             f"({focus:.0%} of its gain there)")
+            ratio = None
+            if not notes and validated < CV_TOP and not any(t.eligible for t in out):
+                started = time.perf_counter()
+                cv, reference = self.cv(trial.model), self.cv(current)
+                validated += 1
+                model = self.with_cv(trial.model)
+                self.cache[trial.effects] = model
+                ratio = cv / reference if reference and np.isfinite(cv) and np.isfinite(reference) else None
+                trial = Trial(trial.effect, trial.effects, model, trial.delta_bic, ratio, trial.where_share,
+                              trial.where_focus, False, "", trial.wall_time + time.perf_counter() - started)
+                if ratio is None or ratio > 1 - CV_MARGIN:
+                    notes.append(f"cross-validated RMSE not {CV_MARGIN:.0%} lower")
+            elif not notes:
+                notes.append("not cross-validated (a better addition passed)" if any(t.eligible for t in out)
+                             else "not cross-validated (not among the best)")
+            out.append(Trial(trial.effect, trial.effects, trial.model, trial.delta_bic, ratio,
+                             trial.where_share, trial.where_focus, not notes, "; ".join(notes),
+                             trial.wall_time))
+        return out
+
+    def _backward_trials(self, current: Model) -> list[Trial]:
+        out = []
+        for name in current.effects:
+            effects = tuple(e for e in current.effects if e != name)
+            self.say(f"refit without {name}: {' + '.join(effects)}")
+            model, wall, error = self._try(effects, current)
+            if model is None:
+                out.append(Trial(name, effects, None, np.inf, None, 0.0, 0.0, False, error, wall))
+                continue
+            started = time.perf_counter()
+            cv, reference = self.cv(model), self.cv(current)
+            model = self.with_cv(model)
+            self.cache[effects] = model
+            ratio = cv / reference if reference and np.isfinite(cv) and np.isfinite(reference) else None
+            delta = model.bic - current.bic
+            needed = delta >= BIC_MARGIN and ratio is not None and reference <= (1 - CV_MARGIN) * cv
+            note = ("needed" if needed
+                    else f"removing it costs {delta:.1f} BIC, CV ratio {ratio or float('nan'):.3f}")
+            out.append(Trial(name, effects, model, delta, ratio, 0.0, 0.0, not needed, note,
+                             wall + time.perf_counter() - started))
+        out.sort(key=lambda t: t.delta_bic)
+        return out

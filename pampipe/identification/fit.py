@@ -1,0 +1,298 @@
+"""`identify(data, options)`: reduce, build (cached), initialise, solve (:mod:`.solve`), check, report.
+
+Steps: (1) one pass over the rows → sufficient statistics and cells; (2) the NLP for this problem
+structure (built once, cached in memory and on disk); (3) initial guess = bounded linear least
+squares at the stated geometry; (4) IPOPT with the Drucker rows on a (P, L) grid covering the
+tested pressures and L ∈ [min(L_data, L_pipes, L_free(P_max)), L₀] plus the pipes' lengths; with
+calibration, first with the geometry held at its stated values (the stated geometry's fit), then
+with it free; (5) the exact Drucker minimum between grid points, re-solving with that point added
+while it is negative (:mod:`.drucker`); (6) uncertainty from the Hessian at the solution;
+(7) fit quality from the exact model on every row, the blocked-force geometry check
+(:mod:`.geometry`) and which predictions the data determine (:mod:`.envelope`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+from importlib.metadata import PackageNotFoundError, version
+
+import casadi as ca
+import numpy as np
+
+from pampipe.errors import InputError, SolverError
+from pampipe.experiment import ExperimentData
+from pampipe.identification import drucker, envelope, problem
+from pampipe.identification import geometry as geo
+from pampipe.identification.nlp import build_problem
+from pampipe.identification.options import FitOptions, parse_fit_options
+from pampipe.identification.predict import evaluate_tests
+from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
+from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
+from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment
+from pampipe.identification.uncertainty import analyse
+from pampipe.model import bladder, braid
+from pampipe.model.domain import check_length, check_pipe_diameter
+from pampipe.model.muscle import Muscle
+
+#: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
+LAW_NAMES = problem.LAW_NAMES
+def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
+    """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6)."""
+    options = options or parse_fit_options(data.fit, source=data.source)
+    say = progress or (lambda _text: None)
+    _check(data, options)
+    stated = data.pam.geometry
+    started = time.perf_counter()
+    say(f"reducing {data.points:,} rows to sufficient statistics")
+    stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
+                              average_legs=options.average_legs, average_bins=options.average_bins,
+                              slack=options.slack, calibrate=bool(options.calibrate))
+    reduce_time = time.perf_counter() - started
+
+    n = stats.n_theta
+    pressures, lengths, low = _grid(data, stats, options)
+    grid = _constraint_rows(stated, options, pressures, lengths, n)
+    contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
+    prior = problem.prior_kind(options)
+    structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
+    before = build_problem.cache_info().misses
+    nlp = build_problem(structure)
+    build_time = nlp.build_time if build_problem.cache_info().misses > before else 0.0
+
+    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geo.bounds(data, options,
+                                                                                       stats.pipes))
+    values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
+    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, stated)
+    x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
+    p = nlp.layout.pack(values)
+    sse0 = float(nlp.sse(x0, p))
+    points_fit = stats.points
+    if prior != "none":
+        values["prior_weight"] = sse0 / max(points_fit - x0.size, 1) / (options.prior_sd / MPA) ** 2
+        if prior == "fixed":
+            values["prior_target"] = problem.prior_target(data, options, n)
+
+    update = updater(values, stats, structure, stated, options, pressures, low)
+    fixed = geometry_mask(structure, x0.size)
+    stated_fit = None
+    wall_time, iterations = 0.0, 0
+    if options.calibrate:  # fits at fixed geometry first: the stated one, then the blocked-force start
+        say("fitting at the stated geometry")
+        x0, info = fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+        wall_time, iterations = info.wall_time, info.iterations
+        stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
+        start = _start_geometry(data, stated, options, lbx[fixed], ubx[fixed])
+        if start is not None:
+            say("fitting at the braid angle the blocked force suggests")
+            guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, start)
+            guess[fixed] = geo.stated_x(start, structure.calibrate)
+            guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
+            other, info = fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, update)
+            wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
+            if float(nlp.sse(other, nlp.layout.pack(values))) < stated_fit:
+                x0 = other
+    say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
+        + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
+    solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+    x = np.asarray(solution["x"], dtype=float).ravel()
+    wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
+    p = nlp.layout.pack(values)
+    geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if options.calibrate else stated
+
+    moduli, pipe_moduli, blocks = problem.moduli_of(structure, stats, x)
+    sse_model = float(nlp.sse(x, p))
+    hessian = np.asarray(nlp.hessian(x, p), dtype=float)
+    uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
+    tests, sse, sum_rmse = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks, slack=options.slack)
+    minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
+    blocked = geo.blocked_force(data, geometry)
+    calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, sse, data,
+                               blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
+    predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
+    warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
+                         data)
+    return IdentifyResult(
+        success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
+        names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
+        solver=SolverInfo(info.status, True, iterations, wall_time, build_time, reduce_time,
+                          float(solution["f"]), nlp.origin),
+        uncertainty=uncertainty, drucker_minimum=minimum,
+        drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
+        warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
+        calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
+        excluded_rows=stats.excluded)
+
+
+def _start_geometry(data, stated, options: FitOptions, low, high):
+    """The stated geometry with the braid angle of the blocked-force check (:mod:`.geometry`), when
+    the braid angle is calibrated, the check is possible and that angle is within the bounds."""
+    if "braid_angle" not in options.calibrate:
+        return None
+    blocked = geo.blocked_force(data, stated)
+    if blocked is None or blocked.consistent or blocked.fitting_angle is None:
+        return None
+    start = replace(stated, braid_angle=blocked.fitting_angle)
+    value = geo.stated_x(start, options.calibrate)
+    return start if np.all((low < value) & (value < high)) else None
+
+
+def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
+    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum)."""
+    if options.drucker == "none":
+        return np.zeros((0, n))
+    if options.drucker == "sum":
+        return drucker_rows(stated, options.degree, pressures, lengths, form="sum")
+    return drucker.bernstein_rows([stated], options.degree, pressures, lengths, reference_pressure=MPA)
+
+
+def _check(data: ExperimentData, options: FitOptions) -> None:
+    geometry = data.pam.geometry
+    kinds = {t.kind for t in data.tests}
+    if options.mode in ("per_pipe", "contact_increment") and "radial" not in kinds:
+        raise InputError(f"{data.source}: fit.mode '{options.mode}' needs radial tests; use mode: shared "
+                         "for axial tests only.")
+    if options.prior_toward == "axial" and options.prior_sd is not None and options.mode == "shared":
+        raise InputError(f"{data.source}: fit.prior.toward 'axial' applies to the per_pipe and "
+                         "contact_increment modes; use 'input' or 'zero' with mode: shared.")
+    if options.prior_toward == "axial" and options.mode == "per_pipe" and "axial" not in kinds \
+            and options.prior_sd is not None:
+        raise InputError(f"{data.source}: fit.prior.toward 'axial' needs an axial test.")
+    ramps = [t.name for t in data.tests if not t.has_levels]
+    if ramps and options.objective == "sum_rmse":
+        raise InputError(f"{data.source}: fit.objective 'sum_rmse' sums the RMSE over pressure levels, and "
+                         f"test(s) {', '.join(ramps)} have none (pressure ramps); use least_squares.")
+    if options.average_legs and any(t.kind == "axial" and t.protocol != "isobaric" for t in data.tests):
+        raise InputError(f"{data.source}: fit.average_legs averages the lengthening and shortening legs at "
+                         "each pressure level; it needs isobaric axial tests (pressure held while the "
+                         "length is cycled).")
+    if options.calibrate and options.objective != "least_squares":
+        raise InputError(f"{data.source}: fit.calibrate fits the geometry by least squares; use "
+                         "objective: least_squares (the report still gives the sum of RMSE per level).")
+    if options.calibrate and options.average_legs:
+        raise InputError(f"{data.source}: fit.calibrate and fit.average_legs cannot be combined; the "
+                         "calibrated fit uses every row.")
+    for test in data.tests:
+        where = f"{test.spec.data}"
+        if test.kind == "axial":
+            check_length(geometry, test.length, where=f"{where}: length")
+        else:
+            check_pipe_diameter(geometry, test.spec.pipe_diameter, where=f"test {test.name}: pipe_diameter")
+
+
+def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
+    """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
+    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
+    geometry = data.pam.geometry
+    tested = np.concatenate([t.pressure for t in data.tests])
+    p_max = max(float(tested.max()), 1.0)
+    pressures = np.linspace(max(0.0, float(tested.min())), p_max, options.grid_pressures)
+    pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
+    low = min([geometry.initial_length, *pipe_lengths,
+               *(float(t.length.min()) for t in data.tests if t.kind == "axial")])
+    if data.pam.moduli is not None:
+        try:
+            low = min(low, float(Muscle.from_pam(data.pam).free_length(p_max)[0]))
+        except SolverError:
+            pass
+    low = max(low, geometry.shortest_length * 1.001)
+    return pressures, drucker.grid_lengths(geometry, stats.pipes, low, options), low
+
+
+def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:
+    """The exact minimum over the box for every moduli set; contact mode adds the anchored state."""
+    if options.drucker == "none":
+        return None
+    found = [drucker.minimum(m.as_vector(), MPA, geometry, pressures, lengths, options.drucker)
+             for m in blocks.values()]
+    if options.mode == "contact_increment":
+        theta, delta = moduli.as_vector(), moduli.contact_vector()
+        fine = np.linspace(np.min(pressures), np.max(pressures), 200)
+        for d in stats.pipes:
+            length = float(braid.length_at_diameter(d, geometry))
+            for pressure in fine:
+                engaged = theta + pressure / MPA * delta
+                e1, e2 = bladder.drucker_tangent_moduli(pressure, length, d, geometry, engaged, MPA)
+                for value, direction in ((float(e1), "axial"), (float(e2), "hoop")):
+                    found.append(drucker.Minimum(value, float(pressure), length, f"{direction} (anchored)"))
+    return min(found, key=lambda m: m.value)
+
+
+def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, sse, data, blocked,
+                 stated_blocked) -> Calibration:
+    intervals = {}
+    for name in structure.calibrate:
+        i = names.index(problem.GEOMETRY_NAMES[name])
+        low, high = uncertainty.lower[i], uncertainty.upper[i]
+        intervals[name] = (float(low), float(high)) if np.isfinite(low) else None
+    stated_rmse = None if stated_sse is None else math.sqrt(stated_sse / max(data.points, 1))
+    return Calibration(stated, geometry, tuple(structure.calibrate), intervals, stated_rmse, blocked,
+                       stated_blocked)
+
+
+def _warnings(status, u, names, minimum, options, structure, calibration, stats, data) -> list[str]:
+    out = []
+    if status != "Solve_Succeeded":
+        out.append(f"IPOPT stopped with {status}: the solution is acceptable but not fully converged.")
+    if u.rank_deficient:
+        out.append(f"the data determine only {u.rank} of {len(names)} parameter combinations; individual "
+                   "coefficients without an interval are not identifiable from these tests "
+                   "(docs/physics.md §6); see which predictions are determined, or add a prior (fit.prior).")
+    bound = [name for name, flag in zip(names, u.at_bound, strict=True) if flag]
+    if bound:
+        out.append(f"at a bound: {', '.join(bound)} (intervals ignore the bound; consider fit.bounds"
+                   + (" or fit.calibration_bounds" if any(b.startswith("geometry.") for b in bound) else "")
+                   + ").")
+    if minimum is not None and not minimum.stable:
+        out.append(f"Drucker stability fails between the grid points: {minimum.direction} tangent modulus "
+                   f"{minimum.value / 1e6:.4g} MPa at P = {minimum.pressure / 1e3:.4g} kPa, L = "
+                   f"{minimum.length * 1e3:.5g} mm; refine fit.drucker_grid.")
+    if options.mode == "per_pipe" and not (structure.qr or structure.cells):
+        out.append("per_pipe without an axial test: the PAM file gets the first pipe's moduli; each pipe's "
+                   "moduli are valid only in that pipe (see per_pipe in the JSON).")
+    out += _geometry_warnings(calibration, options)
+    if stats.excluded:
+        out.append(f"{stats.excluded} slack row(s) (force <= 0) were excluded from the fit (fit.slack: "
+                   "exclude).")
+    unknown = [t.name for t in data.tests if t.direction_source == "unknown"]
+    if unknown:
+        out.append(f"test(s) {', '.join(unknown)}: the rows are not in time order and there is no time or "
+                   "direction column, so the loading/unloading legs are unknown (hysteresis effects cannot "
+                   "be fitted).")
+    return out
+
+
+def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[str]:
+    blocked = calibration.blocked_force
+    if blocked is None:
+        return []
+    g = calibration.geometry
+    out = []
+    if not blocked.consistent:
+        words = (f"the blocked-force slope dF/dP at L = {blocked.length * 1e3:.5g} mm is "
+                 f"{blocked.slope * 1e3:.4g} N/kPa in the data but {blocked.geometry_slope * 1e3:.4g} N/kPa "
+                 f"for the {'calibrated' if options.calibrate else 'stated'} geometry (braid angle "
+                 f"{math.degrees(g.braid_angle):.4g} deg from the axis, L0 = "
+                 f"{g.initial_length * 1e3:.5g} mm)")
+        if blocked.fitting_angle is not None:
+            words += (f"; a braid angle of {math.degrees(blocked.fitting_angle):.4g} deg from the axis would "
+                      "fit it (at this L0)")
+        if not options.calibrate:
+            words += "; calibrate it: --calibrate braid_angle --calibrate initial_length"
+        out.append(words + ".")
+    if blocked.has_threshold and "initial_length" not in options.calibrate:
+        out.append(f"the muscle needs about {blocked.threshold / 1e3:.3g} kPa before it pulls at its longest "
+                   f"tested length ({blocked.length * 1e3:.5g} mm), which the model cannot show at the "
+                   "stated rest length: calibrate it (--calibrate initial_length) or diagnose prestrain.")
+    return out
+
+
+def _provenance(data, structure, nlp) -> dict:
+    try:
+        pampipe_version = version("pampipe")
+    except PackageNotFoundError:
+        pampipe_version = "unknown"
+    return {"pampipe": pampipe_version, "casadi": ca.__version__, "numpy": np.__version__,
+            "experiment": str(data.source), "parameters": nlp.n_x, "constraints": nlp.n_g,
+            "nlp_nodes": nlp.n_nodes}

@@ -1,0 +1,85 @@
+"""The model's forces for recorded test rows, and fit quality per test and pressure level.
+
+Used by ``identify`` for its report and by anything that needs residuals (``diagnose``): the
+exact, unsmoothed model of docs/physics.md §4.3 (axial tests) and §5.3 (radial tests, contact switch and
+contact increments included).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pampipe.experiment import ExperimentData, TestData
+from pampipe.identification.result import LevelFit, TestFit
+from pampipe.model.muscle import Muscle
+from pampipe.model.pam import Moduli, Pam
+
+#: Rows evaluated at a time (the model's temporaries stay a few MB whatever the row count).
+CHUNK = 1 << 16
+
+
+def predict(pam: Pam, test: TestData) -> np.ndarray:
+    """Model force [N] at every row of ``test``: F_ax(P, L) (axial) or F_r(P; D_p, F_a) (radial)."""
+    muscle = Muscle.from_pam(pam)
+    out = np.empty(test.points)
+    pressure_leg = np.zeros(test.points) if test.pressure_leg is None else test.pressure_leg
+    for start in range(0, test.points, CHUNK):
+        rows = slice(start, start + CHUNK)
+        if test.kind == "axial":
+            force = muscle.axial_force(test.pressure[rows], test.length[rows], leg=test.leg[rows],
+                                       pressure_leg=pressure_leg[rows])
+        else:
+            force = muscle.radial_force(test.pressure[rows], test.spec.pipe_diameter, test.spec.axial_load)
+        out[rows] = force
+    return out
+
+
+def residuals(pam: Pam, test: TestData) -> np.ndarray:
+    """Model minus measured force [N], row by row."""
+    return predict(pam, test) - test.force
+
+
+def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "unilateral"
+             ) -> tuple[TestFit, float]:
+    """(fit quality of one test, its sum of squared residuals [N²]).
+
+    Slack rows of an axial test (force ≤ 0) are predicted as max(0, F) (``unilateral``) or left out
+    (``exclude``); the per-level table is kept only for tests with pressure levels.
+    """
+    model = predict(pam, test)
+    used = np.ones(test.points, dtype=bool)
+    slack_rows = test.slack if test.kind == "axial" else np.zeros(test.points, dtype=bool)
+    if slack == "exclude":
+        used = ~slack_rows
+    else:
+        model = np.where(slack_rows, np.maximum(model, 0.0), model)
+    squared = np.where(used, model - test.force, 0.0) ** 2
+    n_used = int(used.sum())
+    levels = []
+    if test.has_levels:
+        count = np.bincount(test.level, weights=used, minlength=test.level_pressure.size)
+        sums = np.bincount(test.level, weights=squared, minlength=test.level_pressure.size)
+        levels = [LevelFit(float(pressure), int(count[lev]), float(np.sqrt(sums[lev] / count[lev])))
+                  for lev, pressure in enumerate(test.level_pressure) if count[lev]]
+    total = float(squared.sum())
+    fit = TestFit(test.name, test.kind, n_used, float(np.sqrt(total / max(n_used, 1))), tuple(levels), block,
+                  test.protocol, int(slack_rows.sum()), test.points - n_used)
+    return fit, total
+
+
+def evaluate_tests(data: ExperimentData, geometry, moduli: Moduli, pipe_moduli: dict[float, Moduli],
+                   blocks: dict, *, slack: str = "unilateral"
+                   ) -> tuple[tuple[TestFit, ...], float, float | None]:
+    """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N] or None when some
+    test has no pressure levels)."""
+    names = {id(m): name for name, m in blocks.items()}
+    fits, sse = [], 0.0
+    for test in data.tests:
+        used = moduli if test.kind == "axial" else pipe_moduli.get(test.spec.pipe_diameter, moduli)
+        fit, total = test_fit(Pam(data.pam.name, geometry, used), test, block=names.get(id(used), "theta"),
+                              slack=slack)
+        fits.append(fit)
+        sse += total
+    sum_rmse = float(sum(level.rmse for fit in fits for level in fit.levels)) \
+        if all(t.has_levels for t in data.tests) else None
+    return tuple(fits), sse, sum_rmse

@@ -1,0 +1,269 @@
+"""Frozen results of ``identify``: fitted moduli, fit quality, solver status, uncertainty, provenance."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pampipe.identification.drucker import Minimum
+from pampipe.identification.envelope import Predictions
+from pampipe.identification.geometry import BlockedForce
+from pampipe.identification.options import FitOptions
+from pampipe.identification.uncertainty import Uncertainty
+from pampipe.model.pam import Geometry, Moduli, Pam
+
+MPA = 1e6
+
+
+@dataclass(frozen=True)
+class LevelFit:
+    pressure: float  # level pressure [Pa]
+    points: int
+    rmse: float  # [N]
+
+
+@dataclass(frozen=True)
+class TestFit:
+    """Fit quality of one test, from the exact (unsmoothed) model on every row it was fitted to.
+
+    ``levels`` is empty when the test has no pressure levels (a ramp); ``slack`` counts its rows
+    with force ≤ 0 (fitted as max(0, F) or excluded, see ``excluded``).
+    """
+
+    name: str
+    kind: str
+    points: int
+    rmse: float  # [N]
+    levels: tuple[LevelFit, ...]
+    moduli_block: str  # which fitted moduli the test used (theta, pipe<k>)
+    protocol: str = "isobaric"
+    slack: int = 0
+    excluded: int = 0
+
+
+@dataclass(frozen=True)
+class SolverInfo:
+    status: str  # IPOPT's return status, e.g. "Solve_Succeeded"
+    success: bool
+    iterations: int
+    wall_time: float  # solve [s]
+    build_time: float  # NLP build [s] (0 when taken from the cache)
+    reduce_time: float  # data → sufficient statistics [s]
+    objective: float  # IPOPT's scaled objective at the solution
+    origin: str = "built"  # where the NLP came from: built here, or the on-disk cache ("disk")
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """The geometry of the fit: stated, fitted (= stated when nothing is calibrated), and the check."""
+
+    stated: Geometry
+    geometry: Geometry
+    calibrated: tuple[str, ...]
+    intervals: dict  # name -> (low, high) in deg (braid angle) or mm, None when undetermined
+    stated_rmse: float | None  # RMSE of the fit at the stated geometry [N] (calibrated fits only)
+    blocked_force: BlockedForce | None  # the blocked-force check of the fitted geometry
+    stated_blocked_force: BlockedForce | None  # ... of the stated geometry
+
+    def as_document(self) -> dict:
+        g = self.geometry
+        intervals = {}
+        for name, bounds in self.intervals.items():
+            if bounds is None:
+                continue
+            if name == "braid_angle":
+                intervals["braid_angle_from_axis_deg"] = list(bounds)
+            else:
+                intervals[f"{name}_m"] = [v * 1e-3 for v in bounds]
+        doc = {"initial_length_m": g.initial_length, "braid_angle_from_axis_deg": math.degrees(g.braid_angle),
+               "initial_diameter_m": g.initial_diameter, "bladder_thickness_m": g.bladder_thickness,
+               "calibrated": list(self.calibrated), "intervals": intervals,
+               "stated": {"initial_length_m": self.stated.initial_length,
+                          "braid_angle_from_axis_deg": math.degrees(self.stated.braid_angle),
+                          "bladder_thickness_m": self.stated.bladder_thickness},
+               "stated_geometry_rmse_N": self.stated_rmse,
+               "blocked_force_check": None if self.blocked_force is None
+               else self.blocked_force.as_document()}
+        return doc
+
+
+@dataclass(frozen=True)
+class IdentifyResult:
+    """The outcome of :func:`pampipe.identification.identify`.
+
+    ``moduli`` is the muscle's moduli set (the one written to the PAM file); ``pipe_moduli`` maps
+    each pipe diameter [m] to the moduli its radial tests used (``per_pipe`` mode: separate sets).
+    ``x``/``names`` is the raw decision vector in MPa, ``uncertainty`` refers to it.
+    """
+
+    success: bool
+    status: str
+    options: FitOptions
+    moduli: Moduli
+    pipe_moduli: dict[float, Moduli]
+    x: np.ndarray
+    names: tuple[str, ...]
+    tests: tuple[TestFit, ...]
+    sse: float  # Σ residual² over all rows [N²]
+    sum_rmse: float | None  # Σ over (test, pressure level) of the RMSE [N]; None without levels
+    points: int
+    solver: SolverInfo
+    uncertainty: Uncertainty
+    drucker_minimum: Minimum | None  # exact smallest Drucker quantity over the tested box (None: off)
+    drucker_grid: dict = field(repr=False)  # {"pressures": [Pa], "lengths": [m], "form": str}
+    warnings: tuple[str, ...]
+    provenance: dict
+    geometry: Geometry  # the fitted geometry (the stated one unless calibrated)
+    calibration: Calibration
+    predictions: Predictions
+    slack_rows: tuple[int, ...] = ()  # per test
+    excluded_rows: int = 0
+
+    @property
+    def drucker_margin(self) -> float:
+        """Smallest Drucker quantity over the tested range [Pa] (≥ 0 when stable), NaN when off."""
+        return float("nan") if self.drucker_minimum is None else self.drucker_minimum.value
+
+    @property
+    def has_levels(self) -> bool:
+        """True when every test has pressure levels (then ``sum_rmse`` is defined)."""
+        return all(t.levels for t in self.tests)
+
+    @property
+    def rmse(self) -> float:
+        """Root mean square residual over every row [N]."""
+        return float(np.sqrt(self.sse / max(self.points, 1)))
+
+    def theta_covariance(self) -> np.ndarray | None:
+        """Covariance [Pa²] of the muscle's θ (the ``theta`` block), in :meth:`Moduli.as_vector` order."""
+        index = [i for i, name in enumerate(self.names) if name.startswith("theta.")]
+        if not index:
+            return None
+        return self.uncertainty.covariance[np.ix_(index, index)] * MPA**2
+
+    def fitted_pam(self, base: Pam) -> Pam:
+        """``base`` with the fitted moduli, the θ covariance and the (calibrated) geometry."""
+        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance())
+
+    def pam_comments(self, source) -> list[str]:
+        """Header lines of the PAM file written from this fit: how it was fitted and how well."""
+        u = self.uncertainty
+        lines = [f"Written by `pampipe identify` from {source}",
+                 f"mode {self.options.mode}, objective {self.options.objective}, "
+                 f"degree {self.moduli.degree}; "
+                 f"IPOPT {self.status} in {self.solver.iterations} iterations",
+                 f"RMSE {self.rmse:.4g} N over {self.points} rows; "
+                 + (f"sum of RMSE per (test, pressure) {self.sum_rmse:.4g} N; " if self.sum_rmse is not None
+                    else "no pressure levels (sum of RMSE undefined); ")
+                 + f"sigma {u.sigma:.4g} N",
+                 f"identifiable parameter combinations: {u.rank} of {len(self.names)}"]
+        if self.calibration.calibrated:
+            stated = self.calibration.stated
+            lines.append("geometry calibrated: " + ", ".join(self.calibration.calibrated)
+                         + f" (stated: L0 = {stated.initial_length * 1e3:.6g} mm, braid angle "
+                         f"{math.degrees(stated.braid_angle):.5g} deg from the axis)")
+        if self.options.mode == "per_pipe":
+            lines.append("per_pipe: these are the muscle's (axial-test) moduli; the per-pipe sets are in the "
+                         "JSON output")
+        return lines
+
+    def pam_for_pipe(self, base: Pam, pipe_diameter: float) -> Pam:
+        """The muscle as used by the radial tests in ``pipe_diameter`` (per_pipe moduli if any)."""
+        moduli = self.pipe_moduli.get(pipe_diameter, self.moduli)
+        return Pam(base.name, self.geometry, moduli, None)
+
+    def _drucker_document(self) -> dict:
+        return _drucker_document(self)
+
+    def to_dict(self) -> dict:
+        """The `identify --json` document (docs/commands.md §6)."""
+        return self.as_document()
+
+    def as_document(self) -> dict:
+        """The ``identify`` JSON document (docs/commands.md §6), with extra keys.
+
+        Undetermined quantities (intervals of unidentifiable coefficients, the Drucker margin
+        with ``drucker: none``) are null.
+        """
+        u = self.uncertainty
+        doc = {
+            "moduli": moduli_document(self.moduli),
+            "fit": {
+                "tests": [{"name": t.name, "kind": t.kind, "protocol": t.protocol, "rmse_N": t.rmse,
+                           "points": t.points, "moduli": t.moduli_block, "slack_rows": t.slack,
+                           "excluded_rows": t.excluded,
+                           "levels": [{"pressure_Pa": lv.pressure, "points": lv.points, "rmse_N": lv.rmse}
+                                      for lv in t.levels] if t.levels else None} for t in self.tests],
+                "sum_rmse_N": self.sum_rmse,
+                "sum_rmse_note": None if self.sum_rmse is not None else
+                "undefined: test(s) " + ", ".join(t.name for t in self.tests if not t.levels)
+                + " have no pressure levels (ramps)",
+                "sse_N2": self.sse, "rmse_N": self.rmse,
+                "points": self.points, "objective": self.options.objective, "mode": self.options.mode,
+                "degree": self.options.degree, "average_legs": self.options.average_legs,
+                "slack": self.options.slack, "slack_rows": int(sum(self.slack_rows)),
+                "excluded_rows": self.excluded_rows,
+            },
+            "geometry": self.calibration.as_document(),
+            "predictions": self.predictions.as_document(),
+            "solver": {"status": self.solver.status, "success": self.solver.success,
+                       "iterations": self.solver.iterations, "wall_time_s": self.solver.wall_time,
+                       "build_wall_time_s": self.solver.build_time,
+                       "reduce_wall_time_s": self.solver.reduce_time,
+                       "objective": self.solver.objective},
+            "uncertainty": {
+                "unit": "MPa", "parameters": list(self.names), "values": self.x.tolist(),
+                "sigma_N": u.sigma, "dof": u.dof, "rank": u.rank, "rank_deficient": u.rank_deficient,
+                "std": _finite(u.std), "interval_95": [_finite([lo, hi]) for lo, hi in zip(u.lower, u.upper,
+                                                                                            strict=True)],
+                "at_bound": u.at_bound.tolist(), "determined": u.determined.tolist(),
+                "correlation": [_finite(row) for row in u.correlation], "covariance": u.covariance.tolist(),
+                "combinations": [{"weights_N_per_MPa": c.weights.tolist(), "value_N": c.value,
+                                  "std_N": _finite([c.std])[0], "interval_95_N": _finite(c.interval),
+                                  "singular_value": c.singular_value, "identifiable": c.identifiable}
+                                 for c in u.combinations],
+            },
+            "drucker": self._drucker_document(),
+            "warnings": list(self.warnings),
+            "provenance": self.provenance,
+            "experiment": self.provenance.get("experiment"),
+        }
+        if self.options.mode == "per_pipe":
+            doc["per_pipe"] = [{"pipe_diameter_m": d, "moduli": moduli_document(m)}
+                               for d, m in sorted(self.pipe_moduli.items())]
+        return doc
+
+
+def _drucker_document(result) -> dict:
+    m = result.drucker_minimum
+    doc = {"form": result.drucker_grid["form"], "margin_Pa": _finite([result.drucker_margin])[0],
+           "stable": None if m is None else m.stable,
+           "checked": "exact minimum over the tested (P, L) box, between grid points too",
+           "pressures_Pa": list(result.drucker_grid["pressures"]),
+           "lengths_m": list(result.drucker_grid["lengths"])}
+    if m is not None:
+        doc["minimum"] = {"value_Pa": m.value, "pressure_Pa": m.pressure, "length_m": m.length,
+                          "direction": m.direction}
+    return doc
+
+
+def _finite(values) -> list:
+    """Numbers as a list, with NaN/inf (undetermined quantities) as None (JSON null)."""
+    return [float(v) if np.isfinite(v) else None for v in values]
+
+
+def moduli_document(moduli: Moduli, unit: float = MPA) -> dict:
+    """The ``moduli`` mapping of the JSON document (coefficients in MPa)."""
+    def law(a, b):
+        return {"a": [v / unit for v in a], "b": [v / unit for v in b]}
+
+    doc = {"unit": "MPa", "reference_pressure_Pa": moduli.reference_pressure,
+           "axial": law(moduli.axial_a, moduli.axial_b), "hoop": law(moduli.hoop_a, moduli.hoop_b)}
+    if moduli.contact is not None:
+        c = np.asarray(moduli.contact) / unit
+        k = moduli.degree + 1
+        doc["contact"] = {"axial": {"a": c[:k].tolist(), "b": c[k:2 * k].tolist()},
+                          "hoop": {"a": c[2 * k:3 * k].tolist(), "b": c[3 * k:].tolist()}}
+    return doc

@@ -1,0 +1,84 @@
+"""What each muscle must do in one pipe section: contact pressure, no-slip pressure, planned target.
+
+The thresholds, loads and anchored lengths (and the reason a section cannot be crossed) are the
+planner's, :func:`pampipe.planning.plan_mission` (docs/physics.md §7-§8): contact (anchoring) at
+P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pampipe.errors import InfeasibleError, InputError
+from pampipe.locomotion.options import GaitOptions
+from pampipe.locomotion.pneumatics import Chamber
+from pampipe.mission import Mission
+from pampipe.model.muscle import Muscle
+from pampipe.planning import plan_mission
+
+
+@dataclass(frozen=True)
+class MuscleNeed:
+    """One segment in one section (SI): its muscle, thresholds, load and chamber."""
+
+    name: str
+    muscle: Muscle
+    pipe_diameter: float  # D_p [m]
+    contact_pressure: float  # P_a [Pa]: the braid touches the wall (no load)
+    required_pressure: float  # [Pa]: least pressure with μπF_r ≥ SF·W (no slip), the plan's
+    target_pressure: float  # [Pa]: the pressure the gait fills to (the plan's, so equal to the above)
+    load: float  # W [N] it must hold alone
+    friction: float
+    kappa: float
+    safety_factor: float
+    chamber: Chamber
+    anchored_length: float  # L(D_p) [m]
+
+    @property
+    def rest_length(self) -> float:
+        return self.muscle.geometry.initial_length
+
+    def holding_ratio(self, pressure):
+        """μπF_r(P, D_p, κW) / (SF·W): ≥ 1 means the segment holds alone with the safety factor."""
+        capacity = self.muscle.holding_capacity(np.asarray(pressure, dtype=float), self.pipe_diameter,
+                                                self.load, kappa=self.kappa, friction=self.friction)
+        return capacity / max(self.safety_factor * self.load, 1e-9)
+
+
+def find_section(mission: Mission, name: str | None) -> int:
+    """Index of the route section called ``name`` (default: the first)."""
+    if name is None:
+        return 0
+    for index, section in enumerate(mission.route):
+        if section.name == name:
+            return index
+    raise InputError(f"{mission.source}: --section {name!r}: no such section; the route has "
+                     f"{', '.join(repr(s.name) for s in mission.route)}.")
+
+
+def section_needs(mission: Mission, index: int, options: GaitOptions) -> tuple[MuscleNeed, ...]:
+    """Thresholds, loads and chambers of the three segments in route section ``index``.
+
+    The contact and no-slip pressures, the load and the anchored length are the plan's own
+    (:func:`pampipe.planning.plan_mission`, whose arrays hold them), so gait and plan agree by construction.
+    Raises :class:`InfeasibleError` with the plan's reason when the section cannot be crossed.
+    """
+    plan = plan_mission(mission)
+    a, section = plan.arrays, mission.route[index]
+    if index in a.reasons:
+        raise InfeasibleError(f"section {section.name!r} cannot be crossed: {a.reasons[index]}")
+    needs = []
+    for i, (segment, muscle) in enumerate(zip(mission.segments, plan.muscles, strict=True)):
+        d = float(a.diameter[index, i])  # the plan's bore: the worst of the section's range
+        contact, required = float(a.anchoring_pressure[index, i]), float(a.pressure[index, i])
+        if options.vented_pressure >= contact:
+            raise InputError(f"{mission.source}: gait.vented_pressure: {options.vented_pressure:.6g} Pa "
+                             f"must be below the contact pressure of {segment.name} "
+                             f"({contact:.6g} Pa) in section {section.name!r}.")
+        needs.append(MuscleNeed(segment.name, muscle, d, contact, required, required,
+                                float(a.required_hold[index, i]), section.friction, mission.kappa,
+                                mission.safety_factor, Chamber.of_muscle(muscle, d),
+                                float(a.anchored_length[index, i])))
+    return tuple(needs)

@@ -1,0 +1,150 @@
+"""Why a section cannot be planned: one plain sentence per infeasible section (the plan issue, item 3).
+
+Reasons, checked in this order for each section (the first that applies is reported; its code in
+brackets, counted by a whole-network plan's coverage):
+1. zero wall friction: no anchor can grip [``zero_friction``];
+2. the pipe is narrower than a muscle at rest (D_low ≤ D₀) [``narrower_than_muscle``];
+3. the pipe is wider than the braid can ever reach (D_high ≥ D(B/√3), docs/physics.md §2)
+   [``wider_than_braid``];
+4. the pipe is wider than the muscle reaches at supply pressure (L_free(P_supply) > L(D_p),
+   i.e. the unloaded anchoring pressure exceeds the supply, docs/physics.md §7) [``beyond_reach``];
+5. no pressure up to the model's 100 MPa limit holds the load [``cannot_hold``];
+6. the pressure needed to hold the load exceeds the supply (with the largest payload it allows)
+   [``above_supply``].
+
+With a bore range (a tolerance), each sentence names the bore that fails: the smallest for 2, the
+largest for 3 and 4, the worst bore (where the pressure is largest) for 5 and 6.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pampipe.errors import SolverError
+from pampipe.model.braid import diameter_at_length
+from pampipe.model.muscle import Muscle
+from pampipe.planning.problem import Elements
+from pampipe.planning.solve import Solution
+
+
+def element_feasible(elements: Elements, solution: Solution, supply: float) -> np.ndarray:
+    """True where the element's minimum pressure exists and is within the supply, shape (S, 3)."""
+    return elements.valid & np.isfinite(solution.pressure) & (solution.pressure <= supply)
+
+
+#: Reason codes in the order they are checked, with the words coverage reports use.
+REASONS = {"zero_friction": "zero wall friction", "narrower_than_muscle": "narrower than the muscles at rest",
+           "wider_than_braid": "wider than the braids can open",
+           "beyond_reach": "wider than the muscles reach at the supply pressure",
+           "cannot_hold": "no pressure holds the load", "above_supply": "needs more than the supply pressure"}
+
+
+def section_reasons(mission, muscles, elements: Elements, solution: Solution,
+                    payloads: np.ndarray, *, confidence: float | None = None):
+    """({section index: one sentence}, {section index: reason code}) for the sections that cannot be
+    planned (feasible ones are absent).
+
+    ``payloads`` are the element payload limits [kg] of :func:`pampipe.planning.payload.element_payloads`.
+    The geometric reasons (1-3) are found for all sections at once; only the others need the plan.
+    """
+    feasible = element_feasible(elements, solution, mission.supply_pressure).all(axis=1)
+    rows = np.flatnonzero(~feasible)
+    r = mission.route
+    rest = np.array([seg.pam.geometry.initial_diameter for seg in mission.segments])
+    reach = np.array([seg.pam.geometry.largest_diameter for seg in mission.segments])
+    zero = (r.friction[rows] <= 0).tolist()
+    narrow = r.diameter_low[rows, None] <= rest
+    wide = r.diameter_high[rows, None] >= reach
+    sentences, codes = {}, {}
+    for k, s in enumerate(rows.tolist()):
+        pipe, ranged = _pipe(r, s)
+
+        def at(which: str, bore: float, ranged=ranged) -> str:
+            return f", at its {which} bore of {_mm(bore)}," if ranged else ""
+
+        if zero[k]:
+            codes[s], sentences[s] = "zero_friction", (
+                f"the wall friction is zero, so no muscle can grip the wall of {pipe} and the robot can "
+                "neither hold on nor push itself along.")
+        elif narrow[k].any():
+            codes[s], sentences[s] = "narrower_than_muscle", (
+                f"{pipe} is{at('smallest', r.diameter_low[s])} not wider than {_names(mission, narrow[k])} "
+                f"at rest ({_mm(rest[narrow[k]].min())}), so it cannot expand against the wall to anchor.")
+        elif wide[k].any():
+            codes[s], sentences[s] = "wider_than_braid", (
+                f"{pipe} is{at('largest', r.diameter_high[s])} wider than the braid of "
+                f"{_names(mission, wide[k])} can ever open (at most {_mm(reach[wide[k]].min())}, where the "
+                "contractile force vanishes), so it cannot anchor.")
+        else:
+            codes[s], sentences[s] = _loaded_reason(mission, muscles, s, elements, solution, payloads[s],
+                                                    confidence, pipe, ranged)
+    return sentences, codes
+
+
+def _pipe(route, s: int) -> tuple[str, bool]:
+    """('the 77.92 mm pipe (NPS 3 Sch 40 (ASME B36.10M) ± 1 mm)', has a range) of section ``s``."""
+    ranged = bool(route.diameter_high[s] > route.diameter_low[s])
+    pipe = f"the {_mm(route.diameter[s])} pipe"
+    label = route.section_label(s)
+    if ranged or label != _mm(route.diameter[s]):
+        pipe += f" ({label})"
+    return pipe, ranged
+
+
+def _names(mission, mask) -> str:
+    names = [seg.name for seg, bad in zip(mission.segments, mask, strict=True) if bad]
+    if len(names) == len(mission.segments):
+        return "the muscles"
+    return " and ".join(names)
+
+
+def _mm(length: float) -> str:
+    return f"{length * 1e3:.4g} mm"
+
+
+def _loaded_reason(mission, muscles, s: int, e: Elements, solution: Solution, payloads: np.ndarray,
+                   confidence: float | None, pipe: str, ranged: bool) -> tuple[str, str]:
+    """(code, sentence) of reasons 4-6 for section ``s``, whose pipe the muscles fit."""
+    supply = mission.supply_pressure
+
+    def at(which: str, bore: float) -> str:
+        return f", at its {which} bore of {_mm(bore)}," if ranged else ""
+
+    touch = np.maximum(e.free_anchoring[s], e.largest_bore_anchoring[s])
+    short = touch > supply
+    if short.any():
+        i = int(np.argmax(touch))
+        largest = e.largest_bore_anchoring[s, i] >= e.free_anchoring[s, i]
+        bore = at("largest", mission.route.diameter_high[s]) if largest else at("worst", e.diameter[s, i])
+        return "beyond_reach", (
+            f"{pipe} is{bore} wider than {_names(mission, short)} reach{'es' if short.sum() == 1 else ''} "
+            f"at the {supply / 1e3:.4g} kPa supply{_free_diameter(muscles[i], supply)}; touching the wall "
+            f"needs {touch[i] / 1e3:.4g} kPa.")
+    pressure = solution.pressure[s]
+    worst = f" in its worst bore, {_mm(e.diameter[s, int(np.argmax(pressure))])}," if ranged else ""
+    stuck = ~np.isfinite(pressure)
+    if stuck.any():
+        i = int(np.argmax(stuck))
+        return "cannot_hold", (f"{_names(mission, stuck)} cannot hold the {e.load[s, i]:.4g} N load at any "
+                               f"pressure up to 100 MPa in this pipe{worst.rstrip(',')}.")
+    i = int(np.argmax(pressure))
+    hold = (f"{mission.segments[i].name} needs {pressure[i] / 1e3:.4g} kPa{worst} to hold "
+            f"{e.load[s, i]:.4g} N with safety factor {mission.safety_factor:g}"
+            f"{'' if confidence is None else f' at {confidence:.3g} confidence'}, more than the "
+            f"{supply / 1e3:.4g} kPa supply")
+    if confidence is not None:
+        return "above_supply", hold + "."
+    payload = float(payloads.min())
+    if payload >= 0:
+        return "above_supply", (f"{hold}; at the supply the robot can carry at most {payload:.3g} kg of "
+                                "payload here.")
+    return "above_supply", f"{hold}; at the supply it cannot even carry its own weight here, with no payload."
+
+
+def _free_diameter(muscle: Muscle, supply: float) -> str:
+    """' (it only opens to X mm)' from the free-contraction root, or '' if that root fails."""
+    try:
+        length = muscle.free_length([supply])[0]
+    except SolverError:
+        return ""
+    return f" (it only opens to {diameter_at_length(length, muscle.geometry) * 1e3:.4g} mm)"
