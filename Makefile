@@ -12,6 +12,7 @@ $(BIN)/python:
 
 $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[test]"
+	$(BIN)/python -m compileall -q pampipe  # bytecode as a wheel install has it, even under PYTHONDONTWRITEBYTECODE
 	touch $(STAMP)
 
 demo: $(STAMP)  ## plan the bundled demo mission

@@ -23,6 +23,7 @@ Run: ``.venv/bin/python benchmarks/bench_identify.py [--scales 10 100 1000] [--r
 from __future__ import annotations
 
 import argparse
+import compileall
 import json
 import math
 import os
@@ -107,6 +108,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--calibration-rows", type=int, default=100_000)
     args = parser.parse_args()
+    compileall.compile_dir(ROOT / "pampipe", quiet=1)  # bytecode, as installed (PYTHONDONTWRITEBYTECODE)
     pam = load_pam(ROOT / "problems" / "pams" / "paper-radial-pam.yaml")
     with tempfile.TemporaryDirectory(prefix="bench-identify-") as tmp:
         tmp = Path(tmp)
