@@ -138,23 +138,16 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
     a list, unit strings accepted) add to it. Returns an :class:`pampipe.identification.IdentifyResult`; its
     ``fitted_pam(pam)`` is the muscle to write.
     """
-    from pampipe.errors import InputError
     from pampipe.identification import identify as run
-    from pampipe.identification.options import CALIBRATABLE, fit_options
+    from pampipe.identification.options import fit_options
 
     spec, data = load_experiment(experiment, base=base, progress=progress)
+    diameters = _si(pipe_diameter, "length", "pipe_diameter")
     options = fit_options(spec.fit, {"mode": mode, "objective": objective, "degree": degree,
                                      "average_legs": average_legs, "drucker": drucker,
-                                     "max_iterations": max_iterations, "slack": slack}, source=spec.source)
-    unknown = [name for name in calibrate or () if name not in CALIBRATABLE]
-    if unknown:
-        raise InputError(f"calibrate: {unknown[0]!r} cannot be calibrated; allowed: "
-                         f"{', '.join(CALIBRATABLE)}.")
-    options = options.calibrating(*(calibrate or ()))
-    diameters = _si(pipe_diameter, "length", "pipe_diameter")
-    if diameters is not None:
-        extra = [diameters] if isinstance(diameters, float) else diameters
-        options = options.with_overrides(pipe_diameters=(*options.pipe_diameters, *extra))
+                                     "max_iterations": max_iterations, "slack": slack},
+                          calibrate=tuple(calibrate or ()), source=spec.source,
+                          pipe_diameters=[diameters] if isinstance(diameters, float) else diameters or ())
     return run(data, options, progress=progress if data.points >= 100_000 else None)
 
 

@@ -60,10 +60,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     experiment = load_experiment(args.experiment)
     options = fit_options(experiment.fit, {key: getattr(args, key) for key in FLAGS},
+                          calibrate=args.calibrate or (), pipe_diameters=args.pipe_diameter or (),
                           source=experiment.source, where="command line", names=FLAGS)
-    options = options.calibrating(*(args.calibrate or ()))
-    if args.pipe_diameter:
-        options = options.with_overrides(pipe_diameters=(*options.pipe_diameters, *args.pipe_diameter))
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
 

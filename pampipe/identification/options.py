@@ -30,12 +30,14 @@ would leave its domain for the tested lengths and pipes (docs/physics.md §2).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
 
 from pydantic import Field, model_validator
 
+from pampipe.errors import InputError
 from pampipe.schema import Strict, quantity
 from pampipe.schema import validate as _validate
 
@@ -165,14 +167,23 @@ def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file
         pipe_diameters=tuple(schema.pipe_diameters))
 
 
-def fit_options(raw: dict | None, overrides: dict, *, source: Path | str = "experiment file",
+def fit_options(raw: dict | None, overrides: dict, *, calibrate: Sequence[str] = (),
+                pipe_diameters: Sequence[float] = (), source: Path | str = "experiment file",
                 where: str = "options", names: dict[str, str] | None = None) -> FitOptions:
     """The ``fit:`` options with ``overrides`` (command-line flags, API keywords; None = not given),
-    which pass the same schema first: errors say ``where`` and the name the user wrote (``names``)."""
+    which pass the same schema first: errors say ``where`` and the name the user wrote (``names``).
+    ``calibrate`` (names of :data:`CALIBRATABLE`) and ``pipe_diameters`` [m] add to the file's lists."""
     given = {key: value for key, value in overrides.items() if value is not None}
     parse_fit_options(given, source=where,
                       rename={f"fit.{key}": (names or {}).get(key, key) for key in given})
-    return parse_fit_options({**(raw or {}), **given}, source=source)
+    unknown = [name for name in calibrate if name not in CALIBRATABLE]
+    if unknown:
+        raise InputError(f"{where}: {(names or {}).get('calibrate', 'calibrate')} {unknown[0]!r} cannot be "
+                         f"calibrated; allowed: {', '.join(CALIBRATABLE)}.")
+    options = parse_fit_options({**(raw or {}), **given}, source=source).calibrating(*calibrate)
+    if pipe_diameters:
+        options = options.with_overrides(pipe_diameters=(*options.pipe_diameters, *pipe_diameters))
+    return options
 
 
 class _Wrapper(Strict):
