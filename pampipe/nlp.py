@@ -139,8 +139,8 @@ def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Funct
             loaded = {p.stem: ca.Function.load(str(p)) for p in entry.glob("*.casadi")}
             if loaded:
                 return loaded, "disk"
-        except Exception:  # a damaged entry is rebuilt
-            pass
+        except Exception:  # a damaged entry is removed and rebuilt
+            shutil.rmtree(entry, ignore_errors=True)
     functions = build()
     try:
         folder.mkdir(parents=True, exist_ok=True)

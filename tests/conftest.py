@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -30,6 +33,21 @@ def run_cli(*args: str, cwd: Path | None = None, timeout: float = 300) -> subpro
     """Run ``python -m pampipe ARGS`` in a subprocess, as a user would."""
     return subprocess.run([sys.executable, "-m", "pampipe", *map(str, args)], capture_output=True,
                           text=True, cwd=cwd or ROOT, timeout=timeout)
+
+
+def pytest_configure(config):
+    """The on-disk NLP cache of the test run lives in a temporary folder (inherited by the CLI
+    subprocesses), never in the user's ~/.cache; a cache the caller chose is kept."""
+    if "PAMPIPE_NLP_CACHE" not in os.environ:
+        config._pampipe_cache = tempfile.mkdtemp(prefix="pampipe-test-nlp-")
+        os.environ["PAMPIPE_NLP_CACHE"] = config._pampipe_cache
+
+
+def pytest_unconfigure(config):
+    folder = getattr(config, "_pampipe_cache", None)
+    if folder:
+        shutil.rmtree(folder, ignore_errors=True)
+        os.environ.pop("PAMPIPE_NLP_CACHE", None)
 
 
 def pytest_terminal_summary(terminalreporter):
