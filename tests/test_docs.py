@@ -236,3 +236,98 @@ def test_license_matches_pyproject():
     assert re.search(r'^license\s*=\s*"MIT"', pyproject, re.MULTILINE)
     text = (ROOT / "LICENSE").read_text(encoding="utf-8")
     assert text.startswith("MIT License") and "the pampipe developers" in text
+
+
+# ------------------------------------------------------------------ the formats page keeps up with the code
+def section(text: str, number: str) -> str:
+    """The text of the section numbered ``number`` (a `## ` heading) up to the next `## ` heading."""
+    match = re.search(rf"^## {re.escape(number)}\. .*?(?=^## |\Z)", text, re.MULTILINE | re.DOTALL)
+    assert match, f"no section {number}"
+    return match.group(0)
+
+
+def schema_keys(model, prefix: str = "") -> set[str]:
+    """Every key a pydantic model accepts; a nested mapping's as dotted leaves (`drucker_grid.pressures`)."""
+    from pampipe.schema import _model_in
+
+    keys = set()
+    for name, field in model.model_fields.items():
+        key = prefix + (field.alias or name)
+        inner = _model_in(field.annotation)
+        keys |= {key} if inner is None else schema_keys(inner, key + ".")
+    return keys
+
+
+def subsection(text: str, heading: str) -> str:
+    """The text from the line ``heading`` to the next heading."""
+    start = text.index("\n" + heading) + 1
+    end = text.find("\n#", start + 1)
+    return text[start:] if end < 0 else text[start:end]
+
+
+def table_keys(text: str) -> set[str]:
+    """The `key`s that open a row of a Markdown table (`| `slack` | string | ...`)."""
+    return set(re.findall(r"^\| `([\w.\[\]]+)` \|", text, re.MULTILINE))
+
+
+def effect_rows(text: str) -> set[tuple[str, str, str, str]]:
+    """(effect, parameter, display unit, null) of every row of the `effects:` table of formats.md §2."""
+    rows, effect = set(), None
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if not line.startswith("|") or len(cells) != 6:
+            continue
+        named = re.match(r"`(\w+)`", cells[0])
+        if named:
+            effect = named.group(1)
+        elif cells[0]:
+            effect = None
+        param = re.fullmatch(r"`(\w+)`", cells[1])
+        if effect and param:
+            rows.add((effect, param.group(1), cells[3], cells[5]))
+    return rows
+
+
+def undocumented(text: str) -> list[str]:
+    """What the code accepts and ``text`` (formats.md) does not document, one line each."""
+    from pampipe.identification.options import FitSchema
+    from pampipe.io.config import TestSchema
+    from pampipe.io.csvfile import DIMENSIONS, REQUIRED, SIGNS
+    from pampipe.model.effects import LIBRARY
+
+    experiment = section(text, "3")
+    fit = table_keys(subsection(experiment, "### `fit:`"))
+    problems = [f"fit.{key}: no row in the formats.md §3 fit: table" for key in sorted(schema_keys(FitSchema))
+                if key not in fit]
+    tests = table_keys(subsection(experiment, "### `tests[]`"))
+    problems += [f"tests[].{key}: no row in the formats.md §3 tests[] table" for key in sorted(
+        schema_keys(TestSchema)) if key not in tests]
+    columns = table_keys(subsection(experiment, "### CSV data"))
+    required = {name for names in REQUIRED.values() for name in names}
+    problems += [f"CSV column {name}: no row in the formats.md §3 optional-column table" for name in sorted(
+        set(DIMENSIONS) | set(SIGNS)) if name not in required and name not in columns]
+    documented = effect_rows(section(text, "2"))
+    wanted = {(e.name, p.name, "–" if p.unit == "-" else p.unit, f"{p.null:g}")
+              for e in LIBRARY.values() for p in e.parameters}
+    problems += [f"effect {e}.{p} [{unit}], null {null}: not (or not so) in the formats.md §2 effects table"
+                 for e, p, unit, null in sorted(wanted - documented)]
+    problems += [f"formats.md §2 documents {e}.{p}, which the effect library does not have"
+                 for e, p, _, _ in sorted(documented - wanted)]
+    return problems
+
+
+def test_formats_documents_every_fit_key_csv_column_and_effect_parameter():
+    """Derived from the schemas and the effect registry: a key added to the code fails until documented."""
+    assert not undocumented(_read(DOCS / "formats.md")), "\n".join(undocumented(_read(DOCS / "formats.md")))
+
+
+@pytest.mark.parametrize("row", ["| `calibration_bounds.initial_length` |", "| `slack` |",
+                                 "| `pipe_diameters` |", "| `set_pressure` |", "| `state` |",
+                                 "| `protocol` |", "| | `h1` |",
+                                 "| `prestrain` (physics.md §9j) | `axial_prestrain` |"])
+def test_the_formats_check_fails_when_a_row_is_missing(row):
+    text = _read(DOCS / "formats.md")
+    assert text.count(row) == 1
+    start = text.index(row)
+    end = text.index("\n", start)
+    assert undocumented(text[:start] + text[end + 1:]), f"deleting {row} went unnoticed"
