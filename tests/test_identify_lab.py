@@ -104,6 +104,21 @@ def test_without_calibration_the_mismatch_is_named(radial_pam, force_map_data):
     assert not any("blocked-force" in w for w in right.warnings)
 
 
+def test_no_geometry_verdict_without_a_test_at_the_rest_length(radial_pam, muscle):
+    """Ramps only at 0.80-0.93 L₀: the moduli's pressure terms can absorb the braid angle there, so no
+    blocked-force verdict is given (none naming a wrong angle), and calibrating says the geometry is
+    not determined instead of reporting a number as if it were."""
+    g = radial_pam.geometry
+    cols = isometric_ramps(muscle, [0.250, 0.270, 0.290], noise=SIGMA, rng=np.random.default_rng(3))
+    data = experiment(radial_pam, [(axial(), cols)], stated=off_by(g, angle_deg=3))
+    plain = identify(data, FitOptions(degree=1))
+    assert plain.calibration.blocked_force is None
+    assert not any("blocked-force" in w for w in plain.warnings)
+    calibrated = identify(data, FitOptions(calibrate=("braid_angle",)))
+    assert calibrated.calibration.intervals["braid_angle"] is None
+    assert any("do not determine the calibrated braid_angle" in w for w in calibrated.warnings)
+
+
 @pytest.mark.parametrize(("angle", "length_mm"), [(5.0, 0.0), (-4.0, 1.0), (3.0, -1.0)])
 def test_calibration_from_a_rough_statement_on_isometric_ramps(radial_pam, muscle, angle, length_mm):
     """Isometric ramps at four held lengths (3200 rows), braid angle stated up to 5° off: the
@@ -130,6 +145,9 @@ def test_slack_rows_are_fitted_as_max_0_F_or_excluded(radial_pam, force_map_data
     assert excluded.excluded_rows == slack
     assert excluded.tests[0].points == force_map_data["force"].size - slack
     assert any(f"{slack} slack row(s)" in w for w in excluded.warnings)
+    # the overall RMSE is over the rows fitted: the per-test RMSE (over its fitted rows) pooled by hand
+    (only,) = excluded.tests
+    assert excluded.rmse == pytest.approx(only.rmse, rel=1e-9)  # one test: the two must be the same number
     test = data.tests[0]
     model = Muscle.from_pam(unilateral.fitted_pam(data.pam)).axial_force(test.pressure, test.length)
     assert np.all(model[test.slack] <= 1.0)  # N: the fit leaves the slack corner slack

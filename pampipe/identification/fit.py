@@ -108,7 +108,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     tests, sse, sum_rmse = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks, slack=options.slack)
     minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
     blocked = geo.blocked_force(data, geometry)
-    calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, sse, data,
+    calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit,
                                blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
@@ -219,14 +219,14 @@ def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, option
     return min(found, key=lambda m: m.value)
 
 
-def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, sse, data, blocked,
+def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, rows, blocked,
                  stated_blocked) -> Calibration:
     intervals = {}
     for name in structure.calibrate:
         i = names.index(problem.GEOMETRY_NAMES[name])
         low, high = uncertainty.lower[i], uncertainty.upper[i]
         intervals[name] = (float(low), float(high)) if np.isfinite(low) else None
-    stated_rmse = None if stated_sse is None else math.sqrt(stated_sse / max(data.points, 1))
+    stated_rmse = None if stated_sse is None else math.sqrt(stated_sse / max(rows, 1))
     return Calibration(stated, geometry, tuple(structure.calibrate), intervals, stated_rmse, blocked,
                        stated_blocked)
 
@@ -264,11 +264,16 @@ def _warnings(status, u, names, minimum, options, structure, calibration, stats,
 
 
 def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[str]:
+    out = []
+    undetermined = [name for name, band in calibration.intervals.items() if band is None]
+    if undetermined:
+        out.append(f"the data do not determine the calibrated {' and '.join(undetermined)} (no 95 % "
+                   "interval): the moduli can absorb the geometry; add a test at the rest length (a pressure "
+                   "ramp at L0, where the force depends on the geometry alone) or calibrate less.")
     blocked = calibration.blocked_force
     if blocked is None:
-        return []
+        return out
     g = calibration.geometry
-    out = []
     if not blocked.consistent:
         words = (f"the blocked-force slope dF/dP at L = {blocked.length * 1e3:.5g} mm is "
                  f"{blocked.slope * 1e3:.4g} N/kPa in the data but {blocked.geometry_slope * 1e3:.4g} N/kPa "

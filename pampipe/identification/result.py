@@ -133,8 +133,8 @@ class IdentifyResult:
 
     @property
     def rmse(self) -> float:
-        """Root mean square residual over every row [N]."""
-        return float(np.sqrt(self.sse / max(self.points, 1)))
+        """Root mean square residual over the rows fitted (every row but the excluded slack ones) [N]."""
+        return float(np.sqrt(self.sse / max(self.points - self.excluded_rows, 1)))
 
     def theta_covariance(self) -> np.ndarray | None:
         """Covariance [Pa²] of the muscle's θ (the ``theta`` block), in :meth:`Moduli.as_vector` order."""
