@@ -373,3 +373,17 @@ def test_force_map_with_slack_zeros_fits_to_the_noise(radial_pam_module):
         tests.append((radial(f"radial-{d}", d), radial_steps(muscle, d, rng=np.random.default_rng(k))))
     result = diagnose(experiment(radial_pam_module, tests))
     assert result.verdict.verdict == "none", result.verdict.reason
+
+
+def test_fit_calibrate_is_not_used_so_baseline_and_refits_share_the_stated_geometry(radial_pam_module):
+    """diagnose's refits and `-o` use the stated geometry, so its identify baseline must too: with
+    ``fit.calibrate`` in the file the baseline moduli are those of the same file without it (to the
+    last bit: the same NLP at the same data), and the progress output says why."""
+    from pampipe.diagnosis.workflow import _initial_theta
+
+    data = hidden_experiment(radial_pam_module, None, seed=5002)
+    said = []
+    plain, _ = _initial_theta(data, said.append)
+    asked, _ = _initial_theta(replace(data, fit={"calibrate": ["braid_angle"]}), said.append)
+    np.testing.assert_array_equal(asked, plain)
+    assert any("fit.calibrate (braid_angle) is not used" in line for line in said)

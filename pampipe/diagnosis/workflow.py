@@ -42,7 +42,11 @@ def _initial_theta(data: ExperimentData, say) -> tuple[np.ndarray, str]:
     try:
         from pampipe.identification import identify, parse_fit_options
 
-        options = parse_fit_options(data.fit, source=data.source).with_overrides(mode="shared", degree=DEGREE)
+        options = parse_fit_options(data.fit, source=data.source)
+        if options.calibrate:  # the refits and -o use the stated geometry, so the baseline does too
+            say(f"fit.calibrate ({', '.join(options.calibrate)}) is not used: diagnose works at the stated "
+                "geometry; to diagnose a calibrated muscle, write it with `identify --calibrate -o` first")
+        options = options.with_overrides(mode="shared", degree=DEGREE, calibrate=())
         say("baseline: identify (shared moduli mode)")
         result = identify(data, options)
         return result.moduli.as_vector() / MPA * _b_scale(result.moduli.reference_pressure), "identify"
