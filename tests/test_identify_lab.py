@@ -386,3 +386,17 @@ def test_isometric_plots_draw_force_against_pressure(tmp_path, capsys, radial_pa
     assert code == 0, err
     names = sorted(p.name for p in (tmp_path / "plots").glob("*.png"))
     assert names == ["drucker_margin.png", "isometric_fit.png", "residuals.png"]
+
+
+def test_inputs_that_cannot_be_used_are_named_not_ignored(radial_pam, force_map_data):
+    """Bounds for an entry that is not calibrated, and a pipe of interest wider than the braid can
+    open, used to be dropped without a word."""
+    data = experiment(radial_pam, [(axial(), force_map_data)])
+    g = radial_pam.geometry
+    options = FitOptions(degree=1, calibration_bounds=(("initial_length", 0.30, 0.32),),
+                         pipe_diameters=(2.0 * g.largest_diameter, 0.0889))
+    result = identify(data, options)
+    assert any("calibration_bounds for initial_length is not used" in w for w in result.warnings)
+    wide = next(w for w in result.warnings if "cannot be judged" in w)
+    assert f"{2e3 * g.largest_diameter:.4g} mm" in wide and "88.9 mm" not in wide
+    assert [p.pipe_diameter for p in result.predictions.pipes] == [0.0889]

@@ -252,6 +252,17 @@ def _warnings(status, u, names, minimum, options, structure, calibration, stats,
         out.append("per_pipe without an axial test: the PAM file gets the first pipe's moduli; each pipe's "
                    "moduli are valid only in that pipe (see per_pipe in the JSON).")
     out += _geometry_warnings(calibration, options)
+    unused = [name for name, *_ in options.calibration_bounds if name not in options.calibrate]
+    if unused:
+        out.append(f"fit.calibration_bounds for {', '.join(unused)} is not used: only calibrated entries "
+                   "have bounds (add them to fit.calibrate or --calibrate).")
+    g = calibration.geometry
+    outside = [d for d in options.pipe_diameters if not g.initial_diameter < d < g.largest_diameter]
+    if outside:
+        shown = ", ".join(f"{d * 1e3:.4g} mm" for d in outside)
+        out.append(f"pipe diameter(s) {shown} of fit.pipe_diameters cannot be judged: the muscle touches "
+                   f"only bores between its rest diameter "
+                   f"{g.initial_diameter * 1e3:.4g} mm and {g.largest_diameter * 1e3:.4g} mm.")
     if stats.excluded:
         out.append(f"{stats.excluded} slack row(s) (force <= 0) were excluded from the fit (fit.slack: "
                    "exclude).")
