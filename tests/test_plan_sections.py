@@ -203,8 +203,13 @@ def test_thin_contact_margin_is_warned_and_a_tolerance_covers_it():
     nominal = plan(demo())
     riser = nominal.sections[0].segments[0]
     assert riser.thin_contact and 0 < riser.contact_margin < 0.05 * riser.largest_bore_anchoring_pressure
-    assert any(w.startswith("riser: PAM1 is planned only") for w in nominal.warnings)
-    ranged = plan(demo(inner_diameter={"value": "3 in", "tolerance": "1 mm"})).sections[0].segments[0]
+    assert any(w.startswith("riser: PAM1 is planned only") and "give the bore's tolerance" in w
+               for w in nominal.warnings)
+    ranged_plan = plan(demo(inner_diameter={"value": "3 in", "tolerance": "1 mm"}))
+    # a tolerance is given: the advice is about bores beyond it, not to give one
+    riser_warning = next(w for w in ranged_plan.warnings if w.startswith("riser: PAM1"))
+    assert "wider than the stated range" in riser_warning and "give the bore" not in riser_warning
+    ranged = ranged_plan.sections[0].segments[0]
     # the plan rises with the bore: the 77.2 mm bore's own plan
     larger = plan(demo(inner_diameter="77.2 mm")).sections[0].segments[0]
     assert ranged.pressure == pytest.approx(larger.pressure, rel=1e-9)

@@ -45,12 +45,16 @@ def _thin_contact(a: PlanArrays) -> list[str]:
     out = []
     for s in rows[:LISTED].tolist():
         i = int(np.argmin(np.where(thin[s], a.contact_margin[s], np.inf)))
+        ranged = a.route.diameter_high[s] > a.route.diameter_low[s]
+        advice = ("a bore wider than the stated range would not be gripped: widen the tolerance if the pipe "
+                  "may be wider." if ranged else
+                  "in a slightly wider pipe it would not grip; give the bore's tolerance so that the plan "
+                  "covers it.")
         out.append(f"{a.route.name[s]}: {a.segment_names[i]} is planned only "
                    f"{a.contact_margin[s, i] / 1e3:.3g} kPa above first touching the largest bore "
                    f"({a.route.diameter_high[s] * 1e3:.4g} mm) at "
                    f"{a.largest_bore_anchoring[s, i] / 1e3:.4g} kPa, under {CONTACT_MARGIN:.0%} of it"
-                   + (": in a slightly wider pipe it would not grip; give the bore's tolerance so that the "
-                      "plan covers it." if not out else "."))
+                   + (f": {advice}" if not out else "."))
     if rows.size > LISTED:
         out.append(f"... and {rows.size - LISTED} more section(s) with a contact margin under "
                    f"{CONTACT_MARGIN:.0%} (thin_contact_margin in the JSON).")
