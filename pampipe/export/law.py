@@ -21,6 +21,7 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.model import slip
+from pampipe.model.effects import LIBRARY
 from pampipe.planning.problem import mission_muscles
 
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
@@ -90,8 +91,8 @@ def mission_law(mission) -> Law:
             f"{mission.source}: robot segment {seg.name} (PAM '{seg.pam.name}'): the effect '{name}' cannot "
             f"be exported to C: {why}. `pampipe plan` handles it by bisection on the model, but the exported "
             "law is the closed form. Export with a PAM without this effect (e.g. the file `pampipe identify` "
-            "wrote), or with one whose effects are among braid_friction, contact_stiffening, "
-            "pressure_offset, axial_preload and wall_friction.")
+            "wrote), or with one whose effects are among "
+            f"{', '.join(name for name, e in LIBRARY.items() if not e.no_closed_form)}.")
     d, incline, friction, payload = (ca.SX.sym(name) for name in INPUTS)
     total = sum(seg.mass for seg in mission.segments) + payload
     outputs = []
