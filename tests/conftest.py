@@ -29,6 +29,22 @@ def axial_load_pam():
     return load_pam(PROBLEMS / "pams" / "paper-axial-load-pam.yaml")
 
 
+@pytest.fixture
+def cli(capsys):
+    """Run ``pampipe ARGS`` in this process (faster than a subprocess); returns code, stdout, stderr."""
+    from types import SimpleNamespace
+
+    from pampipe.cli import main
+
+    def run(*args) -> SimpleNamespace:
+        capsys.readouterr()
+        code = main([str(a) for a in args])
+        out = capsys.readouterr()
+        return SimpleNamespace(returncode=code, stdout=out.out, stderr=out.err)
+
+    return run
+
+
 def run_cli(*args: str, cwd: Path | None = None, timeout: float = 300) -> subprocess.CompletedProcess:
     """Run ``python -m pampipe ARGS`` in a subprocess, as a user would."""
     return subprocess.run([sys.executable, "-m", "pampipe", *map(str, args)], capture_output=True,

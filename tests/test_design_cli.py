@@ -6,12 +6,10 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 import yaml
 
-from pampipe.cli import main
 from pampipe.io.config import load_pam
 from tests.conftest import PROBLEMS
 
@@ -22,19 +20,6 @@ MATERIAL = PROBLEMS / "pams" / "paper-radial-pam.yaml"
 #: plan and design call the same closed form (Muscle.least_holding_pressure) on the same numbers; the
 #: JSON rounds to 12 digits.
 SAME = 1e-10
-
-
-@pytest.fixture
-def cli(capsys):
-    """Run ``pampipe ARGS`` in this process; returns code, stdout, stderr."""
-
-    def run(*args) -> SimpleNamespace:
-        capsys.readouterr()
-        code = main([str(a) for a in args])
-        out = capsys.readouterr()
-        return SimpleNamespace(returncode=code, stdout=out.out, stderr=out.err)
-
-    return run
 
 
 def _inventory(tmp_path: Path, **changes) -> Path:

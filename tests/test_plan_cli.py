@@ -4,12 +4,10 @@ exit 2 errors."""
 from __future__ import annotations
 
 import json
-from types import SimpleNamespace
 
 import pytest
 import yaml
 
-from pampipe.cli import main
 from pampipe.io.config import load_mission
 from pampipe.model import forces
 from tests.conftest import PROBLEMS, run_cli
@@ -17,19 +15,6 @@ from tests.conftest import PROBLEMS, run_cli
 MISSIONS = PROBLEMS / "missions"
 DEMO = MISSIONS / "vertical-climb-3in.yaml"
 SURVEY = MISSIONS / "infeasible-survey.yaml"
-
-
-@pytest.fixture
-def cli(capsys):
-    """Run ``pampipe ARGS`` in this process (faster than a subprocess); returns code, stdout, stderr."""
-
-    def run(*args) -> SimpleNamespace:
-        capsys.readouterr()
-        code = main([str(a) for a in args])
-        out = capsys.readouterr()
-        return SimpleNamespace(returncode=code, stdout=out.out, stderr=out.err)
-
-    return run
 
 
 SEGMENT_KEYS = {"name", "pressure_Pa", "anchoring_pressure_Pa", "required_hold_N", "holding_capacity_N",

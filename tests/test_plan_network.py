@@ -10,13 +10,11 @@ from __future__ import annotations
 import itertools
 import json
 import math
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from pampipe import api
-from pampipe.cli import main
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.model import forces
 from pampipe.planning.problem import mission_muscles
@@ -131,17 +129,6 @@ def test_whole_network_coverage_equals_the_sum_over_pipes(ky4_model):
     assert coverage["length_feasible_m"] == pytest.approx(sum(p.length for p in fits), rel=1e-12)
     assert coverage["reasons"] == {"wider_than_braid": len(wide)}
     assert (model.route.incline >= 0).all()  # direction unknown: |asin(dz/length)|
-
-
-@pytest.fixture
-def cli(capsys):
-    def run(*args) -> SimpleNamespace:
-        capsys.readouterr()
-        code = main([str(a) for a in args])
-        out = capsys.readouterr()
-        return SimpleNamespace(returncode=code, stdout=out.out, stderr=out.err)
-
-    return run
 
 
 def write(tmp_path, doc: dict):
