@@ -112,7 +112,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
                                blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
-                         data)
+                         data, predictions)
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
@@ -231,7 +231,8 @@ def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, ro
                        stated_blocked)
 
 
-def _warnings(status, u, names, minimum, options, structure, calibration, stats, data) -> list[str]:
+def _warnings(status, u, names, minimum, options, structure, calibration, stats, data,
+              predictions) -> list[str]:
     out = []
     if status != "Solve_Succeeded":
         out.append(f"IPOPT stopped with {status}: the solution is acceptable but not fully converged.")
@@ -256,9 +257,10 @@ def _warnings(status, u, names, minimum, options, structure, calibration, stats,
     if unused:
         out.append(f"fit.calibration_bounds for {', '.join(unused)} is not used: only calibrated entries "
                    "have bounds (add them to fit.calibrate or --calibrate).")
-    g = calibration.geometry
-    outside = [d for d in options.pipe_diameters if not g.initial_diameter < d < g.largest_diameter]
+    judged = {pipe.pipe_diameter for pipe in predictions.pipes}
+    outside = [d for d in options.pipe_diameters if d not in judged]
     if outside:
+        g = calibration.geometry
         shown = ", ".join(f"{d * 1e3:.4g} mm" for d in outside)
         out.append(f"pipe diameter(s) {shown} of fit.pipe_diameters cannot be judged: the muscle touches "
                    f"only bores between its rest diameter "
