@@ -3,15 +3,17 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+LOCK   := requirements.lock
+LATEST := .venv-latest
 
-.PHONY: demo test test-slow lint bench fuzz clean
+.PHONY: demo test test-slow test-latest lock lint bench fuzz clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[test]"
+$(STAMP): pyproject.toml $(LOCK) | $(BIN)/python
+	$(BIN)/python -m pip install --quiet --constraint $(LOCK) -e ".[test]"
 	$(BIN)/python -m compileall -q pampipe  # bytecode as a wheel install has it, even under PYTHONDONTWRITEBYTECODE
 	touch $(STAMP)
 
@@ -24,6 +26,18 @@ test: $(STAMP)  ## the default test run (slow tests excluded)
 test-slow: $(STAMP)  ## everything, slow tests included
 	$(BIN)/python -m pytest -q
 
+test-latest:  ## the suite against the newest release of every dependency, in its own venv (finds drift first)
+	$(PYTHON) -m venv $(LATEST)
+	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
+	$(LATEST)/bin/python -m pip install --quiet --upgrade --upgrade-strategy eager -e ".[test]"
+	$(LATEST)/bin/python -m pip list --format=freeze | grep -v -i '^pampipe' > $(LATEST)/tested-versions.txt
+	$(LATEST)/bin/python -m pytest -m "not slow" -q -p no:cacheprovider
+
+lock: | $(BIN)/python  ## refresh requirements.lock, the tested versions that every other target installs
+	$(BIN)/python -m pip install --quiet uv
+	$(BIN)/python -m uv pip compile --quiet pyproject.toml --extra test --extra dask \
+		--python-version 3.10 --universal -o $(LOCK)
+
 fuzz: $(STAMP)  ## long property-based fuzzing profile: 10^4 mutated problem files through the CLI
 	PAMPIPE_FUZZ_EXAMPLES=$${PAMPIPE_FUZZ_EXAMPLES:-10000} PAMPIPE_FUZZ_RANDOM=1 \
 		$(BIN)/python -m pytest tests/test_fuzz.py -q -p no:cacheprovider
@@ -35,4 +49,4 @@ bench: $(STAMP)  ## all benchmarks (prints timings and ratios)
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache .ruff_cache .hypothesis
+	rm -rf $(VENV) $(LATEST) build *.egg-info .pytest_cache .ruff_cache .hypothesis

@@ -29,6 +29,8 @@ MAX_BYTES = 64 * 2**20
 MAX_DEPTH = 100
 #: Nodes that aliases may add beyond the larger of this and the document's own node count.
 MAX_ALIAS_NODES = 1_000_000
+#: What a refused file is told it may hold (the parser's own message comes before it).
+_ALLOWED = f"pampipe reads one YAML 1.2 core document nested at most {MAX_DEPTH} levels deep"
 
 
 
@@ -96,9 +98,10 @@ def loads(text: str, *, source: str = "<text>"):
         raise InputError(f"{source}:{_where(exc.mark)}: {exc}") from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        raise InputError(f"{source}:{_where(mark)}: invalid YAML: {exc.problem or exc.context}.") from None
+        raise InputError(f"{source}:{_where(mark)}: invalid YAML (the YAML parser says: "
+                         f"{exc.problem or exc.context}); {_ALLOWED}.") from None
     except yaml.YAMLError as exc:
-        raise InputError(f"{source}: invalid YAML: {str(exc)[:200]}.") from None
+        raise InputError(f"{source}: invalid YAML (the YAML parser says: {str(exc)[:200]}); {_ALLOWED}.") from None
 
 
 def _where(mark) -> str:
