@@ -101,7 +101,8 @@ def loads(text: str, *, source: str = "<text>"):
         raise InputError(f"{source}:{_where(mark)}: invalid YAML (the YAML parser says: "
                          f"{exc.problem or exc.context}); {_ALLOWED}.") from None
     except yaml.YAMLError as exc:
-        raise InputError(f"{source}: invalid YAML (the YAML parser says: {str(exc)[:200]}); {_ALLOWED}.") from None
+        raise InputError(f"{source}: invalid YAML (the YAML parser says: {str(exc)[:200]}); "
+                         f"{_ALLOWED}.") from None
 
 
 def _where(mark) -> str:
