@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from pampipe import protocol
+from pampipe.errors import InputError
 from pampipe.model.pam import Pam
 
 
@@ -33,6 +34,7 @@ class TestSpec:
     axial_load: float
     set_pressures: tuple[float, ...] | None = None
     protocol: str | None = None
+    pipe_material: str | None = None  # slip tests: the wall material the friction belongs to
 
 
 @dataclass(frozen=True)
@@ -114,10 +116,107 @@ class ExperimentData:
     pam: Pam
     tests: tuple[TestData, ...]
     fit: dict
+    slip: tuple[SlipData, ...] = ()  # slip tests (kind: slip), kept apart from the moduli fit
 
     @property
     def points(self) -> int:
+        """Rows of the moduli fit (axial and radial tests; slip tests are not counted)."""
         return sum(t.points for t in self.tests)
+
+
+@dataclass(frozen=True)
+class SlipData:
+    """One slip test's rows in time order (SI) and its trials (docs/formats.md, slip tests).
+
+    A trial is a rise of the axial load from rest, ended where the load drops back
+    (:func:`split_trials`); ``trials`` holds (first row, end row) pairs, the end exclusive, and
+    ``row`` each row's 0-based data row in the file (its order before sorting by time).
+    """
+
+    spec: TestSpec
+    time: np.ndarray  # [s]
+    pressure: np.ndarray  # [Pa] gauge
+    axial_load: np.ndarray  # [N]
+    displacement: np.ndarray  # [m] of the muscle along the pipe
+    trials: tuple[tuple[int, int], ...]
+    row: np.ndarray = field(repr=False)
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def points(self) -> int:
+        return int(self.time.size)
+
+
+#: A trial ends where the load falls back below its start plus this fraction of its rise.
+RETURN_FRACTION = 0.1
+#: Fewest rows a trial needs for its elastic trend and onset.
+MIN_TRIAL_ROWS = 8
+
+
+def make_slip_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> SlipData:
+    """Validate a slip test's SI columns and split them into trials (InputError names file and column).
+
+    Columns ``time``, ``pressure``, ``axial_load``, ``displacement``. Refused: a negative gauge
+    pressure, an axial load that never rises above its noise, a trial with fewer than
+    :data:`MIN_TRIAL_ROWS` rows, time that is not increasing.
+    """
+    where = f"{spec.data}"
+    time = np.asarray(columns["time"], dtype=float)
+    order = np.argsort(time, kind="stable")
+    time, pressure, load, displacement = (np.asarray(columns[k], dtype=float)[order]
+                                          for k in ("time", "pressure", "axial_load", "displacement"))
+    if np.any(np.diff(time) <= 0):
+        i = int(order[1:][np.diff(time) <= 0][0])
+        raise InputError(f"{where}: column 'time', data row {i + 1}: the time repeats; a slip test records "
+                         "one row per instant, time strictly increasing.")
+    negative = np.flatnonzero(pressure < 0)
+    if negative.size:
+        i = int(order[negative[0]])
+        raise InputError(f"{where}: column 'pressure', data row {i + 1}: {pressure[negative[0]] / 1e3:.6g} kPa "
+                         "is negative; a slip test holds the muscle at a gauge pressure >= 0 (the anchoring "
+                         "pressure or above).")
+    trials = split_trials(load)
+    if not trials:
+        raise InputError(f"{where}: column 'axial_load': the load never rises (it spans "
+                         f"{np.ptp(load):.4g} N, within its noise); a slip test raises the axial load from "
+                         "rest until the muscle slips, then lets it drop back, once per trial.")
+    for first, end in trials:
+        if end - first < MIN_TRIAL_ROWS:
+            raise InputError(f"{where}: column 'axial_load', data rows {int(order[first]) + 1}-"
+                             f"{int(order[end - 1]) + 1}: a trial of only {end - first} rows; each trial needs "
+                             f"at least {MIN_TRIAL_ROWS} rows (sample the rise more often).")
+    return SlipData(spec, time, pressure, load, displacement, tuple(trials), order)
+
+
+def split_trials(load: np.ndarray) -> list[tuple[int, int]]:
+    """(first row, end row) of every trial: a rise of the load by more than its noise, ended where the
+    load falls back below start + :data:`RETURN_FRACTION` of the rise (or at the last row).
+
+    The noise is σ = 1.4826·median|Δ²F|/√6 (second differences: a steady ramp does not count); a rise
+    must exceed max(10σ, 10⁻³·span).
+    """
+    load = np.asarray(load, dtype=float)
+    if load.size < 3:
+        return []
+    noise = 1.4826 * float(np.median(np.abs(np.diff(load, 2)))) / np.sqrt(6.0)
+    least = max(10 * noise, 1e-3 * float(np.ptp(load)), 1e-9)
+    trials, first, low, peak = [], 0, load[0], load[0]
+    for i, value in enumerate(load):
+        if value > peak:
+            peak = value
+        if peak - low <= least:
+            if value < low:  # still at rest: the trial starts at the lowest point
+                first, low, peak = i, value, value
+            continue
+        if value <= low + RETURN_FRACTION * (peak - low):
+            trials.append((first, i + 1))
+            first, low, peak = i, value, value
+    if peak - low > least:
+        trials.append((first, load.size))
+    return trials
 
 
 def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:

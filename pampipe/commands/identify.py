@@ -9,6 +9,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say
 from pampipe.identification import identify
+from pampipe.identification.grip import GripResult
 from pampipe.identification.options import fit_options
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
@@ -17,7 +18,8 @@ from pampipe.io.pamfile import write_pam
 from pampipe.report import table
 
 NAME = "identify"
-HELP = "fit the bladder moduli to axial and radial test data (IPOPT, Drucker-stable, with uncertainty)"
+HELP = ("fit the bladder moduli to axial and radial test data (IPOPT, Drucker-stable, with uncertainty), and "
+        "the wall friction and load coupling to slip tests")
 
 
 #: Command-line flags that override the experiment file's ``fit:`` block, validated by the same schema.
@@ -27,9 +29,11 @@ FLAGS = {"mode": "--mode", "objective": "--objective", "degree": "--degree", "av
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("experiment", type=Path, metavar="EXPERIMENT.yaml",
-                        help="experiment file: the PAM, the tests and their CSV data, an optional fit: block")
+                        help="experiment file: the PAM, the tests (axial, radial, slip) and their CSV data, an "
+                             "optional fit: block")
     parser.add_argument("-o", "--output", type=Path, metavar="PAM_OUT.yaml",
-                        help="write the PAM file with the fitted moduli: and uncertainty: blocks")
+                        help="write the PAM file with the fitted moduli: and uncertainty: blocks, and with slip "
+                             "tests the measured contact: {friction, load_coupling, pipe_material} block")
     parser.add_argument("--mode", choices=("shared", "per_pipe", "contact_increment"),
                         help="one moduli set for all tests (default), separate radial moduli per pipe, "
                              "or axial moduli plus contact-stiffening increments (overrides fit.mode)")
@@ -76,15 +80,34 @@ def run(args: argparse.Namespace) -> int:
         write_pam(args.output, result.fitted_pam(experiment.pam),
                   comments=result.pam_comments(experiment.source))
         document["output"] = str(args.output)
-    emit(args, document, report(result, str(experiment.source)))
+    emit(args, document, full_report(result, str(experiment.source)))
     if args.output is not None:
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.identify import plot_identification
 
-        for path in plot_identification(data, result, args.plots):
-            say(args, f"wrote {path}")
+        if data.tests:
+            for path in plot_identification(data, result, args.plots):
+                say(args, f"wrote {path}")
+        if result.slip is not None:
+            from pampipe.plots.slip import plot_slip
+
+            for path in plot_slip(data.slip, result.slip, args.plots):
+                say(args, f"wrote {path}")
     return 0
+
+
+def full_report(result, source: str) -> str:
+    """The moduli report (when the moduli were fitted) and the slip report (when there are slip tests)."""
+    from pampipe.commands.slip_text import slip_report
+
+    if isinstance(result, GripResult):
+        return (f"{source}: slip tests only; the moduli are those of the stated PAM\n"
+                + slip_report(result.slip) + "".join(f"\nwarning: {w}" for w in result.warnings))
+    text = report(result, source)
+    if result.slip is None:
+        return text
+    return text + "\n" + slip_report(result.slip) + "".join(f"\nwarning: {w}" for w in result.slip.warnings)
 
 
 def report(result, source: str) -> str:

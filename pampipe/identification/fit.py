@@ -28,6 +28,7 @@ from pampipe.identification import geometry as geo
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests
+from pampipe.identification.grip import identify_grip
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment
@@ -35,6 +36,8 @@ from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
+from pampipe.model.pam import Pam
+from pampipe.slip import fit_slip
 
 #: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
 LAW_NAMES = problem.LAW_NAMES
@@ -42,6 +45,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6)."""
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
+    if not data.tests:  # slip tests only: μ and κ from the stated PAM's moduli
+        return identify_grip(data, options)
     _check(data, options)
     stated = data.pam.geometry
     started = time.perf_counter()
@@ -113,6 +118,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
                          data, predictions)
+    slip = None
+    if data.slip:
+        say(f"fitting friction and load coupling to {len(data.slip)} slip test(s)")
+        slip = fit_slip(data.slip, Muscle.from_pam(Pam(data.pam.name, geometry, moduli)))
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
@@ -122,7 +131,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
         calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
-        excluded_rows=stats.excluded)
+        excluded_rows=stats.excluded, slip=slip)
 
 
 def _start_geometry(data, stated, options: FitOptions, low, high):

@@ -13,6 +13,7 @@ from pampipe.identification.geometry import BlockedForce
 from pampipe.identification.options import FitOptions
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.slip.result import SlipResult
 
 MPA = 1e6
 
@@ -120,6 +121,7 @@ class IdentifyResult:
     predictions: Predictions
     slack_rows: tuple[int, ...] = ()  # per test
     excluded_rows: int = 0
+    slip: SlipResult | None = None  # friction and load coupling from the slip tests (None: none)
 
     @property
     def drucker_margin(self) -> float:
@@ -145,7 +147,8 @@ class IdentifyResult:
 
     def fitted_pam(self, base: Pam) -> Pam:
         """``base`` with the fitted moduli, the θ covariance and the (calibrated) geometry."""
-        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance())
+        grip = self.slip.grip() if self.slip is not None else None
+        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance(), grip=grip)
 
     def pam_comments(self, source) -> list[str]:
         """Header lines of the PAM file written from this fit: how it was fitted and how well."""
@@ -230,6 +233,8 @@ class IdentifyResult:
             "provenance": self.provenance,
             "experiment": self.provenance.get("experiment"),
         }
+        if self.slip is not None:
+            doc["slip"] = self.slip.as_document()
         if self.options.mode == "per_pipe":
             doc["per_pipe"] = [{"pipe_diameter_m": d, "moduli": moduli_document(m)}
                                for d, m in sorted(self.pipe_moduli.items())]

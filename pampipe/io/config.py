@@ -20,7 +20,7 @@ from pampipe.io.yamlfile import load_mapping
 from pampipe.mission import Mission, Segment
 from pampipe.model.domain import check_geometry
 from pampipe.model.effects import LIBRARY
-from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.model.pam import Geometry, Grip, Moduli, Pam
 from pampipe.schema import Strict, quantity
 from pampipe.schema import validate as _validate
 from pampipe.units import to_si
@@ -110,12 +110,27 @@ class UncertaintySchema(Strict):
     covariance: list[list[Coefficient]]
 
 
+class MeasuredValue(Strict):
+    value: quantity("dimensionless", ge=0, le=10)
+    sd: quantity("dimensionless", ge=0, le=10) = 0.0
+
+
+class GripSchema(Strict):
+    """The top-level ``contact:`` block: wall friction and load coupling from slip tests (formats.md §2)."""
+
+    friction: MeasuredValue
+    load_coupling: MeasuredValue | None = None
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
+    tested_pipe_diameters: list[Length] | None = Field(None, max_length=100)
+
+
 class PamSchema(Strict):
     name: str = Field(min_length=1)
     geometry: GeometrySchema
     moduli: ModuliSchema | None = None
     uncertainty: UncertaintySchema | None = None
     effects: dict[str, dict[str, Any]] | None = None  # docs/physics.md §9; checked by build_effects
+    contact: GripSchema | None = None  # measured wall friction (not moduli.contact, the stiffening increments)
 
 
 def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, float]] | None:
@@ -172,7 +187,16 @@ def build_pam(schema: PamSchema) -> Pam:
             if cov.shape != (n, n):
                 raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
             covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
-    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects))
+    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects), _grip(schema.contact))
+
+
+def _grip(schema: GripSchema | None) -> Grip | None:
+    if schema is None:
+        return None
+    kappa = schema.load_coupling
+    return Grip(schema.friction.value, schema.friction.sd, None if kappa is None else kappa.value,
+                0.0 if kappa is None else kappa.sd, schema.pipe_material,
+                tuple(schema.tested_pipe_diameters or ()))
 
 
 #: Largest moduli coefficient accepted [Pa]: 1 TPa, far above any elastomer (latex ≈ 1 MPa) or fibre.
@@ -194,17 +218,26 @@ def _check_moduli_magnitude(m: ModuliSchema, scale: float) -> None:
 # ------------------------------------------------------------------------------------- experiment
 class TestSchema(Strict):
     name: str = Field(min_length=1)
-    kind: Literal["axial", "radial"]
+    kind: Literal["axial", "radial", "slip"]
     data: str = Field(min_length=1)
     pipe_diameter: Length | None = None
     axial_load: Force = 0.0
     set_pressures: list[Pressure] | None = Field(None, min_length=1, max_length=1000)
     protocol: Literal["isobaric", "isometric", "mixed"] | None = None
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
 
     @model_validator(mode="after")
     def _radial_needs_pipe(self):
-        if self.kind == "radial" and self.pipe_diameter is None:
-            raise ValueError("a radial test needs pipe_diameter (e.g. '3 in')")
+        if self.kind in ("radial", "slip") and self.pipe_diameter is None:
+            raise ValueError(f"a {self.kind} test needs pipe_diameter (e.g. '3 in')")
+        if self.kind == "slip":
+            given = [k for k in ("axial_load", "set_pressures", "protocol") if k in self.model_fields_set]
+            if given:
+                raise ValueError(f"a slip test takes no {', '.join(given)}: its CSV records the pressure and the "
+                                 "rising axial load (keys: name, kind, data, pipe_diameter, pipe_material)")
+        elif self.pipe_material is not None:
+            raise ValueError("pipe_material belongs to slip tests (kind: slip), where it names the wall the "
+                             "measured friction holds for")
         if self.kind == "axial" and self.pipe_diameter is not None:
             raise ValueError("an axial test has no pipe_diameter; use kind: radial for a pipe test")
         if self.kind == "radial" and self.protocol is not None:
@@ -302,7 +335,8 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
             raise InputError(f"{path}: tests[{i}].name: duplicate test name {t.name!r}.")
         names.add(t.name)
         tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load,
-                              None if t.set_pressures is None else tuple(t.set_pressures), t.protocol))
+                              None if t.set_pressures is None else tuple(t.set_pressures), t.protocol,
+                              t.pipe_material))
     pam_file = _relative(path, schema.pam) if isinstance(schema.pam, str) else None
     return Experiment(path, pam, tuple(tests), dict(schema.fit or {}), pam_file)
 

@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.experiment import Experiment, ExperimentData, make_test_data
+from pampipe.experiment import Experiment, ExperimentData, make_slip_data, make_test_data
 from pampipe.io.files import atomic_write
 from pampipe.io.paths import open_input
 from pampipe.units import NUMBER, column_factor, show
@@ -53,11 +53,12 @@ BYTES_PER_ROW = 120
 PROGRESS_ROWS = 262_144
 #: Known column names and their dimensions.
 DIMENSIONS = {"pressure": "pressure", "length": "length", "force": "force", "time": "time",
-              "set_pressure": "pressure"}
+              "set_pressure": "pressure", "axial_load": "force", "displacement": "length"}
 #: Direction columns (docs/formats.md §3): the sign of the swept variable's rate, unit ``-`` or ``1``.
 SIGNS = ("direction", "state")
 #: Columns each test kind needs.
-REQUIRED = {"axial": ("pressure", "length", "force"), "radial": ("pressure", "force")}
+REQUIRED = {"axial": ("pressure", "length", "force"), "radial": ("pressure", "force"),
+            "slip": ("time", "pressure", "axial_load", "displacement")}
 
 _HEADER = re.compile(r"^\s*([^\[\]]+?)\s*\[([^\[\]]*)\]\s*$")
 
@@ -66,16 +67,19 @@ Progress = Callable[[str], None]
 
 def load_experiment_data(experiment: Experiment, *, progress: Progress | None = None) -> ExperimentData:
     """Read every test's CSV (see :func:`read_csv`) and add levels, legs and cycles."""
-    tests = []
+    tests, slip = [], []
     sizes = [spec.data.stat().st_size if spec.data.is_file() else 0 for spec in experiment.tests]
     fast = sum(sizes) > FAST_BYTES  # pandas pays its import once for the whole experiment
     for spec in experiment.tests:
         columns = read_csv(spec.data, required=REQUIRED[spec.kind], progress=progress, fast=fast)
-        tests.append(make_test_data(spec, columns))
-    if not any(np.any(t.force) for t in tests):
+        if spec.kind == "slip":
+            slip.append(make_slip_data(spec, columns))
+        else:
+            tests.append(make_test_data(spec, columns))
+    if tests and not any(np.any(t.force) for t in tests):
         raise InputError(f"{experiment.source}: every force in every test is 0 N: nothing to fit; "
                          "check the force columns and their units.")
-    return ExperimentData(experiment.source, experiment.pam, tuple(tests), dict(experiment.fit))
+    return ExperimentData(experiment.source, experiment.pam, tuple(tests), dict(experiment.fit), tuple(slip))
 
 
 # ------------------------------------------------------------------------------------------ CSV
@@ -266,7 +270,8 @@ def _scan(path, lines, first_line, names, ncols) -> None:
 
 
 def _example_header(required) -> list[str]:
-    units = {"pressure": "kPa", "length": "mm", "force": "N", "time": "s"}
+    units = {"pressure": "kPa", "length": "mm", "force": "N", "time": "s", "axial_load": "N",
+             "displacement": "mm"}
     return [f"{name} [{units[name]}]" for name in required]
 
 
@@ -274,8 +279,10 @@ def _example_header(required) -> list[str]:
 def write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
     """Write SI columns as CSV in lab units (kPa, mm, N, s), atomically."""
     units = {"time": ("s", 1.0, "%.3f"), "pressure": ("kPa", 1e-3, "%.4f"),
-             "length": ("mm", 1e3, "%.5f"), "force": ("N", 1.0, "%.4f")}
-    order = [name for name in ("time", "pressure", "length", "force") if name in columns]
+             "length": ("mm", 1e3, "%.5f"), "force": ("N", 1.0, "%.4f"), "axial_load": ("N", 1.0, "%.4f"),
+             "displacement": ("mm", 1e3, "%.5f")}
+    order = [name for name in ("time", "pressure", "length", "force", "axial_load", "displacement")
+             if name in columns]
     header = ",".join(f"{name} [{units[name][0]}]" for name in order)
     table = np.column_stack([columns[name] * units[name][1] for name in order])
     fmt = [units[name][2] for name in order]

@@ -60,7 +60,23 @@ def pam_document(pam: Pam, *, with_moduli: bool = True) -> dict:
                                                            for row in np.asarray(pam.covariance) / MPA**2]}
     if pam.effects:
         doc["effects"] = {name: _effect_values(name, values) for name, values in pam.effects.items()}
+    doc.update(_grip_document(pam))
     return doc
+
+
+def _grip_document(pam: Pam) -> dict:
+    """``{contact: {friction, load_coupling, pipe_material, tested_pipe_diameters}}`` (empty without grip)."""
+    g = pam.grip
+    if g is None:
+        return {}
+    block: dict = {"friction": {"value": float(g.friction), "sd": float(g.friction_sd)},
+                   "load_coupling": None if g.load_coupling is None else
+                   {"value": float(g.load_coupling), "sd": float(g.load_coupling_sd)}}
+    if g.pipe_material is not None:
+        block["pipe_material"] = g.pipe_material
+    if g.tested_diameters:
+        block["tested_pipe_diameters"] = [_quantity(d * 1e3, "mm") for d in g.tested_diameters]
+    return {"contact": block}
 
 
 def _effect_values(name: str, values: dict) -> dict:

@@ -357,10 +357,20 @@ class Muscle:
                 ok = self.holding_capacity(p, d, mid, kappa=kappa, friction=mu) >= safety_factor * mid
                 low, high = np.where(ok, mid, low), np.where(ok, high, mid)
             return np.where(unloaded > 0, low, -1.0)
-        c = self.affine_coefficients(d)
-        stiffening = 1 + (c.contact_at_zero + c.contact_slope * p) / (self.reference_pressure * c.slope)
-        grip = mu * math.pi * c.amplification * stiffening
-        return grip * (c.at_zero + c.slope * p) / (safety_factor + kappa * grip)
+        per_friction, axial = self.grip_terms(p, d)
+        grip = mu * per_friction
+        return grip * axial / (safety_factor + kappa * grip)
+
+    def grip_terms(self, pressure, diameter):
+        """(πA·k, F_ax(P, L_p)) [-, N] of the fast path: W_max = μ·πAk·F_ax/(SF + κμ·πAk).
+
+        k = 1 + (C₀ + C₁P)/(P_ref F₁) is the contact stiffening factor (:meth:`largest_load`); both terms
+        are independent of μ, κ and SF, so a fit over those computes them once. Baseline and contact
+        increments only (ValueError with effects).
+        """
+        c = self.affine_coefficients(diameter)
+        stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (self.reference_pressure * c.slope)
+        return math.pi * c.amplification * stiffening, c.at_zero + c.slope * pressure
 
     def affine_coefficients(self, diameter) -> Anchored:
         """The fast path's per-pipe numbers at L_p = L(D_p) (baseline and contact increments only)."""

@@ -103,6 +103,23 @@ class Moduli:
 
 
 @dataclass(frozen=True)
+class Grip:
+    """Wall friction μ and load coupling κ measured in slip tests (docs/physics.md §10), the PAM's ``contact:``.
+
+    ``load_coupling`` is None when the tests did not determine κ (one bore): ``friction`` is then the
+    effective friction μ/(1 + κμπA) at ``tested_diameters[0]``, exact there with κ = 0 and conservative
+    everywhere with κ = 1 (docs/physics.md §10.3). ``pipe_material``: the wall it was measured on.
+    """
+
+    friction: float
+    friction_sd: float = 0.0
+    load_coupling: float | None = None
+    load_coupling_sd: float = 0.0
+    pipe_material: str | None = None
+    tested_diameters: tuple[float, ...] = ()  # [m]
+
+
+@dataclass(frozen=True)
 class Pam:
     """A named muscle: geometry, optional moduli, optional fit covariance and optional effects.
 
@@ -116,3 +133,4 @@ class Pam:
     moduli: Moduli | None = None
     covariance: np.ndarray | None = field(default=None, compare=False)
     effects: dict[str, dict[str, float]] | None = field(default=None, hash=False)
+    grip: Grip | None = None  # measured wall friction and load coupling (the top-level ``contact:``)

@@ -1,0 +1,134 @@
+"""Slip tests → :class:`SlipResult`: detect every trial, fit μ and κ, check the law and the residuals."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pampipe.experiment import SlipData
+from pampipe.slip.detect import Trial, detect
+from pampipe.slip.fit import FRICTION_BOUNDS, KAPPA_BOUNDS, Likelihood, maximise, profile_interval
+from pampipe.slip.law import check_law
+from pampipe.slip.result import Effective, SlipResult
+from pampipe.slip.trend import trends
+
+#: Detection confidence below which a trial is named in a warning.
+LOW_CONFIDENCE = 0.9
+#: κ range over which μ is bounded when κ is not determined (no load path .. through the anchor).
+KAPPA_PHYSICAL = (0.0, 1.0)
+
+
+def detect_trials(tests: tuple[SlipData, ...]) -> list[Trial]:
+    """Every trial of every slip test, with its slip onset (:func:`pampipe.slip.detect.detect`)."""
+    out = []
+    for test in tests:
+        for i, (first, end) in enumerate(test.trials):
+            rows = slice(first, end)
+            out.append(detect(test.name, i, test.spec.pipe_diameter, test.time[rows], test.pressure[rows],
+                              test.axial_load[rows], test.displacement[rows], first_row=first))
+    return out
+
+
+def fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
+    """μ and κ from the slip tests by ``muscle``'s slip model (a :class:`pampipe.model.muscle.Muscle`)."""
+    trials = detect_trials(tests)
+    pressure = np.array([t.pressure for t in trials])
+    diameter = np.array([t.pipe_diameter for t in trials])
+    load = np.array([t.slip_load for t in trials])
+    censored = np.array([t.censored for t in trials])
+    warnings = _trial_warnings(tests, trials, muscle, pressure, diameter)
+
+    def model_on(index):
+        return slip_model(muscle, pressure[index], diameter[index])
+
+    everything = np.arange(len(trials))
+    bores = sorted(set(diameter.tolist()))
+    candidates = {noise: Likelihood(load, censored, model_on(everything), noise)
+                  for noise in ("relative", "absolute")}
+    two = len(bores) > 1
+    fits = {noise: maximise(like, kappa=None if two else 0.0) for noise, like in candidates.items()}
+    noise = max(fits, key=lambda k: fits[k].loglik)
+    like, best = candidates[noise], fits[noise]
+
+    effective = []
+    for bore in bores:
+        index = np.flatnonzero(diameter == bore)
+        local = Likelihood(load[index], censored[index], model_on(index), noise)
+        at = maximise(local, kappa=0.0)
+        estimate = profile_interval(local, at, "friction", FRICTION_BOUNDS, kappa_fixed=0.0)
+        amplification = float(muscle.amplification_factor(bore))
+        effective.append(Effective(bore, amplification, estimate, int(index.size)))
+
+    friction = load_coupling = friction_range = None
+    if two:
+        mu = profile_interval(like, best, "friction", FRICTION_BOUNDS)
+        kappa = profile_interval(like, best, "load_coupling", KAPPA_BOUNDS)
+        if mu.closed and kappa.closed:
+            friction, load_coupling = mu, kappa
+    if friction is None:
+        bounded = maximise(like, kappa_bounds=KAPPA_PHYSICAL)
+        span = profile_interval(like, bounded, "friction", FRICTION_BOUNDS, kappa_bounds=KAPPA_PHYSICAL)
+        friction_range = (span.low if span.low is not None else FRICTION_BOUNDS[0], span.high)
+    coulomb = best if two else maximise(like, kappa=0.0)
+    law = check_law(muscle, pressure, diameter, load, censored, coulomb, noise)
+    predicted = np.maximum(like.model(best.mu, best.kappa), 1e-6)
+    residual = np.log(load / predicted) if noise == "relative" else load - predicted
+    found = trends(residual[~censored], pressure[~censored], np.array([t.load_rate for t in trials])[~censored])
+    warnings += _law_warnings(law, found)
+    materials = sorted({t.spec.pipe_material for t in tests if t.spec.pipe_material})
+    if len(materials) > 1:
+        warnings.append(f"the slip tests name several pipe materials ({', '.join(materials)}); one friction is "
+                        "fitted to all of them: split them into separate experiments to compare")
+    return SlipResult(tuple(trials), tuple(predicted.tolist()), tuple(residual.tolist()), noise,
+                      math.exp(best.log_sigma), friction, load_coupling, friction_range, tuple(effective), law,
+                      tuple(found), materials[0] if len(materials) == 1 else None, tuple(warnings))
+
+
+def slip_model(muscle, pressure, diameter):
+    """model(μ, κ) → slip loads [N]: :meth:`~pampipe.model.muscle.Muscle.largest_load` at safety factor 1,
+    with the μ- and κ-free terms computed once when the muscle has the affine fast path."""
+    if muscle.has_effects:
+        def model(mu, kappa):
+            return np.asarray(muscle.largest_load(pressure, diameter, kappa=kappa, friction=mu, safety_factor=1.0),
+                              dtype=float)
+        return model
+    per_friction, axial = (np.asarray(v, dtype=float) for v in muscle.grip_terms(pressure, diameter))
+
+    def model(mu, kappa):
+        grip = mu * per_friction
+        return grip * axial / (1.0 + kappa * grip)
+
+    return model
+
+
+def _trial_warnings(tests, trials, muscle, pressure, diameter) -> list[str]:
+    out = []
+    weak = [f"{t.test} trial {t.index + 1} ({t.confidence:.2f})" for t in trials if t.confidence < LOW_CONFIDENCE]
+    if weak:
+        out.append("slip onsets detected with low confidence: " + ", ".join(weak)
+                   + "; look at the slip plot (--plots) before trusting them")
+    anchoring = np.asarray(muscle.anchoring_pressure(diameter), dtype=float)
+    below = [f"{t.test} trial {t.index + 1}" for t, p, a in zip(trials, pressure, anchoring, strict=True)
+             if p <= a]
+    if below:
+        out.append("trials at or below the model's anchoring pressure (the model says the muscle does not "
+                   "touch the wall there): " + ", ".join(below) + "; check the moduli or the pressure column")
+    if all(t.censored for t in trials):
+        out.append("no trial slipped: every slip load is a lower bound, so friction has no upper limit from "
+                   "these data; raise the load further")
+    return out
+
+
+def _law_warnings(law, found) -> list[str]:
+    out = []
+    if law is not None and law.supported == "pressure_dependent":
+        out.append(f"the data support a contact-pressure-dependent friction (n = {law.exponent:.3g}, "
+                   f"delta BIC {law.delta_bic:.3g}): the reported Coulomb friction is an average over the tested "
+                   "contact pressures, and plans far from them are less certain")
+    for t in found:
+        if t.significant:
+            out.append(f"the slip residuals trend with {t.against.rsplit('_', 1)[0].replace('_', ' ')} "
+                       f"(p = {t.p_value:.2g}): something beyond Coulomb friction acts; see "
+                       "`pampipe diagnose`")
+    return out
