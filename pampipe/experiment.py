@@ -175,9 +175,9 @@ def make_slip_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> SlipData:
     negative = np.flatnonzero(pressure < 0)
     if negative.size:
         i = int(order[negative[0]])
-        raise InputError(f"{where}: column 'pressure', data row {i + 1}: {pressure[negative[0]] / 1e3:.6g} kPa "
-                         "is negative; a slip test holds the muscle at a gauge pressure >= 0 (the anchoring "
-                         "pressure or above).")
+        raise InputError(f"{where}: column 'pressure', data row {i + 1}: "
+                         f"{pressure[negative[0]] / 1e3:.6g} kPa is negative; a slip test holds the muscle "
+                         "at a gauge pressure >= 0 (the anchoring pressure or above).")
     trials = split_trials(load)
     if not trials:
         raise InputError(f"{where}: column 'axial_load': the load never rises (it spans "
@@ -186,8 +186,8 @@ def make_slip_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> SlipData:
     for first, end in trials:
         if end - first < MIN_TRIAL_ROWS:
             raise InputError(f"{where}: column 'axial_load', data rows {int(order[first]) + 1}-"
-                             f"{int(order[end - 1]) + 1}: a trial of only {end - first} rows; each trial needs "
-                             f"at least {MIN_TRIAL_ROWS} rows (sample the rise more often).")
+                             f"{int(order[end - 1]) + 1}: a trial of only {end - first} rows; each trial "
+                             f"needs at least {MIN_TRIAL_ROWS} rows (sample the rise more often).")
     return SlipData(spec, time, pressure, load, displacement, tuple(trials), order)
 
 

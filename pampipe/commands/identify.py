@@ -29,11 +29,12 @@ FLAGS = {"mode": "--mode", "objective": "--objective", "degree": "--degree", "av
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("experiment", type=Path, metavar="EXPERIMENT.yaml",
-                        help="experiment file: the PAM, the tests (axial, radial, slip) and their CSV data, an "
-                             "optional fit: block")
+                        help="experiment file: the PAM, the tests (axial, radial, slip) and their CSV "
+                             "data, an optional fit: block")
     parser.add_argument("-o", "--output", type=Path, metavar="PAM_OUT.yaml",
-                        help="write the PAM file with the fitted moduli: and uncertainty: blocks, and with slip "
-                             "tests the measured contact: {friction, load_coupling, pipe_material} block")
+                        help="write the PAM file with the fitted moduli: and uncertainty: blocks, and "
+                             "with slip tests the measured contact: {friction, load_coupling, "
+                             "pipe_material} block")
     parser.add_argument("--mode", choices=("shared", "per_pipe", "contact_increment"),
                         help="one moduli set for all tests (default), separate radial moduli per pipe, "
                              "or axial moduli plus contact-stiffening increments (overrides fit.mode)")

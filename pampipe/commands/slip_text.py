@@ -11,26 +11,29 @@ def slip_report(slip) -> str:
              (">" if t.censored else "") + f"{t.slip_load:.5g}", f"{predicted:.5g}", f"{t.confidence:.3f}")
             for t, predicted in zip(slip.trials, slip.predicted, strict=True)]
     parts = ["\nSlip trials (> : no slip, a lower bound)",
-             table(["test", "trial", "bore [mm]", "P [kPa]", "slip load [N]", "model [N]", "confidence"], rows)]
+             table(["test", "trial", "bore [mm]", "P [kPa]", "slip load [N]", "model [N]", "confidence"],
+                   rows)]
     if slip.friction is not None:
-        parts.append(f"friction mu = {_value(slip.friction)}; load coupling kappa = {_value(slip.load_coupling)} "
-                     "(95 % profile-likelihood intervals)")
+        parts.append(f"friction mu = {_value(slip.friction)}; load coupling kappa = "
+                     f"{_value(slip.load_coupling)} (95 % profile-likelihood intervals)")
     else:
         low, high = slip.friction_range
         parts.append("friction mu and load coupling kappa are NOT separately determined; the data fix the "
                      "effective friction mu/(1 + kappa*mu*pi*A) per bore:")
         rng = f"[{low:.4g}, {high:.4g}]" if high is not None else f"[{low:.4g}, unbounded)"
-        parts.append(f"mu lies in {rng} for kappa anywhere in [0, 1]; to separate them: {slip.separating_test}")
+        parts.append(f"mu lies in {rng} for kappa anywhere in [0, 1]; to separate them: "
+                     f"{slip.separating_test}")
     parts.append(table(["bore [mm]", "A", "effective friction", "95 % interval", "trials"],
-                       [(f"{e.pipe_diameter * 1e3:.4g}", e.amplification, e.estimate.value, _interval(e.estimate),
-                         e.trials) for e in slip.effective]))
+                       [(f"{e.pipe_diameter * 1e3:.4g}", e.amplification, e.estimate.value,
+                         _interval(e.estimate), e.trials) for e in slip.effective]))
     unit = "(log ratio)" if slip.noise == "relative" else "N"
     parts.append(f"slip-load scatter: {slip.noise}, sigma {slip.sigma:.3g} {unit}")
     law = slip.law
     if law is not None:
         parts.append(f"friction law: Coulomb vs mu0*(p/{law.reference_pressure / 1e3:.4g} kPa)^n: n = "
-                     f"{law.exponent:.3g}, likelihood ratio {law.likelihood_ratio:.3g} (p = {law.p_value:.2g}), "
-                     f"delta BIC {law.delta_bic:.3g}: the data support {law.supported.replace('_', '-')} friction")
+                     f"{law.exponent:.3g}, likelihood ratio {law.likelihood_ratio:.3g} "
+                     f"(p = {law.p_value:.2g}), delta BIC {law.delta_bic:.3g}: the data support "
+                     f"{law.supported.replace('_', '-')} friction")
     parts.append(trend_lines(slip.trends))
     return "\n".join(parts)
 
@@ -39,8 +42,8 @@ def trend_lines(trends) -> str:
     """One line per residual trend test."""
     if not trends:
         return "slip residual trends: too few slipped trials (or no spread) to test"
-    return "\n".join(f"slip residual vs {t.against}: slope {t.slope:.3g}, p = {t.p_value:.2g} over {t.trials} "
-                     f"trials: {'TREND' if t.significant else 'no trend'}" for t in trends)
+    return "\n".join(f"slip residual vs {t.against}: slope {t.slope:.3g}, p = {t.p_value:.2g} over "
+                     f"{t.trials} trials: {'TREND' if t.significant else 'no trend'}" for t in trends)
 
 
 def _value(e) -> str:

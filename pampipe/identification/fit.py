@@ -25,10 +25,10 @@ from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
 from pampipe.identification import drucker, envelope, problem
 from pampipe.identification import geometry as geo
+from pampipe.identification.grip import identify_grip
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests
-from pampipe.identification.grip import identify_grip
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment

@@ -50,9 +50,11 @@ class GripResult:
         """The `identify --json` document: the stated moduli, no moduli fit, the ``slip`` block."""
         from pampipe.identification.result import moduli_document
 
-        return {"moduli": moduli_document(self.pam.moduli), "moduli_source": "stated PAM (no axial or radial test)",
+        return {"moduli": moduli_document(self.pam.moduli),
+                "moduli_source": "stated PAM (no axial or radial test)",
                 "fit": {"tests": [], "sum_rmse_N": None, "points": 0},
-                "solver": {"status": self.status, "success": True, "iterations": 0, "wall_time_s": self.wall_time},
+                "solver": {"status": self.status, "success": True, "iterations": 0,
+                           "wall_time_s": self.wall_time},
                 "slip": self.slip.as_document(), "warnings": list(self.warnings), "experiment": self.source}
 
 

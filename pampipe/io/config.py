@@ -130,7 +130,7 @@ class PamSchema(Strict):
     moduli: ModuliSchema | None = None
     uncertainty: UncertaintySchema | None = None
     effects: dict[str, dict[str, Any]] | None = None  # docs/physics.md §9; checked by build_effects
-    contact: GripSchema | None = None  # measured wall friction (not moduli.contact, the stiffening increments)
+    contact: GripSchema | None = None  # measured wall friction (moduli.contact: stiffening increments)
 
 
 def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, float]] | None:
@@ -187,7 +187,8 @@ def build_pam(schema: PamSchema) -> Pam:
             if cov.shape != (n, n):
                 raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
             covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
-    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects), _grip(schema.contact))
+    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects),
+               _grip(schema.contact))
 
 
 def _grip(schema: GripSchema | None) -> Grip | None:
@@ -233,8 +234,9 @@ class TestSchema(Strict):
         if self.kind == "slip":
             given = [k for k in ("axial_load", "set_pressures", "protocol") if k in self.model_fields_set]
             if given:
-                raise ValueError(f"a slip test takes no {', '.join(given)}: its CSV records the pressure and the "
-                                 "rising axial load (keys: name, kind, data, pipe_diameter, pipe_material)")
+                raise ValueError(f"a slip test takes no {', '.join(given)}: its CSV records the pressure "
+                                 "and the rising axial load (keys: name, kind, data, pipe_diameter, "
+                                 "pipe_material)")
         elif self.pipe_material is not None:
             raise ValueError("pipe_material belongs to slip tests (kind: slip), where it names the wall the "
                              "measured friction holds for")

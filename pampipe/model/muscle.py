@@ -369,7 +369,8 @@ class Muscle:
         increments only (ValueError with effects).
         """
         c = self.affine_coefficients(diameter)
-        stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (self.reference_pressure * c.slope)
+        contact = c.contact_at_zero + c.contact_slope * pressure
+        stiffening = 1 + contact / (self.reference_pressure * c.slope)
         return math.pi * c.amplification * stiffening, c.at_zero + c.slope * pressure
 
     def affine_coefficients(self, diameter) -> Anchored:

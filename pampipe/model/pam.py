@@ -104,7 +104,7 @@ class Moduli:
 
 @dataclass(frozen=True)
 class Grip:
-    """Wall friction μ and load coupling κ measured in slip tests (docs/physics.md §10), the PAM's ``contact:``.
+    """Wall friction μ and load coupling κ from slip tests (docs/physics.md §10): the PAM's ``contact:``.
 
     ``load_coupling`` is None when the tests did not determine κ (one bore): ``friction`` is then the
     effective friction μ/(1 + κμπA) at ``tested_diameters[0]``, exact there with κ = 0 and conservative

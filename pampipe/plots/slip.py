@@ -30,7 +30,8 @@ def plot_slip(tests, result, folder: Path) -> list[Path]:
         handles, labels = top.get_legend_handles_labels()
         unique = dict(zip(labels, handles, strict=True))
         top.legend(unique.values(), unique.keys(), fontsize=8)
-        top.set(ylabel="axial load [N]", title=f"{test.name}: detected slip onsets (numbers: detection confidence)")
+        top.set(ylabel="axial load [N]",
+                title=f"{test.name}: detected slip onsets (numbers: detection confidence)")
         bottom.set(xlabel="time [s]", ylabel="displacement [mm]")
         for ax in (top, bottom):
             ax.grid(alpha=0.3)
@@ -38,7 +39,8 @@ def plot_slip(tests, result, folder: Path) -> list[Path]:
 
     fig, ax = new_figure(figsize=(7, 4.5))
     for bore in sorted({t.pipe_diameter for t in result.trials}):
-        chosen = [(t, p) for t, p in zip(result.trials, result.predicted, strict=True) if t.pipe_diameter == bore]
+        chosen = [(t, p) for t, p in zip(result.trials, result.predicted, strict=True)
+                  if t.pipe_diameter == bore]
         line, = ax.plot([t.pressure / 1e3 for t, _ in chosen], [p for _, p in chosen], "_", ms=14,
                         label=f"model, bore {bore * 1e3:.4g} mm")
         ax.plot([t.pressure / 1e3 for t, _ in chosen if not t.censored],
@@ -46,8 +48,8 @@ def plot_slip(tests, result, folder: Path) -> list[Path]:
                 label=f"slip load, bore {bore * 1e3:.4g} mm")
         held = [t for t, _ in chosen if t.censored]
         if held:
-            ax.plot([t.pressure / 1e3 for t in held], [t.slip_load for t in held], "^", color=line.get_color(),
-                    ms=6, mfc="none", label="held (lower bound)")
+            ax.plot([t.pressure / 1e3 for t in held], [t.slip_load for t in held], "^",
+                    color=line.get_color(), ms=6, mfc="none", label="held (lower bound)")
     ax.set(xlabel="gauge pressure P [kPa]", ylabel="slip load [N]", title="slip loads and the fitted model")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)

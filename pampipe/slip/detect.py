@@ -56,12 +56,14 @@ class Trial:
 def detect(test: str, index: int, pipe_diameter: float, time, pressure, load, displacement,
            first_row: int = 0) -> Trial:
     """The :class:`Trial` of one trial's rows (time order). Arrays in SI; ``first_row`` offsets rows."""
-    time, pressure, load, displacement = (np.asarray(v, dtype=float) for v in (time, pressure, load, displacement))
+    time, pressure, load, displacement = (np.asarray(v, dtype=float)
+                                          for v in (time, pressure, load, displacement))
     top = int(np.argmax(load))
     low = float(np.min(load[:top + 1]))
     begin = int(np.flatnonzero(load[:top + 1] <= low + 0.02 * (load[top] - low))[-1])
     if begin:  # the rest before the rise may belong to the previous trial (re-seated, re-zeroed): drop it
-        time, pressure, load, displacement = time[begin:], pressure[begin:], load[begin:], displacement[begin:]
+        time, pressure = time[begin:], pressure[begin:]
+        load, displacement = load[begin:], displacement[begin:]
         first_row, top = first_row + begin, top - begin
     start = load[0]
     rise = load[top] - start

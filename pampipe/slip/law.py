@@ -78,8 +78,8 @@ def check_law(muscle, pressure, diameter, load, censored, coulomb: Fit, noise: s
     like = Likelihood(np.asarray(load, float), np.asarray(censored, bool),
                       power_law_model(muscle, pressure, diameter, coulomb.kappa, reference), noise)
     # the exponent rides in maximise's second slot (its "κ"), searched over EXPONENT_BOUNDS
-    alternative = maximise(like, start=(coulomb.mu, 0.0), kappa_bounds=EXPONENT_BOUNDS, sigma=coulomb.log_sigma,
-                           multistart=False)
+    alternative = maximise(like, start=(coulomb.mu, 0.0), kappa_bounds=EXPONENT_BOUNDS,
+                           sigma=coulomb.log_sigma, multistart=False)
     ratio = max(2 * (alternative.loglik - coulomb.loglik), 0.0)
     p_value = float(chdtrc(1, ratio))
     delta_bic = math.log(len(load)) - ratio

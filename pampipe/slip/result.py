@@ -67,10 +67,10 @@ class SlipResult:
             return None
         bores = sorted({e.pipe_diameter for e in self.effective})
         if len(bores) == 1:
-            return (f"slip tests at a second bore (one where the muscle's amplification factor A differs from "
-                    f"{self.effective[0].amplification:.3g}, e.g. a wider pipe) or with a second load path "
-                    "(the load applied through the far end fitting): 1/mu_eff = 1/mu + kappa*pi*A is a line "
-                    "in A, and two points fix it")
+            return ("slip tests at a second bore (one where the muscle's amplification factor A differs "
+                    f"from {self.effective[0].amplification:.3g}, e.g. a wider pipe) or with a second load "
+                    "path (the load applied through the far end fitting): 1/mu_eff = 1/mu + kappa*pi*A is a "
+                    "line in A, and two points fix it")
         return ("the tested bores' amplification factors differ too little to fix kappa at this scatter: "
                 "add trials, or a bore further apart")
 
@@ -89,7 +89,8 @@ class SlipResult:
         """The ``slip`` block of the ``identify`` JSON (docs/commands.md, identify)."""
         friction = _estimate(self.friction) if self.friction is not None else {
             "value": None, "ci95": None, "sd": None,
-            "range_for_load_coupling_0_to_1": None if self.friction_range is None else list(self.friction_range)}
+            "range_for_load_coupling_0_to_1":
+                None if self.friction_range is None else list(self.friction_range)}
         return {
             "friction": friction,
             "load_coupling": None if self.load_coupling is None else _estimate(self.load_coupling),
@@ -113,7 +114,7 @@ def _estimate(e: Estimate) -> dict:
 
 
 def _trial(t: Trial, predicted: float, residual: float) -> dict:
-    return {"test": t.test, "trial": t.index + 1, "pipe_diameter_m": t.pipe_diameter, "pressure_Pa": t.pressure,
-            "slip_load_N": t.slip_load, "censored": t.censored, "confidence": t.confidence,
-            "onset_time_s": t.onset_time, "load_rate_N_per_s": float(t.load_rate), "predicted_slip_load_N": predicted,
-            "residual": residual}
+    return {"test": t.test, "trial": t.index + 1, "pipe_diameter_m": t.pipe_diameter,
+            "pressure_Pa": t.pressure, "slip_load_N": t.slip_load, "censored": t.censored,
+            "confidence": t.confidence, "onset_time_s": t.onset_time, "load_rate_N_per_s": float(t.load_rate),
+            "predicted_slip_load_N": predicted, "residual": residual}

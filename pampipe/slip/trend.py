@@ -1,6 +1,6 @@
 """Does the slip residual trend with pressure or load rate? (docs/physics.md §10.5)
 
-A friction that grows with the holding pressure, or a rate-dependent (viscous) grip, would otherwise hide in μ.
+A friction that grows with the holding pressure, or a rate-dependent (viscous) grip, would hide in μ.
 Each residual (log(F/F̂) for relative noise, F − F̂ for absolute) of a slipped trial is regressed on the
 trial's pressure and, separately, on its load rate; the slope's two-sided t-test p-value is reported, and a
 trend is flagged when p < 0.05/2 (Bonferroni over the two tests).

@@ -74,15 +74,16 @@ def fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
     law = check_law(muscle, pressure, diameter, load, censored, coulomb, noise)
     predicted = np.maximum(like.model(best.mu, best.kappa), 1e-6)
     residual = np.log(load / predicted) if noise == "relative" else load - predicted
-    found = trends(residual[~censored], pressure[~censored], np.array([t.load_rate for t in trials])[~censored])
+    rates = np.array([t.load_rate for t in trials])
+    found = trends(residual[~censored], pressure[~censored], rates[~censored])
     warnings += _law_warnings(law, found)
     materials = sorted({t.spec.pipe_material for t in tests if t.spec.pipe_material})
     if len(materials) > 1:
-        warnings.append(f"the slip tests name several pipe materials ({', '.join(materials)}); one friction is "
-                        "fitted to all of them: split them into separate experiments to compare")
+        warnings.append(f"the slip tests name several pipe materials ({', '.join(materials)}); one "
+                        "friction is fitted to all of them: split them into separate experiments to compare")
     return SlipResult(tuple(trials), tuple(predicted.tolist()), tuple(residual.tolist()), noise,
-                      math.exp(best.log_sigma), friction, load_coupling, friction_range, tuple(effective), law,
-                      tuple(found), materials[0] if len(materials) == 1 else None, tuple(warnings))
+                      math.exp(best.log_sigma), friction, load_coupling, friction_range, tuple(effective),
+                      law, tuple(found), materials[0] if len(materials) == 1 else None, tuple(warnings))
 
 
 def slip_model(muscle, pressure, diameter):
@@ -90,8 +91,8 @@ def slip_model(muscle, pressure, diameter):
     with the μ- and κ-free terms computed once when the muscle has the affine fast path."""
     if muscle.has_effects:
         def model(mu, kappa):
-            return np.asarray(muscle.largest_load(pressure, diameter, kappa=kappa, friction=mu, safety_factor=1.0),
-                              dtype=float)
+            return np.asarray(muscle.largest_load(pressure, diameter, kappa=kappa, friction=mu,
+                                                  safety_factor=1.0), dtype=float)
         return model
     per_friction, axial = (np.asarray(v, dtype=float) for v in muscle.grip_terms(pressure, diameter))
 
@@ -104,7 +105,8 @@ def slip_model(muscle, pressure, diameter):
 
 def _trial_warnings(tests, trials, muscle, pressure, diameter) -> list[str]:
     out = []
-    weak = [f"{t.test} trial {t.index + 1} ({t.confidence:.2f})" for t in trials if t.confidence < LOW_CONFIDENCE]
+    weak = [f"{t.test} trial {t.index + 1} ({t.confidence:.2f})" for t in trials
+            if t.confidence < LOW_CONFIDENCE]
     if weak:
         out.append("slip onsets detected with low confidence: " + ", ".join(weak)
                    + "; look at the slip plot (--plots) before trusting them")
@@ -124,8 +126,8 @@ def _law_warnings(law, found) -> list[str]:
     out = []
     if law is not None and law.supported == "pressure_dependent":
         out.append(f"the data support a contact-pressure-dependent friction (n = {law.exponent:.3g}, "
-                   f"delta BIC {law.delta_bic:.3g}): the reported Coulomb friction is an average over the tested "
-                   "contact pressures, and plans far from them are less certain")
+                   f"delta BIC {law.delta_bic:.3g}): the reported Coulomb friction is an average over the "
+                   "tested contact pressures, and plans far from them are less certain")
     for t in found:
         if t.significant:
             out.append(f"the slip residuals trend with {t.against.rsplit('_', 1)[0].replace('_', ' ')} "
