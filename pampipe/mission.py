@@ -178,6 +178,8 @@ class Mission:
     route: Route
     gait: dict[str, Any]
     warnings: tuple[str, ...] = ()
+    kappa_sd: float = 0.0  # standard deviation of κ (sampled by confidence plans when > 0)
+    load_coupling: float | None = None  # κ measured in slip tests (load_path "from_pam"); None: load_path's
 
     def __post_init__(self):
         if not isinstance(self.route, Route):
@@ -194,7 +196,9 @@ class Mission:
 
     @property
     def kappa(self) -> float:
-        """κ of the no-slip condition (docs/physics.md §8)."""
+        """κ of the no-slip condition (docs/physics.md §8): measured, or that of the load path."""
+        if self.load_coupling is not None:
+            return self.load_coupling
         return LOAD_PATH_KAPPA[self.load_path]
 
     @property

@@ -24,11 +24,21 @@ def amplification(geometry, diameter: float) -> float:
     return 2 * math.pi * turns**2 * diameter / length, length
 
 
-def true_slip_load(muscle, pressure: float, diameter: float, mu: float, kappa: float) -> float:
+def true_slip_load(muscle, pressure: float, diameter: float, mu: float, kappa: float, exponent: float = 0.0,
+                   reference: float = 2e5) -> float:
+    """The slip load [N]; with ``exponent`` n ≠ 0, μ = mu·(p/reference)^n with p = F_r/(D·L_p), by bisection."""
     a, length = amplification(muscle.geometry, diameter)
     axial = float(muscle.axial_force(pressure, length))
     grip = mu * math.pi * a
-    return grip * axial / (1 + kappa * grip)
+    if exponent == 0.0:
+        return grip * axial / (1 + kappa * grip)
+    low, high = 0.0, 20 * math.pi * a * axial
+    for _ in range(100):
+        mid = 0.5 * (low + high)
+        radial = max(a * (axial - kappa * mid), 0.0)
+        friction = mu * (max(radial, 1e-12) / (diameter * length) / reference) ** exponent
+        low, high = (mid, high) if friction * math.pi * radial >= mid else (low, mid)
+    return low
 
 
 def trial_rows(rng, slip_load: float, pressure: float, *, rate: float, compliance=2e-7, noise=2e-6,
@@ -66,12 +76,12 @@ def trial_rows(rng, slip_load: float, pressure: float, *, rate: float, complianc
 
 
 def slip_test(muscle, diameter: float, pressures, *, mu: float, kappa: float, scatter: float = 0.02,
-              stick_slip=False, hold_below=(), seed: int = 0) -> dict[str, np.ndarray]:
+              stick_slip=False, hold_below=(), seed: int = 0, exponent: float = 0.0) -> dict[str, np.ndarray]:
     """SI columns (time, pressure, axial_load, displacement) of one slip test: one trial per pressure."""
     rng = np.random.default_rng(seed)
     parts = []
     for i, p in enumerate(pressures):
-        load = true_slip_load(muscle, p, diameter, mu, kappa) * math.exp(rng.normal(0, scatter))
+        load = true_slip_load(muscle, p, diameter, mu, kappa, exponent) * math.exp(rng.normal(0, scatter))
         parts.append(trial_rows(rng, load, p, rate=rng.uniform(20, 80), stick_slip=stick_slip and i % 2 == 0,
                                 held=i in hold_below))
     pressure = np.concatenate([p[0] for p in parts])

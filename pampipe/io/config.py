@@ -277,12 +277,17 @@ class UncertainFriction(Strict):
     sd: quantity("dimensionless", ge=0, le=10) = 0.0
 
 
+#: A section's friction: a number, {value, sd}, or from_pam / absent: the PAM files' measured contact block.
+SectionFriction = Literal["from_pam"] | Friction | UncertainFriction | None
+
+
 class SectionSchema(Strict):
     name: str = Field(min_length=1)
     length: RouteLength
     inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.pipes.bore
     incline: Incline = 0.0
-    friction: Friction | UncertainFriction
+    friction: SectionFriction = None
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
 
 
 class NetworkRouteSchema(Strict):
@@ -291,7 +296,8 @@ class NetworkRouteSchema(Strict):
     network: str = Field(min_length=1)
     from_node: str | int | None = Field(default=None, alias="from")
     to_node: str | int | None = Field(default=None, alias="to")
-    friction: Friction | UncertainFriction
+    friction: SectionFriction = None
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
     tolerance: str | float | int | None = None  # of every pipe's bore: a length or a percentage
     sd: str | float | int | None = None  # standard deviation of every pipe's bore
 
@@ -300,7 +306,7 @@ class MissionSchema(Strict):
     robot: RobotSchema
     supply_pressure: PositivePressure
     safety_factor: quantity("dimensionless", ge=1, le=100) | None = None
-    load_path: Literal["through_anchor", "distributed", "none"] = "through_anchor"
+    load_path: Literal["through_anchor", "distributed", "none"] | None = None  # None: the PAMs' κ or through
     tether_drag: NonNegativeForce = 0.0
     route: Annotated[list[SectionSchema], Field(min_length=1)] | NetworkRouteSchema
     gait: dict[str, Any] | None = None  # options of `gait`; validated there
@@ -360,12 +366,70 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
     safety_factor = schema.safety_factor
     if safety_factor is None:
         safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (f"{path}: {NO_SAFETY_FACTOR}",)
+    grip = MeasuredGrip(path, segments)
     if isinstance(schema.route, NetworkRouteSchema):
-        route = network_route(path, schema.route, segments)
+        route = network_route(path, schema.route, segments, grip.friction)
+        sections = [("route", schema.route.friction, schema.route.pipe_material)]
     else:
-        route = listed_route(path, schema.route)
+        route = listed_route(path, schema.route, grip.friction)
+        sections = [(f"route[{i}] ({s.name})", s.friction, s.pipe_material)
+                    for i, s in enumerate(schema.route)]
+    warnings += grip.material_warnings(sections)
+    load_path, kappa, kappa_sd = schema.load_path or "through_anchor", None, 0.0
+    if schema.load_path is None and grip.coupling() is not None:
+        load_path, (kappa, kappa_sd) = "from_pam", grip.coupling()
     return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
-                   schema.load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings)
+                   load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
+                   kappa_sd=kappa_sd, load_coupling=kappa)
+
+
+class MeasuredGrip:
+    """The robot's measured wall contact (the PAM files' ``contact:`` blocks), checked to agree when used."""
+
+    def __init__(self, path: Path, segments):
+        self.path, self.segments = path, segments
+
+    def _common(self, what: str, where: str, value):
+        values = {seg.name: value(seg.pam.grip) if seg.pam.grip is not None else None
+                  for seg in self.segments}
+        missing = [name for name, v in values.items() if v is None]
+        if missing and what == "friction":
+            raise InputError(f"{self.path}: {where}: the friction is taken from the PAM files (from_pam "
+                             f"or absent), and the PAM of segment(s) {', '.join(missing)} has no contact: "
+                             "block; run `pampipe identify` on a slip test (kind: slip) with -o, or give the "
+                             "friction, e.g. 'friction: 0.3'.")
+        if missing:
+            return None
+        if len(set(values.values())) > 1:
+            shown = ", ".join(f"{name}: {v}" for name, v in values.items())
+            raise InputError(f"{self.path}: {where}: the segments' PAM files measured different {what} "
+                             f"({shown}); one section has one {what}: give it in the mission, or use PAM "
+                             "files that agree.")
+        return next(iter(values.values()))
+
+    def friction(self, where: str) -> tuple[float, float]:
+        """(μ, σ_μ) of every segment's PAM (they must agree)."""
+        return self._common("friction", where, lambda g: (g.friction, g.friction_sd))
+
+    def coupling(self) -> tuple[float, float] | None:
+        """(κ, σ_κ) when every segment's PAM measured the same κ, else None."""
+        if any(seg.pam.grip is None or seg.pam.grip.load_coupling is None for seg in self.segments):
+            return None
+        return self._common("load_coupling", "load_path", lambda g: (g.load_coupling, g.load_coupling_sd))
+
+    def material_warnings(self, sections) -> tuple[str, ...]:
+        """A warning for each section using the measured friction on another pipe material than tested."""
+        out = []
+        for where, friction, material in sections:
+            if friction not in (None, "from_pam") or material is None:
+                continue
+            tested = {seg.pam.grip.pipe_material for seg in self.segments if seg.pam.grip is not None}
+            if tested != {material}:
+                shown = ", ".join(sorted(t or "an unnamed material" for t in tested))
+                out.append(f"{self.path}: {where}: the friction comes from slip tests on {shown}, and this "
+                           f"section's pipe is {material}: friction differs between materials; test a "
+                           f"{material} pipe or give the friction.")
+        return tuple(out)
 
 
 def _resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:

@@ -18,15 +18,19 @@ from pampipe.mission import NetworkRoute, Route
 from pampipe.pipes import BoreSpec, bore
 
 
-def listed_route(path: Path, sections) -> Route:
-    """The columns of a validated list of sections (``SectionSchema`` objects)."""
+def listed_route(path: Path, sections, measured=None) -> Route:
+    """The columns of a validated list of sections (``SectionSchema`` objects).
+
+    ``measured(where)`` → (μ, σ_μ) of the robot's PAM files, for sections whose friction is
+    ``from_pam`` or absent.
+    """
     names = [s.name for s in sections]
     if len(set(names)) != len(names):
         raise InputError(f"{path}: route: section names must be unique.")
     cache: dict = {}
     bores = [_bore(path, s.inner_diameter, f"route[{i}].inner_diameter", cache)
              for i, s in enumerate(sections)]
-    friction = [_friction(s.friction) for s in sections]
+    friction = [_friction(s.friction, measured, f"route[{i}].friction") for i, s in enumerate(sections)]
 
     def column(values) -> np.ndarray:
         return np.fromiter(values, dtype=float, count=len(sections))
@@ -38,8 +42,12 @@ def listed_route(path: Path, sections) -> Route:
                  column(b.sd for b in bores), label=np.array([b.label for b in bores], dtype=str))
 
 
-def _friction(friction) -> tuple[float, float]:
-    """(μ, σ_μ) of a friction given as a number or as ``{value, sd}``."""
+def _friction(friction, measured=None, where: str = "route.friction") -> tuple[float, float]:
+    """(μ, σ_μ) of a friction given as a number, as ``{value, sd}``, or (``from_pam`` or absent) measured."""
+    if friction is None or friction == "from_pam":
+        if measured is None:
+            raise InputError(f"{where}: give the friction (e.g. 0.3 or {{value: 0.3, sd: 0.05}}).")
+        return measured(where)
     return (friction.value, friction.sd) if hasattr(friction, "sd") else (friction, 0.0)
 
 
@@ -68,13 +76,13 @@ def _key(value):
     return None
 
 
-def network_route(path: Path, spec, segments) -> Route:
+def network_route(path: Path, spec, segments, measured=None) -> Route:
     """The route of ``{network, from, to, friction, tolerance, sd}`` (a ``NetworkRouteSchema``) for a robot
     of ``segments``: only pipes whose whole bore range lies inside the muscles' range are passed.
     """
     from pampipe.network import load_network, route_sections, whole_network
 
-    mu, mu_sd = _friction(spec.friction)
+    mu, mu_sd = _friction(spec.friction, measured, "route.friction")
     given = [spec.from_node is not None, spec.to_node is not None]
     if any(given) and not all(given):
         raise InputError(f"{path}: route: give both 'from' and 'to' (a route between two nodes) or neither "

@@ -1,0 +1,229 @@
+"""Slip tests (issue 24): detection, μ and κ against data generated apart from pampipe (tests/slip_data.py),
+what one bore can and cannot say, the contact block in the PAM file and the plan that uses it."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from pampipe.experiment import TestSpec as Spec
+from pampipe.experiment import make_slip_data
+from pampipe.model.muscle import Muscle
+from pampipe.slip import fit_slip
+from pampipe.slip.detect import detect
+from tests import slip_data
+from tests.conftest import PROBLEMS
+
+MU, KAPPA = 0.3, 0.8
+BORES = (0.0635, 0.0889)  # 2.5 in and 3.5 in: A = 0.75 and 1.20
+PRESSURES = np.linspace(2.6e5, 6.0e5, 16)
+
+
+def _tests(muscle, bores, *, mu=MU, kappa=KAPPA, scatter=0.01, exponent=0.0, hold=(5,)):
+    out = []
+    for k, bore in enumerate(bores):
+        columns = slip_data.slip_test(muscle, bore, PRESSURES, mu=mu, kappa=kappa, scatter=scatter,
+                                      stick_slip=True, hold_below=hold, seed=10 + k, exponent=exponent)
+        out.append(make_slip_data(Spec(f"slip-{k}", "slip", Path(f"slip-{k}.csv"), bore, 0.0), columns))
+    return tuple(out)
+
+
+@pytest.fixture(scope="module")
+def muscle(radial_pam):
+    return Muscle.from_pam(radial_pam)
+
+
+@pytest.fixture(scope="module")
+def two_bores(muscle):
+    return fit_slip(_tests(muscle, BORES), muscle)
+
+
+@pytest.fixture(scope="module")
+def one_bore(muscle):
+    return fit_slip(_tests(muscle, BORES[:1]), muscle)
+
+
+def test_two_bores_recover_friction_and_coupling(two_bores):
+    """True μ and κ inside the 95 % intervals, μ within 5 %, both determined."""
+    s = two_bores
+    assert s.determined == ["friction", "load_coupling"]
+    assert s.friction.low <= MU <= s.friction.high
+    assert s.load_coupling.low <= KAPPA <= s.load_coupling.high
+    assert abs(s.friction.value / MU - 1) < 0.05
+    doc = s.as_document()
+    assert doc["load_coupling"]["ci95"][0] <= KAPPA <= doc["load_coupling"]["ci95"][1]
+
+
+def test_censored_trials_are_kept_as_lower_bounds(two_bores, muscle):
+    """The held trial (70 % of its slip load) is censored, not dropped, and its bound is below the truth."""
+    held = [t for t in two_bores.trials if t.censored]
+    assert len(two_bores.trials) == 2 * PRESSURES.size
+    assert [(t.test, t.index) for t in held] == [("slip-0", 5), ("slip-1", 5)]
+    for t in held:
+        truth = slip_data.true_slip_load(muscle, PRESSURES[5], t.pipe_diameter, MU, KAPPA)
+        assert t.slip_load == pytest.approx(0.7 * truth, rel=0.05)
+
+
+def test_one_bore_reports_the_combination_not_kappa(one_bore, muscle):
+    """One bore: κ null, μ undetermined (no value), the effective friction's interval holds the truth."""
+    s = one_bore
+    doc = s.as_document()
+    assert doc["load_coupling"] is None and doc["friction"]["value"] is None
+    assert doc["determined"] == ["effective_friction"]
+    amplification, _ = slip_data.amplification(muscle.geometry, BORES[0])
+    truth = MU / (1 + KAPPA * MU * math.pi * amplification)
+    (bore,) = doc["combination"]["per_bore"]
+    assert bore["ci95"][0] <= truth <= bore["ci95"][1]
+    low, high = doc["friction"]["range_for_load_coupling_0_to_1"]
+    assert low <= MU and (high is None or MU <= high)
+    assert "second bore" in doc["separating_test"]
+    grip = s.grip()
+    assert grip.load_coupling is None and grip.friction == pytest.approx(bore["value"])
+
+
+def test_detection_finds_a_known_onset():
+    """Elastic to row 60 (load 600 N), then a 3 mm jump: onset at row 61, slip load 600 N, confident."""
+    rng = np.random.default_rng(1)
+    load = np.concatenate([np.linspace(0, 600, 61), np.linspace(590, 500, 10)])
+    shift = np.concatenate([np.zeros(61), np.linspace(0.3e-3, 3e-3, 10)])
+    displacement = 2e-7 * load + shift + rng.normal(0, 2e-6, load.size)
+    trial = detect("t", 0, 0.0762, np.arange(load.size) * 0.1, np.full(load.size, 3e5), load, displacement)
+    assert not trial.censored and trial.onset_row == 61 and trial.slip_load == pytest.approx(600)
+    assert trial.confidence > 0.99
+    held = detect("t", 0, 0.0762, np.arange(61) * 0.1, np.full(61, 3e5), load[:61], displacement[:61])
+    assert held.censored and held.slip_load == pytest.approx(600)
+
+
+def test_friction_law_check(muscle, two_bores):
+    """μ ∝ p^0.4 is recognised as pressure-dependent; Coulomb data are judged Coulomb."""
+    assert two_bores.law.supported == "coulomb"
+    dependent = fit_slip(_tests(muscle, BORES, exponent=0.4, hold=()), muscle)
+    assert dependent.law.supported == "pressure_dependent"
+    assert dependent.law.exponent == pytest.approx(0.4, abs=0.1)
+
+
+# ------------------------------------------------------------------------------------------------ CLI
+def _experiment(folder: Path, muscle, bores, **kwargs) -> Path:
+    (folder / "data").mkdir(parents=True, exist_ok=True)
+    tests = []
+    for k, bore in enumerate(bores):
+        columns = slip_data.slip_test(muscle, bore, PRESSURES[::2], mu=MU, kappa=KAPPA, seed=k, **kwargs)
+        slip_data.write(folder / "data" / f"slip-{k}.csv", columns)
+        tests.append({"name": f"slip-{k}", "kind": "slip", "pipe_diameter": f"{bore * 1e3} mm",
+                      "pipe_material": "steel", "data": f"data/slip-{k}.csv"})
+    path = folder / "slip.yaml"
+    path.write_text(yaml.safe_dump({"pam": str(PROBLEMS / "pams" / "paper-radial-pam.yaml"), "tests": tests}))
+    return path
+
+
+@pytest.fixture(scope="module")
+def gripped_pam(tmp_path_factory, muscle):
+    """identify -o on two bores: the PAM file with the measured contact: block."""
+    from pampipe.cli import main
+
+    folder = tmp_path_factory.mktemp("grip")
+    out = folder / "gripped.yaml"
+    assert main(["identify", str(_experiment(folder, muscle, BORES)), "-o", str(out)]) == 0
+    return out
+
+
+def test_identify_writes_the_contact_block(gripped_pam):
+    from pampipe.io.config import load_pam
+
+    doc = yaml.safe_load(gripped_pam.read_text())
+    assert set(doc["contact"]) >= {"friction", "load_coupling", "pipe_material"}
+    assert doc["contact"]["pipe_material"] == "steel"
+    pam = load_pam(gripped_pam)
+    assert pam.grip.friction == doc["contact"]["friction"]["value"] and pam.grip.friction_sd > 0
+    assert pam.grip.load_coupling == doc["contact"]["load_coupling"]["value"]
+
+
+def test_identify_json_has_the_slip_block(cli, tmp_path, muscle):
+    out = cli("identify", _experiment(tmp_path, muscle, BORES[:1]), "--json")
+    assert out.returncode == 0, out.stderr
+    slip = json.loads(out.stdout)["slip"]
+    assert slip["load_coupling"] is None and slip["determined"] == ["effective_friction"]
+    assert {"pressure_Pa", "slip_load_N", "censored", "test"} <= set(slip["trials"][0])
+
+
+def _mission(folder: Path, pam: Path, friction=None, **extra) -> Path:
+    section = {"name": "riser", "length": "3 m", "inner_diameter": "3 in", "incline": "90 deg", **extra}
+    if friction is not None:
+        section["friction"] = friction
+    segments = [{"name": f"PAM{i}", "pam": str(pam), "mass": "0.4 kg"} for i in (1, 2, 3)]
+    path = folder / f"mission-{len(list(folder.iterdir()))}.yaml"
+    path.write_text(yaml.safe_dump({"robot": {"segments": segments, "payload": "2 kg"},
+                                    "supply_pressure": "689 kPa", "safety_factor": 1.5, "route": [section],
+                                    "load_path": "through_anchor"}))
+    return path
+
+
+def test_plan_from_pam_equals_plan_by_hand(tmp_path, gripped_pam):
+    """friction: from_pam (and absent) gives the plan of the same μ written by hand, to 1e-9."""
+    import pampipe
+
+    mu = yaml.safe_load(gripped_pam.read_text())["contact"]["friction"]["value"]
+    by_hand = pampipe.plan(_mission(tmp_path, gripped_pam, friction=mu)).to_dict()
+    for friction in ("from_pam", None):
+        measured = pampipe.plan(_mission(tmp_path, gripped_pam, friction=friction)).to_dict()
+        for a, b in zip(measured["sections"][0]["segments"], by_hand["sections"][0]["segments"], strict=True):
+            assert a["pressure_Pa"] == pytest.approx(b["pressure_Pa"], rel=1e-9, abs=1e-9)
+
+
+def test_plan_takes_kappa_from_the_pam_without_load_path(tmp_path, gripped_pam):
+    from pampipe.io.config import load_mission
+
+    path = _mission(tmp_path, gripped_pam)
+    raw = yaml.safe_load(path.read_text())
+    raw.pop("load_path")
+    mission = load_mission(path, raw=raw)
+    kappa = yaml.safe_load(gripped_pam.read_text())["contact"]["load_coupling"]
+    assert mission.load_path == "from_pam" and mission.kappa == kappa["value"]
+    assert mission.kappa_sd == kappa["sd"] and mission.route.friction_sd[0] > 0
+    with_path = load_mission(path)
+    assert with_path.kappa == 1.0
+
+
+def test_plan_warns_about_another_pipe_material(cli, tmp_path, gripped_pam):
+    out = cli("plan", _mission(tmp_path, gripped_pam, pipe_material="PVC"))
+    assert out.returncode == 0
+    assert "PVC" in out.stderr and "steel" in out.stderr
+
+
+def test_plan_from_pam_needs_a_contact_block(cli, tmp_path):
+    out = cli("plan", _mission(tmp_path, PROBLEMS / "pams" / "paper-radial-pam.yaml"))
+    assert out.returncode == 2
+    assert "route[0].friction" in out.stderr and "contact:" in out.stderr
+
+
+# ------------------------------------------------------------------------------------------- bad data
+def _bad(tmp_path: Path, header: str, rows: list[str]) -> Path:
+    (tmp_path / "bad.csv").write_text("\n".join([header, *rows]) + "\n")
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump({"pam": str(PROBLEMS / "pams" / "paper-radial-pam.yaml"),
+                                    "tests": [{"name": "s", "kind": "slip", "pipe_diameter": "3 in",
+                                               "data": "bad.csv"}]}))
+    return path
+
+
+def _ramp(pressure="300", n=30):
+    return [f"{i * 0.1:.1f},{pressure},{i * 10.0},{i * 0.001}" for i in range(n)]
+
+
+@pytest.mark.parametrize(("header", "rows", "named"), [
+    ("time [s],pressure [kPa],axial_load [N]", [r.rsplit(",", 1)[0] for r in _ramp()], "displacement"),
+    ("time [s],pressure [kPa],axial_load [N],displacement [mm]",
+     [f"{i * 0.1:.1f},300,50,{i * 0.001}" for i in range(30)], "axial_load"),
+    ("time [s],pressure [kPa],axial_load [N],displacement [mm]", _ramp("-20"), "pressure"),
+    ("time [s],pressure [kPa],axial_load [N],displacement [mm]", [*_ramp()[:5], "0.5,300,nan,0.1"],
+     "axial_load"),
+])
+def test_bad_slip_data_exit_2_naming_file_and_column(cli, tmp_path, header, rows, named):
+    out = cli("identify", _bad(tmp_path, header, rows))
+    assert out.returncode == 2
+    assert "bad.csv" in out.stderr and named in out.stderr and "Traceback" not in out.stderr
