@@ -26,7 +26,7 @@ def amplification(geometry, diameter: float) -> float:
 
 def true_slip_load(muscle, pressure: float, diameter: float, mu: float, kappa: float, exponent: float = 0.0,
                    reference: float = 2e5) -> float:
-    """The slip load [N]; with ``exponent`` n ≠ 0, μ = mu·(p/reference)^n with p = F_r/(D·L_p), by bisection."""
+    """The slip load [N]; with ``exponent`` n ≠ 0, μ = mu·(p/reference)^n, p = F_r/(D·L_p), by bisection."""
     a, length = amplification(muscle.geometry, diameter)
     axial = float(muscle.axial_force(pressure, length))
     grip = mu * math.pi * a
