@@ -76,13 +76,19 @@ def trial_rows(rng, slip_load: float, pressure: float, *, rate: float, complianc
 
 
 def slip_test(muscle, diameter: float, pressures, *, mu: float, kappa: float, scatter: float = 0.02,
-              stick_slip=False, hold_below=(), seed: int = 0, exponent: float = 0.0) -> dict[str, np.ndarray]:
-    """SI columns (time, pressure, axial_load, displacement) of one slip test: one trial per pressure."""
+              stick_slip=False, hold_below=(), seed: int = 0, exponent: float = 0.0,
+              rate_gain: float = 0.0) -> dict[str, np.ndarray]:
+    """SI columns (time, pressure, axial_load, displacement) of one slip test: one trial per pressure.
+
+    ``rate_gain``: the slip load grows by this share per 50 N/s of load rate above 50 N/s (a viscous grip).
+    """
     rng = np.random.default_rng(seed)
     parts = []
     for i, p in enumerate(pressures):
         load = true_slip_load(muscle, p, diameter, mu, kappa, exponent) * math.exp(rng.normal(0, scatter))
-        parts.append(trial_rows(rng, load, p, rate=rng.uniform(20, 80), stick_slip=stick_slip and i % 2 == 0,
+        rate = rng.uniform(20, 80)
+        load *= 1 + rate_gain * (rate - 50) / 50
+        parts.append(trial_rows(rng, load, p, rate=rate, stick_slip=stick_slip and i % 2 == 0,
                                 held=i in hold_below))
     pressure = np.concatenate([p[0] for p in parts])
     load = np.concatenate([p[1] for p in parts])

@@ -20,7 +20,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent / "pampipe"
-SCIENCE = ("identification", "planning", "locomotion", "diagnosis", "synth", "simulation", "design", "export")
+SCIENCE = ("identification", "planning", "locomotion", "diagnosis", "synth", "simulation", "design", "export",
+           "slip")
 RULES = [
     # (modules the rule applies to, forbidden import prefixes)
     (("model",), ("io", "api", "commands", "cli", "plots", "report", *SCIENCE, "experiment", "mission",

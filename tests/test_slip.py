@@ -24,11 +24,12 @@ BORES = (0.0635, 0.0889)  # 2.5 in and 3.5 in: A = 0.75 and 1.20
 PRESSURES = np.linspace(2.6e5, 6.0e5, 16)
 
 
-def _tests(muscle, bores, *, mu=MU, kappa=KAPPA, scatter=0.01, exponent=0.0, hold=(5,)):
+def _tests(muscle, bores, *, mu=MU, kappa=KAPPA, scatter=0.01, exponent=0.0, hold=(5,), rate_gain=0.0):
     out = []
     for k, bore in enumerate(bores):
         columns = slip_data.slip_test(muscle, bore, PRESSURES, mu=mu, kappa=kappa, scatter=scatter,
-                                      stick_slip=True, hold_below=hold, seed=10 + k, exponent=exponent)
+                                      stick_slip=True, hold_below=hold, seed=10 + k, exponent=exponent,
+                                      rate_gain=rate_gain)
         out.append(make_slip_data(Spec(f"slip-{k}", "slip", Path(f"slip-{k}.csv"), bore, 0.0), columns))
     return tuple(out)
 
@@ -105,6 +106,17 @@ def test_friction_law_check(muscle, two_bores):
     dependent = fit_slip(_tests(muscle, BORES, exponent=0.4, hold=()), muscle)
     assert dependent.law.supported == "pressure_dependent"
     assert dependent.law.exponent == pytest.approx(0.4, abs=0.1)
+
+
+def test_diagnose_reports_a_rate_trend_instead_of_hiding_it(muscle, radial_pam, two_bores):
+    """A grip that grows with load rate is reported as a trend; Coulomb data show none."""
+    from pampipe.diagnosis.slip import SlipDiagnosis, diagnose_slip
+
+    viscous = diagnose_slip(_tests(muscle, BORES, rate_gain=0.1), radial_pam)
+    assert viscous.verdict == "trend"
+    assert [t.against for t in viscous.slip.trends if t.significant] == ["load_rate_N_per_s"]
+    assert "load_rate" in viscous.report() and viscous.as_document()["verdict"] == "trend"
+    assert SlipDiagnosis(two_bores).verdict == "none"
 
 
 # ------------------------------------------------------------------------------------------------ CLI

@@ -44,7 +44,8 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.output, experiment.input_files, option="-o")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
-    emit(args, result.as_document(), report(result))
+    text = report(result) if result.slip is None else report(result) + "\n" + result.slip.report()
+    emit(args, result.as_document(), text)
     if args.output is not None:
         write_pam(args.output, result.augmented_pam(),
                   comments=[f"Written by `pampipe diagnose` from {experiment.source}.",

@@ -112,6 +112,7 @@ class DiagnoseResult:
     timings: dict = field(default_factory=dict)
     refitter: object = field(default=None, repr=False, compare=False)
     anchoring: tuple[float | None, ...] = ()  # the baseline's anchoring pressure per test (radial) [Pa]
+    slip: object = None  # pampipe.diagnosis.slip.SlipDiagnosis of the slip tests (None: none)
 
     @property
     def baseline(self) -> Summary:
@@ -145,7 +146,7 @@ class DiagnoseResult:
         chosen = self.chosen
         moduli = Moduli.from_vector(chosen.theta, reference_pressure=MPA)
         effects = {name: dict(values) for name, values in chosen.parameters.items()} or None
-        return Pam(self.pam.name, self.pam.geometry, moduli, None, effects)
+        return Pam(self.pam.name, self.pam.geometry, moduli, None, effects, self.pam.grip)
 
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""
@@ -195,6 +196,7 @@ class DiagnoseResult:
             "cells": {"rows": int(self.cells.rows), "cells": int(self.cells.size)},
             "timings": dict(self.timings),
             "source": str(self.source),
+            "slip": None if self.slip is None else self.slip.as_document(),
         }
 
 

@@ -26,6 +26,7 @@ from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter
 from pampipe.diagnosis.result import DiagnoseResult, summarize
 from pampipe.diagnosis.search import Model, Search
 from pampipe.diagnosis.separate import separating_experiment
+from pampipe.diagnosis.slip import diagnose_slip
 from pampipe.diagnosis.verdict import Scores, decide
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
@@ -108,6 +109,10 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
         except KeyError as exc:
             raise InputError(str(exc.args[0])) from None
     n = data.points
+    if not data.tests and data.slip:
+        raise InputError(f"{data.source}: only slip tests: `pampipe identify` fits their friction, and "
+                         "`pampipe diagnose` tests their residuals together with axial or radial tests of "
+                         "the muscle; for slip tests alone see the residual trends in `identify`'s report.")
     if n <= 4 * (DEGREE + 1) + 4:
         raise InputError(f"{data.source}: {n} data rows are too few to diagnose a "
                          f"{4 * (DEGREE + 1)}-parameter model; record more points.")
@@ -165,8 +170,12 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
                  "selected": summarize(chosen, baseline.bic, data, cells, refitter)}
     residuals = (row_residuals(data, refitter, baseline.fit), row_residuals(data, refitter, chosen.fit))
     timings["total_wall_time_s"] = time.perf_counter() - started
-    return DiagnoseResult(data.source, data.pam, data=data, cells=cells, noise=floors,
-                          baseline_model=baseline, chosen_model=chosen, steps=tuple(steps), verdict=verdict,
-                          confounded=tuple(confounded), summaries=summaries, residuals=residuals,
-                          baseline_source=source, timings=timings, refitter=refitter,
-                          anchoring=anchoring_pressures(data, refitter, baseline.fit))
+    result = DiagnoseResult(data.source, data.pam, data=data, cells=cells, noise=floors,
+                            baseline_model=baseline, chosen_model=chosen, steps=tuple(steps), verdict=verdict,
+                            confounded=tuple(confounded), summaries=summaries, residuals=residuals,
+                            baseline_source=source, timings=timings, refitter=refitter,
+                            anchoring=anchoring_pressures(data, refitter, baseline.fit))
+    if data.slip:
+        say("slip tests: fitting friction with the diagnosed muscle and testing the residuals")
+        result = replace(result, slip=diagnose_slip(data.slip, result.augmented_pam()))
+    return result

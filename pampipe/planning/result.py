@@ -233,7 +233,7 @@ class MissionPlan:
     def as_document(self) -> dict:
         doc = {"feasible": self.feasible, "sections": [s.as_document() for s in self.sections],
                "mission": self.mission, "supply_pressure_Pa": self.supply_pressure,
-               "safety_factor": self.safety_factor, "load_path": self.load_path,
+               "safety_factor": self.safety_factor, "load_path": self.load_path, "load_coupling": self.kappa,
                "payload_kg": self.payload, "confidence": self.confidence, "warnings": list(self.warnings),
                "solver": {"method": self.method, "iterations": self.iterations, **self.checks,
                           "wall_time_s": self.wall_time}}
