@@ -374,7 +374,7 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
         route = listed_route(path, schema.route, grip.friction)
         sections = [(f"route[{i}] ({s.name})", s.friction, s.pipe_material)
                     for i, s in enumerate(schema.route)]
-    warnings += grip.material_warnings(sections)
+    warnings += grip.material_warnings(sections) + grip.effective_warning(schema.load_path is not None)
     load_path, kappa, kappa_sd = schema.load_path or "through_anchor", None, 0.0
     if schema.load_path is None and grip.coupling() is not None:
         load_path, (kappa, kappa_sd) = "from_pam", grip.coupling()
@@ -387,7 +387,7 @@ class MeasuredGrip:
     """The robot's measured wall contact (the PAM files' ``contact:`` blocks), checked to agree when used."""
 
     def __init__(self, path: Path, segments):
-        self.path, self.segments = path, segments
+        self.path, self.segments, self.used = path, segments, False
 
     def _common(self, what: str, where: str, value):
         values = {seg.name: value(seg.pam.grip) if seg.pam.grip is not None else None
@@ -409,7 +409,20 @@ class MeasuredGrip:
 
     def friction(self, where: str) -> tuple[float, float]:
         """(μ, σ_μ) of every segment's PAM (they must agree)."""
+        self.used = True
         return self._common("friction", where, lambda g: (g.friction, g.friction_sd))
+
+    def effective_warning(self, kappa_given: bool) -> tuple[str, ...]:
+        """What a measured friction means when its slip tests did not determine κ (one bore)."""
+        grip = self.segments[0].pam.grip
+        if not self.used or grip is None or grip.load_coupling is not None:
+            return ()
+        bores = ", ".join(f"{d * 1e3:.4g} mm" for d in grip.tested_diameters) or "the tested bore"
+        path = "the load path" if kappa_given else "load_path through_anchor (kappa = 1, the default)"
+        return (f"{self.path}: the PAM's friction {grip.friction:.4g} is the effective friction mu/(1 + "
+                f"kappa*mu*pi*A) of slip tests at {bores} only (kappa not determined); with {path} the "
+                "plan is conservative for any kappa in [0, 1] (docs/physics.md §10.3); slip tests at a second bore "
+                "would give mu and kappa.",)
 
     def coupling(self) -> tuple[float, float] | None:
         """(κ, σ_κ) when every segment's PAM measured the same κ, else None."""

@@ -75,7 +75,7 @@ def _grip_document(pam: Pam) -> dict:
     if g.pipe_material is not None:
         block["pipe_material"] = g.pipe_material
     if g.tested_diameters:
-        block["tested_pipe_diameters"] = [_quantity(d * 1e3, "mm") for d in g.tested_diameters]
+        block["tested_pipe_diameters"] = [f"{d * 1e3:.9g} mm" for d in g.tested_diameters]
     return {"contact": block}
 
 
@@ -95,11 +95,13 @@ def write_pam(target: Path, pam: Pam, *, comments: Sequence[str] = ()) -> None:
 
 def write_experiment(out_dir: Path, name: str, pam: Pam, tests: Sequence[tuple[TestSpec, dict]], *,
                      comments: Sequence[str] = (), overwrite: bool = False,
-                     inputs: Sequence[Path] = ()) -> Path:
+                     inputs: Sequence[Path] = (), with_moduli: bool = False) -> Path:
     """Write ``out_dir/<name>.yaml`` (the PAM inline, without moduli) and ``out_dir/data/<name>/*.csv``.
 
     ``tests`` pairs each test's spec with its SI columns (``time``, ``pressure``, ``force`` and,
-    for axial tests, ``length``). Returns the YAML path. Before anything is written: existing files
+    for axial tests, ``length``; slip tests: ``axial_load`` and ``displacement``, not ``force``);
+    ``with_moduli`` writes the PAM's moduli too (an experiment of slip tests only needs them). Returns
+    the YAML path. Before anything is written: existing files
     are replaced only with ``overwrite`` (``--force``), and ``inputs`` (the PAM file read) never.
     """
     out_dir = Path(out_dir)
@@ -115,7 +117,11 @@ def write_experiment(out_dir: Path, name: str, pam: Pam, tests: Sequence[tuple[T
         if spec.kind == "radial":
             entry["pipe_diameter"] = _quantity(spec.pipe_diameter * 1e3, "mm")
             entry["axial_load"] = _quantity(spec.axial_load, "N")
+        if spec.kind == "slip":
+            entry["pipe_diameter"] = _quantity(spec.pipe_diameter * 1e3, "mm")
+            if spec.pipe_material is not None:
+                entry["pipe_material"] = spec.pipe_material
         entries.append(entry)
-    yamlwrite.write(target, {"pam": pam_document(pam, with_moduli=False), "tests": entries},
+    yamlwrite.write(target, {"pam": pam_document(pam, with_moduli=with_moduli), "tests": entries},
                     comments=comments)
     return target
