@@ -421,7 +421,7 @@ class MeasuredGrip:
         path = "the load path" if kappa_given else "load_path through_anchor (kappa = 1, the default)"
         return (f"{self.path}: the PAM's friction {grip.friction:.4g} is the effective friction mu/(1 + "
                 f"kappa*mu*pi*A) of slip tests at {bores} only (kappa not determined); with {path} the "
-                "plan is conservative for any kappa in [0, 1] (docs/physics.md §10.3); slip tests at a "
+                "plan is conservative for any kappa in [0, 1] (docs/physics.md §13.3); slip tests at a "
                 "second bore would give mu and kappa.",)
 
     def coupling(self) -> tuple[float, float] | None:

@@ -104,11 +104,11 @@ class Moduli:
 
 @dataclass(frozen=True)
 class Grip:
-    """Wall friction μ and load coupling κ from slip tests (docs/physics.md §10): the PAM's ``contact:``.
+    """Wall friction μ and load coupling κ from slip tests (docs/physics.md §13): the PAM's ``contact:``.
 
     ``load_coupling`` is None when the tests did not determine κ (one bore): ``friction`` is then the
     effective friction μ/(1 + κμπA) at ``tested_diameters[0]``, exact there with κ = 0 and conservative
-    everywhere with κ = 1 (docs/physics.md §10.3). ``pipe_material``: the wall it was measured on.
+    everywhere with κ = 1 (docs/physics.md §13.3). ``pipe_material``: the wall it was measured on.
     """
 
     friction: float

@@ -1,4 +1,4 @@
-"""Slip tests (docs/physics.md §10): wall friction μ and load coupling κ with their intervals.
+"""Slip tests (docs/physics.md §13): wall friction μ and load coupling κ with their intervals.
 
 Modules: :mod:`.detect` (slip onset per trial), :mod:`.fit` (censored likelihood, profile intervals),
 :mod:`.law` (Coulomb against contact-pressure-dependent friction), :mod:`.trend` (residual trends),

@@ -1,4 +1,4 @@
-"""Slip onset in one trial: where the displacement departs from its elastic trend (docs/physics.md §10.2).
+"""Slip onset in one trial: where the displacement departs from its elastic trend (docs/physics.md §13.2).
 
 While the muscle sticks, the displacement follows the load elastically, d ≈ a + b·F. The trend is fitted
 over the first half of the load's rise; its noise σ_d is 1.4826·MAD of those residuals (floored at

@@ -1,4 +1,4 @@
-"""Friction μ and load coupling κ from slip trials, by the plan's own slip model (docs/physics.md §10.3).
+"""Friction μ and load coupling κ from slip trials, by the plan's own slip model (docs/physics.md §13.3).
 
 The model is the no-slip condition at safety factor 1: the slip load F solves F = μ·π·F_r(P, D, κF)
 (:meth:`pampipe.model.muscle.Muscle.largest_load`). Slip loads scatter about it, either relatively

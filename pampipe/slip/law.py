@@ -1,4 +1,4 @@
-"""Coulomb or contact-pressure-dependent friction? (docs/physics.md §10.4)
+"""Coulomb or contact-pressure-dependent friction? (docs/physics.md §13.4)
 
 The alternative law is μ(p) = μ₀·(p/p_ref)^n, p the mean contact pressure F_r/(D·L_p) while the load
 acts (:meth:`pampipe.model.muscle.Muscle.contact_pressure`), p_ref the geometric mean of the trials'

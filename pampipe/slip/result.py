@@ -10,7 +10,7 @@ from pampipe.slip.fit import Estimate
 from pampipe.slip.law import LawCheck
 from pampipe.slip.trend import Trend
 
-#: Name of the combination one bore determines (docs/physics.md §10.3).
+#: Name of the combination one bore determines (docs/physics.md §13.3).
 EFFECTIVE = "effective_friction"
 EFFECTIVE_FORMULA = "friction / (1 + load_coupling * friction * pi * A(D))"
 
@@ -76,7 +76,7 @@ class SlipResult:
 
     def grip(self) -> Grip:
         """The PAM's ``contact:`` block: (μ, κ) when determined, else the smallest effective friction
-        with κ None (conservative with the mission's load path: docs/physics.md §10.3)."""
+        with κ None (conservative with the mission's load path: docs/physics.md §13.3)."""
         bores = tuple(sorted({e.pipe_diameter for e in self.effective}))
         if self.friction is not None and self.load_coupling is not None:
             return Grip(self.friction.value, self.friction.sd or 0.0, self.load_coupling.value,

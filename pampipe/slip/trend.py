@@ -1,4 +1,4 @@
-"""Does the slip residual trend with pressure or load rate? (docs/physics.md §10.5)
+"""Does the slip residual trend with pressure or load rate? (docs/physics.md §13.5)
 
 A friction that grows with the holding pressure, or a rate-dependent (viscous) grip, would hide in μ.
 Each residual (log(F/F̂) for relative noise, F − F̂ for absolute) of a slipped trial is regressed on the
