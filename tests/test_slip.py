@@ -119,6 +119,14 @@ def test_diagnose_reports_a_rate_trend_instead_of_hiding_it(muscle, radial_pam, 
     assert SlipDiagnosis(two_bores).verdict == "none"
 
 
+def test_no_slip_at_all_claims_no_friction(muscle):
+    """Every trial held: friction has no upper limit, so no contact block, and a warning says why."""
+    held = fit_slip(_tests(muscle, BORES[:1], hold=tuple(range(PRESSURES.size))), muscle)
+    assert all(t.censored for t in held.trials)
+    assert held.grip() is None
+    assert any("no trial slipped" in w for w in held.warnings)
+
+
 # ------------------------------------------------------------------------------------------------ CLI
 def _experiment(folder: Path, muscle, bores, **kwargs) -> Path:
     (folder / "data").mkdir(parents=True, exist_ok=True)
@@ -239,3 +247,70 @@ def test_bad_slip_data_exit_2_naming_file_and_column(cli, tmp_path, header, rows
     out = cli("identify", _bad(tmp_path, header, rows))
     assert out.returncode == 2
     assert "bad.csv" in out.stderr and named in out.stderr and "Traceback" not in out.stderr
+
+
+def test_identify_fits_moduli_and_grip_together(tmp_path, muscle):
+    """Axial and radial tests beside a slip test: the moduli are fitted, then the grip with the fitted muscle;
+    the API returns both (``result.slip``, ``to_dict()["slip"]``)."""
+    import pampipe
+
+    experiment = yaml.safe_load((PROBLEMS / "experiments" / "paper-protocol.yaml").read_text())
+    for test in experiment["tests"]:
+        test["data"] = str(PROBLEMS / "experiments" / test["data"])
+    (tmp_path / "data").mkdir()
+    columns = slip_data.slip_test(muscle, BORES[1], PRESSURES[::2], mu=MU, kappa=KAPPA, seed=3)
+    slip_data.write(tmp_path / "data" / "slip.csv", columns)
+    experiment["tests"].append({"name": "slip", "kind": "slip", "pipe_diameter": "3.5 in",
+                                "data": "data/slip.csv"})
+    result = pampipe.identify(experiment, base=tmp_path, degree=1)
+    assert result.slip is not None and result.tests and len(result.slip.trials) == 8
+    doc = result.to_dict()
+    assert doc["moduli"]["hoop"]["a"] and doc["slip"]["determined"] == ["effective_friction"]
+    amplification, _ = slip_data.amplification(muscle.geometry, BORES[1])
+    truth = MU / (1 + KAPPA * MU * math.pi * amplification)
+    low, high = doc["slip"]["combination"]["per_bore"][0]["ci95"]
+    assert low <= truth <= high
+    written = result.fitted_pam(load_bundled_pam())
+    assert written.grip.friction == pytest.approx(doc["slip"]["combination"]["per_bore"][0]["value"])
+    assert written.grip.load_coupling is None and written.moduli == result.moduli
+
+
+def load_bundled_pam():
+    from pampipe.io.config import load_pam
+
+    return load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
+
+
+def test_synth_slip_tests_are_read_back(cli, tmp_path):
+    """synth --slip-pipe writes slip tests that identify reads: 8 trials per bore, the held one censored, the
+    true effective friction inside its interval, and --plots draws every test."""
+    out = cli("synth", tmp_path, "--name", "grip", "--slip-pipe", "3 in", "--slip-only", "--held-trial", "2",
+              "--friction", "0.25", "--load-coupling", "0.5", "--stick-slip", "--json")
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["slip"]["friction"] == 0.25
+    out = cli("identify", tmp_path / "grip.yaml", "--json", "--plots", tmp_path / "plots")
+    assert out.returncode == 0, out.stderr
+    slip = json.loads(out.stdout)["slip"]
+    assert [t["censored"] for t in slip["trials"]] == [False, True] + [False] * 6
+    amplification, _ = slip_data.amplification(load_bundled_pam().geometry, 0.0762)
+    truth = 0.25 / (1 + 0.5 * 0.25 * math.pi * amplification)
+    low, high = slip["combination"]["per_bore"][0]["ci95"]
+    assert low <= truth <= high
+    assert sorted(p.name for p in (tmp_path / "plots").iterdir()) == ["slip_fit.png", "slip_slip-76.2mm.png"]
+
+
+def test_synth_refuses_bad_slip_values(cli, tmp_path):
+    out = cli("synth", tmp_path, "--slip-pipe", "3 in", "--friction", "0")
+    assert out.returncode == 2 and "--friction" in out.stderr
+    out = cli("synth", tmp_path, "--slip-only")
+    assert out.returncode == 2 and "--slip-pipe" in out.stderr
+
+
+def test_the_shipped_slip_example(cli):
+    """problems/experiments/slip-3in.yaml: one bore, so the combination and not kappa; trial 3 held."""
+    out = cli("identify", PROBLEMS / "experiments" / "slip-3in.yaml", "--json")
+    assert out.returncode == 0, out.stderr
+    slip = json.loads(out.stdout)["slip"]
+    assert slip["load_coupling"] is None and slip["trials"][2]["censored"]
+    low, high = slip["friction"]["range_for_load_coupling_0_to_1"]
+    assert low <= 0.3 <= high  # the generating friction (kappa = 1)

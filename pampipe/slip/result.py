@@ -74,15 +74,19 @@ class SlipResult:
         return ("the tested bores' amplification factors differ too little to fix kappa at this scatter: "
                 "add trials, or a bore further apart")
 
-    def grip(self) -> Grip:
+    def grip(self) -> Grip | None:
         """The PAM's ``contact:`` block: (μ, κ) when determined, else the smallest effective friction
-        with κ None (conservative with the mission's load path: docs/physics.md §13.3)."""
+        with κ None (conservative with the mission's load path: docs/physics.md §13.3); None when no
+        effective friction has a closed interval (e.g. no trial slipped: no upper limit)."""
         bores = tuple(sorted({e.pipe_diameter for e in self.effective}))
         if self.friction is not None and self.load_coupling is not None:
-            return Grip(self.friction.value, self.friction.sd or 0.0, self.load_coupling.value,
-                        self.load_coupling.sd or 0.0, self.pipe_material, bores)
-        lowest = min(self.effective, key=lambda e: e.estimate.value)
-        return Grip(lowest.estimate.value, lowest.estimate.sd or 0.0, None, 0.0, self.pipe_material,
+            return Grip(self.friction.value, self.friction.sd, self.load_coupling.value,
+                        self.load_coupling.sd, self.pipe_material, bores)
+        closed = [e for e in self.effective if e.estimate.closed]
+        if not closed:
+            return None
+        lowest = min(closed, key=lambda e: e.estimate.value)
+        return Grip(lowest.estimate.value, lowest.estimate.sd, None, 0.0, self.pipe_material,
                     (lowest.pipe_diameter,))
 
     def as_document(self) -> dict:

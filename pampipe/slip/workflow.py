@@ -118,7 +118,7 @@ def _trial_warnings(tests, trials, muscle, pressure, diameter) -> list[str]:
                    "touch the wall there): " + ", ".join(below) + "; check the moduli or the pressure column")
     if all(t.censored for t in trials):
         out.append("no trial slipped: every slip load is a lower bound, so friction has no upper limit from "
-                   "these data; raise the load further")
+                   "these data, and -o writes no contact: block; raise the load further")
     return out
 
 
