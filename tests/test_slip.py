@@ -215,6 +215,20 @@ def test_plan_warns_about_another_pipe_material(cli, tmp_path, gripped_pam):
     assert "PVC" in out.stderr and "steel" in out.stderr
 
 
+def test_plan_from_pam_needs_segments_that_agree(cli, tmp_path, gripped_pam):
+    """Segments whose PAM files measured different friction: exit 2 naming them."""
+    other = yaml.safe_load(gripped_pam.read_text())
+    other["contact"]["friction"]["value"] *= 1.5
+    (tmp_path / "other.yaml").write_text(yaml.safe_dump(other))
+    path = _mission(tmp_path, gripped_pam)
+    raw = yaml.safe_load(path.read_text())
+    raw["robot"]["segments"][2]["pam"] = str(tmp_path / "other.yaml")
+    path.write_text(yaml.safe_dump(raw))
+    out = cli("plan", path)
+    assert out.returncode == 2
+    assert "PAM1" in out.stderr and "PAM3" in out.stderr and "route[0].friction" in out.stderr
+
+
 def test_plan_from_pam_needs_a_contact_block(cli, tmp_path):
     out = cli("plan", _mission(tmp_path, PROBLEMS / "pams" / "paper-radial-pam.yaml"))
     assert out.returncode == 2
