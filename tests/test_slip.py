@@ -100,6 +100,19 @@ def test_detection_finds_a_known_onset():
     assert held.censored and held.slip_load == pytest.approx(600)
 
 
+def test_a_curved_elastic_trend_is_not_slip():
+    """Quiet gauge, elastic displacement 6 % non-linear: the curvature (4 µm, 20 noise sd) is not a slip."""
+    rng = np.random.default_rng(2)
+    load = np.linspace(0, 600, 61)
+    displacement = 2e-7 * load + 2e-11 * load**2 + rng.normal(0, 2e-7, load.size)
+    trial = detect("t", 0, 0.0762, np.arange(load.size) * 0.1, np.full(load.size, 3e5), load, displacement)
+    assert trial.censored
+    jump = np.concatenate([displacement, displacement[-1] + np.linspace(0.1e-3, 1e-3, 5)])
+    slipped = detect("t", 0, 0.0762, np.arange(jump.size) * 0.1, np.full(jump.size, 3e5),
+                     np.concatenate([load, np.full(5, 580.0)]), jump)
+    assert not slipped.censored and slipped.onset_row == 61 and slipped.slip_load == pytest.approx(600)
+
+
 def test_friction_law_check(muscle, two_bores):
     """μ ∝ p^0.4 is recognised as pressure-dependent; Coulomb data are judged Coulomb."""
     assert two_bores.law.supported == "coulomb"

@@ -3,14 +3,14 @@
 While the muscle sticks, the displacement follows the load elastically, d ≈ a + b·F. The trend is fitted
 over the first half of the load's rise; its noise σ_d is 1.4826·MAD of those residuals (floored at
 10⁻⁹ m). The onset is the first row from which the residual r = d − (a + bF) stays above
-:data:`THRESHOLD`·σ_d to the end of the trial: a slip shifts the muscle for good, stick-slip included
-(each stick re-loads from the shifted position). The slip load is the largest load before the onset
+T = max(:data:`THRESHOLD`·σ_d, :data:`ELASTIC_SHARE`·b·ΔF) (ΔF the load's rise) to the end of the
+trial: a slip shifts the muscle for good, stick-slip included (each stick re-loads from the shifted
+position). The slip load is the largest load before the onset
 (the static peak; the load may fall once the muscle moves), the pressure the one at that peak.
 
-Confidence: Φ(s − :data:`THRESHOLD`) with s the median departure after the onset in units of σ_d
-(0.5 at the threshold, 0.98 two σ_d above). A trial that never departs is censored: the muscle held
-every load of the trial, so its largest load is a lower bound of the slip load, with confidence
-Φ(:data:`THRESHOLD` − s_max), s_max its largest residual in σ_d.
+Confidence: Φ((r̃ − T)/σ_d) with r̃ the median departure after the onset (0.5 at the threshold, 0.98 two
+σ_d above). A trial that never departs is censored: the muscle held every load of the trial, so its largest
+load is a lower bound of the slip load, with confidence Φ((T − r_max)/σ_d), r_max its largest residual.
 """
 
 from __future__ import annotations
@@ -24,6 +24,9 @@ import numpy as np
 THRESHOLD = 6.0
 #: Share of the trial's load rise over which the elastic trend is fitted.
 TREND_SHARE = 0.5
+#: Departure, as a share of the elastic displacement over the whole rise, below which it is not slip (a
+#: mildly non-linear elastic trend curves away from the fitted line by a few per cent).
+ELASTIC_SHARE = 0.05
 
 
 @dataclass(frozen=True)
@@ -73,7 +76,9 @@ def detect(test: str, index: int, pipe_diameter: float, time, pressure, load, di
     slope, intercept = _line(load[window], displacement[window])
     residual = displacement - (intercept + slope * load)
     noise = max(1.4826 * float(np.median(np.abs(residual[window] - np.median(residual[window])))), 1e-9)
-    above = residual > THRESHOLD * noise
+    # a mildly non-linear elastic trend curves away from the line by a few per cent: that is no slip
+    threshold = max(THRESHOLD * noise, ELASTIC_SHARE * abs(slope) * rise)
+    above = residual > threshold
     stays = np.flip(np.logical_and.accumulate(np.flip(above)))  # above from here to the end
     stays[window] = False  # never inside the fitted window
     onset = int(np.argmax(stays)) if stays.any() else None
@@ -81,14 +86,14 @@ def detect(test: str, index: int, pipe_diameter: float, time, pressure, load, di
     rate = (load[window[-1]] - load[window[0]]) / span if span > 0 else math.nan
     if onset is None:
         peak = top
-        largest = float(np.max(residual)) / noise
+        largest = float(np.max(residual))
         return Trial(test, index, pipe_diameter, float(pressure[peak]), float(load[peak]), True,
-                     _phi(THRESHOLD - largest), None, first_row + peak, first_row, first_row + load.size,
-                     rate, slope, noise, float(np.max(residual)))
+                     _phi((threshold - largest) / noise), None, first_row + peak, first_row,
+                     first_row + load.size, rate, slope, noise, largest)
     peak = int(np.argmax(load[:onset])) if onset > 0 else 0
     departure = float(np.median(residual[onset:]))
     return Trial(test, index, pipe_diameter, float(pressure[peak]), float(load[peak]), False,
-                 _phi(departure / noise - THRESHOLD), first_row + onset, first_row + peak, first_row,
+                 _phi((departure - threshold) / noise), first_row + onset, first_row + peak, first_row,
                  first_row + load.size, rate, slope, noise, departure, float(time[onset]))
 
 
