@@ -137,8 +137,8 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
     Options override the experiment's ``fit:`` block; ``calibrate`` and ``pipe_diameter`` (a value or
     a list, unit strings accepted) add to it. Returns an :class:`pampipe.identification.IdentifyResult`; its
     ``fitted_pam(pam)`` is the muscle to write. With slip tests, ``result.slip`` is the
-    :class:`pampipe.slip.SlipResult` (friction, load coupling, trials; ``to_dict()["slip"]``); an experiment of
-    slip tests only returns a :class:`pampipe.identification.grip.GripResult` with the same ``slip``.
+    :class:`pampipe.slip.SlipResult` (friction, load coupling, trials; ``to_dict()["slip"]``); an experiment
+    of slip tests only returns a :class:`pampipe.identification.grip.GripResult` with the same ``slip``.
     """
     from pampipe.identification import identify as run
     from pampipe.identification.options import fit_options
