@@ -174,7 +174,7 @@ Units LPS
 
 
 def test_route_errors_name_what_is_wrong(tmp_path):
-    keys = r"\(allowed keys here: network, from, to, friction, tolerance, sd\)"
+    keys = r"\(allowed keys here: network, from, to, friction, tolerance, sd, pipe_material\)"
     with pytest.raises(InputError, match=r"unknown key 'route.frm'; did you mean 'from'\? " + keys):
         load(mission({"network": "ky4", "frm": "J-315", "to": "J-897", "friction": 0.3}))
     with pytest.raises(InputError, match="give both 'from' and 'to'"):

@@ -297,9 +297,9 @@ class NetworkRouteSchema(Strict):
     from_node: str | int | None = Field(default=None, alias="from")
     to_node: str | int | None = Field(default=None, alias="to")
     friction: SectionFriction = None
-    pipe_material: str | None = Field(None, min_length=1, max_length=100)
     tolerance: str | float | int | None = None  # of every pipe's bore: a length or a percentage
     sd: str | float | int | None = None  # standard deviation of every pipe's bore
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
 
 
 class MissionSchema(Strict):
