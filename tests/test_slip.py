@@ -140,6 +140,17 @@ def test_no_slip_at_all_claims_no_friction(muscle):
     assert any("no trial slipped" in w for w in held.warnings)
 
 
+def test_too_few_slips_claim_nothing(muscle):
+    """Two slipped trials cannot estimate the scatter: no friction, no contact block, valid JSON."""
+    few = fit_slip(_tests(muscle, BORES[:1], hold=tuple(range(2, PRESSURES.size))), muscle)
+    assert sum(not t.censored for t in few.trials) == 2
+    assert few.grip() is None and few.friction is None
+    doc = few.as_document()
+    json.dumps(doc, allow_nan=False)
+    assert doc["combination"]["per_bore"][0]["value"] is None
+    assert any("only 2 trial(s) slipped" in w for w in few.warnings)
+
+
 # ------------------------------------------------------------------------------------------------ CLI
 def _experiment(folder: Path, muscle, bores, **kwargs) -> Path:
     (folder / "data").mkdir(parents=True, exist_ok=True)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from pampipe.report import table
 
 
@@ -16,6 +18,8 @@ def slip_report(slip) -> str:
     if slip.friction is not None:
         parts.append(f"friction mu = {_value(slip.friction)}; load coupling kappa = "
                      f"{_value(slip.load_coupling)} (95 % profile-likelihood intervals)")
+    elif slip.friction_range is None:
+        parts.append("friction mu and load coupling kappa: not estimated (too few trials slipped)")
     else:
         low, high = slip.friction_range
         parts.append("friction mu and load coupling kappa are NOT separately determined; the data fix the "
@@ -27,7 +31,8 @@ def slip_report(slip) -> str:
                        [(f"{e.pipe_diameter * 1e3:.4g}", e.amplification, e.estimate.value,
                          _interval(e.estimate), e.trials) for e in slip.effective]))
     unit = "(log ratio)" if slip.noise == "relative" else "N"
-    parts.append(f"slip-load scatter: {slip.noise}, sigma {slip.sigma:.3g} {unit}")
+    if math.isfinite(slip.sigma):
+        parts.append(f"slip-load scatter: {slip.noise}, sigma {slip.sigma:.3g} {unit}")
     law = slip.law
     if law is not None:
         parts.append(f"friction law: Coulomb vs mu0*(p/{law.reference_pressure / 1e3:.4g} kPa)^n: n = "

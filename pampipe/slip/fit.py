@@ -55,9 +55,12 @@ class Likelihood:
     censored: np.ndarray  # bool
     model: Model
     noise: str = "relative"  # relative | absolute
+    sigma: float | None = None  # σ held at this value (then the log_sigma argument is ignored)
 
     def __call__(self, mu: float, kappa: float, log_sigma: float) -> float:
         predicted = np.maximum(self.model(mu, kappa), FLOOR)
+        if self.sigma is not None:
+            log_sigma = math.log(self.sigma)
         sigma = math.exp(log_sigma)
         if self.noise == "relative":
             z = (np.log(np.maximum(self.load, FLOOR)) - np.log(predicted)) / sigma

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from pampipe.model.pam import Grip
@@ -102,7 +103,7 @@ class SlipResult:
             "combination": {"name": EFFECTIVE, "formula": EFFECTIVE_FORMULA,
                             "per_bore": [e.as_document() for e in self.effective]},
             "separating_test": self.separating_test,
-            "noise": {"model": self.noise, "sigma": self.sigma,
+            "noise": {"model": self.noise, "sigma": _number(self.sigma),
                       "unit": "log ratio" if self.noise == "relative" else "N"},
             "friction_law": None if self.law is None else self.law.as_document(),
             "residual_trends": [t.as_document() for t in self.trends],
@@ -114,11 +115,17 @@ class SlipResult:
 
 
 def _estimate(e: Estimate) -> dict:
-    return {"value": e.value, "ci95": [e.low, e.high], "sd": e.sd}
+    return {"value": _number(e.value), "ci95": [e.low, e.high], "sd": e.sd}
+
+
+def _number(value: float) -> float | None:
+    """A float, or None (JSON null) where it is not a number (not estimated)."""
+    return float(value) if math.isfinite(value) else None
 
 
 def _trial(t: Trial, predicted: float, residual: float) -> dict:
     return {"test": t.test, "trial": t.index + 1, "pipe_diameter_m": t.pipe_diameter,
             "pressure_Pa": t.pressure, "slip_load_N": t.slip_load, "censored": t.censored,
-            "confidence": t.confidence, "onset_time_s": t.onset_time, "load_rate_N_per_s": float(t.load_rate),
-            "predicted_slip_load_N": predicted, "residual": residual}
+            "confidence": t.confidence, "onset_time_s": t.onset_time,
+            "load_rate_N_per_s": _number(t.load_rate), "predicted_slip_load_N": _number(predicted),
+            "residual": _number(residual)}

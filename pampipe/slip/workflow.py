@@ -9,7 +9,7 @@ from threadpoolctl import threadpool_limits
 
 from pampipe.experiment import SlipData
 from pampipe.slip.detect import Trial, detect
-from pampipe.slip.fit import FRICTION_BOUNDS, KAPPA_BOUNDS, Likelihood, maximise, profile_interval
+from pampipe.slip.fit import FRICTION_BOUNDS, KAPPA_BOUNDS, Estimate, Likelihood, maximise, profile_interval
 from pampipe.slip.law import check_law
 from pampipe.slip.result import Effective, SlipResult
 from pampipe.slip.trend import trends
@@ -54,9 +54,12 @@ def _fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
 
     everything = np.arange(len(trials))
     bores = sorted(set(diameter.tolist()))
+    two = len(bores) > 1
+    needed = 5 if two else 4  # slipped trials: the free parameters (μ, κ, σ or μ, σ) plus two
+    if int(np.sum(~censored)) < needed:
+        return _too_few(trials, bores, muscle, warnings, needed, tests)
     candidates = {noise: Likelihood(load, censored, model_on(everything), noise)
                   for noise in ("relative", "absolute")}
-    two = len(bores) > 1
     fits = {noise: maximise(like, kappa=None if two else 0.0) for noise, like in candidates.items()}
     noise = max(fits, key=lambda k: fits[k].loglik)
     like, best = candidates[noise], fits[noise]
@@ -64,7 +67,9 @@ def _fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
     effective = []
     for bore in bores:
         index = np.flatnonzero(diameter == bore)
-        local = Likelihood(load[index], censored[index], model_on(index), noise)
+        # σ is the scatter of every trial: held at the joint fit's, so that a bore with few trials has no
+        # spuriously tight interval
+        local = Likelihood(load[index], censored[index], model_on(index), noise, math.exp(best.log_sigma))
         at = maximise(local, kappa=0.0)
         estimate = profile_interval(local, at, "friction", FRICTION_BOUNDS, kappa_fixed=0.0)
         amplification = float(muscle.amplification_factor(bore))
@@ -94,6 +99,20 @@ def _fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
     return SlipResult(tuple(trials), tuple(predicted.tolist()), tuple(residual.tolist()), noise,
                       math.exp(best.log_sigma), friction, load_coupling, friction_range, tuple(effective),
                       law, tuple(found), materials[0] if len(materials) == 1 else None, tuple(warnings))
+
+
+def _too_few(trials, bores, muscle, warnings, needed, tests) -> SlipResult:
+    """The result when too few trials slipped to estimate the scatter: trials only, nothing claimed."""
+    slipped = sum(not t.censored for t in trials)
+    warnings = [*warnings, f"only {slipped} trial(s) slipped; at least {needed} are needed to estimate the "
+                           "scatter of the slip loads, so no friction is claimed and -o writes no contact: "
+                           "block; record more trials"]
+    effective = tuple(Effective(b, float(muscle.amplification_factor(b)), Estimate(math.nan, None, None),
+                                sum(t.pipe_diameter == b for t in trials)) for b in bores)
+    materials = sorted({t.spec.pipe_material for t in tests if t.spec.pipe_material})
+    nan = tuple(math.nan for _ in trials)
+    return SlipResult(tuple(trials), nan, nan, "relative", math.nan, None, None, None, effective, None, (),
+                      materials[0] if len(materials) == 1 else None, tuple(warnings))
 
 
 def slip_model(muscle, pressure, diameter):
