@@ -67,9 +67,10 @@ def _fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
     effective = []
     for bore in bores:
         index = np.flatnonzero(diameter == bore)
-        # σ is the scatter of every trial: held at the joint fit's, so that a bore with few trials has no
-        # spuriously tight interval
-        local = Likelihood(load[index], censored[index], model_on(index), noise, math.exp(best.log_sigma))
+        # a bore with too few slips for its own scatter takes the joint fit's σ (no spuriously tight interval)
+        few = int(np.sum(~censored[index])) < 4
+        local = Likelihood(load[index], censored[index], model_on(index), noise,
+                           math.exp(best.log_sigma) if few else None)
         at = maximise(local, kappa=0.0)
         estimate = profile_interval(local, at, "friction", FRICTION_BOUNDS, kappa_fixed=0.0)
         amplification = float(muscle.amplification_factor(bore))
