@@ -117,8 +117,9 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         return problem.muscles_of(structure, stats, stated, xv)
 
     model_error = model_errors.estimate(data, x, problem.prior_hessian(structure, values, x.size), muscles_at,
-                                        slack=options.slack, active=_active_rows(structure, grid, x,
-                                                                                  uncertainty.at_bound))
+                                        slack=options.slack, half_range=0.5 * (ubx - lbx),
+                                        constraints=_constraints(structure, grid, x, lbx, ubx,
+                                                                 uncertainty.at_bound))
     top = max(float(t.pressure.max()) for t in data.tests)
     joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                           model_error.value, lambda xv: muscles_at(xv)[0],
@@ -141,18 +142,22 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
 ACTIVE = 1e-5
 
 
-def _active_rows(structure, grid, x, at_bound) -> np.ndarray:
-    """Gradients (rows over x) of the constraints active at ``x``: bounds reached, Drucker rows at zero."""
-    rows = [np.eye(x.size)[i] for i in np.flatnonzero(at_bound)]
+def _constraints(structure, grid, x, lower, upper, at_bound):
+    """(rows, lower, active) of the fit's linear constraints rows·x ≥ lower: the bounds and the Drucker
+    rows of every moduli block; ``active``: reached at ``x`` (bounds as the uncertainty says)."""
+    n = x.size
+    rows, low, active = [np.eye(n), -np.eye(n)], [lower, -upper], [at_bound & (x - lower <= upper - x),
+                                                                     at_bound & (x - lower > upper - x)]
     at = 0
     for name, size in structure.blocks():
         if name not in ("contact", "geometry") and grid.shape[0]:
-            for row in grid[grid @ x[at:at + size] <= ACTIVE]:
-                full = np.zeros(x.size)
-                full[at:at + size] = row
-                rows.append(full)
+            block = np.zeros((grid.shape[0], n))
+            block[:, at:at + size] = grid
+            rows.append(block)
+            low.append(np.zeros(grid.shape[0]))
+            active.append(grid @ x[at:at + size] <= ACTIVE)
         at += size
-    return np.array(rows).reshape(-1, x.size)
+    return np.vstack(rows), np.concatenate(low), np.concatenate(active)
 
 
 def _start_geometry(data, stated, options: FitOptions, low, high):

@@ -16,10 +16,12 @@ J is the Jacobian of the model force of each row in x (central differences), ove
 subsample of at most :data:`SAMPLE` rows per test, each weighted by w = rows/sample (A_g is built
 from the same sample: subtracting a sample from the full Hessian leaves noise where only the band
 informs, whose inverse is meaningless).
-The refit keeps the active set of the full fit: parameters at a bound and Drucker rows at zero stay
-there (the step is taken in the null space of those rows); without that, a held-out band would be
-extrapolated along directions that the constraints close (measured: 60 N instead of 2.7 N held-out
-RMSE at the top pressure band of data generated from the model itself).
+The refit obeys the fit's constraints: parameters at a bound and Drucker rows at zero stay there
+(the step is taken in the null space of those rows), the other bounds and Drucker rows bound the
+step (a small QP, SLSQP), and it moves only the combinations the remaining data identify by the
+fit's own rule (:func:`pampipe.identification.uncertainty.identifiable`). Without that, a held-out
+band is extrapolated along directions the constraints close (measured on data generated from the
+model itself: 60 N held-out RMSE at the top pressure band instead of the 2 N noise).
 Were the model right, a held-out residual would have variance σ_n²(1 + J_iS_gJ_iᵀ), noise plus the
 refit's estimation error, S_g = A_g⁺(Σ_{i∉g} w_i² J_iᵀJ_i)A_g⁺. The model error is what exceeds that:
 
@@ -36,12 +38,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pampipe.identification.uncertainty import identifiable
+
 #: Pressure bands held out in turn.
 BANDS = 4
 #: Rows per test in the Jacobian sample.
 SAMPLE = 2000
-#: Relative eigenvalue below which a refit does not move a direction (scaled coordinates).
-RCOND = 1e-8
 #: Second differences beyond this many robust (MAD) standard deviations are jumps, not noise.
 TRIM = 5.0
 
@@ -125,7 +127,7 @@ def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
     return out
 
 
-def estimate(data, x, prior_hessian, muscles_at, *, slack: str, active=None) -> ModelError:
+def estimate(data, x, prior_hessian, muscles_at, *, slack: str, half_range, constraints=None) -> ModelError:
     """Model error of the fit ``x`` (module docstring); ``muscles_at(x)`` is (muscle, {pipe: muscle})."""
     every = sample_rows(data, slack, limit=None)
     residual = row_forces(data, every, muscles_at(x), slack) - every.force
@@ -148,10 +150,15 @@ def estimate(data, x, prior_hessian, muscles_at, *, slack: str, active=None) -> 
     d = np.sqrt(np.clip(np.diag((jac * w[:, None]).T @ jac + prior), 0, None))
     d[d == 0] = 1.0
     # scaled coordinates y = D·x, restricted to the null space Z of the active constraints
-    rows = np.zeros((0, np.size(x))) if active is None else np.asarray(active, float) / d
-    z = _null_space(rows, np.size(x))
+    if constraints is None:
+        constraints = (np.zeros((0, np.size(x))), np.zeros(0), np.zeros(0, dtype=bool))
+    rows, lower, active = constraints
+    z = _null_space(rows[active] / d, np.size(x))
+    to_x = z / d[:, None]  # x change per unit of t
     jac = (jac / d) @ z
+    weights = (d[:, None] * z).T  # row k: the x-weights of scaled coordinate k [N/unit]
     prior = z.T @ (prior / np.outer(d, d)) @ z
+    free_rows, slack_left = rows[~active] @ to_x, lower[~active] - rows[~active] @ x
     band = np.clip(np.searchsorted(edges, sample.pressure, side="right") - 1, 0, edges.size - 2)
     held = np.empty_like(r)
     leverage = np.empty_like(r)
@@ -161,9 +168,13 @@ def estimate(data, x, prior_hessian, muscles_at, *, slack: str, active=None) -> 
         if not mine.any():
             continue
         jr, wr = jac[~mine], w[~mine]
-        inverse = _pinv((jr * wr[:, None]).T @ jr + prior)
+        lam, vec = np.linalg.eigh((jr * wr[:, None]).T @ jr + prior)
+        keep = identifiable(lam, vec.T @ weights, half_range, sigma_n)
+        lam, vec = lam[keep], vec[:, keep]
         jg, rg, wg = jac[mine], r[mine], w[mine]
-        held[mine] = rg + jg @ (inverse @ (jg.T @ (wg * rg)))
+        step = vec @ _refit(lam, vec.T @ (jg.T @ (wg * rg)), free_rows @ vec, slack_left)
+        held[mine] = rg + jg @ step
+        inverse = (vec / lam) @ vec.T
         spread = inverse @ (jr * (wr**2)[:, None]).T @ jr @ inverse  # Cov of the refit / σ²
         leverage[mine] = np.einsum("ij,jk,ik->i", jg, spread, jg)
         bands.append((float(edges[g]), float(edges[g + 1]), round(float(wg.sum())),
@@ -210,10 +221,15 @@ def _null_space(rows: np.ndarray, size: int) -> np.ndarray:
     return vt[rank:].T
 
 
-def _pinv(matrix: np.ndarray) -> np.ndarray:
-    """Pseudo-inverse of a symmetric PSD ``matrix`` (scaled coordinates); eigenvalues below
-    :data:`RCOND` of the largest are dropped: directions the remaining data do not fix stay put
-    (below that, the finite-difference Jacobian's error dominates the eigenvalue)."""
-    lam, vec = np.linalg.eigh(matrix)
-    keep = lam > RCOND * max(lam.max(), 1e-300)
-    return (vec[:, keep] / lam[keep]) @ vec[:, keep].T
+def _refit(lam: np.ndarray, gradient: np.ndarray, rows: np.ndarray, lower: np.ndarray) -> np.ndarray:
+    """argmin ½Σλ_k s_k² − gradient·s subject to rows·s ≥ lower (the constraints not active at x̂)."""
+    s = gradient / lam
+    if rows.shape[0] == 0 or np.all(rows @ s >= lower - 1e-9):
+        return s
+    from scipy.optimize import minimize
+
+    found = minimize(lambda v: 0.5 * float(np.sum(lam * v**2)) - float(gradient @ v), np.zeros_like(s),
+                     jac=lambda v: lam * v - gradient, method="SLSQP",
+                     constraints=[{"type": "ineq", "fun": lambda v: rows @ v - lower, "jac": lambda v: rows}],
+                     options={"maxiter": 200, "ftol": 1e-12})
+    return found.x
