@@ -28,8 +28,9 @@ def designed_pam(inventory: Inventory, geometry: tuple[float, float, float], nam
     limits (max_pressure, max_contraction), so that a plan of the designed muscle obeys them."""
     material = inventory.material
     g = material.geometry
-    return Pam(name, Geometry(*geometry, g.bladder_thickness, g.wall), material.moduli, material.covariance,
-               max_pressure=material.max_pressure, max_contraction=material.max_contraction)
+    pam = Pam(name, Geometry(*geometry, g.bladder_thickness, g.wall), material.moduli, material.covariance,
+              max_pressure=material.max_pressure, max_contraction=material.max_contraction)
+    return pam if material.uncertainty is None else pam.with_uncertainty(material.uncertainty.moduli_part())
 
 
 @dataclass(frozen=True)

@@ -140,6 +140,23 @@ class ParameterUncertainty:
         n = self.moduli_count
         return self.covariance[:n, :n]
 
+    def moduli_part(self) -> ParameterUncertainty:
+        """The uncertainty of the moduli alone (geometry rows dropped), for a muscle of another geometry:
+        directions keep their moduli part (renormalised, same step) and lose their moves (other bores)."""
+        n = self.moduli_count
+
+        def cut(d: UndeterminedDirection) -> UndeterminedDirection | None:
+            norm = float(np.linalg.norm(d.vector[:n]))
+            if norm < 1e-12:
+                return None
+            return UndeterminedDirection(d.vector[:n] / norm, d.scale * norm, {}, d.test)
+
+        def kept(directions):
+            return tuple(c for c in map(cut, directions) if c is not None)
+
+        return ParameterUncertainty(self.names[:n], self.covariance[:n, :n], self.model_error,
+                                    kept(self.undetermined), kept(self.prior_determined))
+
     def scaled_units(self) -> np.ndarray:
         """SI size of one scaled unit for each of ``names``."""
         return np.array([scaled_unit(name) for name in self.names])
