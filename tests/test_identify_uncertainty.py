@@ -157,3 +157,15 @@ def test_a_pam_file_is_a_prior(tmp_path):
     assert precision[0, 0] == pytest.approx(1 / 0.1e6**2)  # axial.a0: sd 0.1 MPa
     assert precision[1, 1] == 0  # axial.a1: no variance stated, no information
     assert "fit.prior.pam" in options.prior_source
+
+
+def test_calibrated_geometry_rows_are_written_in_si(radial_pam):
+    """The braid angle's written variance [rad²] is the one behind the report's 95 % interval [deg]."""
+    result = identify(_data(radial_pam, pipes=(0.0762, 0.0889)), FitOptions(calibrate=("braid_angle",)))
+    written = result.parameter_uncertainty
+    assert written.names[-1] == "braid_angle" and written.names[:16] == tuple(
+        f"{law}.{part}{j}" for law in ("axial", "hoop") for part in "ab" for j in range(4))
+    low, high = result.calibration.intervals["braid_angle"]  # deg
+    assert math.sqrt(written.covariance[-1, -1]) == pytest.approx(math.radians((high - low) / 2 / 1.959964),
+                                                                  rel=1e-9)
+    assert result.fitted_pam(Pam(radial_pam.name, radial_pam.geometry)).uncertainty == written
