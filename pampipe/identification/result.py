@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
+from pampipe.identification.model_error import ModelError
 from pampipe.identification.options import FitOptions
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.model.uncertainty import ParameterUncertainty
 from pampipe.slip.result import SlipResult
 
 MPA = 1e6
@@ -122,6 +124,8 @@ class IdentifyResult:
     slack_rows: tuple[int, ...] = ()  # per test
     excluded_rows: int = 0
     slip: SlipResult | None = None  # friction and load coupling from the slip tests (None: none)
+    parameter_uncertainty: ParameterUncertainty | None = None  # what -o writes (identification.written)
+    model_error: ModelError | None = None
 
     @property
     def drucker_margin(self) -> float:
@@ -146,9 +150,19 @@ class IdentifyResult:
         return self.uncertainty.covariance[np.ix_(index, index)] * MPA**2
 
     def fitted_pam(self, base: Pam) -> Pam:
-        """``base`` with the fitted moduli, the θ covariance and the (calibrated) geometry."""
+        """``base`` with the fitted moduli, their uncertainty, the (calibrated) geometry and the grip.
+
+        The grip (``contact:``) comes from the slip tests, if any. The maker's limits and the stated sd
+        of geometry that was not calibrated are kept; a calibrated entry's uncertainty is in
+        ``uncertainty`` (the fit's), not in ``geometry_sd``.
+        """
+        kept = {k: v for k, v in base.geometry_sd.items() if k not in self.calibration.calibrated}
         grip = self.slip.grip() if self.slip is not None else None
-        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance(), grip=grip)
+        pam = Pam(base.name, self.geometry, self.moduli, grip=grip, geometry_sd=kept,
+                  max_pressure=base.max_pressure, max_contraction=base.max_contraction)
+        if self.parameter_uncertainty is None:
+            return replace(pam, covariance=self.theta_covariance())
+        return pam.with_uncertainty(self.parameter_uncertainty)
 
     def pam_comments(self, source) -> list[str]:
         """Header lines of the PAM file written from this fit: how it was fitted and how well."""
@@ -208,6 +222,7 @@ class IdentifyResult:
                 "degree": self.options.degree, "average_legs": self.options.average_legs,
                 "slack": self.options.slack, "slack_rows": int(sum(self.slack_rows)),
                 "excluded_rows": self.excluded_rows,
+                "prior": _prior_document(self.options),
             },
             "geometry": self.calibration.as_document(),
             "predictions": self.predictions.as_document(),
@@ -227,6 +242,9 @@ class IdentifyResult:
                                   "std_N": _finite([c.std])[0], "interval_95_N": _finite(c.interval),
                                   "singular_value": c.singular_value, "identifiable": c.identifiable}
                                  for c in u.combinations],
+                "model_error": None if self.model_error is None else self.model_error.as_document(),
+                "written": None if self.parameter_uncertainty is None
+                else self.parameter_uncertainty.as_document(),
             },
             "drucker": self._drucker_document(),
             "warnings": list(self.warnings),
@@ -239,6 +257,17 @@ class IdentifyResult:
             doc["per_pipe"] = [{"pipe_diameter_m": d, "moduli": moduli_document(m)}
                                for d, m in sorted(self.pipe_moduli.items())]
         return doc
+
+
+def _prior_document(options: FitOptions) -> dict | None:
+    """How the fit was regularised: a ridge {sd, toward} or a Gaussian prior (where it came from)."""
+    if options.prior_mean is not None:
+        sd = np.sqrt(np.clip(np.diag(np.linalg.pinv(np.asarray(options.prior_precision))), 0, None))
+        return {"kind": "gaussian", "source": options.prior_source, "mean_Pa": list(options.prior_mean),
+                "sd_Pa": [float(v) if v > 0 else None for v in sd]}
+    if options.prior_sd is not None:
+        return {"kind": "ridge", "sd_Pa": options.prior_sd, "toward": options.prior_toward}
+    return None
 
 
 def _drucker_document(result) -> dict:

@@ -10,7 +10,7 @@ import numpy as np
 from pampipe.errors import InputError, SolverError
 from pampipe.planning.checks import cross_check
 from pampipe.planning.confidence import confidence_pressure
-from pampipe.planning.feasibility import element_feasible, section_reasons
+from pampipe.planning.feasibility import plan_feasible, section_reasons
 from pampipe.planning.payload import element_payloads, payload_limit
 from pampipe.planning.problem import Elements, build_elements, mission_muscles
 from pampipe.planning.result import MissionPlan, PlanArrays
@@ -73,7 +73,7 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
         loaded_anchoring_pressure=e.anchoring,
         required_hold=e.load, holding_capacity=capacity, radial_force=radial, contact_pressure=contact,
         air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
-        feasible=element_feasible(e, solution, mission.supply_pressure), complete=complete,
+        feasible=plan_feasible(mission, e, solution), complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=reasons, diameter=np.array(e.diameter),
         largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes)
