@@ -8,14 +8,19 @@ LATEST := .venv-latest
 
 .PHONY: demo test test-slow test-latest lock lint bench fuzz clean
 
+# pip shows errors only: a build log would hide what the target is for
+PIP    := -m pip install -qq --disable-pip-version-check
+
 $(BIN)/python:
-	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	@echo "creating $(VENV) (once)"
+	@$(PYTHON) -m venv $(VENV)
+	@$(BIN)/python $(PIP) --upgrade pip
 
 $(STAMP): pyproject.toml $(LOCK) | $(BIN)/python
-	$(BIN)/python -m pip install --quiet --constraint $(LOCK) -e ".[test]"
-	$(BIN)/python -m compileall -q pampipe  # bytecode as a wheel install has it, even under PYTHONDONTWRITEBYTECODE
-	touch $(STAMP)
+	@echo "installing pampipe and the tested versions of its dependencies ($(LOCK)) into $(VENV)"
+	@$(BIN)/python $(PIP) --constraint $(LOCK) -e ".[test]"
+	@$(BIN)/python -m compileall -q pampipe  # bytecode as a wheel install has it, even under PYTHONDONTWRITEBYTECODE
+	@touch $(STAMP)
 
 demo: $(STAMP)  ## plan the bundled demo mission
 	$(BIN)/pampipe plan problems/missions/vertical-climb-3in.yaml
@@ -28,13 +33,13 @@ test-slow: $(STAMP)  ## everything, slow tests included
 
 test-latest:  ## the suite against the newest release of every dependency, in its own venv (finds drift first)
 	$(PYTHON) -m venv $(LATEST)
-	$(LATEST)/bin/python -m pip install --quiet --upgrade pip
-	$(LATEST)/bin/python -m pip install --quiet --upgrade --upgrade-strategy eager -e ".[test]"
+	$(LATEST)/bin/python $(PIP) --upgrade pip
+	$(LATEST)/bin/python $(PIP) --upgrade --upgrade-strategy eager -e ".[test]"
 	$(LATEST)/bin/python -m pip list --format=freeze | grep -v -i '^pampipe' > $(LATEST)/tested-versions.txt
 	$(LATEST)/bin/python -m pytest -m "not slow" -q -p no:cacheprovider
 
 lock: | $(BIN)/python  ## refresh requirements.lock, the tested versions that every other target installs
-	$(BIN)/python -m pip install --quiet uv
+	$(BIN)/python $(PIP) uv
 	$(BIN)/python -m uv pip compile --quiet pyproject.toml --extra test --extra dask \
 		--python-version 3.10 --universal -o $(LOCK)
 

@@ -1,7 +1,8 @@
 """Quantities in, SI floats out: the only place where units are parsed (docs/formats.md §1).
 
 A value is a number (SI: m, Pa, N, kg, s, K; never for an angle, which must carry a unit) or a string
-``"<number> <unit>"`` read by a strict grammar::
+``"<number> <unit>"`` read by a strict grammar (a string without a unit is refused, unless the value is
+dimensionless or zero: a bare ``0`` is zero in every unit but a temperature, whose units have offsets)::
 
     quantity := number [unit]                       at most 100 characters
     number   := [+-] digits [. digits] [e [+-] digits]
@@ -32,6 +33,7 @@ MAX_LENGTH = 100
 NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 
 _NUMBER = re.compile(rf"\s*({NUMBER})")
+_BARE = re.compile(rf"\s*{NUMBER}\s*")  # a number without a unit
 _TOKEN = re.compile(r"\s*(?:(\*\*|\^)\s*(-?\d)(?!\d)|([*/·()])|([²³])|(1)(?=\s*/)|([^\W\d]\w*|%|°))")
 _QUOTES = "\"'″′”’“‘"
 _EXAMPLES = {"length": "3 in", "pressure": "689 kPa", "force": "1024.74 N", "mass": "2.5 kg",
@@ -61,11 +63,13 @@ def to_si(value: object, dimension: str, *, where: str | None = None) -> float:
             number, found = _parse(value)
         except _Refused as exc:
             raise InputError(f"{prefix}{show(value)}: {exc}") from None
+        if number == 0 and _BARE.fullmatch(value) and dimension != "temperature":
+            return 0.0  # zero is zero in every unit without an offset
         if found == DIMENSIONS["dimensionless"] and dimension == "angle" and value.strip():
             raise InputError(f"{prefix}{show(value)}: {_angle_hint(value, number)}") from None
         _check_dimension(value, found, dimension, prefix)
     elif isinstance(value, int | float):
-        if dimension == "angle":
+        if dimension == "angle" and value != 0:
             raise InputError(f"{prefix}{show(value)} has no unit; an angle must carry one, "
                              f"e.g. '{value} deg' or '{value} rad'.")
         try:
@@ -98,6 +102,10 @@ def column_factor(unit_text: str, dimension: str, *, where: str) -> float:
 def _check_dimension(text: str, found: Dimension, dimension: str, prefix: str) -> None:
     if found == DIMENSIONS[dimension]:
         return
+    if found == DIMENSIONS["dimensionless"] and dimension == "temperature" and _BARE.fullmatch(text):
+        raise InputError(f"{prefix}{show(text)} has no unit; a temperature must carry one, because a bare "
+                         f"number (even 0) means different temperatures in K and degC: write e.g. '293 K' "
+                         f"or '20 degC'.")
     if found == DIMENSIONS["dimensionless"]:
         what = "is a percentage" if "%" in text or "percent" in text else "has no unit"
         raise InputError(f"{prefix}{show(text)} {what}; write {_a(dimension)} with its unit, like "

@@ -10,8 +10,14 @@ import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 from pampipe.io.config import load_pam
+
+#: No test depends on the machine's speed: hypothesis neither times examples nor calls slow data generation
+#: an error (both fail on a busy machine, e.g. with two test runs at once). Tests' own settings build on this.
+settings.register_profile("pampipe", deadline=None, suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("pampipe")
 
 ROOT = Path(__file__).resolve().parent.parent
 PROBLEMS = ROOT / "problems"

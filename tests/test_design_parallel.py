@@ -79,6 +79,6 @@ def test_an_unreachable_scheduler_is_an_input_error():
     """distributed retries until its 10 s connection timeout, hence slow."""
     pytest.importorskip("distributed")
     out = subprocess.run([sys.executable, "-m", "pampipe", "design", str(PLANT), "--scheduler",
-                          "tcp://127.0.0.1:9"], capture_output=True, text=True, cwd=ROOT, timeout=120)
+                          "tcp://127.0.0.1:9"], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert out.returncode == 2, out.stderr
     assert "cannot reach a Dask scheduler" in out.stderr and "Traceback" not in out.stderr

@@ -112,7 +112,7 @@ def test_one_call_on_the_atmega2560(tmp_path):
     subprocess.run(["avr-gcc", *AVR_FLAGS, "-I", str(tmp_path), "-o", str(elf), str(tmp_path / "main.c"),
                     str(tmp_path / "pampipe_plan.o"), "-lm"], check=True)
     run = subprocess.run(["simavr", "-m", "atmega2560", "-f", "16000000", str(elf)], capture_output=True,
-                         text=True, timeout=120)
+                         text=True, timeout=600)
     line = re.search(r"([0-9a-f]{8}(?: [0-9a-f]{8})+)", run.stdout + run.stderr).group(1).split()
     reason, cycles = int(line[0], 16), int(line[1], 16)
     pressure = [struct.unpack("<f", struct.pack("<I", int(v, 16)))[0] for v in line[2:]]

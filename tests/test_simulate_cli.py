@@ -161,3 +161,11 @@ def test_domain_checks_raise_instead_of_nan(radial_pam):
     check_pipe_diameter(g, diameters)
     values = forces.radial_force(np.linspace(0, 1e7, 200), diameters, g, theta, 1e6, 1e4)
     assert np.all(np.isfinite(values))
+
+
+def test_simulate_bare_zero_load_is_zero_newton(cli):
+    """The README's `-f 0` (no unit) is read as 0 N: the same document as `-f '0 N'`."""
+    bare = cli("simulate", RADIAL, "-d", "3 in", "-f", "0", "--json")
+    newton = cli("simulate", RADIAL, "-d", "3 in", "-f", "0 N", "--json")
+    assert bare.returncode == 0 and newton.returncode == 0
+    assert json.loads(bare.stdout) == json.loads(newton.stdout)

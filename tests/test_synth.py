@@ -77,3 +77,13 @@ def test_synth_cli(tmp_path, capsys):
     assert "already exists" in capsys.readouterr().err
     assert main(["synth", str(tmp_path / "x"), "--force-noise", "5 kPa"]) == 2  # a force in kPa
     assert "is not a force" in capsys.readouterr().err
+
+
+def test_synth_force_noise_bare_zero_is_noise_free(tmp_path):
+    """`--force-noise 0` (no unit) is read as 0 N: the same files as `--force-noise '0 N'`."""
+    for name, noise in (("bare", "0"), ("newton", "0 N")):
+        assert main(["synth", str(tmp_path / name), "--seed", "1", "--force-noise", noise,
+                     "--points-per-leg", "5"]) == 0
+    bare = sorted((tmp_path / "bare").rglob("*.csv"))
+    assert bare and [p.read_bytes() for p in bare] == [
+        (tmp_path / "newton" / p.relative_to(tmp_path / "bare")).read_bytes() for p in bare]

@@ -151,3 +151,24 @@ def test_any_string_is_read_or_refused_cleanly(text):
         except InputError:
             continue
         assert math.isfinite(value)
+
+
+@pytest.mark.parametrize("dimension", ["length", "pressure", "force", "mass", "time", "angle", "area",
+                                       "dimensionless", "sonic conductance", "compliance"])
+@pytest.mark.parametrize("zero", ["0", "0.0", "-0", " 0 ", "0e5", 0, 0.0])
+def test_bare_zero_is_zero_in_every_unit_without_an_offset(zero, dimension):
+    assert to_si(zero, dimension) == 0.0
+
+
+@pytest.mark.parametrize("value", ["0", "0.0"])
+def test_bare_zero_temperature_is_refused_because_k_and_degc_differ(value):
+    with pytest.raises(InputError) as info:
+        to_si(value, "temperature", where="key")
+    assert str(info.value).startswith("key: '0") and "K" in str(info.value) and "degC" in str(info.value)
+
+
+@pytest.mark.parametrize(("value", "dimension"), [("0.1", "force"), ("1e-9", "length"), ("0 %", "force"),
+                                                  ("0.5", "angle")])
+def test_a_bare_nonzero_string_still_needs_its_unit(value, dimension):
+    with pytest.raises(InputError):
+        to_si(value, dimension)

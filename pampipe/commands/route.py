@@ -9,7 +9,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type
 from pampipe.errors import InputError
-from pampipe.io import yamlwrite
+from pampipe.io import bundled, yamlwrite
 from pampipe.io.config import load_mission
 from pampipe.io.files import check_not_input
 from pampipe.io.yamlfile import load_mapping
@@ -17,7 +17,7 @@ from pampipe.report import table
 
 NAME = "route"
 HELP = "the shortest path between two nodes of an EPANET network, as a mission file (one section per pipe)"
-DEFAULT_TEMPLATE = Path(__file__).resolve().parents[2] / "problems" / "missions" / "vertical-climb-3in.yaml"
+DEFAULT_TEMPLATE = "vertical-climb-3in"  # a bundled mission (pampipe.io.bundled), found in any install
 
 EPILOG = """\
 NETWORK is a network shipped with wntr (Net1, Net2, Net3, Net6, ky4, ky10) or an EPANET .inp file.
@@ -59,7 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from pampipe.network import load_network, route_sections
 
-    template = args.template or DEFAULT_TEMPLATE
+    template = args.template or bundled.find(DEFAULT_TEMPLATE)
     mission = load_mission(template)
     friction = _friction(args.friction, mission)
     net = load_network(args.network)

@@ -48,9 +48,13 @@ def default_pam() -> Path:
 
 
 def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> list[Path]:
-    """Copy bundled ``files`` into ``target``, keeping their layout (so relative references hold)."""
+    """Copy bundled ``files`` into ``target``, keeping their layout (so relative references hold).
+
+    Files outside the bundled folder (a wntr network a mission names, like ``ky4``) are found by name
+    wherever pampipe is installed, so they are not copied.
+    """
     root = folder().resolve()
-    unique = dict.fromkeys(Path(f).resolve() for f in files)
+    unique = dict.fromkeys(p for p in (Path(f).resolve() for f in files) if p.is_relative_to(root))
     pairs = [(f, Path(target) / f.relative_to(root)) for f in unique]
     check_overwrite([dest for _, dest in pairs], force=overwrite)
     for source, dest in pairs:
