@@ -3,6 +3,7 @@ they are coded, no silent bad fit, the slack hinge in the fit, a global calibrat
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from dataclasses import replace
@@ -14,6 +15,7 @@ import yaml
 from scipy.optimize import least_squares
 
 from pampipe.errors import InputError
+from pampipe.identification import FitOptions, identify
 from pampipe.identification.options import parse_fit_options
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
@@ -160,3 +162,77 @@ def test_with_the_mapping_the_pressure_hysteresis_is_found(radial_pam, tmp_path)
     assert h0 == pytest.approx(6.0, abs=0.6) and h1 == pytest.approx(10.0, abs=2.0)
     misread = replace(test, pressure_leg=np.ones_like(test.pressure_leg))
     assert _hysteresis_refit(radial_pam, misread, theta0, True)[0] > 5.0
+
+
+# ------------------------------------------------------------------------------- no silent bad fit
+@pytest.fixture(scope="module")
+def muscle(radial_pam):
+    return lab.truth(radial_pam)
+
+
+def _misfit_warnings(result):
+    return [w for w in result.warnings if "noise floor" in w or "structured" in w]
+
+
+def test_a_wrong_angle_without_calibration_warns_naming_the_geometry(radial_pam, muscle):
+    """A lab's force map (3 pressures, longest length 1.3 % short of L₀, σ = 1 N) fitted at a braid
+    angle stated 4° off and no calibration: the RMSE is tens of times the noise; the report says so,
+    connects the moduli at their bounds to it, names the geometry and the next step, and says the
+    true reason the blocked-force check could not run."""
+    cols = lab.short_force_map(muscle, rng=np.random.default_rng(31))
+    data = lab.experiment(radial_pam, [(lab.axial("map"), cols)],
+                          stated=lab.off_by(radial_pam.geometry, angle_deg=4))
+    result = identify(data, FitOptions(degree=1))
+    q = result.as_document()["fit"]["quality"]
+    assert q["rmse_over_floor"] > 5 and set(q) >= {"rmse_over_floor", "at_bounds", "structured"}
+    (warning,) = _misfit_warnings(result)
+    assert "geometry" in warning and "--calibrate braid_angle" in warning and "map" in warning
+    for name in q["at_bounds"]:
+        assert name in warning  # moduli at their bounds are tied to the misfit
+    reason = result.calibration.blocked_force_skipped
+    assert "1.3 %" in reason and "below the rest length" in reason
+    assert result.as_document()["geometry"]["blocked_force_check_skipped"] == reason
+
+
+def test_clean_data_reach_their_floor_without_a_misfit_warning(radial_pam, muscle):
+    """Data from the stated muscle (σ = 1 N): RMSE/floor near 1, no structure, no misfit warning;
+    the floor itself estimates the generated σ."""
+    rng = np.random.default_rng(32)
+    g = radial_pam.geometry
+    data = lab.experiment(radial_pam, [
+        (lab.axial("ramps"), lab.isometric_ramps(muscle, [0.27, 0.29, g.initial_length], points=80, rng=rng)),
+        (lab.radial("pipe-3in", 0.0762), lab.split_pipe(muscle, 0.0762, rng=rng))])
+    result = identify(data, FitOptions(degree=1))
+    q = result.quality
+    assert q.rmse_over_floor < 1.5 and not q.structured and not _misfit_warnings(result)
+    for test in q.tests:  # 400-480 live rows: σ̂ within ±25 % of σ = 1 N
+        assert 0.75 < test.floor < 1.25
+
+
+def test_a_small_systematic_misfit_is_called_structured(radial_pam, muscle):
+    """A hysteresis band of ±1.5 N (well inside 3x the noise in RMSE) left unmodelled: the residual
+    keeps one sign along each leg, so the runs test and the autocorrelation call it structured, and
+    the report warns although the RMSE is under 3x the floor."""
+    g = radial_pam.geometry
+    cols = lab.isometric_ramps(muscle, [0.27, 0.29, g.initial_length], points=80, hysteresis=(1.5, 0.0),
+                               rng=np.random.default_rng(33))
+    result = identify(lab.experiment(radial_pam, [(lab.axial("ramps"), cols)]), FitOptions(degree=1))
+    q = result.quality
+    assert q.rmse_over_floor < 3 and q.structured
+    (warning,) = _misfit_warnings(result)
+    assert "structured" in warning and "ramps" in warning
+    assert "hysteresis" in warning and "diagnose" in warning  # the legs differ by the band, 2 x 1.5 N
+    assert q.tests[0].leg_gap == pytest.approx(3.0, abs=0.3)
+
+
+def test_the_report_prints_the_quality_and_the_true_skip_reason(radial_pam, muscle, tmp_path, cli):
+    cols = lab.short_force_map(muscle, rng=np.random.default_rng(34))
+    path = lab.write_lab(tmp_path, lab.Pam(radial_pam.name, lab.off_by(radial_pam.geometry, angle_deg=4)),
+                         [(lab.axial("map"), cols, None)])
+    out = cli("identify", path, "--degree", "1")
+    assert out.returncode == 0
+    assert "RMSE / noise floor" in out.stdout and "warning: the fit misses the data" in out.stdout
+    assert "fewer than 3" not in out.stdout and "1.3 % below the rest length" in out.stdout
+    out = cli("identify", path, "--degree", "1", "--json")
+    quality = json.loads(out.stdout)["fit"]["quality"]
+    assert quality["rmse_over_floor"] > 5 and isinstance(quality["structured"], bool)

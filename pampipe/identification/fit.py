@@ -23,7 +23,7 @@ import numpy as np
 
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
-from pampipe.identification import drucker, envelope, problem
+from pampipe.identification import drucker, envelope, problem, quality
 from pampipe.identification import geometry as geo
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
@@ -105,14 +105,19 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     sse_model = float(nlp.sse(x, p))
     hessian = np.asarray(nlp.hessian(x, p), dtype=float)
     uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
-    tests, sse, sum_rmse = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks, slack=options.slack)
+    tests, sse, sum_rmse, models = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
+                                                  slack=options.slack)
     minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
     blocked = geo.blocked_force(data, geometry)
-    calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit,
-                               blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
+    calibration = replace(
+        _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
+                     geo.blocked_force(data, stated) if options.calibrate else blocked),
+        blocked_force_skipped=geo.blocked_force_skipped(data, geometry))
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
+    fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
                          data, predictions)
+    warnings += quality.warnings(fit_quality, calibration, options.calibrate)
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
@@ -122,7 +127,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
         calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
-        excluded_rows=stats.excluded)
+        excluded_rows=stats.excluded, quality=fit_quality)
 
 
 def _start_geometry(data, stated, options: FitOptions, low, high):

@@ -11,6 +11,7 @@ from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
 from pampipe.identification.options import FitOptions
+from pampipe.identification.quality import Quality
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
 
@@ -66,6 +67,7 @@ class Calibration:
     stated_rmse: float | None  # RMSE of the fit at the stated geometry [N] (calibrated fits only)
     blocked_force: BlockedForce | None  # the blocked-force check of the fitted geometry
     stated_blocked_force: BlockedForce | None  # ... of the stated geometry
+    blocked_force_skipped: str | None = None  # why the check could not run (None: it ran)
 
     def as_document(self) -> dict:
         g = self.geometry
@@ -85,7 +87,8 @@ class Calibration:
                           "bladder_thickness_m": self.stated.bladder_thickness},
                "stated_geometry_rmse_N": self.stated_rmse,
                "blocked_force_check": None if self.blocked_force is None
-               else self.blocked_force.as_document()}
+               else self.blocked_force.as_document(),
+               "blocked_force_check_skipped": self.blocked_force_skipped}
         return doc
 
 
@@ -120,6 +123,7 @@ class IdentifyResult:
     predictions: Predictions
     slack_rows: tuple[int, ...] = ()  # per test
     excluded_rows: int = 0
+    quality: Quality | None = None  # noise floor, structure, bounds (:mod:`.quality`)
 
     @property
     def drucker_margin(self) -> float:
@@ -205,6 +209,7 @@ class IdentifyResult:
                 "degree": self.options.degree, "average_legs": self.options.average_legs,
                 "slack": self.options.slack, "slack_rows": int(sum(self.slack_rows)),
                 "excluded_rows": self.excluded_rows,
+                "quality": None if self.quality is None else self.quality.as_document(),
             },
             "geometry": self.calibration.as_document(),
             "predictions": self.predictions.as_document(),
