@@ -167,6 +167,8 @@ def _geometry(result) -> str:
     lines.append(table(["", "stated", "fitted", "95 % interval"], rows))
     if c.stated_rmse is not None:
         lines.append(f"RMSE at the stated geometry {c.stated_rmse:.4g} N, calibrated {result.rmse:.4g} N")
+    if c.search is not None:
+        lines += c.search.describe()
     b = c.blocked_force
     if b is not None:
         verdict = "consistent" if b.consistent else "MISMATCH"

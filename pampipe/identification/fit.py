@@ -23,7 +23,7 @@ import numpy as np
 
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
-from pampipe.identification import drucker, envelope, problem, quality
+from pampipe.identification import drucker, envelope, multistart, problem, quality, seeds
 from pampipe.identification import geometry as geo
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
@@ -61,8 +61,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     nlp = build_problem(structure)
     build_time = nlp.build_time if build_problem.cache_info().misses > before else 0.0
 
-    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geo.bounds(data, options,
-                                                                                       stats.pipes))
+    geometry_bounds = geo.bounds(data, options, stats.pipes)
+    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geometry_bounds)
     values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
     x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, stated)
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
@@ -74,28 +74,45 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
 
-    update = updater(values, stats, structure, stated, options, pressures, low)
     fixed = geometry_mask(structure, x0.size)
-    stated_fit = None
+    stated_fit, search = None, None
     wall_time, iterations = 0.0, 0
-    if options.calibrate:  # fits at fixed geometry first: the stated one, then the blocked-force start
+    if options.calibrate:
         say("fitting at the stated geometry")
-        x0, info = fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+        held = _copied(values)
+        x_held, info = fixed_geometry_fit(nlp, held, x0, lbx, ubx, stats, structure,
+                                          updater(held, stats, structure, stated, options, pressures, low))
         wall_time, iterations = info.wall_time, info.iterations
-        stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
-        start = _start_geometry(data, stated, options, lbx[fixed], ubx[fixed])
-        if start is not None:
-            say("fitting at the braid angle the blocked force suggests")
-            guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, start)
-            guess[fixed] = geo.stated_x(start, structure.calibrate)
+        stated_fit = float(nlp.sse(x_held, nlp.layout.pack(held)))
+        seed = seeds.seed(data, stated, None if "initial_length" not in options.calibrate
+                          else tuple(v * 1e-3 for v in geometry_bounds["initial_length"]))
+        starts = multistart.start_points(structure.calibrate, lbx[fixed], ubx[fixed],
+                                         geo.stated_x(stated, structure.calibrate),
+                                         _seed_starts(data, stated, structure.calibrate, seed))
+        say(f"global calibration: IPOPT from {len(starts)} starting geometries ({options.mode}, "
+            f"calibrating {', '.join(options.calibrate)})")
+        totals = [0.0, 0]
+
+        def run(start):
+            own = _copied(values)
+            update = updater(own, stats, structure, stated, options, pressures, low)
+            at = geo.from_x(stated, structure.calibrate, start)
+            guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, at)
+            guess[fixed] = start
             guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-            other, info = fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, update)
-            wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
-            if float(nlp.sse(other, nlp.layout.pack(values))) < stated_fit:
-                x0 = other
-    say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
-        + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
-    solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+            free, second = solve_fit(nlp, own, guess, lbx, ubx, stats, structure, update)
+            totals[0] += second.wall_time
+            totals[1] += second.iterations
+            x_free = np.asarray(free["x"], dtype=float).ravel()
+            return (free, second, own), float(nlp.sse(x_free, nlp.layout.pack(own))), x_free[fixed]
+
+        search, (solution, info, values) = multistart.search(run, starts, structure.calibrate, points_fit,
+                                                             seed)
+        info = replace(info, wall_time=totals[0], iterations=totals[1])
+    else:
+        say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
+        solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure,
+                                   updater(values, stats, structure, stated, options, pressures, low))
     x = np.asarray(solution["x"], dtype=float).ravel()
     wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
@@ -112,7 +129,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     calibration = replace(
         _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
                      geo.blocked_force(data, stated) if options.calibrate else blocked),
-        blocked_force_skipped=geo.blocked_force_skipped(data, geometry))
+        blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
     fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
@@ -130,17 +147,25 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         excluded_rows=stats.excluded, quality=fit_quality)
 
 
-def _start_geometry(data, stated, options: FitOptions, low, high):
-    """The stated geometry with the braid angle of the blocked-force check (:mod:`.geometry`), when
-    the braid angle is calibrated, the check is possible and that angle is within the bounds."""
-    if "braid_angle" not in options.calibrate:
-        return None
+def _copied(values: dict) -> dict:
+    """A copy of the parameter values that a solve may change (slack flags, Drucker rows)."""
+    return {key: np.array(value, copy=True) for key, value in values.items()}
+
+
+def _seed_starts(data, stated, calibrate, seed) -> list[tuple[str, np.ndarray | None]]:
+    """Starts from the data: the stated geometry, the blocked-force angle at the stated L₀, and the
+    (α₀, L₀) of the force slopes (:mod:`.seeds`), in x units (None where the data give none)."""
+    out = [("stated geometry", geo.stated_x(stated, calibrate))]
     blocked = geo.blocked_force(data, stated)
-    if blocked is None or blocked.consistent or blocked.fitting_angle is None:
-        return None
-    start = replace(stated, braid_angle=blocked.fitting_angle)
-    value = geo.stated_x(start, options.calibrate)
-    return start if np.all((low < value) & (value < high)) else None
+    if "braid_angle" in calibrate and blocked is not None and blocked.fitting_angle is not None:
+        out.append(("blocked-force slope", geo.stated_x(replace(stated, braid_angle=blocked.fitting_angle),
+                                                        calibrate)))
+    if seed is not None and "braid_angle" in calibrate:
+        at = replace(stated, braid_angle=seed.braid_angle,
+                     initial_length=seed.initial_length if "initial_length" in calibrate
+                     else stated.initial_length)
+        out.append(("force slopes", geo.stated_x(at, calibrate)))
+    return out
 
 
 def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
@@ -258,6 +283,14 @@ def _warnings(status, u, names, minimum, options, structure, calibration, stats,
         out.append("per_pipe without an axial test: the PAM file gets the first pipe's moduli; each pipe's "
                    "moduli are valid only in that pipe (see per_pipe in the JSON).")
     out += _geometry_warnings(calibration, options)
+    if calibration.search is not None and calibration.search.runner_ups():
+        best, other = calibration.search.best, calibration.search.runner_ups()[0]
+        shown = ", ".join(f"{name} {value:.4g} {multistart.UNITS[name]}"
+                          for name, value in zip(calibration.calibrated, other.geometry, strict=True))
+        out.append(f"another local minimum fits almost as well (RMSE {other.rmse:.4g} N against "
+                   f"{best.rmse:.4g} N) at {shown}: the data barely tell these geometries apart; a test that "
+                   "separates them (a pressure ramp at the rest length, lengths closer to full contraction) "
+                   "would, or state the geometry you trust and narrow fit.calibration_bounds.")
     unused = [name for name, *_ in options.calibration_bounds if name not in options.calibrate]
     if unused:
         out.append(f"fit.calibration_bounds for {', '.join(unused)} is not used: only calibrated entries "

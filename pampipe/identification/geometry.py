@@ -23,8 +23,10 @@ from pampipe.identification.options import FitOptions
 from pampipe.model import forces
 from pampipe.model.pam import Geometry
 
-#: Default calibration ranges: braid angle ± 10°, rest length ± 5 %, wall thickness × [1/4, 4].
-ANGLE_RANGE = 10.0  # [deg]
+#: Default calibration ranges: braid angle over the braid's whole range (1° to 54°, below the
+#: neutral 54.7° where a muscle stops contracting; the multi-start of :mod:`.multistart` searches it),
+#: rest length ± 5 %, wall thickness × [1/4, 4].
+ANGLE_RANGE = (1.0, 54.0)  # [deg]
 LENGTH_RANGE = 0.05
 THICKNESS_RANGE = 4.0
 #: Keep this relative margin from the edges of the braid model's domain (B/√3 < L < B).
@@ -64,9 +66,7 @@ def bounds(data, options: FitOptions, pipes) -> dict[str, tuple[float, float]]:
     """
     g = data.pam.geometry
     given = {name: (low, high) for name, low, high in options.calibration_bounds}
-    alpha = math.degrees(g.braid_angle)
-    out = {"braid_angle": given.get("braid_angle", (math.radians(max(alpha - ANGLE_RANGE, 1.0)),
-                                                    math.radians(min(alpha + ANGLE_RANGE, 54.0)))),
+    out = {"braid_angle": given.get("braid_angle", tuple(math.radians(v) for v in ANGLE_RANGE)),
            "initial_length": given.get("initial_length", (g.initial_length * (1 - LENGTH_RANGE),
                                                           g.initial_length * (1 + LENGTH_RANGE))),
            "bladder_thickness": given.get("bladder_thickness",

@@ -183,9 +183,6 @@ def warnings(quality: Quality, calibration, calibrate: tuple[str, ...]) -> list[
     moduli = [n for n in quality.at_bounds if not n.startswith("geometry.")]
     geometry = [n for n in quality.at_bounds if n.startswith("geometry.")]
     if not bad and not structured:
-        if moduli:
-            out.append(f"moduli at their bounds ({', '.join(moduli)}) although the fit reaches the noise: "
-                       "the bounds shape the fit; widen fit.bounds to see whether the data want more.")
         return out
     if bad:
         shown = "; ".join(f"{t.test} {t.rmse:.3g} N = {t.ratio:.3g}x its noise floor {t.floor:.3g} N"

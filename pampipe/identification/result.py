@@ -10,6 +10,7 @@ import numpy as np
 from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
+from pampipe.identification.multistart import Search
 from pampipe.identification.options import FitOptions
 from pampipe.identification.quality import Quality
 from pampipe.identification.uncertainty import Uncertainty
@@ -68,6 +69,7 @@ class Calibration:
     blocked_force: BlockedForce | None  # the blocked-force check of the fitted geometry
     stated_blocked_force: BlockedForce | None  # ... of the stated geometry
     blocked_force_skipped: str | None = None  # why the check could not run (None: it ran)
+    search: Search | None = None  # the global calibration's starts and minima (:mod:`.multistart`)
 
     def as_document(self) -> dict:
         g = self.geometry
@@ -88,7 +90,8 @@ class Calibration:
                "stated_geometry_rmse_N": self.stated_rmse,
                "blocked_force_check": None if self.blocked_force is None
                else self.blocked_force.as_document(),
-               "blocked_force_check_skipped": self.blocked_force_skipped}
+               "blocked_force_check_skipped": self.blocked_force_skipped,
+               "multistart": None if self.search is None else self.search.as_document()}
         return doc
 
 

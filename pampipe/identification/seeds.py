@@ -135,11 +135,11 @@ def _misfit(geometry: Geometry, ell, s, w, alpha: float, rest: float) -> np.ndar
 
 
 def _grid(geometry: Geometry, ell, s, w, rest_range) -> tuple[float, float] | None:
-    """The best (α₀, L₀) of a grid: α₀ every 0.5° in [1°, 54°], L₀ at 21 points of its range."""
-    rests = [geometry.initial_length] if rest_range is None else np.linspace(*rest_range, 21)
+    """The best (α₀, L₀) of a grid: α₀ every 1° in [1°, 54°], L₀ at 11 points of its range."""
+    rests = [geometry.initial_length] if rest_range is None else np.linspace(*rest_range, 11)
     best, where = math.inf, None
     for rest in rests:
-        for alpha in np.radians(np.arange(1.0, 54.0, 0.5)):
+        for alpha in np.radians(np.arange(1.0, 54.0, 1.0)):
             r = _misfit(geometry, ell, s, w, float(alpha), float(rest))
             if r is not None and float(r @ r) < best:
                 best, where = float(r @ r), (float(alpha), float(rest))
