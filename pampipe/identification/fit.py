@@ -27,7 +27,7 @@ from pampipe.identification import drucker, envelope, multistart, problem, quali
 from pampipe.identification import geometry as geo
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
-from pampipe.identification.predict import evaluate_tests
+from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment
@@ -35,20 +35,63 @@ from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
+from pampipe.model.pam import Pam
 
 #: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
 LAW_NAMES = problem.LAW_NAMES
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
-    """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6)."""
+    """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6).
+
+    The slack hinge (docs/physics.md §6.3): measured axial rows where the fitted model predicts no
+    tension are scored by max(0, F) = 0, like the report and the plots score them. They are found
+    after a fit, moved to cells whose hinge the fit updates, and the fit is repeated from its
+    solution until no measured row outside the cells predicts ≤ 0 (at most :data:`HINGE_ROUNDS`).
+    """
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
     _check(data, options)
+    hinge: dict[int, np.ndarray] = {}
+    warm, wall_time, iterations = None, 0.0, 0
+    for _ in range(HINGE_ROUNDS):
+        result = _fit(data, options, say, hinge, warm)
+        wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
+        more = {} if options.calibrate else _negative_rows(data, result, hinge)
+        if not more:
+            break
+        say(f"{sum(r.size for r in more.values())} measured row(s) where the model predicts no tension: "
+            "refitting them as max(0, F)")
+        hinge = {i: np.union1d(hinge.get(i, np.zeros(0, dtype=np.int64)), more.get(i, ()))
+                 for i in set(hinge) | set(more)}
+        warm = result.x
+    return replace(result, solver=replace(result.solver, wall_time=wall_time, iterations=iterations))
+
+
+#: Fits at most while measured rows turn out to predict no tension (the slack hinge).
+HINGE_ROUNDS = 4
+
+
+def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[int, np.ndarray]:
+    """Measured axial rows (force > 0), not yet hinged, where the fitted model predicts ≤ 0."""
+    pam = result.fitted_pam(data.pam)
+    out = {}
+    for index, test in enumerate(data.tests):
+        if test.kind != "axial":
+            continue
+        model = predict(Pam(pam.name, pam.geometry, pam.moduli), test)
+        rows = np.setdiff1d(np.flatnonzero((test.force > 0) & (model <= 0)), hinge.get(index, ()))
+        if rows.size:
+            out[index] = rows
+    return out
+
+
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> IdentifyResult:
+    """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution) if given."""
     stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
     stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
                               average_legs=options.average_legs, average_bins=options.average_bins,
-                              slack=options.slack, calibrate=bool(options.calibrate))
+                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge)
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta
@@ -65,6 +108,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geometry_bounds)
     values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
     x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, stated)
+    if warm is not None and warm.size == x0.size:
+        x0 = warm
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
     p = nlp.layout.pack(values)
     sse0 = float(nlp.sse(x0, p))

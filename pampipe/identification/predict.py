@@ -44,16 +44,17 @@ def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "un
     """(fit quality of one test, its sum of squared residuals [N²], the model force of every row [N]
     as scored).
 
-    Slack rows of an axial test (force ≤ 0) are predicted as max(0, F) (``unilateral``) or left out
-    (``exclude``); the per-level table is kept only for tests with pressure levels.
+    An axial test's rows are predicted as max(0, F): a muscle cannot push (the slack hinge,
+    docs/physics.md §6.3); its slack rows (force ≤ 0) are scored so (``unilateral``) or left out
+    (``exclude``). The per-level table is kept only for tests with pressure levels.
     """
     model = predict(pam, test)
     used = np.ones(test.points, dtype=bool)
     slack_rows = test.slack if test.kind == "axial" else np.zeros(test.points, dtype=bool)
+    if test.kind == "axial":
+        model = np.maximum(model, 0.0)
     if slack == "exclude":
         used = ~slack_rows
-    else:
-        model = np.where(slack_rows, np.maximum(model, 0.0), model)
     squared = np.where(used, model - test.force, 0.0) ** 2
     n_used = int(used.sum())
     levels = []
