@@ -51,9 +51,17 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     say = progress or (lambda _text: None)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
-    warm, wall_time, iterations = None, 0.0, 0
-    for _ in range(HINGE_ROUNDS):
-        result = _fit(data, options, say, hinge, warm)
+    result, warm, wall_time, iterations = None, None, 0.0, 0
+    for round_ in range(HINGE_ROUNDS):
+        try:
+            result = _fit(data, options, say, hinge, warm)
+        except SolverError as error:
+            if round_ == 0:
+                raise
+            note = (f"the refit that scores {sum(r.size for r in hinge.values())} measured row(s) by "
+                    f"max(0, F) failed ({error}); the fit above scores them by the negative model force.")
+            result = replace(result, warnings=(*result.warnings, note))  # the previous round's fit
+            break
         wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
         more = {} if options.calibrate else _negative_rows(data, result, hinge)
         if not more:
@@ -68,17 +76,22 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
 
 #: Fits at most while measured rows turn out to predict no tension (the slack hinge).
 HINGE_ROUNDS = 4
+#: A measured row is hinged when the model predicts below −this × the test's largest |force|.
+HINGE_TOLERANCE = 1e-6
 
 
 def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[int, np.ndarray]:
-    """Measured axial rows (force > 0), not yet hinged, where the fitted model predicts ≤ 0."""
+    """Measured axial rows (force > 0), not yet hinged, where the fitted model predicts a tension
+    below zero by more than :data:`HINGE_TOLERANCE` of the test's largest force (at F ≈ 0 the hinge
+    changes nothing)."""
     pam = result.fitted_pam(data.pam)
     out = {}
     for index, test in enumerate(data.tests):
         if test.kind != "axial":
             continue
         model = predict(Pam(pam.name, pam.geometry, pam.moduli), test)
-        rows = np.setdiff1d(np.flatnonzero((test.force > 0) & (model <= 0)), hinge.get(index, ()))
+        below = model < -HINGE_TOLERANCE * max(float(np.max(np.abs(test.force))), 1e-300)
+        rows = np.setdiff1d(np.flatnonzero((test.force > 0) & below), hinge.get(index, ()))
         if rows.size:
             out[index] = rows
     return out
