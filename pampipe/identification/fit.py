@@ -42,7 +42,7 @@ LAW_NAMES = problem.LAW_NAMES
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
     """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6).
 
-    The slack hinge (docs/physics.md §6.3): measured axial rows where the fitted model predicts no
+    The slack hinge (docs/physics.md §6.2): measured axial rows where the fitted model predicts no
     tension are scored by max(0, F) = 0, like the report and the plots score them. They are found
     after a fit, moved to cells whose hinge the fit updates, and the fit is repeated from its
     solution until no measured row outside the cells predicts ≤ 0 (at most :data:`HINGE_ROUNDS`).

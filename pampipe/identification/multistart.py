@@ -1,5 +1,5 @@
 """Global calibration: the calibrated fit solved from many starting geometries with one NLP
-(docs/commands.md §7.1, "Global calibration").
+(docs/commands.md §7.10).
 
 Starts: the braid angle at :data:`ANGLES` evenly spread points of its range (the other calibrated
 entries at their stated values), the stated geometry, the braid angle of the blocked-force check at

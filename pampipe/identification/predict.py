@@ -45,7 +45,7 @@ def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "un
     as scored).
 
     An axial test's rows are predicted as max(0, F): a muscle cannot push (the slack hinge,
-    docs/physics.md §6.3); its slack rows (force ≤ 0) are scored so (``unilateral``) or left out
+    docs/physics.md §6.2); its slack rows (force ≤ 0) are scored so (``unilateral``) or left out
     (``exclude``). The per-level table is kept only for tests with pressure levels.
     """
     model = predict(pam, test)

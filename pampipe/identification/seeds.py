@@ -1,5 +1,5 @@
 """Geometry seeds from the data: the braid angle α₀ and rest length L₀ that the force slopes give
-(docs/physics.md §6.2), used as starts of the global calibration (:mod:`.multistart`).
+(docs/physics.md §6.1), used as starts of the global calibration (:mod:`.multistart`).
 
 At a held length L the muscle's tension is F_ax(P, L) = P·area(L) + bladder terms (Eq. 9), and with
 pressure-independent moduli the bladder terms do not depend on P: the slope dF/dP at a length is

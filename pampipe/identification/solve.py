@@ -78,7 +78,7 @@ def updater(values, stats: Statistics, structure: Structure, stated, options: Fi
 
     Cells (slack rows, and measured rows where the model may predict no tension): clipped
     (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise (the slack hinge,
-    docs/physics.md §6.3); a set of sides already solved in this :func:`solve_fit` (``seen``) is not
+    docs/physics.md §6.2); a set of sides already solved in this :func:`solve_fit` (``seen``) is not
     solved again (a cell whose model sits at F ≈ 0 would flip back and forth).
     Calibrated geometry (tangent form): the Bernstein rows over the strains of the fitted geometry
     for the grid's lengths, so that the constraint covers the range the model is used in.

@@ -112,7 +112,7 @@ def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: 
     cells (``slack: unilateral``) or nowhere (``exclude``); with ``calibrate`` every used axial row
     goes to cells, whose model is evaluated at the fitted geometry. ``hinge`` (test index → row
     indices): measured rows where the model predicts no tension, moved from the QR groups to cells so
-    that the fit scores them by max(0, F) (docs/physics.md §6.3).
+    that the fit scores them by max(0, F) (docs/physics.md §6.2).
 
     BLAS runs single-threaded here: the QR blocks are tall and thin (17 columns), where
     OpenBLAS threads only add overhead, and on a busy machine they oversubscribe the cores
