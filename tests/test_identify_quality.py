@@ -350,3 +350,26 @@ def test_minima_are_merged_counted_and_runner_ups_named():
     assert search.reached_best == sum(1 for _, x in starts if x[0] <= 25)  # a tie goes to the first
     assert [round(m.geometry[0]) for m in search.runner_ups()] == [30]
     assert search.best.rmse == pytest.approx(1.0)
+
+
+def test_noise_free_data_are_not_a_misfit(radial_pam, muscle):
+    """Forces exactly from the model: the residuals are rounding (1e-12 N against a floor of 0), which
+    is neither above the floor nor structured."""
+    g = radial_pam.geometry
+    cols = lab.isometric_ramps(muscle, [0.27, 0.29, g.initial_length], points=40, noise=0.0,
+                               rng=np.random.default_rng(44))
+    result = identify(lab.experiment(radial_pam, [(lab.axial("ramps"), cols)]), FitOptions(degree=1))
+    assert result.quality.rmse_over_floor < 1 and not result.quality.structured
+    assert not _misfit_warnings(result)
+
+
+def test_a_misfit_with_a_consistent_geometry_points_to_an_effect(cli):
+    """The bundled experiment with hidden contact stiffening (generated with a known effect the baseline
+    lacks, at the stated geometry): the fit is tens of times its floor, the blocked-force check finds
+    the geometry consistent, and the warning blames an effect and sends to diagnose."""
+    out = cli("identify", ROOT / "problems" / "experiments" / "hidden-contact-stiffening.yaml", "--json")
+    doc = json.loads(out.stdout)
+    assert out.returncode == 0 and doc["fit"]["quality"]["rmse_over_floor"] > 5
+    assert doc["geometry"]["blocked_force_check"]["consistent"]
+    (warning,) = [w for w in doc["warnings"] if "noise floor" in w]
+    assert "an effect the baseline model lacks" in warning and "pampipe diagnose" in warning
