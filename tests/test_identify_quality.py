@@ -373,3 +373,28 @@ def test_a_misfit_with_a_consistent_geometry_points_to_an_effect(cli):
     assert doc["geometry"]["blocked_force_check"]["consistent"]
     (warning,) = [w for w in doc["warnings"] if "noise floor" in w]
     assert "an effect the baseline model lacks" in warning and "pampipe diagnose" in warning
+
+
+def test_a_failed_hinge_refit_keeps_the_fit_and_says_so(radial_pam, muscle, monkeypatch):
+    """If the refit with the hinged rows fails, the first fit is returned with a warning that says
+    its negative-force rows were scored by the negative force (never silently)."""
+    from pampipe.errors import SolverError
+    from pampipe.identification import fit as fit_module
+
+    g = radial_pam.geometry
+    cols = lab.force_map(muscle, np.linspace(50e3, 600e3, 8), np.linspace(0.215, g.initial_length, 20),
+                         rng=np.random.default_rng(41))
+    data = lab.experiment(radial_pam, [(lab.axial("map"), cols)],
+                          stated=lab.off_by(g, angle_deg=-4, length_mm=-3))
+    real, calls = fit_module._fit, []
+
+    def failing(*args):
+        calls.append(args)
+        if len(calls) > 1:
+            raise SolverError("the moduli fit failed (IPOPT status Error_In_Step_Computation).")
+        return real(*args)
+
+    monkeypatch.setattr(fit_module, "_fit", failing)
+    result = identify(data, FitOptions(degree=1))
+    assert len(calls) == 2
+    assert any("scores them by the negative model force" in w for w in result.warnings)
