@@ -328,28 +328,45 @@ def test_the_multistart_is_reported_in_text_and_json(radial_pam, lab_tests, tmp_
                          fit={"degree": 1, "calibrate": ["braid_angle", "initial_length"]})
     out = cli("identify", path)
     assert out.returncode == 0
-    assert re.search(r"global calibration: \d+ starts, \d+ reached the best", out.stdout)
+    assert re.search(r"global calibration: \d+ starts? \(after screening 12 braid angles\), \d+ reached the "
+                     r"best", out.stdout)
     assert "runner-up minima close in cost but far in geometry:" in out.stdout
     doc = json.loads(cli("identify", path, "--json").stdout)["geometry"]["multistart"]
     assert doc["starts"] >= doc["reached_best"] >= 1 and isinstance(doc["runner_up_minima"], list)
+    assert doc["screened"] == 12 and doc["seed_from_force_slopes"]["braid_angle_from_axis_deg"] == \
+        pytest.approx(23.56, abs=0.2)
     assert doc["best"]["braid_angle_from_axis_deg"] == pytest.approx(23.56, abs=0.2)
 
 
 def test_minima_are_merged_counted_and_runner_ups_named():
-    """A made-up landscape with two basins (α = 20° with SSE 100, α = 30° with SSE 110: close in
-    cost, far in geometry) and a third (α = 40°, SSE 400: far in cost): the starts below 25° end in
-    the first (25° itself, a tie, too), 25°-35° in the second, the rest in the third."""
+    """A made-up landscape with three basins: α = 20° (SSE 100), α = 30° (SSE 110: close in cost, far in
+    geometry) and α = 40° (SSE 400). The screened profile (the distance to the nearest basin, plus its
+    SSE) has its local minima at the grid points next to each basin; those, and the stated geometry,
+    are started; each start ends in its nearest basin."""
+    basins = ((20.0, 100.0), (30.0, 110.0), (40.0, 400.0))
+
+    def nearest(x):
+        return min(basins, key=lambda b: abs(b[0] - x[0]))
+
+    def screen(x):
+        basin = nearest(x)
+        return basin[1] + 50 * (x[0] - basin[0]) ** 2
+
     def run(x):
-        basin = min((20.0, 100.0), (30.0, 110.0), (40.0, 400.0), key=lambda b: abs(b[0] - x[0]))
+        basin = nearest(x)
         return None, basin[1], np.array([basin[0] + 1e-3, 310.0])
 
-    starts = multistart.start_points(("braid_angle", "initial_length"), [10.0, 300.0], [46.0, 320.0],
-                                     [42.0, 310.0], [("stated", np.array([42.0, 310.0]))])
-    search, _ = multistart.search(run, starts, ("braid_angle", "initial_length"), rows=100)
+    calibrate = ("braid_angle", "initial_length")
+    starts, screened = multistart.start_points(calibrate, [10.0, 300.0], [46.0, 320.0], [42.0, 310.0],
+                                               [("stated", np.array([42.0, 310.0]))], screen)
+    assert screened == multistart.SCREENED
+    # grid 11.5, 14.5, ..., 44.5: local minima 20.5, 29.5 and the tie 38.5/41.5 (the first kept)
+    assert [x[0] for _, x in starts] == pytest.approx([20.5, 29.5, 38.5, 42.0])
+    search, _ = multistart.search(run, starts, calibrate, rows=100, screened=screened)
     assert [round(m.geometry[0]) for m in search.minima] == [20, 30, 40]
-    assert search.reached_best == sum(1 for _, x in starts if x[0] <= 25)  # a tie goes to the first
     assert [round(m.geometry[0]) for m in search.runner_ups()] == [30]
-    assert search.best.rmse == pytest.approx(1.0)
+    assert search.reached_best == 1 and search.best.rmse == pytest.approx(1.0)
+    assert len(search.minima[2].starts) == 2  # the 40° basin: 38.5° and the stated 42°
 
 
 def test_noise_free_data_are_not_a_misfit(radial_pam, muscle):

@@ -144,9 +144,18 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
         stated_fit = float(nlp.sse(x_held, nlp.layout.pack(held)))
         seed = seeds.seed(data, stated, None if "initial_length" not in options.calibrate
                           else tuple(v * 1e-3 for v in geometry_bounds["initial_length"]))
-        starts = multistart.start_points(structure.calibrate, lbx[fixed], ubx[fixed],
-                                         geo.stated_x(stated, structure.calibrate),
-                                         _seed_starts(data, stated, structure.calibrate, seed))
+        reference, p0 = problem.reference_theta(data, n), nlp.layout.pack(values)
+
+        def guess_at(start):
+            guess = problem.initial_guess(structure, stats, reference, lbx, ubx,
+                                          geo.from_x(stated, structure.calibrate, start))
+            guess[fixed] = start
+            return np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
+
+        starts, screened = multistart.start_points(
+            structure.calibrate, lbx[fixed], ubx[fixed], geo.stated_x(stated, structure.calibrate),
+            _seed_starts(data, stated, structure.calibrate, seed),
+            lambda start: float(nlp.sse(guess_at(start), p0)))
         say(f"global calibration: IPOPT from {len(starts)} starting geometries ({options.mode}, "
             f"calibrating {', '.join(options.calibrate)})")
         totals = [0.0, 0]
@@ -154,18 +163,14 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
         def run(start):
             own = _copied(values)
             update = updater(own, stats, structure, stated, options, pressures, low)
-            at = geo.from_x(stated, structure.calibrate, start)
-            guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, at)
-            guess[fixed] = start
-            guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-            free, second = solve_fit(nlp, own, guess, lbx, ubx, stats, structure, update)
+            free, second = solve_fit(nlp, own, guess_at(start), lbx, ubx, stats, structure, update)
             totals[0] += second.wall_time
             totals[1] += second.iterations
             x_free = np.asarray(free["x"], dtype=float).ravel()
             return (free, second, own), float(nlp.sse(x_free, nlp.layout.pack(own))), x_free[fixed]
 
         search, (solution, info, values) = multistart.search(run, starts, structure.calibrate, points_fit,
-                                                             seed)
+                                                             seed, screened)
         info = replace(info, wall_time=totals[0], iterations=totals[1])
     else:
         say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")

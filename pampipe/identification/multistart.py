@@ -1,12 +1,14 @@
 """Global calibration: the calibrated fit solved from many starting geometries with one NLP
 (docs/commands.md §7.10).
 
-Starts: the braid angle at :data:`ANGLES` evenly spread points of its range (the other calibrated
-entries at their stated values), the stated geometry, the braid angle of the blocked-force check at
-the stated L₀ (:mod:`.geometry`) and the (α₀, L₀) of the force slopes (:mod:`.seeds`), each clipped
-into the bounds; starts closer than :data:`SAME` to an earlier one are dropped. From each start the
-moduli are fitted with the geometry held, then everything is freed. Every start uses the same built
-NLP: only x₀, the bounds and the data in the parameter vector (slack flags, Drucker rows) differ.
+Starts: the braid angle is first screened at :data:`SCREENED` evenly spread points of its range (the
+other calibrated entries at their stated values) by the moduli's linear least squares at each
+geometry, without IPOPT; the lowest local minima of that profile (at most :data:`LOCAL`) are starts,
+and so are the stated geometry, the braid angle of the blocked-force check at the stated L₀
+(:mod:`.geometry`) and the (α₀, L₀) of the force slopes (:mod:`.seeds`), each clipped into the
+bounds; a start closer than :data:`START_SAME` to an earlier one is dropped. From each start IPOPT
+fits the moduli and the geometry together. Every start uses the same built NLP: only x₀ and the data
+in the parameter vector (slack flags, Drucker rows) differ.
 
 Minima: the solutions sorted by their sum of squares, merged when their geometries agree within
 :data:`SAME`. ``reached_best`` counts the starts that ended in the best; a *runner-up* is another
@@ -25,10 +27,14 @@ import numpy as np
 
 from pampipe.errors import SolverError
 
-#: Evenly spread starts of the braid angle over its range.
-ANGLES = 6
-#: Geometries closer than this are the same (x units: deg, mm, mm).
+#: Braid angles screened (evenly spread over the range) by the moduli's linear fit at that geometry.
+SCREENED = 12
+#: IPOPT starts from at most this many local minima of the screened profile.
+LOCAL = 3
+#: Solutions closer than this are one minimum (x units: deg, mm, mm).
 SAME = {"braid_angle": 0.05, "initial_length": 0.05, "bladder_thickness": 0.01}
+#: Starts closer than this to an earlier start are not run (they would end in the same minimum).
+START_SAME = {"braid_angle": 0.5, "initial_length": 0.5, "bladder_thickness": 0.05}
 #: A runner-up's RMSE is at most this multiple of the best's.
 CLOSE = 1.25
 #: Far in geometry: braid angle [deg], relative rest length, relative wall thickness.
@@ -65,6 +71,7 @@ class Search:
     minima: tuple[Minimum, ...]
     failed: tuple[str, ...]  # starts whose solve failed
     seed: object | None  # :class:`.seeds.Seed` or None
+    screened: int = 0  # braid angles screened without IPOPT
 
     @property
     def best(self) -> Minimum:
@@ -81,6 +88,7 @@ class Search:
 
     def as_document(self) -> dict:
         return {"starts": len(self.starts), "reached_best": self.reached_best, "failed": len(self.failed),
+                "screened": self.screened,
                 "best": self.best.as_document(self.calibrate),
                 "runner_up_minima": [m.as_document(self.calibrate) for m in self.runner_ups()],
                 "minima": [m.as_document(self.calibrate) for m in self.minima],
@@ -95,7 +103,10 @@ class Search:
             pairs = zip(self.calibrate, m.geometry, strict=True)
             return ", ".join(f"{name} {value:.5g} {UNITS[name]}" for name, value in pairs)
 
-        lines = [f"global calibration: {len(self.starts)} starts, {self.reached_best} reached the best "
+        count = len(self.starts)
+        lines = [f"global calibration: {count} start{'s' if count != 1 else ''}"
+                 + (f" (after screening {self.screened} braid angles)" if self.screened else "")
+                 + f", {self.reached_best} reached the best "
                  f"(RMSE {self.best.rmse:.4g} N at {where(self.best)})"
                  + (f", {len(self.failed)} failed" if self.failed else "")
                  + (f"; {len(self.minima) - 1} other local minim{'a' if len(self.minima) > 2 else 'um'}"
@@ -107,27 +118,40 @@ class Search:
         return lines
 
 
-def start_points(calibrate, lower, upper, stated_x, extra) -> list[tuple[str, np.ndarray]]:
-    """(label, geometry x) of every start: the angle grid, then ``extra`` (label, x or None)."""
+def start_points(calibrate, lower, upper, stated_x, extra, screen: Callable
+                 ) -> tuple[list[tuple[str, np.ndarray]], int]:
+    """(label, geometry x) of every IPOPT start, and how many grid points were screened.
+
+    The braid angle at :data:`SCREENED` evenly spread points of its range (other entries stated) is
+    screened by ``screen(x) -> SSE`` (the moduli's linear least squares at that geometry, no IPOPT);
+    the :data:`LOCAL` lowest local minima of that profile become starts, then ``extra`` (label, x or
+    None: the data's seeds). Starts closer than :data:`START_SAME` to an earlier one are dropped."""
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
     inside = lower + 1e-6 * (upper - lower), upper - 1e-6 * (upper - lower)
-    out = []
+    out, screened = [], 0
     if "braid_angle" in calibrate:
         k = list(calibrate).index("braid_angle")
-        for j in range(ANGLES):
-            x = np.array(stated_x, float)
-            x[k] = lower[k] + (j + 0.5) / ANGLES * (upper[k] - lower[k])
-            out.append((f"braid angle {x[k]:.3g} deg", x))
+        grid = []
+        for j in range(SCREENED):
+            x = np.clip(np.array(stated_x, float), *inside)
+            x[k] = lower[k] + (j + 0.5) / SCREENED * (upper[k] - lower[k])
+            grid.append(x)
+        profile = np.array([screen(x) for x in grid])
+        screened = len(grid)
+        padded = np.concatenate([[np.inf], profile, [np.inf]])
+        minima = [j for j in range(screened) if padded[j + 1] <= padded[j] and padded[j + 1] <= padded[j + 2]]
+        for j in sorted(minima, key=lambda j: profile[j])[:LOCAL]:
+            out.append((f"braid angle {grid[j][k]:.3g} deg (screened)", grid[j]))
     out += [(label, np.asarray(x, float)) for label, x in extra if x is not None]
     kept = []
     for label, x in out:
         x = np.clip(x, *inside)
-        if not any(_same(calibrate, x, y) for _, y in kept):
+        if not any(_close(calibrate, x, y, START_SAME) for _, y in kept):
             kept.append((label, x))
-    return kept
+    return kept, screened
 
 
-def search(run: Callable, starts, calibrate, rows: int, seed=None):
+def search(run: Callable, starts, calibrate, rows: int, seed=None, screened: int = 0):
     """Run ``run(x_geometry) -> (payload, sse, fitted geometry x)`` from every start; returns
     (:class:`Search`, the best start's payload). A start whose solve fails is counted, not fatal,
     unless all fail (the first failure is raised)."""
@@ -154,12 +178,16 @@ def search(run: Callable, starts, calibrate, rows: int, seed=None):
     found = tuple(Minimum(tuple(float(v) for v in g), s, math.sqrt(s / max(rows, 1)), tuple(labels))
                   for s, g, labels in minima)
     report = Search(tuple(calibrate), tuple((label, tuple(float(v) for v in x)) for label, x in starts),
-                    found, tuple(failed), seed)
+                    found, tuple(failed), seed, screened)
     return report, results[0][3]
 
 
 def _same(calibrate, a, b) -> bool:
-    return all(abs(u - v) <= SAME[name] for name, u, v in zip(calibrate, a, b, strict=True))
+    return _close(calibrate, a, b, SAME)
+
+
+def _close(calibrate, a, b, tolerance) -> bool:
+    return all(abs(u - v) <= tolerance[name] for name, u, v in zip(calibrate, a, b, strict=True))
 
 
 def _far(calibrate, a: Minimum, b: Minimum) -> bool:
