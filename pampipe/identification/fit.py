@@ -51,7 +51,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     say = progress or (lambda _text: None)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
-    result, warm, wall_time, iterations = None, None, 0.0, 0
+    result, warm, wall_time, iterations, builds = None, None, 0.0, 0, []
     for round_ in range(HINGE_ROUNDS):
         try:
             result = _fit(data, options, say, hinge, warm)
@@ -63,6 +63,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
             result = replace(result, warnings=(*result.warnings, note))  # the previous round's fit
             break
         wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
+        builds.append((result.solver.build_time, result.solver.origin))
         more = {} if options.calibrate else _negative_rows(data, result, hinge)
         if not more:
             break
@@ -71,7 +72,9 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         hinge = {i: np.union1d(hinge.get(i, np.zeros(0, dtype=np.int64)), more.get(i, ()))
                  for i in set(hinge) | set(more)}
         warm = result.x
-    return replace(result, solver=replace(result.solver, wall_time=wall_time, iterations=iterations))
+    built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
+    return replace(result, solver=replace(result.solver, wall_time=wall_time, iterations=iterations,
+                                          build_time=sum(b[0] for b in builds), origin=built[0][1]))
 
 
 #: Fits at most while measured rows turn out to predict no tension (the slack hinge).
