@@ -414,4 +414,4 @@ def test_a_failed_hinge_refit_keeps_the_fit_and_says_so(radial_pam, muscle, monk
     monkeypatch.setattr(fit_module, "_fit", failing)
     result = identify(data, FitOptions(degree=1))
     assert len(calls) == 2
-    assert any("scores them by the negative model force" in w for w in result.warnings)
+    assert any("the fit reported scores them by the negative model force" in w for w in result.warnings)

@@ -59,7 +59,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
             if round_ == 0:
                 raise
             note = (f"the refit that scores {sum(r.size for r in hinge.values())} measured row(s) by "
-                    f"max(0, F) failed ({error}); the fit above scores them by the negative model force.")
+                    f"max(0, F) failed ({error}); the fit reported scores them by the negative model force.")
             result = replace(result, warnings=(*result.warnings, note))  # the previous round's fit
             break
         wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
@@ -72,6 +72,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         hinge = {i: np.union1d(hinge.get(i, np.zeros(0, dtype=np.int64)), more.get(i, ()))
                  for i in set(hinge) | set(more)}
         warm = result.x
+    else:
+        note = (f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
+                "predict a negative force and are scored by it (the slack hinge did not settle).")
+        result = replace(result, warnings=(*result.warnings, note))
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     return replace(result, solver=replace(result.solver, wall_time=wall_time, iterations=iterations,
                                           build_time=sum(b[0] for b in builds), origin=built[0][1]))
