@@ -415,3 +415,29 @@ def test_a_failed_hinge_refit_keeps_the_fit_and_says_so(radial_pam, muscle, monk
     result = identify(data, FitOptions(degree=1))
     assert len(calls) == 2
     assert any("the fit reported scores them by the negative model force" in w for w in result.warnings)
+
+
+def test_a_catalogue_angle_with_a_pipe_it_cannot_reach_is_calibrated_not_refused(radial_pam, muscle, tmp_path,
+                                                                                  cli):
+    """Stated at the catalogue's Gaylord angle 39.6° the muscle could not reach a 3 in pipe (D(B/√3) =
+    73.2 mm): without calibration that is exit 2; with the braid angle calibrated the split-pipe test
+    is kept, and the global calibration finds the true 23.56°. The ramps carry a ±3 N hysteresis band
+    and a 1/2 state column (mapped), and the warning names the legs."""
+    g = radial_pam.geometry
+    rng = np.random.default_rng(46)
+    ramps = lab.state_coded(lab.isometric_ramps(muscle, [0.27, 0.29, g.initial_length], points=60,
+                                                hysteresis=(3.0, 0.0), transient=(2.0, 0.3), rng=rng))
+    tests = [(lab.axial("map"), lab.short_force_map(muscle, rng=rng), None),
+             (lab.axial("ramps"), ramps, {"direction": {"column": "state", "loading": 1, "unloading": 2}}),
+             (lab.radial("pipe-3in", 0.0762), lab.split_pipe(muscle, 0.0762, rng=rng), None)]
+    stated = Pam(radial_pam.name, replace(g, braid_angle=math.radians(39.6)))
+    path = lab.write_lab(tmp_path, stated, tests, fit={"degree": 1})
+    out = cli("identify", path)
+    assert out.returncode == 2 and "pipe-3in" in out.stderr
+    out = cli("identify", path, "--calibrate", "braid_angle", "--calibrate", "initial_length", "--json")
+    doc = json.loads(out.stdout)
+    assert out.returncode == 0
+    assert doc["geometry"]["braid_angle_from_axis_deg"] == pytest.approx(math.degrees(g.braid_angle), abs=0.2)
+    (warning,) = [w for w in doc["warnings"] if "noise floor" in w]
+    assert "ramps" in warning and "hysteresis" in warning
+    assert next(t for t in doc["fit"]["quality"]["tests"] if t["test"] == "ramps")["leg_gap_N"] > 4

@@ -277,7 +277,7 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
         where = f"{test.spec.data}"
         if test.kind == "axial":
             check_length(geometry, test.length, where=f"{where}: length")
-        else:
+        elif "braid_angle" not in options.calibrate:
             check_pipe_diameter(geometry, test.spec.pipe_diameter, where=f"test {test.name}: pipe_diameter")
 
 

@@ -219,17 +219,17 @@ def _cause(quality, calibration, calibrate, geometry, flagged) -> str:
     if stated is not None and not stated.consistent and not calibrate:
         return ("the stated geometry: the blocked-force slope disagrees with it (above); next: identify "
                 "--calibrate braid_angle --calibrate initial_length")
-    if 2 * len(flagged) <= len(quality.tests):  # a minority of the tests
-        names = ", ".join(t.test for t in flagged)
-        return (f"something only test(s) {names} see (their units, a sensor offset or gain, a different "
-                "muscle state), since the other tests fit; next: plot them (--plots) and run pampipe "
-                "diagnose")
     legs = [t for t in flagged if t.legs_differ]
     if legs:
         gaps = ", ".join(f"{t.test} {abs(t.leg_gap):.3g} N" for t in legs)
         return (f"hysteresis or friction: the loading and unloading legs differ by {gaps} on average, which "
                 "the baseline model cannot show; next: pampipe diagnose on this experiment (it names the "
                 "effect), or fit.average_legs for isobaric tests")
+    if 2 * len(flagged) <= len(quality.tests):  # a minority of the tests
+        names = ", ".join(t.test for t in flagged)
+        return (f"something only test(s) {names} see (their units, a sensor offset or gain, a different "
+                "muscle state), since the other tests fit; next: plot them (--plots) and run pampipe "
+                "diagnose")
     if stated is not None and stated.consistent:
         return ("an effect the baseline model lacks (contact stiffening, friction, prestrain, a sensor "
                 "error): the blocked-force check finds the stated geometry consistent; next: pampipe "
