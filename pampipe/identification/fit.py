@@ -127,7 +127,11 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
     geometry_bounds = geo.bounds(data, options, stats.pipes)
     names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geometry_bounds)
     values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
-    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, stated)
+    fixed = geometry_mask(structure, lbx.size)
+    inside = stated if not options.calibrate else geo.from_x(  # the stated geometry, within the bounds
+        stated, structure.calibrate,
+        np.clip(geo.stated_x(stated, structure.calibrate), lbx[fixed], ubx[fixed]))
+    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
     if warm is not None and warm.size == x0.size:
         x0 = warm
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
@@ -139,7 +143,6 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
 
-    fixed = geometry_mask(structure, x0.size)
     stated_fit, search = None, None
     wall_time, iterations = 0.0, 0
     if options.calibrate:

@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from pampipe.errors import InputError
 from pampipe.identification.nlp import GEOMETRY
 from pampipe.identification.options import FitOptions
 from pampipe.model import forces
@@ -85,6 +86,13 @@ def bounds(data, options: FitOptions, pipes) -> dict[str, tuple[float, float]]:
     if pipes:
         high = min(high, math.asin(min(1.0, math.sqrt(2 / 3) * g.initial_diameter / max(pipes)
                                        / (1 + DOMAIN_MARGIN))))
+    if "braid_angle" in options.calibrate and not low < high:
+        raise InputError(
+            f"{data.source}: no braid angle in the calibration range keeps the braid model in its domain for "
+            "these tests (every axial length below B = L0/cos(alpha0) and above B/sqrt(3), every pipe "
+            f"narrower than D(B/sqrt(3))): it would need at least {math.degrees(low):.3g} deg and at most "
+            f"{math.degrees(high):.3g} deg; check the tested lengths, the pipe diameters and the stated D0 "
+            "and L0.")
     out["braid_angle"] = (low, high)
     return {name: (out[name][0] / GEOMETRY[name][1], out[name][1] / GEOMETRY[name][1])
             for name in options.calibrate}
