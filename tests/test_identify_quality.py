@@ -441,3 +441,15 @@ def test_a_catalogue_angle_with_a_pipe_it_cannot_reach_is_calibrated_not_refused
     (warning,) = [w for w in doc["warnings"] if "noise floor" in w]
     assert "ramps" in warning and "hysteresis" in warning
     assert next(t for t in doc["fit"]["quality"]["tests"] if t["test"] == "ramps")["leg_gap_N"] > 4
+
+
+def test_a_calibration_range_the_tests_leave_empty_is_an_input_error(radial_pam, muscle):
+    """A 200 mm pipe needs α₀ below 13.4° to be reachable (D(B/√3) = √(2/3)·D₀/sin α₀), while the
+    longest tested length needs α₀ above 16.7° (B = L₀/cos α₀ beyond it for L₀ down to 0.95 × stated):
+    no braid angle is left, and the error says both limits."""
+    rng = np.random.default_rng(47)
+    data = lab.experiment(radial_pam, [(lab.axial("map"), lab.short_force_map(muscle, rng=rng)),
+                                       (lab.radial("wide", 0.2), lab.split_pipe(muscle, 0.0762, rng=rng))])
+    with pytest.raises(InputError) as error:
+        identify(data, FitOptions(degree=1, calibrate=("braid_angle", "initial_length")))
+    assert "16.7 deg" in str(error.value) and "13.4 deg" in str(error.value)
