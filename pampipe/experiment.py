@@ -17,6 +17,20 @@ from pampipe import protocol
 from pampipe.errors import InputError
 from pampipe.model.pam import Pam
 
+#: Words a ``direction``/``state`` cell may hold instead of a sign (docs/formats.md §3).
+DIRECTION_WORDS = {"loading": 1, "filling": 1, "unloading": -1, "venting": -1, "held": 0}
+
+
+@dataclass(frozen=True)
+class DirectionCoding:
+    """How a test's ``direction``/``state`` column codes the legs when it does not hold signs:
+    ``direction: {column: state, loading: 1, unloading: 2}`` (``held``: optional code of held rows)."""
+
+    column: str
+    loading: float
+    unloading: float
+    held: float | None = None
+
 
 @dataclass(frozen=True)
 class TestSpec:
@@ -35,6 +49,7 @@ class TestSpec:
     set_pressures: tuple[float, ...] | None = None
     protocol: str | None = None
     pipe_material: str | None = None  # slip tests: the wall material the friction belongs to
+    direction: DirectionCoding | None = None
 
 
 @dataclass(frozen=True)
@@ -246,7 +261,7 @@ def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:
         if kind == "isometric" and held is None:
             held = protocol.cluster_levels(length) or protocol.equal_count_bins(length)
     leg, pressure_leg = zeros, zeros
-    given = columns.get("direction", columns.get("state"))
+    given = direction_signs(spec, columns)
     if kind == "isobaric":
         leg = _given_or(given, lambda: protocol.directions(length, levels.index, order))
     elif kind == "isometric":
@@ -271,10 +286,50 @@ def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:
 
 
 def _given_or(given, compute) -> np.ndarray:
-    """The sign of a ``direction``/``state`` column if the file has one, else the computed signs."""
-    if given is not None:
-        return np.sign(np.asarray(given, dtype=float)).astype(np.int8)
-    return compute()
+    """The signs of a ``direction``/``state`` column if the file has one, else the computed signs."""
+    return given if given is not None else compute()
+
+
+def direction_signs(spec: TestSpec, columns: dict[str, np.ndarray]) -> np.ndarray | None:
+    """The legs (+1 loading/filling/lengthening, −1 unloading/venting/shortening, 0 held) that the
+    file's ``direction`` or ``state`` column codes, or None without one.
+
+    The column holds +1, −1 or 0 (words were turned into these when read), or the codes of the
+    test's mapping (:class:`DirectionCoding`); any other value is an :class:`InputError` naming the
+    file, the column and the values found: a column coded 1/2 is never read as "all filling".
+    """
+    name = next((n for n in ("direction", "state") if columns.get(n) is not None), None)
+    coding = spec.direction
+    if name is None:
+        if coding is not None:
+            raise InputError(f"{spec.data}: test {spec.name!r} maps its direction column "
+                             f"(direction.column: {coding.column}) but the file has no {coding.column} "
+                             "column.")
+        return None
+    if coding is not None and coding.column != name:
+        raise InputError(f"{spec.data}: test {spec.name!r}: direction.column is {coding.column!r} but the "
+                         f"file's direction column is {name!r}.")
+    raw = np.asarray(columns[name], dtype=float)
+    codes = {1.0: 1, -1.0: -1, 0.0: 0} if coding is None else \
+        {coding.loading: 1, coding.unloading: -1, **({} if coding.held is None else {coding.held: 0})}
+    known = np.isin(raw, list(codes))
+    if not np.all(known):
+        found = np.unique(raw)
+        shown = ", ".join(f"{v:g}" for v in found[:8]) + (", ..." if found.size > 8 else "")
+        if coding is None:
+            raise InputError(
+                f"{spec.data}: column {name!r} holds {shown}; a {name} column holds +1 (loading, "
+                f"filling, lengthening), -1 (unloading, venting, shortening) or 0 (held), or those words. "
+                f"If it codes the legs otherwise, map the codes in the test, e.g. "
+                f"direction: {{column: {name}, loading: {found[0]:g}, unloading: {found[-1]:g}}} "
+                "(docs/formats.md §3).")
+        allowed = ", ".join(f"{v:g}" for v in codes)
+        raise InputError(f"{spec.data}: column {name!r} holds {shown}, and test {spec.name!r} maps only "
+                         f"{allowed} (direction: loading, unloading, held); map every code the file uses.")
+    out = np.zeros(raw.size, dtype=np.int8)
+    for code, sign in codes.items():
+        out[raw == code] = sign
+    return out
 
 
 def pressure_levels(pressure: np.ndarray, *, max_levels: int = protocol.MAX_LEVELS,

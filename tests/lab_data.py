@@ -8,7 +8,11 @@ effect library, so that the tests of the library check it against an independent
   F = F_ax − sgn(dP/dt)(h₀ + h₁P) (the venting leg above the filling leg);
 * force maps: a (P, L) grid where the muscle is slack (F_ax ≤ 0) records exactly 0 N;
 * stepped isobaric cycles with pressure levels that may be close together;
-* paper-style radial tests with one reading per pressure step.
+* paper-style radial tests with one reading per pressure step;
+* (issue 23) what real protocols add: ramp transients after every reversal, a ``state`` column coded
+  1 = filling / 2 = venting, force maps at few pressures whose longest length stops short of L₀, and
+  split-pipe tests that hold each pressure step for several readings; :func:`write_lab` writes them
+  as a lab would (CSV in kPa, mm, N, s and an experiment file).
 """
 
 from __future__ import annotations
@@ -19,6 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.experiment import ExperimentData, TestSpec, make_test_data
+from pampipe.io import yamlwrite
+from pampipe.io.pamfile import pam_document
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 
@@ -30,11 +36,13 @@ def truth(pam: Pam) -> Muscle:
 
 
 def isometric_ramps(muscle: Muscle, lengths, *, top=600e3, points=200, cycles=2, hysteresis=(0.0, 0.0),
-                    noise=1.0, pressure_noise=0.0, rng=None) -> dict[str, np.ndarray]:
+                    noise=1.0, pressure_noise=0.0, transient=(0.0, 1.0), rng=None) -> dict[str, np.ndarray]:
     """Ramps 0 → ``top`` → 0 at each held length, ``points`` rows per leg; time advances 0.1 s a row.
 
     Where the muscle is slack (force ≤ 0: it cannot pull itself that short yet) the load cell reads
-    0 N exactly. Returns SI columns and ``filling`` (+1 filling, −1 venting) as generated.
+    0 N exactly. ``transient`` = (A [N], τ [s]): after every reversal the force lags its new leg by
+    A·exp(−t/τ) (the gas and the bladder settling), −sgn(dP/dt)·A·e^(−t/τ). Returns SI columns and
+    ``filling`` (+1 filling, −1 venting) as generated.
     """
     rng = rng or np.random.default_rng(0)
     step = top / points
@@ -49,6 +57,8 @@ def isometric_ramps(muscle: Muscle, lengths, *, top=600e3, points=200, cycles=2,
     length = np.repeat(np.asarray(lengths, float), path.size)
     force = np.asarray(muscle.axial_force(pressure, length), float)
     force = force - filling * (hysteresis[0] + hysteresis[1] * pressure)
+    since = 0.1 * np.tile(np.arange(points), pressure.size // points)  # [s] since the leg began
+    force = force - filling * transient[0] * np.exp(-since / transient[1])
     force = np.where(force > 0, force + noise * rng.standard_normal(force.size), 0.0)  # slack: 0 N
     measured = pressure + pressure_noise * rng.standard_normal(pressure.size)
     return {"time": 0.1 * np.arange(force.size), "pressure": measured, "length": length, "force": force,
@@ -120,3 +130,54 @@ def off_by(geometry, *, angle_deg=0.0, length_mm=0.0):
     """``geometry`` with the braid angle and the rest length shifted (a rough lab statement)."""
     return replace(geometry, braid_angle=geometry.braid_angle + angle_deg * DEG,
                    initial_length=geometry.initial_length + length_mm * 1e-3)
+
+
+def state_coded(columns: dict[str, np.ndarray], *, filling=1, venting=2) -> dict[str, np.ndarray]:
+    """The columns plus a lab's ``state`` column: ``filling`` on filling rows, ``venting`` on venting ones."""
+    return {**columns, "state": np.where(columns["filling"] > 0, filling, venting).astype(float)}
+
+
+def short_force_map(muscle: Muscle, *, pressures=(200e3, 400e3, 600e3), shortest=0.80, longest=0.987,
+                    count=12, noise=1.0, rng=None) -> dict[str, np.ndarray]:
+    """A lab's force map: few pressures, lengths from ``shortest`` to ``longest`` × L₀ (the rig
+    stops short of the rest length), 0 N where slack."""
+    l0 = muscle.geometry.initial_length
+    return force_map(muscle, pressures, np.linspace(shortest * l0, longest * l0, count), noise=noise, rng=rng)
+
+
+def split_pipe(muscle: Muscle, pipe, *, steps=12, readings=5, top=600e3, noise=1.0, rng=None
+               ) -> dict[str, np.ndarray]:
+    """A split-pipe radial test (the paper's rig): ``steps`` pressure steps up, each held for
+    ``readings`` readings with the regulator's 1 kPa scatter; the pipe halves read 0 N until anchoring."""
+    rng = rng or np.random.default_rng(0)
+    pressure = np.repeat(np.linspace(top / steps, top, steps), readings) + 1e3 * rng.standard_normal(
+        steps * readings)
+    force = np.asarray(muscle.radial_force(pressure, pipe, 0.0), float)
+    force = np.where(force > 0, force + noise * rng.standard_normal(force.size), 0.0)
+    return {"time": 0.5 * np.arange(force.size), "pressure": pressure, "force": force}
+
+
+#: CSV header of each column as a lab writes it: (header, factor from SI, format).
+LAB_COLUMNS = {"time": ("time [s]", 1.0, "%.2f"), "pressure": ("pressure [kPa]", 1e-3, "%.4f"),
+               "length": ("length [mm]", 1e3, "%.4f"), "force": ("force [N]", 1.0, "%.4f"),
+               "state": ("state [-]", 1.0, "%d"), "direction": ("direction [-]", 1.0, "%d")}
+
+
+def write_lab(folder: Path, pam: Pam, tests, *, fit=None) -> Path:
+    """``folder/lab.yaml`` and one CSV per (spec, columns, extra) test, in lab units; ``extra`` is the
+    test's entry beyond name/kind/data/pipe (e.g. a ``direction`` mapping). Returns the YAML path."""
+    folder = Path(folder)
+    entries = []
+    for spec, columns, extra in tests:
+        names = [n for n in LAB_COLUMNS if n in columns]
+        table = np.column_stack([np.asarray(columns[n], float) * LAB_COLUMNS[n][1] for n in names])
+        np.savetxt(folder / f"{spec.name}.csv", table, delimiter=",", comments="",
+                   header=",".join(LAB_COLUMNS[n][0] for n in names), fmt=[LAB_COLUMNS[n][2] for n in names])
+        entry = {"name": spec.name, "kind": spec.kind, "data": f"{spec.name}.csv", **(extra or {})}
+        if spec.kind == "radial":
+            entry["pipe_diameter"] = f"{spec.pipe_diameter * 1e3:.6g} mm"
+        entries.append(entry)
+    path = folder / "lab.yaml"
+    yamlwrite.write(path, {"pam": pam_document(pam, with_moduli=False), "tests": entries,
+                           **({"fit": fit} if fit else {})})
+    return path

@@ -141,6 +141,7 @@ def report(result, source: str) -> str:
         else ""
     parts.append(f"\n{total}least squares: {result.sse:.4g} N^2 (RMSE {result.rmse:.4g} N)   "
                  f"residual sigma {u.sigma:.4g} N")
+    parts.append(_quality(result))
     parts.append(_geometry(result))
     coeff = []
     for i, name in enumerate(result.names):
@@ -155,6 +156,22 @@ def report(result, source: str) -> str:
     parts.append(_drucker(result))
     parts += [f"warning: {w}" for w in result.warnings]
     return "\n".join(parts)
+
+
+def _quality(result) -> str:
+    """Each test's RMSE against its noise floor and whether its residuals are structured."""
+    q = result.quality
+    if q is None:
+        return ""
+    rows = [(t.test, t.rmse, "-" if t.floor is None else t.floor, "-" if t.ratio is None else t.ratio,
+             "-" if t.runs_z is None else t.runs_z, "-" if t.lag1 is None else t.lag1,
+             "STRUCTURED" if t.structured else "noise-like") for t in q.tests]
+    ratio = q.rmse_over_floor
+    head = ("\nFit quality: RMSE / noise floor " + ("unknown (too few rows along a path)" if ratio is None
+                                                    else f"{ratio:.3g} (worst test; above 3 the fit is "
+                                                    "warned about)"))
+    return head + "\n" + table(["test", "RMSE [N]", "noise floor [N]", "RMSE/floor", "runs z",
+                                "lag-1 autocorr.", "residuals"], rows)
 
 
 def _geometry(result) -> str:
@@ -175,14 +192,15 @@ def _geometry(result) -> str:
     lines.append(table(["", "stated", "fitted", "95 % interval"], rows))
     if c.stated_rmse is not None:
         lines.append(f"RMSE at the stated geometry {c.stated_rmse:.4g} N, calibrated {result.rmse:.4g} N")
+    if c.search is not None:
+        lines += c.search.describe()
     b = c.blocked_force
     if b is not None:
         verdict = "consistent" if b.consistent else "MISMATCH"
         lines.append(f"blocked-force slope dF/dP at L = {b.length * 1e3:.5g} mm: data {b.slope * 1e3:.4g} "
                      f"N/kPa, geometry {b.geometry_slope * 1e3:.4g} N/kPa ({verdict})")
     else:
-        lines.append("blocked-force check: not possible (fewer than 3 pressures at the longest tested "
-                     "length)")
+        lines.append(f"blocked-force check: not possible: {c.blocked_force_skipped or 'no usable rows'}")
     return "\n".join(lines)
 
 

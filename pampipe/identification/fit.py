@@ -23,13 +23,13 @@ import numpy as np
 
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
-from pampipe.identification import drucker, envelope, problem, written
+from pampipe.identification import drucker, envelope, multistart, problem, quality, seeds, written
 from pampipe.identification import geometry as geo
 from pampipe.identification import model_error as model_errors
 from pampipe.identification.grip import identify_grip
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
-from pampipe.identification.predict import evaluate_tests
+from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment
@@ -43,18 +43,85 @@ from pampipe.slip import fit_slip
 #: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
 LAW_NAMES = problem.LAW_NAMES
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
-    """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6)."""
+    """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6).
+
+    The slack hinge (docs/physics.md §6.2): measured axial rows where the fitted model predicts no
+    tension are scored by max(0, F) = 0, like the report and the plots score them. They are found
+    after a fit, moved to cells whose hinge the fit updates, and the fit is repeated from its
+    solution until no measured row outside the cells predicts ≤ 0 (at most :data:`HINGE_ROUNDS`).
+    """
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
     if not data.tests:  # slip tests only: μ and κ from the stated PAM's moduli
         return identify_grip(data, options)
     _check(data, options)
+    hinge: dict[int, np.ndarray] = {}
+    result, warm, wall_time, iterations, builds = None, None, 0.0, 0, []
+    for round_ in range(HINGE_ROUNDS):
+        try:
+            result = _fit(data, options, say, hinge, warm)
+        except SolverError as error:
+            if round_ == 0:
+                raise
+            note = (f"the refit that scores {sum(r.size for r in hinge.values())} measured row(s) by "
+                    f"max(0, F) failed ({error}); the fit reported scores them by the negative model force.")
+            result = replace(result, warnings=(*result.warnings, note))  # the previous round's fit
+            break
+        wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
+        builds.append((result.solver.build_time, result.solver.origin))
+        more = {} if options.calibrate else _negative_rows(data, result, hinge)
+        if not more:
+            break
+        say(f"{sum(r.size for r in more.values())} measured row(s) where the model predicts no tension: "
+            "refitting them as max(0, F)")
+        hinge = {i: np.union1d(hinge.get(i, np.zeros(0, dtype=np.int64)), more.get(i, ()))
+                 for i in set(hinge) | set(more)}
+        warm = result.x
+    else:
+        note = (f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
+                "predict a negative force and are scored by it (the slack hinge did not settle).")
+        result = replace(result, warnings=(*result.warnings, note))
+    built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
+    slip = None
+    if data.slip:
+        say(f"fitting friction and load coupling to {len(data.slip)} slip test(s)")
+        slip = fit_slip(data.slip, Muscle.from_pam(Pam(data.pam.name, result.geometry, result.moduli)))
+    return replace(result, slip=slip, solver=replace(
+        result.solver, wall_time=wall_time, iterations=iterations, build_time=sum(b[0] for b in builds),
+        origin=built[0][1]))
+
+
+#: Fits at most while measured rows turn out to predict no tension (the slack hinge).
+HINGE_ROUNDS = 4
+#: A measured row is hinged when the model predicts below −this × the test's largest |force|.
+HINGE_TOLERANCE = 1e-6
+
+
+def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[int, np.ndarray]:
+    """Measured axial rows (force > 0), not yet hinged, where the fitted model predicts a tension
+    below zero by more than :data:`HINGE_TOLERANCE` of the test's largest force (at F ≈ 0 the hinge
+    changes nothing)."""
+    pam = result.fitted_pam(data.pam)
+    out = {}
+    for index, test in enumerate(data.tests):
+        if test.kind != "axial":
+            continue
+        model = predict(Pam(pam.name, pam.geometry, pam.moduli), test)
+        below = model < -HINGE_TOLERANCE * max(float(np.max(np.abs(test.force))), 1e-300)
+        rows = np.setdiff1d(np.flatnonzero((test.force > 0) & below), hinge.get(index, ()))
+        if rows.size:
+            out[index] = rows
+    return out
+
+
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> IdentifyResult:
+    """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution) if given."""
     stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
     stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
                               average_legs=options.average_legs, average_bins=options.average_bins,
-                              slack=options.slack, calibrate=bool(options.calibrate))
+                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge)
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta
@@ -67,10 +134,16 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     nlp = build_problem(structure)
     build_time = nlp.build_time if build_problem.cache_info().misses > before else 0.0
 
-    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geo.bounds(data, options,
-                                                                                       stats.pipes))
+    geometry_bounds = geo.bounds(data, options, stats.pipes)
+    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geometry_bounds)
     values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
-    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, stated)
+    fixed = geometry_mask(structure, lbx.size)
+    inside = stated if not options.calibrate else geo.from_x(  # the stated geometry, within the bounds
+        stated, structure.calibrate,
+        np.clip(geo.stated_x(stated, structure.calibrate), lbx[fixed], ubx[fixed]))
+    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
+    if warm is not None and warm.size == x0.size:
+        x0 = warm
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
     p = nlp.layout.pack(values)
     sse0 = float(nlp.sse(x0, p))
@@ -84,28 +157,49 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
 
-    update = updater(values, stats, structure, stated, options, pressures, low)
-    fixed = geometry_mask(structure, x0.size)
-    stated_fit = None
+    stated_fit, search = None, None
     wall_time, iterations = 0.0, 0
-    if options.calibrate:  # fits at fixed geometry first: the stated one, then the blocked-force start
+    if options.calibrate:
         say("fitting at the stated geometry")
-        x0, info = fixed_geometry_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+        held = _copied(values)
+        x_held, info = fixed_geometry_fit(nlp, held, x0, lbx, ubx, stats, structure,
+                                          updater(held, stats, structure, stated, options, pressures, low))
         wall_time, iterations = info.wall_time, info.iterations
-        stated_fit = float(nlp.sse(x0, nlp.layout.pack(values)))
-        start = _start_geometry(data, stated, options, lbx[fixed], ubx[fixed])
-        if start is not None:
-            say("fitting at the braid angle the blocked force suggests")
-            guess = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, start)
-            guess[fixed] = geo.stated_x(start, structure.calibrate)
-            guess = np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-            other, info = fixed_geometry_fit(nlp, values, guess, lbx, ubx, stats, structure, update)
-            wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
-            if float(nlp.sse(other, nlp.layout.pack(values))) < stated_fit:
-                x0 = other
-    say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective}"
-        + (f", calibrating {', '.join(options.calibrate)})" if options.calibrate else ")"))
-    solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure, update)
+        stated_fit = float(nlp.sse(x_held, nlp.layout.pack(held)))
+        seed = seeds.seed(data, stated, None if "initial_length" not in options.calibrate
+                          else tuple(v * 1e-3 for v in geometry_bounds["initial_length"]))
+        reference, p0 = problem.reference_theta(data, n), nlp.layout.pack(values)
+
+        def guess_at(start):
+            guess = problem.initial_guess(structure, stats, reference, lbx, ubx,
+                                          geo.from_x(stated, structure.calibrate, start))
+            guess[fixed] = start
+            return np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
+
+        starts, screened = multistart.start_points(
+            structure.calibrate, lbx[fixed], ubx[fixed], geo.stated_x(stated, structure.calibrate),
+            _seed_starts(data, stated, structure.calibrate, seed),
+            lambda start: float(nlp.sse(guess_at(start), p0)))
+        say(f"global calibration: IPOPT from {len(starts)} starting geometries ({options.mode}, "
+            f"calibrating {', '.join(options.calibrate)})")
+        totals = [0.0, 0]
+
+        def run(start):
+            own = _copied(values)
+            update = updater(own, stats, structure, stated, options, pressures, low)
+            free, second = solve_fit(nlp, own, guess_at(start), lbx, ubx, stats, structure, update)
+            totals[0] += second.wall_time
+            totals[1] += second.iterations
+            x_free = np.asarray(free["x"], dtype=float).ravel()
+            return (free, second, own), float(nlp.sse(x_free, nlp.layout.pack(own))), x_free[fixed]
+
+        search, (solution, info, values) = multistart.search(run, starts, structure.calibrate, points_fit,
+                                                             seed, screened)
+        info = replace(info, wall_time=totals[0], iterations=totals[1])
+    else:
+        say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
+        solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure,
+                                   updater(values, stats, structure, stated, options, pressures, low))
     x = np.asarray(solution["x"], dtype=float).ravel()
     wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
@@ -115,11 +209,14 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     sse_model = float(nlp.sse(x, p))
     hessian = np.asarray(nlp.hessian(x, p), dtype=float)
     uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
-    tests, sse, sum_rmse = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks, slack=options.slack)
+    tests, sse, sum_rmse, models = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
+                                                  slack=options.slack)
     minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
     blocked = geo.blocked_force(data, geometry)
-    calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit,
-                               blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
+    calibration = replace(
+        _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
+                     geo.blocked_force(data, stated) if options.calibrate else blocked),
+        blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
 
     def muscles_at(xv):
@@ -136,12 +233,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                           model_error.value, lambda xv: muscles_at(xv)[0],
                                           written.bores(data, options, geometry), top, data_only)
+    fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
                          data, predictions)
-    slip = None
-    if data.slip:
-        say(f"fitting friction and load coupling to {len(data.slip)} slip test(s)")
-        slip = fit_slip(data.slip, Muscle.from_pam(Pam(data.pam.name, geometry, moduli)))
+    warnings += quality.warnings(fit_quality, calibration, options.calibrate)
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
@@ -151,7 +246,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
         calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
-        excluded_rows=stats.excluded, slip=slip, parameter_uncertainty=joint, model_error=model_error)
+        excluded_rows=stats.excluded, parameter_uncertainty=joint, model_error=model_error,
+        quality=fit_quality)
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.
@@ -176,17 +272,25 @@ def _constraints(structure, grid, x, lower, upper, at_bound):
     return np.vstack(rows), np.concatenate(low), np.concatenate(active)
 
 
-def _start_geometry(data, stated, options: FitOptions, low, high):
-    """The stated geometry with the braid angle of the blocked-force check (:mod:`.geometry`), when
-    the braid angle is calibrated, the check is possible and that angle is within the bounds."""
-    if "braid_angle" not in options.calibrate:
-        return None
+def _copied(values: dict) -> dict:
+    """A copy of the parameter values that a solve may change (slack flags, Drucker rows)."""
+    return {key: np.array(value, copy=True) for key, value in values.items()}
+
+
+def _seed_starts(data, stated, calibrate, seed) -> list[tuple[str, np.ndarray | None]]:
+    """Starts from the data: the stated geometry, the blocked-force angle at the stated L₀, and the
+    (α₀, L₀) of the force slopes (:mod:`.seeds`), in x units (None where the data give none)."""
+    out = [("stated geometry", geo.stated_x(stated, calibrate))]
     blocked = geo.blocked_force(data, stated)
-    if blocked is None or blocked.consistent or blocked.fitting_angle is None:
-        return None
-    start = replace(stated, braid_angle=blocked.fitting_angle)
-    value = geo.stated_x(start, options.calibrate)
-    return start if np.all((low < value) & (value < high)) else None
+    if "braid_angle" in calibrate and blocked is not None and blocked.fitting_angle is not None:
+        out.append(("blocked-force slope", geo.stated_x(replace(stated, braid_angle=blocked.fitting_angle),
+                                                        calibrate)))
+    if seed is not None and "braid_angle" in calibrate:
+        at = replace(stated, braid_angle=seed.braid_angle,
+                     initial_length=seed.initial_length if "initial_length" in calibrate
+                     else stated.initial_length)
+        out.append(("force slopes", geo.stated_x(at, calibrate)))
+    return out
 
 
 def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
@@ -228,7 +332,7 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
         where = f"{test.spec.data}"
         if test.kind == "axial":
             check_length(geometry, test.length, where=f"{where}: length")
-        else:
+        elif "braid_angle" not in options.calibrate:
             check_pipe_diameter(geometry, test.spec.pipe_diameter, where=f"test {test.name}: pipe_diameter")
 
 
@@ -304,6 +408,14 @@ def _warnings(status, u, names, minimum, options, structure, calibration, stats,
         out.append("per_pipe without an axial test: the PAM file gets the first pipe's moduli; each pipe's "
                    "moduli are valid only in that pipe (see per_pipe in the JSON).")
     out += _geometry_warnings(calibration, options)
+    if calibration.search is not None and calibration.search.runner_ups():
+        best, other = calibration.search.best, calibration.search.runner_ups()[0]
+        shown = ", ".join(f"{name} {value:.4g} {multistart.UNITS[name]}"
+                          for name, value in zip(calibration.calibrated, other.geometry, strict=True))
+        out.append(f"another local minimum fits almost as well (RMSE {other.rmse:.4g} N against "
+                   f"{best.rmse:.4g} N) at {shown}: the data barely tell these geometries apart; a test that "
+                   "separates them (a pressure ramp at the rest length, lengths closer to full contraction) "
+                   "would, or state the geometry you trust and narrow fit.calibration_bounds.")
     unused = [name for name, *_ in options.calibration_bounds if name not in options.calibrate]
     if unused:
         out.append(f"fit.calibration_bounds for {', '.join(unused)} is not used: only calibrated entries "

@@ -18,13 +18,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from pampipe.errors import InputError
 from pampipe.identification.nlp import GEOMETRY
 from pampipe.identification.options import FitOptions
 from pampipe.model import forces
 from pampipe.model.pam import Geometry
 
-#: Default calibration ranges: braid angle ± 10°, rest length ± 5 %, wall thickness × [1/4, 4].
-ANGLE_RANGE = 10.0  # [deg]
+#: Default calibration ranges: braid angle over the braid's whole range (1° to 54°, below the
+#: neutral 54.7° where a muscle stops contracting; the multi-start of :mod:`.multistart` searches it),
+#: rest length ± 5 %, wall thickness × [1/4, 4].
+ANGLE_RANGE = (1.0, 54.0)  # [deg]
 LENGTH_RANGE = 0.05
 THICKNESS_RANGE = 4.0
 #: Keep this relative margin from the edges of the braid model's domain (B/√3 < L < B).
@@ -64,9 +67,7 @@ def bounds(data, options: FitOptions, pipes) -> dict[str, tuple[float, float]]:
     """
     g = data.pam.geometry
     given = {name: (low, high) for name, low, high in options.calibration_bounds}
-    alpha = math.degrees(g.braid_angle)
-    out = {"braid_angle": given.get("braid_angle", (math.radians(max(alpha - ANGLE_RANGE, 1.0)),
-                                                    math.radians(min(alpha + ANGLE_RANGE, 54.0)))),
+    out = {"braid_angle": given.get("braid_angle", tuple(math.radians(v) for v in ANGLE_RANGE)),
            "initial_length": given.get("initial_length", (g.initial_length * (1 - LENGTH_RANGE),
                                                           g.initial_length * (1 + LENGTH_RANGE))),
            "bladder_thickness": given.get("bladder_thickness",
@@ -85,6 +86,13 @@ def bounds(data, options: FitOptions, pipes) -> dict[str, tuple[float, float]]:
     if pipes:
         high = min(high, math.asin(min(1.0, math.sqrt(2 / 3) * g.initial_diameter / max(pipes)
                                        / (1 + DOMAIN_MARGIN))))
+    if "braid_angle" in options.calibrate and not low < high:
+        raise InputError(
+            f"{data.source}: no braid angle in the calibration range keeps the braid model in its domain for "
+            "these tests (every axial length below B = L0/cos(alpha0) and above B/sqrt(3), every pipe "
+            f"narrower than D(B/sqrt(3))): it would need at least {math.degrees(low):.3g} deg and at most "
+            f"{math.degrees(high):.3g} deg; check the tested lengths, the pipe diameters and the stated D0 "
+            "and L0.")
     out["braid_angle"] = (low, high)
     return {name: (out[name][0] / GEOMETRY[name][1], out[name][1] / GEOMETRY[name][1])
             for name in options.calibrate}
@@ -124,23 +132,12 @@ class BlockedForce:
 
 
 def blocked_force(data, geometry: Geometry) -> BlockedForce | None:
-    """The check of the module docstring, or None when the data cannot make it: the longest tested
-    length farther than :data:`AT_REST` from the stated L₀, fewer than three distinct pressures
-    there, or a pressure span below 20 % of the largest."""
-    rows = [t for t in data.tests if t.kind == "axial"]
-    if not rows:
+    """The check of the module docstring, or None when the data cannot make it
+    (:func:`blocked_force_skipped` says why)."""
+    rows = _rows_at_rest(data, geometry)
+    if isinstance(rows, str):
         return None
-    longest = max(float(t.length.max()) for t in rows)
-    if abs(longest / geometry.initial_length - 1.0) > AT_REST:
-        return None
-    near = longest - NEAR * geometry.initial_length
-    pressure = np.concatenate([t.pressure[(t.length >= near) & (t.force > 0)] for t in rows])
-    force = np.concatenate([t.force[(t.length >= near) & (t.force > 0)] for t in rows])
-    length = np.concatenate([t.length[(t.length >= near) & (t.force > 0)] for t in rows])
-    top = float(np.max(np.abs(pressure))) if pressure.size else 0.0
-    if pressure.size < 3 or np.unique(np.round(pressure / max(top, 1.0), 2)).size < 3 \
-            or np.ptp(pressure) < 0.2 * top:
-        return None
+    pressure, force, length = rows
     design = np.column_stack([np.ones_like(pressure), pressure])
     coef, *_ = np.linalg.lstsq(design, force, rcond=None)
     residual = force - design @ coef
@@ -153,6 +150,42 @@ def blocked_force(data, geometry: Geometry) -> BlockedForce | None:
     return BlockedForce(mean_length, int(pressure.size), float(slope), float(math.sqrt(cov[1, 1])), area,
                         float(-intercept / slope), float(math.sqrt(max(grad @ cov @ grad, 0.0))),
                         _angle_for_slope(geometry, mean_length, float(slope)))
+
+
+def blocked_force_skipped(data, geometry: Geometry) -> str | None:
+    """Why the blocked-force check cannot run on these data (None: it can)."""
+    rows = _rows_at_rest(data, geometry)
+    return rows if isinstance(rows, str) else None
+
+
+def _rows_at_rest(data, geometry: Geometry):
+    """(P, F, L) of the measured rows at the longest tested length, or the reason there are none
+    usable: no axial test, the longest tested length farther than :data:`AT_REST` from the stated
+    L₀, fewer than three distinct pressures there, or a pressure span below 20 % of the largest."""
+    rows = [t for t in data.tests if t.kind == "axial"]
+    if not rows:
+        return "no axial test"
+    longest = max(float(t.length.max()) for t in rows)
+    gap = longest / geometry.initial_length - 1.0
+    if abs(gap) > AT_REST:
+        return (f"the longest tested length {longest * 1e3:.5g} mm is {abs(gap) * 100:.2g} % "
+                f"{'below' if gap < 0 else 'above'} the rest length L0 = "
+                f"{geometry.initial_length * 1e3:.5g} mm "
+                f"(the check needs rows within {AT_REST * 100:g} % of L0, where the force depends on the "
+                "geometry alone); a pressure ramp at L0 would make it")
+    near = longest - NEAR * geometry.initial_length
+    pressure = np.concatenate([t.pressure[(t.length >= near) & (t.force > 0)] for t in rows])
+    force = np.concatenate([t.force[(t.length >= near) & (t.force > 0)] for t in rows])
+    length = np.concatenate([t.length[(t.length >= near) & (t.force > 0)] for t in rows])
+    top = float(np.max(np.abs(pressure))) if pressure.size else 0.0
+    distinct = np.unique(np.round(pressure / max(top, 1.0), 2)).size if pressure.size else 0
+    if pressure.size < 3 or distinct < 3:
+        return (f"{distinct} distinct pressure(s) with tension at the longest tested length "
+                f"{longest * 1e3:.5g} mm (the check needs 3)")
+    if np.ptp(pressure) < 0.2 * top:
+        return (f"the pressures at the longest tested length span {np.ptp(pressure) / 1e3:.3g} kPa, "
+                f"below 20 % of the largest ({top / 1e3:.4g} kPa)")
+    return pressure, force, length
 
 
 def _angle_for_slope(geometry: Geometry, length: float, slope: float) -> float | None:

@@ -110,6 +110,7 @@ class PriorSchema(Strict):
 
 
 class CalibrationBoundsSchema(Strict):
+    model_config = Strict.model_config | {"strict": False}  # YAML lists become (low, high) tuples
     braid_angle: tuple[Angle, Angle] | None = None
     initial_length: tuple[Length, Length] | None = None
     bladder_thickness: tuple[Length, Length] | None = None

@@ -11,7 +11,9 @@ from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
 from pampipe.identification.model_error import ModelError
+from pampipe.identification.multistart import Search
 from pampipe.identification.options import FitOptions
+from pampipe.identification.quality import Quality
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
@@ -69,6 +71,8 @@ class Calibration:
     stated_rmse: float | None  # RMSE of the fit at the stated geometry [N] (calibrated fits only)
     blocked_force: BlockedForce | None  # the blocked-force check of the fitted geometry
     stated_blocked_force: BlockedForce | None  # ... of the stated geometry
+    blocked_force_skipped: str | None = None  # why the check could not run (None: it ran)
+    search: Search | None = None  # the global calibration's starts and minima (:mod:`.multistart`)
 
     def as_document(self) -> dict:
         g = self.geometry
@@ -88,7 +92,9 @@ class Calibration:
                           "bladder_thickness_m": self.stated.bladder_thickness},
                "stated_geometry_rmse_N": self.stated_rmse,
                "blocked_force_check": None if self.blocked_force is None
-               else self.blocked_force.as_document()}
+               else self.blocked_force.as_document(),
+               "blocked_force_check_skipped": self.blocked_force_skipped,
+               "multistart": None if self.search is None else self.search.as_document()}
         return doc
 
 
@@ -126,6 +132,7 @@ class IdentifyResult:
     slip: SlipResult | None = None  # friction and load coupling from the slip tests (None: none)
     parameter_uncertainty: ParameterUncertainty | None = None  # what -o writes (identification.written)
     model_error: ModelError | None = None
+    quality: Quality | None = None  # noise floor, structure, bounds (:mod:`.quality`)
 
     @property
     def drucker_margin(self) -> float:
@@ -223,6 +230,7 @@ class IdentifyResult:
                 "slack": self.options.slack, "slack_rows": int(sum(self.slack_rows)),
                 "excluded_rows": self.excluded_rows,
                 "prior": _prior_document(self.options),
+                "quality": None if self.quality is None else self.quality.as_document(),
             },
             "geometry": self.calibration.as_document(),
             "predictions": self.predictions.as_document(),

@@ -76,13 +76,13 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
 def updater(values, stats: Statistics, structure: Structure, stated, options: FitOptions, pressures, low):
     """``update(x, seen) -> changed`` for :func:`solve_fit`, changing ``values`` in place.
 
-    Slack cells: clipped (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise; a
-    set of sides already solved in this :func:`solve_fit` (``seen``) is not solved again (a cell
-    whose model sits at F ≈ 0 would flip back and forth).
+    Cells (slack rows, and measured rows where the model may predict no tension): clipped
+    (max(0, F) = 0) where the model at the cell mean is ≤ 0, live otherwise (the slack hinge,
+    docs/physics.md §6.2); a set of sides already solved in this :func:`solve_fit` (``seen``) is not
+    solved again (a cell whose model sits at F ≈ 0 would flip back and forth).
     Calibrated geometry (tangent form): the Bernstein rows over the strains of the fitted geometry
     for the grid's lengths, so that the constraint covers the range the model is used in.
     """
-    slack = None if stats.cells is None else stats.cells.slack
     row = FIELDS.index("clipped")
     rows_follow = bool(structure.calibrate) and structure.grid_rows and options.drucker == "tangent"
 
@@ -90,12 +90,12 @@ def updater(values, stats: Statistics, structure: Structure, stated, options: Fi
         geometry = geo.from_x(stated, structure.calibrate, x[geometry_mask(structure, x.size)]) \
             if structure.calibrate else stated
         changed = False
-        if slack is not None and slack.any():
+        if stats.cells is not None and stats.cells.count:
             moments, count = values["cells"], stats.cells.count
             seen.add(moments[row, :count].tobytes())
             model = forces.axial_force(moments[1, :count] * MPA, moments[2, :count], geometry,
                                        x[:stats.n_theta] * MPA, MPA)
-            clipped = (slack & (np.asarray(model) <= 0)).astype(float)
+            clipped = (np.asarray(model) <= 0).astype(float)
             if clipped.tobytes() not in seen:  # a side already tried would only cycle (a cell at F ≈ 0)
                 changed = True
                 moments[row, :count] = clipped

@@ -105,22 +105,25 @@ class Statistics:
 
 def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: float = MPA,
                       average_legs: bool = False, average_bins: int = 30, slack: str = "unilateral",
-                      calibrate: bool = False) -> Statistics:
+                      calibrate: bool = False, hinge: dict[int, np.ndarray] | None = None) -> Statistics:
     """Sufficient statistics of every test (one pass over the rows, chunked).
 
     Axial rows: measured rows (force > 0) go to the exact QR groups, slack rows (force ≤ 0) to
     cells (``slack: unilateral``) or nowhere (``exclude``); with ``calibrate`` every used axial row
-    goes to cells, whose model is evaluated at the fitted geometry.
+    goes to cells, whose model is evaluated at the fitted geometry. ``hinge`` (test index → row
+    indices): measured rows where the model predicts no tension, moved from the QR groups to cells so
+    that the fit scores them by max(0, F) (docs/physics.md §6.2).
 
     BLAS runs single-threaded here: the QR blocks are tall and thin (17 columns), where
     OpenBLAS threads only add overhead, and on a busy machine they oversubscribe the cores
     (measured 10× slower with the default thread count at load 6 on 2 cores).
     """
     with threadpool_limits(limits=1, user_api="blas"):
-        return _reduce(data, degree, reference_pressure, average_legs, average_bins, slack, calibrate)
+        return _reduce(data, degree, reference_pressure, average_legs, average_bins, slack, calibrate,
+                       hinge or {})
 
 
-def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate) -> Statistics:
+def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hinge) -> Statistics:
     geometry = data.pam.geometry
     pipes = tuple(sorted({t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}))
     axial = [(i, t) for i, t in enumerate(data.tests) if t.kind == "axial"]
@@ -133,7 +136,7 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate) ->
     if axial and not calibrate:
         found = {}
         for index, test in axial:
-            measured = np.flatnonzero(test.force > 0)
+            measured = np.setdiff1d(np.flatnonzero(test.force > 0), hinge.get(index, ()))
             for item in _axial_groups(index, test, measured, geometry, degree, pref, average_legs,
                                       average_bins):
                 found[item[0]] = item[1:]
@@ -146,8 +149,10 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate) ->
     if calibrate:
         cells = reduce_cells(axial, used, pref=pref)
     else:
-        cells = reduce_cells(axial, lambda t: np.flatnonzero(t.force <= 0) if slack == "unilateral"
-                             else np.zeros(0, dtype=np.int64), pref=pref)
+        index_of = {id(t): i for i, t in axial}
+        cells = reduce_cells(axial, lambda t: np.union1d(
+            np.flatnonzero(t.force <= 0) if slack == "unilateral" else np.zeros(0, dtype=np.int64),
+            np.asarray(hinge.get(index_of[id(t)], ()), dtype=np.int64)), pref=pref)
     remap = {g: k for k, g in enumerate(groups)}
     cells = Cells(cells.moments, np.array([remap[cells.groups[c]] for c in cells.group], dtype=np.int64),
                   groups) if cells.count else None

@@ -308,6 +308,22 @@ def _check_moduli_magnitude(m: ModuliSchema, scale: float) -> None:
 
 
 # ------------------------------------------------------------------------------------- experiment
+class DirectionSchema(Strict):
+    """``direction: {column: state, loading: 1, unloading: 2}``: the codes of a direction column."""
+
+    column: Literal["direction", "state"]
+    loading: float = Field(allow_inf_nan=False)
+    unloading: float = Field(allow_inf_nan=False)
+    held: float | None = Field(None, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _distinct(self):
+        codes = [c for c in (self.loading, self.unloading, self.held) if c is not None]
+        if len(set(codes)) != len(codes):
+            raise ValueError(f"direction: loading, unloading and held need distinct codes, got {codes}")
+        return self
+
+
 class TestSchema(Strict):
     name: str = Field(min_length=1)
     kind: Literal["axial", "radial", "slip"]
@@ -317,6 +333,7 @@ class TestSchema(Strict):
     set_pressures: list[Pressure] | None = Field(None, min_length=1, max_length=1000)
     protocol: Literal["isobaric", "isometric", "mixed"] | None = None
     pipe_material: str | None = Field(None, min_length=1, max_length=100)
+    direction: DirectionSchema | None = None
 
     @model_validator(mode="after")
     def _radial_needs_pipe(self):
@@ -421,7 +438,7 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
-    from pampipe.experiment import Experiment, TestSpec  # not needed on plan's start-up path
+    from pampipe.experiment import DirectionCoding, Experiment, TestSpec  # not needed on plan's start-up path
 
     path = Path(path)
     schema = _validate(path, ExperimentSchema,
@@ -435,7 +452,9 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
         names.add(t.name)
         tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load,
                               None if t.set_pressures is None else tuple(t.set_pressures), t.protocol,
-                              t.pipe_material))
+                              t.pipe_material, None if t.direction is None else DirectionCoding(
+                                  t.direction.column, t.direction.loading, t.direction.unloading,
+                                  t.direction.held)))
     pam_file = _relative(path, schema.pam) if isinstance(schema.pam, str) else None
     return Experiment(path, pam, tuple(tests), _prior_from_pam(path, dict(schema.fit or {})), pam_file)
 

@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.experiment import Experiment, ExperimentData, make_slip_data, make_test_data
+from pampipe.experiment import DIRECTION_WORDS, Experiment, ExperimentData, make_slip_data, make_test_data
 from pampipe.io.files import atomic_write
 from pampipe.io.paths import open_input
 from pampipe.units import NUMBER, column_factor, show
@@ -194,6 +194,9 @@ def _read_open(path, blocks, required, progress, size, parse) -> dict[str, np.nd
         if not chunk.strip():
             continue
         block = None
+        signs = next((names[n] for n in SIGNS if n in names), None)
+        if signs is not None and chunk.translate(None, _NUMERIC):
+            chunk = _direction_words(path, chunk, start, signs, ncols)
         if not chunk.translate(None, _NUMERIC):
             try:
                 block = parse(chunk)
@@ -242,6 +245,27 @@ def _parse_header(path, line, required):
     if "direction" in names and "state" in names:
         raise InputError(f"{path}: line 1: give either a direction or a state column, not both.")
     return {n: c for n, c in names.items() if n in factors}, factors, len(cells)
+
+
+def _direction_words(path, chunk: bytes, first_line: int, col: int, ncols: int) -> bytes:
+    """The block with the words of its direction column (:data:`pampipe.experiment.DIRECTION_WORDS`:
+    loading, filling → +1; unloading, venting → −1; held → 0) written as signs; a word that is not one
+    of them is an error naming the line. Other cells are left for the number check."""
+    lines = _decode(path, chunk, first_line).split("\n")
+    for offset, line in enumerate(lines):
+        cells = line.split(",")
+        if len(cells) != ncols:
+            continue  # blank, or malformed: the scan names it
+        word = cells[col].strip().lower()
+        if word in DIRECTION_WORDS:
+            cells[col] = str(DIRECTION_WORDS[word])
+            lines[offset] = ",".join(cells)
+        elif word.isalpha():
+            shown = show(cells[col].strip())
+            raise InputError(f"{path}: line {first_line + offset}, column {col + 1}: {shown} is not a "
+                             f"direction; allowed: +1, -1, 0 or {', '.join(DIRECTION_WORDS)} "
+                             "(docs/formats.md §3).")
+    return "\n".join(lines).encode("utf-8")
 
 
 def _scan(path, lines, first_line, names, ncols) -> None:
