@@ -57,7 +57,8 @@ def _longest_runs(offsets, psi, rho, a, radius, angle, span, step, steps=30):
     tau = np.arange(-span, span + step, step)
     centres = feet[:, None, :] + tau[None, :, None] * u[None, None, :]
     fit = _disks_fit(centres, psi, rho, a, radius, angle)  # (lines, τ)
-    padded = np.concatenate([np.zeros((fit.shape[0], 1), bool), fit, np.zeros((fit.shape[0], 1), bool)], axis=1)
+    edge = np.zeros((fit.shape[0], 1), bool)
+    padded = np.concatenate([edge, fit, edge], axis=1)
     back = np.full(offsets.size, np.nan)
     front = np.full(offsets.size, np.nan)
     for i, row in enumerate(padded):

@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 import pytest
-
 from bend_check import longest_passing
+
 from pampipe.bends.geometry import (
     classical_chord,
     elbow_radius_needed,

@@ -1,4 +1,4 @@
-"""Whether a rigid cylinder passes a pipe elbow, and how tight a deflated muscle can bend (docs/physics.md §13).
+"""Whether a rigid cylinder passes a pipe elbow; how tight a deflated muscle bends (docs/physics.md §13).
 
 Plane of the bend, centre of the elbow at the origin: the centreline is the arc of radius R over the polar
 angles φ ∈ [−θ/2, θ/2], continued by the straight inlet and outlet pipes tangent to it; the bore is D = 2a,

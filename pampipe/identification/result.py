@@ -145,7 +145,8 @@ class IdentifyResult:
 
     def fitted_pam(self, base: Pam) -> Pam:
         """``base`` with the fitted moduli, the θ covariance and the (calibrated) geometry."""
-        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance())
+        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance(),
+                   fitting_length=base.fitting_length)
 
     def pam_comments(self, source) -> list[str]:
         """Header lines of the PAM file written from this fit: how it was fitted and how well."""
@@ -172,7 +173,7 @@ class IdentifyResult:
     def pam_for_pipe(self, base: Pam, pipe_diameter: float) -> Pam:
         """The muscle as used by the radial tests in ``pipe_diameter`` (per_pipe moduli if any)."""
         moduli = self.pipe_moduli.get(pipe_diameter, self.moduli)
-        return Pam(base.name, self.geometry, moduli, None)
+        return Pam(base.name, self.geometry, moduli, None, fitting_length=base.fitting_length)
 
     def _drucker_document(self) -> dict:
         return _drucker_document(self)

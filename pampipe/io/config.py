@@ -15,10 +15,10 @@ import numpy as np
 from pydantic import AfterValidator, Field, model_validator
 
 from pampipe.errors import InputError
-from pampipe.io.routes import listed_route, network_route
+from pampipe.io.routes import elbow_radius, listed_route, network_route
 from pampipe.io.yamlfile import load_mapping
-from pampipe.mission import Mission, Segment
-from pampipe.model.domain import check_geometry
+from pampipe.mission import Mission, Segment, Steering
+from pampipe.model.domain import check_geometry, check_kind
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.schema import Strict, quantity
@@ -57,6 +57,7 @@ class GeometrySchema(Strict):
     braid_angle_from_axis: Angle | None = None
     bladder_thickness: Length
     wall: Literal["thick", "thin"] = "thick"
+    fitting_length: quantity("length", ge=0, le=10.0, unit="m") = 0.0  # rigid end fittings, both ends
 
     @model_validator(mode="after")
     def _one_angle(self):
@@ -172,7 +173,7 @@ def build_pam(schema: PamSchema) -> Pam:
             if cov.shape != (n, n):
                 raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
             covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
-    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects))
+    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects), g.fitting_length)
 
 
 #: Largest moduli coefficient accepted [Pa]: 1 TPa, far above any elastomer (latex ≈ 1 MPa) or fibre.
@@ -232,9 +233,26 @@ def _three_segments(segments: list) -> list:
     return segments
 
 
+class SteeringSchema(Strict):
+    """``robot.steering``: extensile PAMs in parallel at ``radius`` from the axis (docs/physics.md §13.4)."""
+
+    pam: str | PamSchema
+    count: Literal[3] = 3
+    radius: Length
+
+
 class RobotSchema(Strict):
     segments: Annotated[list[SegmentSchema], AfterValidator(_three_segments)]
     payload: Mass = 0.0
+    steering: SteeringSchema | None = None
+
+
+class BendSchema(Strict):
+    """``bend: {angle, radius, direction}`` at the end of a section (docs/formats.md §4)."""
+
+    angle: quantity("angle", ge=0, le=math.pi, unit="rad")
+    radius: str | float | int | None = None  # a length or a multiple of the bore, "1.5 D"; None: elbow_radius
+    direction: quantity("angle", ge=-2 * math.pi, le=2 * math.pi, unit="rad") = math.pi
 
 
 class UncertainFriction(Strict):
@@ -248,6 +266,7 @@ class SectionSchema(Strict):
     inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.pipes.bore
     incline: Incline = 0.0
     friction: Friction | UncertainFriction
+    bend: BendSchema | None = None
 
 
 class NetworkRouteSchema(Strict):
@@ -269,6 +288,8 @@ class MissionSchema(Strict):
     tether_drag: NonNegativeForce = 0.0
     route: Annotated[list[SectionSchema], Field(min_length=1)] | NetworkRouteSchema
     gait: dict[str, Any] | None = None  # options of `gait`; validated there
+    elbow_radius: str | float | int = "1.5 D"  # default centreline radius of a bend: a length or "k D"
+    bend_model: Literal["rigid", "flexible"] = "rigid"
 
 
 #: The safety factor of a mission that gives none, and what the commands say about it.
@@ -295,6 +316,11 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
     schema = _validate(path, ExperimentSchema,
                        load_mapping(path, what="experiment file") if raw is None else raw)
     pam = _resolve_pam(path, schema.pam, "pam")
+    try:
+        check_kind(pam.geometry, extensile=False, where="pam", role="identify and diagnose (radial and axial "
+                   "tests of an anchoring muscle)")
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
     tests = []
     names = set()
     for i, t in enumerate(schema.tests):
@@ -324,12 +350,34 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
     safety_factor = schema.safety_factor
     if safety_factor is None:
         safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (f"{path}: {NO_SAFETY_FACTOR}",)
+    for i, seg in enumerate(segments):
+        try:
+            check_kind(seg.pam.geometry, extensile=False, where=f"robot.segments[{i}].pam",
+                       role="an anchoring segment")
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+    steering = _steering(path, schema.robot.steering)
+    elbow = elbow_radius(path, schema.elbow_radius, "elbow_radius")
     if isinstance(schema.route, NetworkRouteSchema):
-        route = network_route(path, schema.route, segments)
+        route = network_route(path, schema.route, segments, elbow=elbow)
     else:
-        route = listed_route(path, schema.route)
+        route = listed_route(path, schema.route, elbow=elbow)
     return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
-                   schema.load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings)
+                   schema.load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
+                   steering, schema.bend_model)
+
+
+def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:
+    """The steering module of ``robot.steering``: its PAM must be extensile."""
+    if schema is None:
+        return None
+    pam = _resolve_pam(path, schema.pam, "robot.steering.pam")
+    try:
+        check_kind(pam.geometry, extensile=True, where="robot.steering.pam", role="a steering PAM")
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+    return Steering(pam, schema.count, schema.radius,
+                    _relative(path, schema.pam) if isinstance(schema.pam, str) else None)
 
 
 def _resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:

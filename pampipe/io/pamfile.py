@@ -29,11 +29,14 @@ def _quantity(value: float, unit: str) -> str:
 def geometry_document(pam: Pam) -> dict:
     """The ``geometry:`` block (the braid angle from the axis)."""
     g = pam.geometry
-    return {"initial_length": _quantity(g.initial_length * 1e3, "mm"),
-            "initial_diameter": _quantity(g.initial_diameter * 1e3, "mm"),
-            "braid_angle_from_axis": _quantity(math.degrees(g.braid_angle), "deg"),
-            "bladder_thickness": _quantity(g.bladder_thickness * 1e3, "mm"),
-            "wall": g.wall}
+    doc = {"initial_length": _quantity(g.initial_length * 1e3, "mm"),
+           "initial_diameter": _quantity(g.initial_diameter * 1e3, "mm"),
+           "braid_angle_from_axis": _quantity(math.degrees(g.braid_angle), "deg"),
+           "bladder_thickness": _quantity(g.bladder_thickness * 1e3, "mm"),
+           "wall": g.wall}
+    if pam.fitting_length:
+        doc["fitting_length"] = _quantity(pam.fitting_length * 1e3, "mm")
+    return doc
 
 
 def _law(vector: np.ndarray, k: int, block: int) -> dict:

@@ -52,6 +52,12 @@ class Geometry:
         return self.braid_length / math.sqrt(3.0)
 
     @property
+    def extensile(self) -> bool:
+        """True for a braid wound beyond the neutral angle (α₀ > 54.74° from the axis): it lengthens when
+        inflated, toward B/√3, instead of contracting."""
+        return self.braid_angle > math.atan(math.sqrt(2.0))
+
+    @property
     def largest_diameter(self) -> float:
         """D(B/√3) = B√(2/3)/(Nπ) [m]: the widest the muscle can pull itself open."""
         return self.braid_length * math.sqrt(2.0 / 3.0) / (self.turns * math.pi)
@@ -109,6 +115,7 @@ class Pam:
     ``covariance`` is the covariance of :meth:`Moduli.as_vector` [Pa²], written by ``identify``.
     ``effects`` maps effect names of :mod:`pampipe.model.effects` to their parameters (SI), e.g.
     ``{"braid_friction": {"f0": 12.0, "f1": 3e-5}}``, written by ``diagnose``; None: the baseline.
+    ``fitting_length`` [m] is what the end fittings add to the rigid length of the deflated muscle.
     """
 
     name: str
@@ -116,3 +123,9 @@ class Pam:
     moduli: Moduli | None = None
     covariance: np.ndarray | None = field(default=None, compare=False)
     effects: dict[str, dict[str, float]] | None = field(default=None, hash=False)
+    fitting_length: float = 0.0  # [m]
+
+    @property
+    def rigid_length(self) -> float:
+        """L₀ + fitting length [m]: the deflated segment as a rigid cylinder (docs/physics.md §13)."""
+        return self.geometry.initial_length + self.fitting_length
