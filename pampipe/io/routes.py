@@ -39,10 +39,10 @@ class Radius:
         """The radius [m] in a pipe of ``diameter``; smaller than half the bore is an InputError."""
         radius = self.value * diameter if self.of_bore else self.value
         if not radius >= diameter / 2:
-            raise InputError(f"{path}: {where}: {self.text!r} gives a centreline radius of "
-                             f"{radius * 1e3:.4g} mm in a {diameter * 1e3:.4g} mm bore; an elbow's "
-                             f"radius must be at least half the bore ({diameter * 500:.4g} mm, '0.5 D'); long-radius elbows are '1.5 D', "
-                             "short-radius '1 D'.")
+            raise InputError(
+                f"{path}: {where}: {self.text!r} gives a centreline radius of {radius * 1e3:.4g} mm in a "
+                f"{diameter * 1e3:.4g} mm bore; an elbow's radius must be at least half the bore "
+                f"({diameter * 500:.4g} mm, '0.5 D'); long-radius elbows are '1.5 D', short-radius '1 D'.")
         return radius
 
 
