@@ -195,6 +195,7 @@ class Mission:
     warnings: tuple[str, ...] = ()
     steering: Steering | None = None
     bend_model: str = "rigid"  # rigid | flexible (docs/physics.md §13)
+    joint_angle: float | None = None  # [rad] the largest angle a joint between segments allows (None: free)
 
     def __post_init__(self):
         if not isinstance(self.route, Route):

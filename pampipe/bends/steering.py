@@ -133,7 +133,8 @@ def _reason(reachable, curvature, supply, at_supply, at_braid) -> str:
 
 def _command(x, l0, radius, target, direction, reached, reason) -> SteeringCommand:
     x = np.asarray(x, dtype=float).ravel()
-    pressures = np.maximum(x[:COUNT] * PRESSURE_SCALE, 0.0)
+    pressures = x[:COUNT] * PRESSURE_SCALE
+    pressures = np.where(pressures < 1.0, 0.0, pressures)  # IPOPT leaves ~1e-6 Pa at a zero bound
     lengths = l0 * (1 + x[COUNT:])
     phi = _angles()
     mean = lengths.mean()

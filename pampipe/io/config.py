@@ -245,6 +245,7 @@ class RobotSchema(Strict):
     segments: Annotated[list[SegmentSchema], AfterValidator(_three_segments)]
     payload: Mass = 0.0
     steering: SteeringSchema | None = None
+    joint_angle: quantity("angle", gt=0, le=math.pi, unit="rad") | None = None  # largest joint deflection
 
 
 class BendSchema(Strict):
@@ -364,7 +365,7 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
         route = listed_route(path, schema.route, elbow=elbow)
     return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
                    schema.load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
-                   steering, schema.bend_model)
+                   steering, schema.bend_model, schema.robot.joint_angle)
 
 
 def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:
