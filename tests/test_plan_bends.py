@@ -1,0 +1,197 @@
+"""`plan` through bends (docs/physics.md §13, docs/formats.md §4 bends): JSON bends[], exit codes, reasons,
+fitting length, the flexible model, joints, reducers and bad bend data. Expected numbers are by hand."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+import yaml
+from conftest import PROBLEMS
+
+from pampipe.bends.steering import curvature_of_lengths
+from pampipe.io.config import load_pam
+from pampipe.model.muscle import Muscle
+
+INCH = 0.0254
+BORE = 3 * INCH
+L0, D0 = 0.310662, 0.05715  # the paper's radial muscle (problems/pams/paper-radial-pam.yaml)
+PAMS = PROBLEMS / "pams"
+
+
+def _mission(tmp_path, bends, *, robot=None, top=None, bores=None):
+    """A mission of len(bends) + 1 level 3 in sections, section i ending with bends[i] (None: straight on)."""
+    segments = [{"name": f"PAM{i}", "pam": str(PAMS / "paper-radial-pam.yaml"), "mass": "0.4 kg"}
+                for i in (1, 2, 3)]
+    route = []
+    for i in range(len(bends) + 1):
+        section = {"name": f"s{i}", "length": "2 m", "inner_diameter": (bores or {}).get(i, "3 in"),
+                   "friction": 0.3}
+        if i < len(bends) and bends[i] is not None:
+            section["bend"] = bends[i]
+        route.append(section)
+    doc = {"robot": {"segments": segments, **(robot or {})}, "supply_pressure": "689 kPa",
+           "safety_factor": 1.5, "route": route, **(top or {})}
+    path = tmp_path / "m.yaml"
+    path.write_text(yaml.safe_dump(doc), encoding="utf-8")
+    return path
+
+
+def _classical(radius, d=D0, bore=BORE):
+    """2√(R_o² − (R_i + d)²), the chord of a long bend, by hand."""
+    return 2 * math.sqrt((radius + bore / 2) ** 2 - (radius - bore / 2 + d) ** 2)
+
+
+def test_shipped_example_passes_two_bends_and_not_the_long_radius_elbow(cli):
+    out = cli("plan", PROBLEMS / "missions" / "elbows-3in.yaml", "--json")
+    assert out.returncode == 3
+    doc = json.loads(out.stdout)
+    bends = doc["bends"]
+    assert [b["after_section"] for b in bends] == ["run-1", "run-2", "riser"]
+    assert [b["passable"] for b in bends] == [True, True, False]
+    for key in ("after_section", "angle_deg", "radius_m", "passable", "limiting_segment",
+                "longest_passable_length_m", "clearance_m", "steering"):
+        assert all(key in b for b in bends)
+    elbow = bends[2]
+    assert elbow["angle_deg"] == pytest.approx(90) and elbow["radius_m"] == pytest.approx(1.5 * BORE)
+    assert elbow["longest_passable_length_m"] == pytest.approx(_classical(1.5 * BORE), rel=1e-9)
+    assert elbow["clearance_m"] == pytest.approx(_classical(1.5 * BORE) - L0, rel=1e-9)
+    # the reason names the bend, the segment, by how much it is too long and what would pass
+    reason = elbow["reason"]
+    short = (L0 - _classical(1.5 * BORE)) * 1e3
+    for fragment in ("after section 'riser'", "PAM1", f"{short:.4g} mm too long",
+                     f"longest that passes at 57.15 mm wide is {_classical(1.5 * BORE) * 1e3:.4g} mm",
+                     "elbow radius would have to be at least"):
+        assert fragment in reason
+    assert "1 of 3 bends cannot be passed (after 'riser')" in out.stderr
+    # the elbow radius it names passes, by hand: 2√(R_o² − (R_i + d)²) = L0
+    needed = elbow["elbow_radius_needed_m"]
+    assert _classical(needed) == pytest.approx(L0, abs=1e-6)
+
+
+def test_steering_reaches_each_bend_curvature(cli):
+    """The JSON pressures, put through the model outside the NLP, bend the module to 1/R within 2 %."""
+    doc = json.loads(cli("plan", PROBLEMS / "missions" / "elbows-3in.yaml", "--json").stdout)
+    muscle = Muscle.from_pam(load_pam(PAMS / "extensile-steering.yaml"))
+    for bend in doc["bends"]:
+        steering = bend["steering"]
+        assert steering["reached"] is True
+        lengths = muscle.free_length(steering["pressures_Pa"])
+        assert curvature_of_lengths(lengths, 0.015) == pytest.approx(1 / bend["radius_m"], rel=0.02)
+        assert max(steering["pressures_Pa"]) <= 689e3
+
+
+def test_text_report_has_a_bend_table(cli):
+    out = cli("plan", PROBLEMS / "missions" / "elbows-3in.yaml")
+    assert out.returncode == 3
+    assert "bends (each deflated segment as a rigid cylinder" in out.stdout
+    assert "riser" in out.stdout and "no" in out.stdout
+
+
+def test_fitting_length_makes_a_passing_segment_too_long(tmp_path, cli):
+    """15° at 3 D passes 324.4 mm; L0 = 310.7 mm passes, L0 + 20 mm of fittings does not."""
+    bend = {"angle": "15 deg", "radius": "3 D"}
+    out = cli("plan", _mission(tmp_path, [bend]), "--json")
+    assert out.returncode == 0 and json.loads(out.stdout)["bends"][0]["passable"]
+    pam = yaml.safe_load((PAMS / "paper-radial-pam.yaml").read_text())
+    pam["geometry"]["fitting_length"] = "20 mm"
+    (tmp_path / "fitted.yaml").write_text(yaml.safe_dump(pam))
+    path = _mission(tmp_path, [bend])
+    doc = yaml.safe_load(path.read_text())
+    doc["robot"]["segments"][1]["pam"] = str(tmp_path / "fitted.yaml")
+    path.write_text(yaml.safe_dump(doc))
+    out = cli("plan", path, "--json")
+    assert out.returncode == 3
+    bend_doc = json.loads(out.stdout)["bends"][0]
+    assert bend_doc["limiting_segment"] == "PAM2"
+    assert [s["rigid_length_m"] for s in bend_doc["segments"]][1] == pytest.approx(L0 + 0.02)
+
+
+def test_flexible_model_passes_a_bend_wide_enough_for_the_least_bend_radius(tmp_path, cli):
+    """ρ_min = (D0/2)/(1/cos α0 − 1) by hand; a 90° elbow with R + (D − D0)/2 ≥ ρ_min passes bent, one
+    just tighter does not (and neither passes rigid)."""
+    alpha = math.radians(90 - 66.4373)
+    rho = D0 / 2 / (1 / math.cos(alpha) - 1)
+    fits = rho - (BORE - D0) / 2
+    for radius, passes in ((fits * 1.01, True), (fits * 0.99, False)):
+        path = _mission(tmp_path, [{"angle": "90 deg", "radius": f"{radius * 1e3} mm"}],
+                        top={"bend_model": "flexible"})
+        out = cli("plan", path, "--json")
+        bend = json.loads(out.stdout)["bends"][0]
+        assert bend["passable"] is passes and out.returncode == (0 if passes else 3)
+        assert bend["segments"][0]["least_bend_radius_m"] == pytest.approx(rho, rel=1e-9)
+        assert bend["segments"][0]["longest_passable_length_m"] < L0  # rigid, it would not pass
+
+
+def test_joint_angle_limit(tmp_path, cli):
+    """Segments laid as chords of a 15° bend at 3 D need the whole 15° at a joint: 10° is not enough."""
+    path = _mission(tmp_path, [{"angle": "15 deg", "radius": "3 D"}], robot={"joint_angle": "10 deg"})
+    out = cli("plan", path, "--json")
+    assert out.returncode == 3
+    bend = json.loads(out.stdout)["bends"][0]
+    assert not bend["joints_pass"] and bend["joint_angle_deg"] == pytest.approx(15)
+    assert "joint_angle" in bend["reason"]
+
+
+def test_reducer_is_reported_and_passes_into_the_smaller_bore(tmp_path, cli):
+    path = _mission(tmp_path, [None], bores={1: "3.5 in"})
+    out = cli("plan", path, "--json")
+    assert out.returncode == 0
+    (reducer,) = json.loads(out.stdout)["reducers"]
+    assert reducer["from_inner_diameter_m"] == pytest.approx(BORE)
+    assert reducer["to_inner_diameter_m"] == pytest.approx(3.5 * INCH)
+    assert reducer["passable"] and "smaller" in reducer["reason"]
+
+
+def test_elbow_radius_default_and_multiples(tmp_path, cli):
+    path = _mission(tmp_path, [{"angle": "30 deg"}, {"angle": "30 deg", "radius": "200 mm"}],
+                    top={"elbow_radius": "2 D"})
+    bends = json.loads(cli("plan", path, "--json").stdout)["bends"]
+    assert bends[0]["radius_m"] == pytest.approx(2 * BORE) and bends[1]["radius_m"] == pytest.approx(0.2)
+
+
+@pytest.mark.parametrize(("bend", "extra", "fragments"), [
+    ({"angle": "-30 deg"}, {}, ["route[0].bend.angle", "must be at least 0"]),
+    ({"angle": "30 deg", "radius": "0.4 D"}, {}, ["route[0].bend.radius", "at least half the bore"]),
+    ({"angle": "30 deg", "radius": "30 mm"}, {}, ["route[0].bend.radius", "at least half the bore"]),
+    ({"angle": "30 deg"}, {"top": {"elbow_radius": "0.3 D"}}, ["elbow_radius", "at least half the bore"]),
+    ({"angle": "30 deg", "radius": "5 kPa"}, {}, ["route[0].bend.radius", "multiple of the bore"]),
+    ({"angle": "30 deg"}, {"robot": {"steering": {"pam": str(PAMS / "paper-radial-pam.yaml"),
+                                                  "radius": "15 mm"}}},
+     ["robot.steering.pam", "extensile", "54.74"]),
+])
+def test_bad_bend_data_exits_2(tmp_path, cli, bend, extra, fragments):
+    out = cli("plan", _mission(tmp_path, [bend], **extra))
+    assert out.returncode == 2, out.stderr
+    assert "Traceback" not in out.stderr
+    for fragment in fragments:
+        assert fragment in out.stderr
+
+
+def test_extensile_segment_cannot_anchor(tmp_path, cli):
+    path = _mission(tmp_path, [None])
+    doc = yaml.safe_load(path.read_text())
+    doc["robot"]["segments"][0]["pam"] = str(PAMS / "extensile-steering.yaml")
+    path.write_text(yaml.safe_dump(doc))
+    out = cli("plan", path)
+    assert out.returncode == 2 and "robot.segments[0].pam" in out.stderr and "contractile" in out.stderr
+
+
+def test_ky4_route_says_which_elbows_the_paper_muscle_passes(cli):
+    """Every bend of the route is listed with its verdict; those that fail name PAM1 and by how much; the
+    verdict is L0 ≤ L* of that bend (by hand where the chord lies on the arc)."""
+    out = cli("plan", PROBLEMS / "missions" / "ky4-route.yaml", "--json")
+    assert out.returncode == 3
+    bends = json.loads(out.stdout)["bends"]
+    blocked = [b for b in bends if not b["passable"]]
+    assert len(blocked) == 5 and len(bends) > len(blocked)
+    assert all(b["angle_deg"] > 30 for b in blocked)
+    for b in bends:
+        assert b["passable"] == (b["longest_passable_length_m"] >= L0)
+        if not b["passable"]:
+            assert "PAM1" in b["reason"] and "too long" in b["reason"]
+        if b["binding_position"] == "mid-bend, ends on the arc":
+            bore = b["inner_diameter_m"]
+            by_hand = _classical(b["radius_m"], bore=bore)
+            assert b["longest_passable_length_m"] == pytest.approx(by_hand, rel=1e-9)
