@@ -98,6 +98,26 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
         raise InputError(f"{source}: {exc}") from None
 
 
+def extension(pam: Source, *, pressure=None, base=None):
+    """An extensile PAM's free length against pressure (`pampipe simulate` without a pipe).
+
+    Returns a :class:`pampipe.simulation.ExtensionResult`."""
+    from pampipe.errors import InputError
+    from pampipe.simulation import PAPER_PRESSURES
+    from pampipe.simulation import extension as run
+
+    model = load_pam(pam, base=base)
+    source = pam if not isinstance(pam, Mapping) else "PAM"
+    if not model.geometry.extensile:
+        raise InputError(f"{source}: a contractile muscle is simulated in a pipe: give --pipe-diameter "
+                         "(e.g. -d '3 in'); only an extensile muscle is simulated free, without a pipe.")
+    pressures = _si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
+    try:
+        return run(model, pressures=_as_list(pressures))
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
+
+
 def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
          max_payload: bool = False, base=None):
     """The least anchoring pressure of every segment in every section (`pampipe plan`).

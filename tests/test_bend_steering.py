@@ -4,6 +4,7 @@ Webster & Jones' closed form (not the NLP's linear expression)."""
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -60,3 +61,19 @@ def test_solvers_are_built_once(muscle):
     steer(muscle, curvature=6.0, direction=2.0, radius=RADIUS, supply=400e3)
     after = steering._solvers.cache_info()
     assert after.misses == before.misses and after.hits == before.hits + 1
+
+
+def test_simulate_shows_an_extensile_pam_lengthening(cli, muscle):
+    """Without a pipe, simulate gives L(P) of an extensile PAM: from L0 at 0 Pa, rising toward B/√3, each
+    point a root of F_ax(P, L) = 0 of the model."""
+    out = cli("simulate", PAM, "--json", "-p", "0 kPa", "-p", "100 kPa", "-p", "400 kPa")
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    assert doc["kind"] == "extensile"
+    lengths = [p["free_length_m"] for p in doc["points"]]
+    assert lengths[0] == pytest.approx(0.1)
+    assert lengths[0] < lengths[1] < lengths[2] < doc["braid_limit_length_m"]
+    for point in doc["points"]:
+        force = muscle.axial_force(point["pressure_Pa"], point["free_length_m"])
+        assert abs(float(force)) < 1e-6
+    assert cli("simulate", PAM, "-d", "3 in").returncode == 2  # it cannot anchor
