@@ -145,7 +145,14 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
         if progress is not None:
             progress("solving the time-optimal gait (CasADi/IPOPT) ...")
         best = optimal_gait(model, section, options=options, baseline=sequential)
-    return GaitReport(sequential, best)
+    bends = None
+    if model.route.bend_angle is not None:
+        from pampipe.bends.gait import route_time
+        from pampipe.bends.plan import plan_bends
+
+        bends = route_time(plan_bends(model)[0], float(model.route.length.sum()),
+                           (best or sequential).speed)
+    return GaitReport(sequential, best, bends)
 
 
 def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,
@@ -264,6 +271,7 @@ class GaitReport:
 
     sequential: object  # pampipe.locomotion.GaitResult
     optimal: object | None = None
+    bends: dict | None = None  # the route's bends: extra steering steps and time (pampipe.bends.gait)
 
     @property
     def results(self) -> tuple:
@@ -278,10 +286,13 @@ class GaitReport:
 
     def to_dict(self) -> dict:
         if self.optimal is None:
-            return self.sequential.as_document()
-        document = self.optimal.as_document()
-        document["sequential"] = self.sequential.as_document()
-        document["speed_gain"] = self.speed_gain
+            document = self.sequential.as_document()
+        else:
+            document = self.optimal.as_document()
+            document["sequential"] = self.sequential.as_document()
+            document["speed_gain"] = self.speed_gain
+        if self.bends is not None:
+            document["bends"] = self.bends
         return document
 
 

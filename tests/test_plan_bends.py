@@ -195,3 +195,36 @@ def test_ky4_route_says_which_elbows_the_paper_muscle_passes(cli):
             bore = b["inner_diameter_m"]
             by_hand = _classical(b["radius_m"], bore=bore)
             assert b["longest_passable_length_m"] == pytest.approx(by_hand, rel=1e-9)
+
+
+def test_steering_fill_time_is_the_choked_flow_closed_form(cli):
+    """Filling a PAM to 55.6 kPa from a 689 kPa supply stays choked (p/p_supply < 0.3, absolute), so with an
+    isothermal chamber of constant volume t = V·P/(R·T·C·ρ₀·p_supply), by hand."""
+    doc = json.loads(cli("plan", PROBLEMS / "missions" / "elbows-3in.yaml", "--json").stdout)
+    bend = doc["bends"][0]
+    pressure = max(bend["steering"]["pressures_Pa"])
+    length = bend["steering"]["lengths_m"][0]
+    assert (pressure + 101325) / (689e3 + 101325) < 0.3
+    pam = load_pam(PAMS / "extensile-steering.yaml")
+    g = pam.geometry
+    n_pi = g.initial_length * math.tan(g.braid_angle) / g.initial_diameter  # Nπ
+    b = g.initial_length / math.cos(g.braid_angle)
+    volume = math.pi / 4 * (b**2 - length**2) / n_pi**2 * length  # πD²L/4 with D = √(B² − L²)/(Nπ)
+    r0 = g.initial_diameter / 2
+    volume -= math.pi * (r0**2 - (r0 - g.bladder_thickness) ** 2) * g.initial_length  # the bladder
+    flow = 5e-9 * 1.185 * (689e3 + 101325)  # C ρ₀ p₁, the default valve
+    by_hand = volume * pressure / (287.05 * 293.15 * flow)
+    fill = bend["gait"]["steps"][0]
+    assert fill["step"] == "steer-in" and fill["duration_s"] == pytest.approx(by_hand, rel=1e-3)
+    assert doc["bends_extra_time_s"] == pytest.approx(sum(b["gait"]["extra_time_s"] for b in doc["bends"]))
+
+
+def test_gait_reports_the_bends_extra_steps_and_time(cli):
+    out = cli("gait", PROBLEMS / "missions" / "elbows-3in.yaml", "--json")
+    assert out.returncode == 0, out.stderr
+    doc = json.loads(out.stdout)
+    bends = doc["bends"]
+    assert bends["count"] == 3 and bends["extra_steps"] == 6
+    assert bends["walking_time_s"] == pytest.approx(14 / doc["speed_m_per_s"], rel=1e-9)  # 4 + 3 + 2 + 5 m
+    assert bends["route_time_s"] == pytest.approx(bends["walking_time_s"] + bends["extra_time_s"])
+    assert "steering steps add" in out.stderr

@@ -59,6 +59,7 @@ class BendPlan:
     joints_pass: bool
     steering: SteeringCommand | None
     radius_needed: float  # [m] least elbow radius at which the limiting segment passes (NaN if it does)
+    steps: object | None = None  # pampipe.bends.gait.SteeringSteps of the gait through it
 
     @property
     def limiting(self) -> SegmentPassage:
@@ -106,7 +107,8 @@ class BendPlan:
                               "clearance_m": _finite(g.clearance),
                               "passable": g.passable, "passes_bent": g.flexible,
                               "least_bend_radius_m": _finite(g.least_bend_radius)} for g in self.segments],
-                "steering": None if self.steering is None else self.steering.as_document()}
+                "steering": None if self.steering is None else self.steering.as_document(),
+                "gait": None if self.steps is None else self.steps.as_document()}
 
 
 @dataclass(frozen=True)
@@ -154,9 +156,13 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
     if route.bend_angle is None:
         return (), reducers
     steering = mission.steering
-    muscle = None
+    muscle = options = None
     if steering is not None:
+        from pampipe.bends.gait import steering_steps  # locomotion imports planning, which imports this
+        from pampipe.locomotion.options import gait_options
+
         muscle = Muscle.from_pam(steering.pam, where=f"{mission.source}: robot.steering.pam")
+        options = gait_options(mission.gait, source=mission.source)
     lengths = [seg.pam.rigid_length for seg in mission.segments]
     limit = mission.joint_angle
     out = []
@@ -171,12 +177,13 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
         if not worst.passable and worst.where != "bore":
             needed = elbow_radius_needed(bore=bore, angle=angle, diameter=worst.diameter, length=worst.length)
         turn = joint_angle(lengths, radius, angle)
-        command = None
+        command = steps = None
         if muscle is not None:
             command = steer(muscle, curvature=1 / radius, direction=float(route.bend_direction[i]),
                             radius=steering.radius, supply=mission.supply_pressure)
+            steps = steering_steps(muscle, command, supply=mission.supply_pressure, options=options)
         out.append(BendPlan(i, str(route.name[i]), angle, radius, bore, segments, turn,
-                            limit is None or turn <= limit, command, needed))
+                            limit is None or turn <= limit, command, needed, steps))
     return tuple(out), reducers
 
 
