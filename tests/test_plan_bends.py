@@ -228,3 +228,10 @@ def test_gait_reports_the_bends_extra_steps_and_time(cli):
     assert bends["walking_time_s"] == pytest.approx(14 / doc["speed_m_per_s"], rel=1e-9)  # 4 + 3 + 2 + 5 m
     assert bends["route_time_s"] == pytest.approx(bends["walking_time_s"] + bends["extra_time_s"])
     assert "steering steps add" in out.stderr
+
+
+def test_plots_mark_the_bends_and_draw_the_tightest(tmp_path, cli):
+    out = cli("plan", PROBLEMS / "missions" / "elbows-3in.yaml", "--plots", tmp_path)
+    assert out.returncode == 3
+    for name in ("route_profile.png", "tightest_bend.png"):
+        assert (tmp_path / name).stat().st_size > 10_000

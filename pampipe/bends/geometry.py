@@ -54,11 +54,13 @@ def _end(h: float, outer: float, room: float) -> float:
     return (outer - h * math.cos(room)) / math.sin(room)
 
 
-def chord(direction: float, *, bore: float, radius: float, angle: float, diameter: float) -> float:
-    """chord(ψ) [m]: the longest cylinder of ``diameter`` d lying on the inner wall's tangent at direction ψ.
+def chord_interval(direction: float, *, bore: float, radius: float, angle: float,
+                   diameter: float) -> tuple[float, float]:
+    """(τ_back, τ_front) [m]: where a cylinder of ``diameter`` d on the inner wall's tangent at direction ψ
+    may lie, along t(ψ) from the tangent point R_i·e(ψ) (τ_back ≤ 0 ≤ τ_front).
 
     The inner side lies on p·e(ψ) = R_i, the outer side on p·e(ψ) = R_i + d; each line meets the outer wall
-    backward and forward (:func:`_end`), and the chord is the overlap of the two intervals.
+    backward and forward (:func:`_end`), and the interval is the overlap of the two.
     """
     a = bore / 2
     inner, outer = radius - a, radius + a
@@ -67,7 +69,14 @@ def chord(direction: float, *, bore: float, radius: float, angle: float, diamete
     for h in (inner, inner + diameter):
         fronts.append(_end(h, outer, ahead))
         backs.append(_end(h, outer, behind))
-    return max(min(fronts) + min(backs), 0.0)
+    return -min(backs), min(fronts)
+
+
+def chord(direction: float, *, bore: float, radius: float, angle: float, diameter: float) -> float:
+    """chord(ψ) [m]: the longest cylinder of ``diameter`` d lying on the inner wall's tangent at direction ψ
+    (the length of :func:`chord_interval`)."""
+    back, front = chord_interval(direction, bore=bore, radius=radius, angle=angle, diameter=diameter)
+    return max(front - back, 0.0)
 
 
 def rigid_passage(*, bore: float, radius: float, angle: float, diameter: float) -> Passage:

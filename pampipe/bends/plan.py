@@ -38,6 +38,7 @@ class SegmentPassage:
     passable: bool
     flexible: bool = False  # passes bent (bend_model: flexible)
     least_bend_radius: float = math.nan  # [m]
+    direction: float = 0.0  # [rad] axis direction ψ of the binding position, from the bend's middle
 
     @property
     def clearance(self) -> float:
@@ -192,11 +193,11 @@ def _segment(seg, bore: float, radius: float, angle: float, model: str) -> Segme
     passage = rigid_passage(bore=bore, radius=radius, angle=angle, diameter=g.initial_diameter)
     length = seg.pam.rigid_length
     rigid = SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where,
-                           passage.longest >= length)
+                           passage.longest >= length, direction=passage.direction)
     if model != "flexible" or rigid.passable or passage.where == "bore":
         return rigid
     least = flexible_bend_radius(rest_length=g.initial_length, rest_diameter=g.initial_diameter,
                                  braid_length=g.braid_length)
     bent = least <= radius + (bore - g.initial_diameter) / 2 and seg.pam.fitting_length == 0
     return SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where, bent, bent,
-                          least)
+                          least, passage.direction)
