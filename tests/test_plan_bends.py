@@ -235,3 +235,16 @@ def test_plots_mark_the_bends_and_draw_the_tightest(tmp_path, cli):
     assert out.returncode == 3
     for name in ("route_profile.png", "tightest_bend.png"):
         assert (tmp_path / name).stat().st_size > 10_000
+
+
+def test_route_command_writes_the_network_bends(tmp_path, cli):
+    """`pampipe route -o` writes a bend per turning joint; its plan lists the bends of the network route."""
+    written = tmp_path / "r.yaml"
+    assert cli("route", "ky4", "--from", "J-315", "--to", "J-897", "--max-bore", "4.5 in",
+               "-o", written).returncode == 0
+    listed = json.loads(cli("plan", written, "--json").stdout)["bends"]
+    network = json.loads(cli("plan", PROBLEMS / "missions" / "ky4-route.yaml", "--json").stdout)["bends"]
+    assert [b["after_section"] for b in listed] == [b["after_section"] for b in network]
+    for a, b in zip(listed, network, strict=True):
+        assert a["angle_deg"] == pytest.approx(b["angle_deg"], rel=1e-3)
+        assert a["radius_m"] == pytest.approx(1.5 * 4 * INCH)  # 1.5 D of the nominal 4 in

@@ -11,6 +11,7 @@ from pampipe.io import bundled
 from pampipe.io.config import load_pam
 from pampipe.io.csvfile import check_rows
 from pampipe.io.pamfile import write_experiment
+from pampipe.model.domain import check_kind
 from pampipe.synth import Protocol, comments, generate
 
 NAME = "synth"
@@ -57,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--name: {args.name!r} must be a plain file name.")
     pam_file = args.pam or bundled.default_pam()
     pam = load_pam(pam_file)
+    check_kind(pam.geometry, extensile=False, where=f"--pam {pam_file}",
+               role="a synthetic experiment (axial and radial tests of an anchoring muscle)")
     target = write_experiment(args.out_dir, args.name, pam, generate(pam, protocol, seed=args.seed),
                               comments=comments(pam, protocol, args.seed), overwrite=args.force,
                               inputs=[pam_file])

@@ -184,17 +184,24 @@ def network_route(path: Path, spec, segments, *, elbow: Radius | None = None) ->
                  origin=origin, **bends)
 
 
-def _network_bends(path: Path, sections, elbow: Radius) -> dict:
-    """The elbow after each pipe of a network path: the angle between the pipes' 3-D directions, from the
-    plan-view deflection δ and the inclines, cos θ = cos i₁ cos i₂ cos δ + sin i₁ sin i₂ (|i₂ − i₁| where
-    the network has no coordinates), with the mission's ``elbow_radius`` in the smaller of the two bores."""
-    n = len(sections)
+def turn_angles(sections) -> np.ndarray:
+    """(n,) [rad] the turn after each pipe of a network path (0 under 0.5° and after the last): the angle
+    between the pipes' 3-D directions, from the plan-view deflection δ and the inclines,
+    cos θ = cos i₁ cos i₂ cos δ + sin i₁ sin i₂ (|i₂ − i₁| where the network has no coordinates)."""
     i1, i2 = sections.incline[:-1], sections.incline[1:]
     delta = sections.bend[1:]
     cosine = np.cos(i1) * np.cos(i2) * np.cos(np.nan_to_num(delta)) + np.sin(i1) * np.sin(i2)
     turn = np.where(np.isnan(delta), np.abs(i2 - i1), np.arccos(np.clip(cosine, -1.0, 1.0)))
-    angle = np.zeros(n)
+    angle = np.zeros(len(sections))
     angle[:-1] = np.where(turn >= LEAST_NETWORK_BEND, turn, 0.0)
+    return angle
+
+
+def _network_bends(path: Path, sections, elbow: Radius) -> dict:
+    """The elbow after each pipe of a network path (:func:`turn_angles`), with the mission's
+    ``elbow_radius`` in the smaller of the two bores."""
+    n = len(sections)
+    angle = turn_angles(sections)
     radius = np.full(n, np.nan)
     for i in np.flatnonzero(angle > 0).tolist():
         bore_here = min(float(sections.diameter[i]), float(sections.diameter[i + 1]))
