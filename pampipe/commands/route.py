@@ -24,8 +24,9 @@ NETWORK is a network shipped with wntr (Net1, Net2, Net3, Net6, ky4, ky10) or an
 The route is the shortest path by length through the network's pipes (pumps and valves are never
 passed). Each pipe becomes one section, named by its id, with incline = asin(dz/length) along travel
 from the node elevations (a reservoir's head); a pipe shorter than its rise is taken as vertical and
-listed. Each turning joint is written as the pipe's bend: {angle} (plan checks it). Every key of the template but route (robot,
-supply_pressure, safety_factor, load_path, ...) is copied, its PAM paths rewritten for the new file.
+listed. Each turning joint is written as the pipe's bend: {angle} (plan checks it). Every key of the
+template but route (robot, supply_pressure, safety_factor, load_path, ...) is copied, its PAM paths
+rewritten for the new file.
 
 examples:
   pampipe route ky4 --from J-315 --to J-897 -o ky4-route.yaml
