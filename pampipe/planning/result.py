@@ -243,7 +243,7 @@ class MissionPlan:
         if self.max_payload is not None:
             doc["max_payload"] = self.max_payload.as_document()
         doc["bends"] = [b.as_document() for b in self.bends]
-        doc["bends_extra_time_s"] = sum(b.steps.extra_time for b in self.bends if b.steps is not None)
+        doc["bends_extra_time_s"] = float(sum(b.steps.extra_time for b in self.bends if b.steps is not None))
         doc["reducers"] = [r.as_document() for r in self.reducers]
         origin = self.arrays.route.origin
         if origin is not None:
