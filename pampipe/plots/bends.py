@@ -28,9 +28,9 @@ def tightest_bend(plan, folder: Path) -> Path | None:
     a, radius, theta = bend.bore / 2, bend.radius, bend.angle
     fig, ax = new_figure(figsize=(7, 7))
     straight = max(s.length, s.longest, 2 * bend.bore)
-    for offset, style in ((-a, "k-"), (a, "k-"), (0.0, "0.6")):
-        ax.plot(*_wall(radius + offset, theta, straight), style, lw=1.5 if offset else 0.8,
-                ls="-" if offset else "-.")
+    for offset in (-a, a, 0.0):  # the walls, and the centreline dash-dotted
+        ax.plot(*_wall(radius + offset, theta, straight), color="k" if offset else "0.6",
+                lw=1.5 if offset else 0.8, ls="-" if offset else "-.")
     psi = s.direction
     back, front = chord_interval(psi, bore=bend.bore, radius=radius, angle=theta, diameter=s.diameter)
     middle = 0.5 * (back + front)
