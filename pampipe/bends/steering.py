@@ -106,27 +106,33 @@ def steer(muscle: Muscle, *, curvature: float, direction: float, radius: float,
     start = _start(curvature, direction, radius, limit)
     best, _ = nlp.solve(most, what="the steering module's largest curvature", x0=start, p=p,
                         lbg=[0.0] * (COUNT + 1), ubg=[0.0] * (COUNT + 1), **bounds)
-    reachable = -float(best["f"]) / radius
-    if reachable >= curvature * (1 - REACHED):
+    most_bent = _command(best["x"], g.initial_length, radius, curvature, direction, True, None)
+    if most_bent.curvature >= curvature * (1 - REACHED):
         try:
             solution, _ = nlp.solve(least, what="the steering module's least-pressure command",
                                     x0=np.asarray(best["x"]).ravel(), p=p, lbg=[0.0] * (COUNT + 2),
                                     ubg=[0.0] * (COUNT + 2), **bounds)
             return _command(solution["x"], g.initial_length, radius, curvature, direction, True, None)
         except SolverError:
-            pass  # κ* is at the edge of what the module reaches: report the most-curvature point
+            return most_bent  # κ* is at the edge of what the module reaches: the most-curvature point
     x = np.asarray(best["x"]).ravel()
     at_supply = bool(np.any(x[:COUNT] * PRESSURE_SCALE >= supply * (1 - 1e-4)))
     at_braid = bool(np.any(x[COUNT:] >= limit * (1 - 1e-4)))
-    reached = reachable >= curvature * (1 - REACHED)
-    reason = None if reached else _reason(reachable, curvature, supply, at_supply, at_braid)
-    return _command(best["x"], g.initial_length, radius, curvature, direction, reached, reason)
+    reason = _reason(most_bent, supply, at_supply, at_braid, g.shortest_length)
+    return SteeringCommand(most_bent.pressures, most_bent.lengths, most_bent.curvature, curvature, False,
+                           reason)
 
 
-def _reason(reachable, curvature, supply, at_supply, at_braid) -> str:
+def _reason(command: SteeringCommand, supply, at_supply, at_braid, braid_limit) -> str:
+    reachable, curvature = command.curvature, command.target
     radius_text = f"a bend radius of {1e3 / reachable:.4g} mm" if reachable > 0 else "no bend"
-    why = ("the braid's limit (an extensile PAM stops at B/sqrt(3))" if at_braid else
-           f"the supply ({supply / 1e3:.4g} kPa)" if at_supply else "the model")
+    if at_braid:
+        why = f"the braid's limit (an extensile PAM stops at B/sqrt(3) = {braid_limit * 1e3:.4g} mm)"
+    elif at_supply:
+        why = f"the supply ({supply / 1e3:.4g} kPa)"
+    else:
+        why = (f"the bladder: the model's free length saturates near {max(command.lengths) * 1e3:.4g} mm "
+               f"(at {max(command.pressures) / 1e3:.4g} kPa), short of B/sqrt(3) = {braid_limit * 1e3:.4g} mm")
     return (f"the module reaches at most {reachable:.4g} 1/m ({radius_text}) of the {curvature:.4g} 1/m "
             f"the bend needs (radius {1e3 / curvature:.4g} mm); limited by {why}")
 
