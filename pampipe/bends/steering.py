@@ -132,7 +132,8 @@ def _reason(command: SteeringCommand, supply, at_supply, at_braid, braid_limit) 
         why = f"the supply ({supply / 1e3:.4g} kPa)"
     else:
         why = (f"the bladder: the model's free length saturates near {max(command.lengths) * 1e3:.4g} "
-               f"mm (at {max(command.pressures) / 1e3:.4g} kPa), short of B/sqrt(3) = {braid_limit * 1e3:.4g} mm")
+               f"mm (at {max(command.pressures) / 1e3:.4g} kPa), short of B/sqrt(3) = "
+               f"{braid_limit * 1e3:.4g} mm")
     return (f"the module reaches at most {reachable:.4g} 1/m ({radius_text}) of the {curvature:.4g} 1/m "
             f"the bend needs (radius {1e3 / curvature:.4g} mm); limited by {why}")
 
