@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 import yaml
 from conftest import PROBLEMS
@@ -248,3 +249,52 @@ def test_route_command_writes_the_network_bends(tmp_path, cli):
     for a, b in zip(listed, network, strict=True):
         assert a["angle_deg"] == pytest.approx(b["angle_deg"], rel=1e-3)
         assert a["radius_m"] == pytest.approx(1.5 * 4 * INCH)  # 1.5 D of the nominal 4 in
+
+
+def _tiny_network(tmp_path, incline_1_deg, incline_2_deg, turn_deg):
+    """A → B → C, 100 m pipes of 100 mm, the second turned by ``turn_deg`` in plan view."""
+    z_b = 100 * math.sin(math.radians(incline_1_deg))
+    z_c = z_b + 100 * math.sin(math.radians(incline_2_deg))
+    run_1 = 100 * math.cos(math.radians(incline_1_deg))
+    run_2 = 100 * math.cos(math.radians(incline_2_deg))
+    turn = math.radians(turn_deg)
+    c = (run_1 + run_2 * math.cos(turn), run_2 * math.sin(turn))
+    text = f"""[JUNCTIONS]
+A  0  0
+B  {z_b:.9f}  0
+C  {z_c:.9f}  0
+[PIPES]
+P1  A  B  100  100  100  0  Open
+P2  B  C  100  100  100  0  Open
+[COORDINATES]
+A  0  0
+B  {run_1:.9f}  0
+C  {c[0]:.9f}  {c[1]:.9f}
+[OPTIONS]
+Units LPS
+[END]
+"""
+    (tmp_path / "tiny.inp").write_text(text)
+    return tmp_path / "tiny.inp"
+
+
+@pytest.mark.parametrize(("incline_1", "incline_2", "turn"),
+                         [(0, 0, 90), (0, 30, 0), (30, -30, 90), (10, 20, 45)])
+def test_network_bend_is_the_angle_between_the_pipes_in_3d(tmp_path, cli, incline_1, incline_2, turn):
+    """By hand: the angle between the unit vectors (cos i₁, 0, sin i₁) and (cos i₂ cos δ, cos i₂ sin δ,
+    sin i₂)."""
+    network = _tiny_network(tmp_path, incline_1, incline_2, turn)
+    i1, i2, delta = (math.radians(v) for v in (incline_1, incline_2, turn))
+    d1 = np.array([math.cos(i1), 0.0, math.sin(i1)])
+    d2 = np.array([math.cos(i2) * math.cos(delta), math.cos(i2) * math.sin(delta), math.sin(i2)])
+    by_hand = math.degrees(math.acos(float(d1 @ d2)))
+    path = tmp_path / "m.yaml"
+    doc = yaml.safe_load(_mission(tmp_path, []).read_text())
+    doc["route"] = {"network": str(network), "from": "A", "to": "C", "friction": 0.3}
+    doc["elbow_radius"] = "2 D"
+    path.write_text(yaml.safe_dump(doc))
+    out = cli("plan", path, "--json")
+    assert out.returncode in (0, 3), out.stderr
+    (bend,) = json.loads(out.stdout)["bends"]
+    assert bend["after_section"] == "P1" and bend["angle_deg"] == pytest.approx(by_hand, abs=1e-6)
+    assert bend["radius_m"] == pytest.approx(0.2)
