@@ -174,7 +174,7 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
             bore = min(bore, float(route.diameter_low[i + 1]))
         segments = tuple(_segment(seg, bore, radius, angle, mission.bend_model) for seg in mission.segments)
         needed = math.nan
-        worst = min(segments, key=lambda s: s.clearance)
+        worst = min(segments, key=lambda s: math.inf if s.flexible else s.clearance)  # BendPlan.limiting
         if not worst.passable and worst.where != "bore":
             needed = elbow_radius_needed(bore=bore, angle=angle, diameter=worst.diameter, length=worst.length)
         turn = joint_angle(lengths, radius, angle)
