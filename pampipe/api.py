@@ -98,6 +98,26 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
         raise InputError(f"{source}: {exc}") from None
 
 
+def extension(pam: Source, *, pressure=None, base=None):
+    """An extensile PAM's free length against pressure (`pampipe simulate` without a pipe).
+
+    Returns a :class:`pampipe.simulation.ExtensionResult`."""
+    from pampipe.errors import InputError
+    from pampipe.simulation import PAPER_PRESSURES
+    from pampipe.simulation import extension as run
+
+    model = load_pam(pam, base=base)
+    source = pam if not isinstance(pam, Mapping) else "PAM"
+    if not model.geometry.extensile:
+        raise InputError(f"{source}: a contractile muscle is simulated in a pipe: give --pipe-diameter "
+                         "(e.g. -d '3 in'); only an extensile muscle is simulated free, without a pipe.")
+    pressures = _si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
+    try:
+        return run(model, pressures=_as_list(pressures))
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
+
+
 def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
          max_payload: bool = False, base=None):
     """The least anchoring pressure of every segment in every section (`pampipe plan`).
@@ -125,7 +145,14 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
         if progress is not None:
             progress("solving the time-optimal gait (CasADi/IPOPT) ...")
         best = optimal_gait(model, section, options=options, baseline=sequential)
-    return GaitReport(sequential, best)
+    bends = None
+    if model.route.bend_angle is not None:
+        from pampipe.bends.gait import route_time
+        from pampipe.bends.plan import plan_bends
+
+        bends = route_time(plan_bends(model)[0], float(model.route.length.sum()),
+                           (best or sequential).speed)
+    return GaitReport(sequential, best, bends)
 
 
 def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,
@@ -246,6 +273,7 @@ class GaitReport:
 
     sequential: object  # pampipe.locomotion.GaitResult
     optimal: object | None = None
+    bends: dict | None = None  # the route's bends: extra steering steps and time (pampipe.bends.gait)
 
     @property
     def results(self) -> tuple:
@@ -260,10 +288,13 @@ class GaitReport:
 
     def to_dict(self) -> dict:
         if self.optimal is None:
-            return self.sequential.as_document()
-        document = self.optimal.as_document()
-        document["sequential"] = self.sequential.as_document()
-        document["speed_gain"] = self.speed_gain
+            document = self.sequential.as_document()
+        else:
+            document = self.optimal.as_document()
+            document["sequential"] = self.sequential.as_document()
+            document["speed_gain"] = self.speed_gain
+        if self.bends is not None:
+            document["bends"] = self.bends
         return document
 
 

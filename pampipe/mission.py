@@ -30,6 +30,17 @@ class Segment:
 
 
 @dataclass(frozen=True)
+class Steering:
+    """The steering module (docs/physics.md §14.4): ``count`` extensile PAMs in parallel at ``radius`` [m]
+    from the module's axis, evenly spaced (PAM k at 2π(k − 1)/count)."""
+
+    pam: Pam
+    count: int
+    radius: float  # [m]
+    pam_file: Path | None = None
+
+
+@dataclass(frozen=True)
 class Section:
     """One pipe section of the route, in travel order (SI).
 
@@ -89,7 +100,8 @@ class Route:
     """The route's sections as columns (SI), in travel order; ``route[i]`` is a :class:`Section`.
 
     ``label`` holds what the user wrote for each bore (None: the bore in mm); ``origin`` the network the
-    route was read from, if any.
+    route was read from, if any; ``bend_*`` the elbow at the end of each section (None: a route without
+    bends), its ``bend_direction`` measured in the steering module from PAM 1 toward PAM 2.
     """
 
     name: np.ndarray  # (n,) str
@@ -103,6 +115,9 @@ class Route:
     diameter_sd: np.ndarray  # [m]
     label: np.ndarray | None = None  # (n,) str
     origin: NetworkRoute | None = field(default=None, repr=False)
+    bend_angle: np.ndarray | None = None  # (n,) [rad] of the elbow at the end of each section (0: none)
+    bend_radius: np.ndarray | None = None  # (n,) [m] its centreline radius (NaN: none)
+    bend_direction: np.ndarray | None = None  # (n,) [rad] the turn's direction in the steering module
 
     @classmethod
     def from_sections(cls, sections) -> Route:
@@ -131,7 +146,7 @@ class Route:
         """The sections at ``index`` (a slice, an index array or a boolean mask), as a Route."""
         columns = {f.name: getattr(self, f.name) for f in fields(self)}
         for key, value in columns.items():
-            if isinstance(value, np.ndarray):
+            if isinstance(value, np.ndarray) and value.shape[:1] == (len(self),):
                 columns[key] = value[index]
         if self.origin is not None:
             columns["origin"] = self.origin.subset(index)
@@ -180,6 +195,9 @@ class Mission:
     warnings: tuple[str, ...] = ()
     kappa_sd: float = 0.0  # standard deviation of κ (sampled by confidence plans when > 0)
     load_coupling: float | None = None  # κ measured in slip tests (load_path "from_pam"); None: load_path's
+    steering: Steering | None = None
+    bend_model: str = "rigid"  # rigid | flexible (docs/physics.md §14)
+    joint_angle: float | None = None  # [rad] the largest angle a joint between segments allows (None: free)
 
     def __post_init__(self):
         if not isinstance(self.route, Route):
@@ -189,6 +207,8 @@ class Mission:
     def input_files(self) -> list[Path]:
         """Every file the mission reads: itself, the PAM files its segments name and its network file."""
         files = [self.source, *(seg.pam_file for seg in self.segments if seg.pam_file is not None)]
+        if self.steering is not None and self.steering.pam_file is not None:
+            files.append(self.steering.pam_file)
         origin = self.route.origin
         if origin is not None and origin.network.source is not None:
             files.append(Path(origin.network.source))

@@ -124,3 +124,44 @@ def simulate(pam: Pam, *, pipe_diameters, axial_loads=(0.0,), pressures=PAPER_PR
                     {load: muscle.free_length(grid, axial_load=load) for load in sorted(set(axial_loads))},
                     diameters, np.asarray(muscle.amplification_factor(diameters), dtype=float))
     return SimulateResult(pam.name, cases, curves)
+
+
+@dataclass(frozen=True)
+class ExtensionResult:
+    """An extensile muscle's free length against pressure at zero axial load (docs/physics.md §14.4), SI.
+
+    ``limit`` is B/√3, where the braid stops extending; ``diameter`` D(L) at each free length.
+    """
+
+    pam: str
+    initial_length: float  # [m] L₀
+    limit: float  # [m] B/√3
+    pressures: np.ndarray  # [Pa]
+    free_length: np.ndarray  # [m]
+    diameter: np.ndarray  # [m]
+    curve_pressure: np.ndarray  # [Pa] for the plot
+    curve_length: np.ndarray  # [m]
+
+    def to_dict(self) -> dict:
+        """The `simulate --json` document of an extensile PAM."""
+        l0 = self.initial_length
+        return {"pam": self.pam, "kind": "extensile", "initial_length_m": l0,
+                "braid_limit_length_m": self.limit,
+                "points": [{"pressure_Pa": float(p), "free_length_m": float(length),
+                            "extension": float(length / l0 - 1), "diameter_m": float(d)}
+                           for p, length, d in zip(self.pressures, self.free_length, self.diameter,
+                                                   strict=True)]}
+
+
+def extension(pam: Pam, *, pressures) -> ExtensionResult:
+    """Free length L(P) of an extensile muscle at zero axial load, at ``pressures`` [Pa] and on a curve."""
+    from pampipe.model.braid import diameter_at_length
+
+    pressures = np.asarray(pressures, dtype=float)
+    check_pressure(pressures)
+    muscle = Muscle.from_pam(pam)
+    g = pam.geometry
+    lengths = muscle.free_length(pressures)
+    grid = np.linspace(0.0, max(float(pressures.max()), 1.0), CURVE_POINTS)
+    return ExtensionResult(pam.name, g.initial_length, g.shortest_length, pressures, lengths,
+                           diameter_at_length(lengths, g), grid, muscle.free_length(grid))

@@ -85,8 +85,10 @@ def test_route_is_the_networkx_path_through_the_pipes_the_robot_passes(route_pla
 
 def test_route_plan_holds_in_the_worst_bore_with_contact_margins_and_coverage(route_plan):
     model, plan = route_plan
-    assert plan.feasible
     doc = plan.to_dict()
+    # every section is planned; the plan as a whole fails only on the elbows (tests/test_plan_bends.py)
+    assert all(sec["feasible"] for sec in doc["sections"]) and not plan.arrays.reasons
+    assert plan.feasible == all(b["passable"] for b in doc["bends"])
     muscles = mission_muscles(model)
     pam = model.segments[0].pam
     for s, sec in enumerate(doc["sections"]):
@@ -146,8 +148,9 @@ def write(tmp_path, doc: dict):
 def test_cli_route_plan_prints_the_per_pipe_plan_and_draws_the_profile(tmp_path, cli):
     path = write(tmp_path, mission({"network": "ky4", "from": "J-315", "to": "J-897", "friction": 0.3}))
     out = cli("plan", path, "--json", "--plots", tmp_path / "plots")
-    assert out.returncode == 0, out.stderr
+    assert out.returncode == 3, out.stderr  # the paper's muscle cannot pass five of the route's elbows
     doc = json.loads(out.stdout)
+    assert all(sec["feasible"] for sec in doc["sections"]) and "bends cannot be passed" in out.stderr
     assert len(doc["sections"]) == 24 and doc["coverage"]["pipes_feasible"] == 24
     assert any("above first touching the largest bore" in w for w in doc["warnings"])
     assert "warning:" in out.stderr and "coverage of the route" in out.stderr and "bend [deg]" in out.stderr

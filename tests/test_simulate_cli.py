@@ -93,7 +93,7 @@ CONFIG_ERRORS = {
     "no angle": (lambda d: d["geometry"].pop("braid_angle_from_transverse"),
                  ["exactly one of braid_angle_from_transverse", "neither was given"]),
     "extensile braid": (lambda d: d["geometry"].update(braid_angle_from_transverse="24.08 deg"),
-                        ["contractile muscle needs", "other convention"]),
+                        ["is extensile", "never presses on a pipe wall"]),
     "missing key": (lambda d: d.pop("geometry"), ["missing required key 'geometry'"]),
     "NaN value": (lambda d: d["geometry"].update(initial_length="nan mm"), ["not a finite number"]),
     "no moduli": (lambda d: d.pop("moduli"), ["has no 'moduli:' block", "pampipe identify"]),

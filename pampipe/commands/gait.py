@@ -37,6 +37,12 @@ def run(args: argparse.Namespace) -> int:
                  f"speed gain of the optimal gait: {100 * report.speed_gain:+.1f} % "
                  f"({sequential.speed * 1e3:.4g} -> {best.speed * 1e3:.4g} mm/s; cycle "
                  f"{sequential.cycle_time:.3f} s -> {best.cycle_time:.3f} s)"]
+    if report.bends is not None:
+        b = report.bends
+        text.append(f"bends: {b['count']} on the route ({b['passable']} passable, see `pampipe plan`); "
+                    f"{b['extra_steps']} steering steps add {b['extra_time_s']:.3g} s to the "
+                    f"{b['walking_time_s']:.4g} s the route takes at this section's speed "
+                    f"({100 * b['extra_share']:.2g} %)")
     emit(args, report.to_dict(), "\n\n".join(text))
     if args.plots:
         from pampipe.plots.gait import plot_gait

@@ -34,8 +34,16 @@ examples:
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95
   pampipe plan problems/missions/ky4-route.yaml --plots plots/
 
-exit codes: 0 every section planned (a whole network: at least one pipe can be served); 2 bad input;
-3 some section infeasible (one reason per section), or no pipe of a whole network can be served."""
+A section may end with a bend (bend: {angle: 90 deg, radius: 1.5 D}); network routes take theirs from the
+pipes, with the mission's elbow_radius (default 1.5 D). Each segment must pass each bend deflated, as a rigid
+cylinder L0 + fitting_length long and D0 wide (bend_model: flexible lets it bend); with robot: {steering:
+{pam, count: 3, radius}} the least-pressure triad of extensile PAMs that bends the module to 1/R is planned
+per bend (docs/physics.md section 13).
+  pampipe plan problems/missions/elbows-3in.yaml
+
+exit codes: 0 every section planned and every bend passed (a whole network: at least one pipe can be served);
+2 bad input; 3 some section infeasible or some bend impassable (one reason each), or no pipe of a whole
+network can be served."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -101,8 +109,20 @@ def run(args: argparse.Namespace) -> int:
             raise InfeasibleError(f"no pipe of network {name} can be served; the coverage above says why.")
         return 0
     if not plan.feasible:
-        bad = plan.arrays.route.name[sorted(plan.arrays.reasons)].tolist()
-        shown = ", ".join(bad[:SHOWN]) + (f" and {len(bad) - SHOWN} more" if len(bad) > SHOWN else "")
-        raise InfeasibleError(f"{len(bad)} of {len(plan.arrays.route)} sections cannot be planned "
-                              f"({shown}); the reasons are listed above.")
+        raise InfeasibleError(_infeasible(plan, SHOWN))
     return 0
+
+
+def _infeasible(plan, shown: int) -> str:
+    """How many sections and bends cannot be planned or passed, and which (``shown`` names at most)."""
+    parts = []
+    bad = plan.arrays.route.name[sorted(plan.arrays.reasons)].tolist()
+    if bad:
+        names = ", ".join(bad[:shown]) + (f" and {len(bad) - shown} more" if len(bad) > shown else "")
+        parts.append(f"{len(bad)} of {len(plan.arrays.route)} sections cannot be planned ({names})")
+    blocked = [b.after_section for b in plan.bends if not b.passable]
+    if blocked:
+        names = ", ".join(f"after {n!r}" for n in blocked[:shown])
+        more = f" and {len(blocked) - shown} more" if len(blocked) > shown else ""
+        parts.append(f"{len(blocked)} of {len(plan.bends)} bends cannot be passed ({names}{more})")
+    return "; ".join(parts) + "; the reasons are listed above."

@@ -46,6 +46,13 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
               f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
               f"P - P_anchor (warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the "
               "safety factor where no slip sets the pressure)."]
+    if plan.bends:
+        parts += [_bend_table(plan, unit, scale, all_sections)]
+    if plan.reducers:
+        parts += ["reducers: " + "; ".join(
+            f"after {r.after_section!r} {r.before * 1e3:.4g} -> {r.after * 1e3:.4g} mm: "
+            f"{'passes' if r.passable else 'does NOT pass'} (a rigid segment passes if it fits the smaller "
+            "bore)" for r in plan.reducers)]
     if plan.coverage is not None:
         parts.append(_coverage_text(plan.coverage, "the network" if origin.whole else "the route"))
     if plan.max_payload is not None:
@@ -59,10 +66,38 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
                          f"section {limit.section!r}.")
     if plan.feasible:
         parts.append("feasible: every segment holds in every section, over each bore's range, within the "
-                     "supply.")
+                     "supply" + (", and passes every bend." if plan.bends else "."))
     elif origin is None or not origin.whole:
         parts.append("INFEASIBLE:\n  " + "\n  ".join(_limited(plan.reasons)))
     return "\n".join(parts)
+
+
+def _bend_table(plan, unit: str, scale: float, all_sections: bool) -> str:
+    """One row per bend: angle, radius, bore, limiting segment, its rigid length against the longest that
+    passes, the binding position, the steering pressures and curvature, the verdict."""
+    bends = list(plan.bends)
+    note = ""
+    if len(bends) > FULL_TABLE and not all_sections:
+        keep = sorted(bends, key=lambda b: (b.passable, -b.angle))[:SHOWN]
+        bends = [b for b in bends if b in keep]
+        note = (f"\n{len(plan.bends)} bends: showing the {len(bends)} sharpest or impassable "
+                "(--all-sections lists every one).")
+    rows = []
+    for b in bends:
+        s = b.limiting
+        steer = b.steering
+        rows.append((b.after_section, f"{math.degrees(b.angle):.1f}", f"{b.radius * 1e3:.4g}",
+                     f"{b.radius / b.bore:.3g}", f"{b.bore * 1e3:.4g}", s.name, f"{s.length * 1e3:.4g}",
+                     "bends" if s.flexible else f"{s.longest * 1e3:.4g}",
+                     "-" if s.flexible else f"{s.clearance * 1e3:.4g}",
+                     "-" if steer is None else "/".join(f"{p / scale:.3g}" for p in steer.pressures),
+                     "-" if steer is None else f"{steer.curvature:.3g}{'' if steer.reached else ' (short)'}",
+                     "yes" if b.passable else "no"))
+    head = ("bends (each deflated segment as a rigid cylinder L0 + fittings long, D0 wide; L*: the longest "
+            "that passes; steering: the least-pressure triad toward 1/R):")
+    return head + "\n" + table(
+        ["after section", "angle [deg]", "R [mm]", "R/D", "bore [mm]", "limiting", "L [mm]", "L* [mm]",
+         "clearance [mm]", f"steering P [{unit}]", "curvature [1/m]", "passes"], rows) + note
 
 
 def _header(plan, unit: str, scale: float) -> str:
@@ -81,8 +116,8 @@ def _network_line(plan) -> str:
                 f"{route.length.sum() / 1e3:.4g} km; inclines are |asin(dz/length)| (direction unknown).")
     return (f"route: network {net.name} ({net.source}) from {origin.from_node} to {origin.to_node}: "
             f"{len(route)} pipes, {route.length.sum():.6g} m, the shortest path through the pipes the robot "
-            f"passes ({origin.excluded} of {len(net.pipe_ids)} pipes excluded by their bore); bends are "
-            "reported, not planned.")
+            f"passes ({origin.excluded} of {len(net.pipe_ids)} pipes excluded by their bore); every joint "
+            "that turns is an elbow of the mission's elbow_radius (bends below).")
 
 
 def _shown_rows(plan, all_sections: bool) -> np.ndarray:

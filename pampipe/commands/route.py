@@ -24,8 +24,9 @@ NETWORK is a network shipped with wntr (Net1, Net2, Net3, Net6, ky4, ky10) or an
 The route is the shortest path by length through the network's pipes (pumps and valves are never
 passed). Each pipe becomes one section, named by its id, with incline = asin(dz/length) along travel
 from the node elevations (a reservoir's head); a pipe shorter than its rise is taken as vertical and
-listed. Bends between pipes are shown, not planned. Every key of the template but route (robot,
-supply_pressure, safety_factor, load_path, ...) is copied, its PAM paths rewritten for the new file.
+listed. Each turning joint is written as the pipe's bend: {angle} (plan checks it). Every key of the
+template but route (robot, supply_pressure, safety_factor, load_path, ...) is copied, its PAM paths
+rewritten for the new file.
 
 examples:
   pampipe route ky4 --from J-315 --to J-897 -o ky4-route.yaml
@@ -57,6 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pampipe.io.routes import turn_angles
     from pampipe.network import load_network, route_sections
 
     template = args.template or bundled.find(DEFAULT_TEMPLATE)
@@ -79,8 +81,12 @@ def run(args: argparse.Namespace) -> int:
                   f"{len(sections)} pipes, {sections.length.sum():.1f} m, written by pampipe route.\n"
                   f"Every key but route is copied from {template}.\n"
                   f"Edit it by hand, then: pampipe plan {args.output}")
+        route = sections.mission_route()
+        for entry, turn in zip(route, turn_angles(sections).tolist(), strict=True):
+            if turn > 0:  # an elbow of the mission's elbow_radius (docs/formats.md §4)
+                entry["bend"] = {"angle": f"{math.degrees(turn):.4g} deg"}
         yamlwrite.write(args.output, _mission(load_mapping(template, what="mission file"), template,
-                                              args.output, sections.mission_route()), comments=[header])
+                                              args.output, route), comments=[header])
     document = {"network": net.name, "network_file": str(net.source), "from": args.from_node,
                 "to": args.to_node, "pipes": len(sections), "length_m": float(sections.length.sum()),
                 "rise_m": rise, "friction": friction, "template": str(template),
@@ -137,7 +143,8 @@ def _text(net, args: argparse.Namespace, sections, template: Path) -> str:
              table(["pipe", "from", "to", "length [m]", "bore [mm]", "bore [in]", "incline [deg]",
                     "bend [deg]"], rows),
              "incline: along travel, from the node elevations; bend: plan-view deflection at the joint "
-             "with the previous pipe (reported, not planned)."]
+             "with the previous pipe. The file gives each pipe whose 3-D direction turns by 0.5 deg or more "
+             "into the next a bend: {angle}, of the mission's elbow_radius, which plan checks."]
     if sections.clipped.any():
         parts.append(f"note: {', '.join(sections.name[sections.clipped])}: the model's length is shorter "
                      "than the elevation difference; taken as vertical (±90 deg). Check these pipes.")

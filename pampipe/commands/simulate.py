@@ -17,9 +17,11 @@ HELP = "anchoring pressure, anchored length, amplification and radial force of a
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("pam", type=Path, metavar="PAM.yaml", help="PAM file with a moduli: block")
-    parser.add_argument("--pipe-diameter", "-d", action="append", required=True,
+    parser.add_argument("--pipe-diameter", "-d", action="append",
                         type=quantity_type("length"), metavar="D",
-                        help="pipe inner diameter, e.g. '3 in' (repeat for several pipes)")
+                        help="pipe inner diameter, e.g. '3 in' (repeat for several pipes); required for a "
+                             "contractile PAM. An extensile PAM (braid angle from the axis > 54.74 deg) is "
+                             "simulated without it: its extension against pressure")
     parser.add_argument("--axial-load", "-f", action="append",
                         type=quantity_type("force"), metavar="F",
                         help="axial tension on the anchored PAM, e.g. '1024.74 N' (repeatable; default 0)")
@@ -32,6 +34,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if not args.pipe_diameter:
+        return _extension(args)
     result = api.simulate(args.pam, pipe_diameter=args.pipe_diameter, axial_load=args.axial_load or [0.0],
                           pressure=args.pressure, paper_literal=args.paper_literal)
     emit(args, result.to_dict(), _text(result.pam, result.cases))
@@ -40,6 +44,21 @@ def run(args: argparse.Namespace) -> int:
 
         for path in plot_simulation(result, args.plots):
             say(args, f"wrote {path}")
+    return 0
+
+
+def _extension(args: argparse.Namespace) -> int:
+    """An extensile PAM: free length, extension and diameter against pressure (no pipe)."""
+    result = api.extension(args.pam, pressure=args.pressure)
+    head = (f"{result.pam} (extensile) at zero axial load: L0 = {result.initial_length * 1e3:.2f} mm, it "
+            f"lengthens toward B/sqrt(3) = {result.limit * 1e3:.2f} mm")
+    rows = [(p / 1e3, length * 1e3, 100 * (length / result.initial_length - 1), d * 1e3)
+            for p, length, d in zip(result.pressures, result.free_length, result.diameter, strict=True)]
+    emit(args, result.to_dict(), head + "\n" + table(["P [kPa]", "L [mm]", "extension [%]", "D [mm]"], rows))
+    if args.plots:
+        from pampipe.plots.simulate import plot_extension
+
+        say(args, f"wrote {plot_extension(result, args.plots)}")
     return 0
 
 

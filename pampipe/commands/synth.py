@@ -13,6 +13,7 @@ from pampipe.io import bundled
 from pampipe.io.config import load_pam
 from pampipe.io.csvfile import check_rows
 from pampipe.io.pamfile import write_experiment
+from pampipe.model.domain import check_kind
 from pampipe.model.muscle import Muscle
 from pampipe.slip.synthetic import SlipProtocol, generate_slip
 from pampipe.synth import Protocol, comments, generate
@@ -83,6 +84,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--name: {args.name!r} must be a plain file name.")
     pam_file = args.pam or bundled.default_pam()
     pam = load_pam(pam_file)
+    check_kind(pam.geometry, extensile=False, where=f"--pam {pam_file}",
+               role="a synthetic experiment (axial and radial tests of an anchoring muscle)")
     slip = _slip_protocol(args)
     if args.slip_only and slip is None:
         raise InputError("--slip-only writes slip tests only: give at least one --slip-pipe, e.g. '3 in'.")

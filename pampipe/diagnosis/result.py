@@ -148,7 +148,8 @@ class DiagnoseResult:
         effects = {name: dict(values) for name, values in chosen.parameters.items()} or None
         return Pam(self.pam.name, self.pam.geometry, moduli, None, effects, self.pam.grip,
                    geometry_sd=self.pam.geometry_sd,
-                   max_pressure=self.pam.max_pressure, max_contraction=self.pam.max_contraction)
+                   max_pressure=self.pam.max_pressure, max_contraction=self.pam.max_contraction,
+                   fitting_length=self.pam.fitting_length)
 
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""

@@ -166,7 +166,8 @@ class IdentifyResult:
         kept = {k: v for k, v in base.geometry_sd.items() if k not in self.calibration.calibrated}
         grip = self.slip.grip() if self.slip is not None else None
         pam = Pam(base.name, self.geometry, self.moduli, grip=grip, geometry_sd=kept,
-                  max_pressure=base.max_pressure, max_contraction=base.max_contraction)
+                  max_pressure=base.max_pressure, max_contraction=base.max_contraction,
+                  fitting_length=base.fitting_length)
         if self.parameter_uncertainty is None:
             return replace(pam, covariance=self.theta_covariance())
         return pam.with_uncertainty(self.parameter_uncertainty)
@@ -196,7 +197,7 @@ class IdentifyResult:
     def pam_for_pipe(self, base: Pam, pipe_diameter: float) -> Pam:
         """The muscle as used by the radial tests in ``pipe_diameter`` (per_pipe moduli if any)."""
         moduli = self.pipe_moduli.get(pipe_diameter, self.moduli)
-        return Pam(base.name, self.geometry, moduli, None)
+        return Pam(base.name, self.geometry, moduli, None, fitting_length=base.fitting_length)
 
     def _drucker_document(self) -> dict:
         return _drucker_document(self)

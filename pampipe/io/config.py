@@ -12,13 +12,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
-from pydantic import AfterValidator, Field, model_validator
+from pydantic import AfterValidator, Field, field_validator, model_validator
 
 from pampipe.errors import InputError
-from pampipe.io.routes import listed_route, network_route
+from pampipe.io.routes import elbow_radius, listed_route, network_route
 from pampipe.io.yamlfile import load_mapping
-from pampipe.mission import Mission, Segment
-from pampipe.model.domain import check_geometry
+from pampipe.mission import Mission, Segment, Steering
+from pampipe.model.domain import check_geometry, check_kind
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Grip, Moduli, Pam
 from pampipe.model.uncertainty import (
@@ -77,6 +77,7 @@ class GeometrySchema(Strict):
     braid_angle_from_axis: Angle | UncertainAngle | None = None
     bladder_thickness: Length | UncertainLength
     wall: Literal["thick", "thin"] = "thick"
+    fitting_length: quantity("length", ge=0, le=10.0, unit="m") = 0.0  # rigid end fittings, both ends
 
     @model_validator(mode="after")
     def _one_angle(self):
@@ -237,7 +238,8 @@ def build_pam(schema: PamSchema) -> Pam:
             raise ValueError("uncertainty: is the uncertainty of the moduli and needs a moduli: block")
         uncertainty = build_uncertainty(schema.uncertainty, moduli.degree)
     pam = Pam(schema.name, geometry, moduli, None, build_effects(schema.effects), _grip(schema.contact),
-              geometry_sd=sd, max_pressure=schema.max_pressure, max_contraction=schema.max_contraction)
+              geometry_sd=sd, max_pressure=schema.max_pressure, max_contraction=schema.max_contraction,
+              fitting_length=g.fitting_length)
     return pam.with_uncertainty(uncertainty)
 
 
@@ -375,9 +377,35 @@ def _three_segments(segments: list) -> list:
     return segments
 
 
+class SteeringSchema(Strict):
+    """``robot.steering``: extensile PAMs in parallel at ``radius`` from the axis (docs/physics.md §14.4)."""
+
+    pam: str | PamSchema
+    count: Literal[3] = 3
+    radius: Length
+
+
 class RobotSchema(Strict):
     segments: Annotated[list[SegmentSchema], AfterValidator(_three_segments)]
     payload: Mass = 0.0
+    steering: SteeringSchema | None = None
+    joint_angle: quantity("angle", gt=0, le=math.pi, unit="rad") | None = None  # largest joint deflection
+
+
+class BendSchema(Strict):
+    """``bend: {angle, radius, direction}`` at the end of a section (docs/formats.md §4)."""
+
+    angle: quantity("angle")
+    radius: str | float | int | None = None  # a length or a multiple of the bore, "1.5 D"; None: elbow_radius
+    direction: quantity("angle", ge=-2 * math.pi, le=2 * math.pi, unit="rad") = math.pi
+
+    @field_validator("angle")
+    @classmethod
+    def _turn(cls, value: float) -> float:
+        if not 0 <= value <= math.pi:
+            raise ValueError(f"{math.degrees(value):.6g} deg: a bend turns the route by 0 to 180 deg (the "
+                             "angle between the pipes' directions; which way it turns is 'direction')")
+        return value
 
 
 class UncertainFriction(Strict):
@@ -396,6 +424,7 @@ class SectionSchema(Strict):
     incline: Incline = 0.0
     friction: SectionFriction = None
     pipe_material: str | None = Field(None, min_length=1, max_length=100)
+    bend: BendSchema | None = None
 
 
 class NetworkRouteSchema(Strict):
@@ -418,6 +447,8 @@ class MissionSchema(Strict):
     tether_drag: NonNegativeForce = 0.0
     route: Annotated[list[SectionSchema], Field(min_length=1)] | NetworkRouteSchema
     gait: dict[str, Any] | None = None  # options of `gait`; validated there
+    elbow_radius: str | float | int = "1.5 D"  # default centreline radius of a bend: a length or "k D"
+    bend_model: Literal["rigid", "flexible"] = "rigid"
 
 
 #: The safety factor of a mission that gives none, and what the commands say about it.
@@ -444,6 +475,11 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
     schema = _validate(path, ExperimentSchema,
                        load_mapping(path, what="experiment file") if raw is None else raw)
     pam = _resolve_pam(path, schema.pam, "pam")
+    try:
+        check_kind(pam.geometry, extensile=False, where="pam", role="identify and diagnose (radial and axial "
+                   "tests of an anchoring muscle)")
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
     tests = []
     names = set()
     for i, t in enumerate(schema.tests):
@@ -498,12 +534,20 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
     safety_factor = schema.safety_factor
     if safety_factor is None:
         safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (f"{path}: {NO_SAFETY_FACTOR}",)
+    for i, seg in enumerate(segments):
+        try:
+            check_kind(seg.pam.geometry, extensile=False, where=f"robot.segments[{i}].pam",
+                       role="an anchoring segment")
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+    steering = _steering(path, schema.robot.steering)
+    elbow = elbow_radius(path, schema.elbow_radius, "elbow_radius")
     grip = MeasuredGrip(path, segments)
     if isinstance(schema.route, NetworkRouteSchema):
-        route = network_route(path, schema.route, segments, grip.friction)
+        route = network_route(path, schema.route, segments, grip.friction, elbow=elbow)
         sections = [("route", schema.route.friction, schema.route.pipe_material)]
     else:
-        route = listed_route(path, schema.route, grip.friction)
+        route = listed_route(path, schema.route, grip.friction, elbow=elbow)
         sections = [(f"route[{i}] ({s.name})", s.friction, s.pipe_material)
                     for i, s in enumerate(schema.route)]
     warnings += grip.material_warnings(sections) + grip.effective_warning(schema.load_path is not None)
@@ -512,7 +556,21 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
         load_path, (kappa, kappa_sd) = "from_pam", grip.coupling()
     return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
                    load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
-                   kappa_sd=kappa_sd, load_coupling=kappa)
+                   kappa_sd=kappa_sd, load_coupling=kappa, steering=steering, bend_model=schema.bend_model,
+                   joint_angle=schema.robot.joint_angle)
+
+
+def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:
+    """The steering module of ``robot.steering``: its PAM must be extensile."""
+    if schema is None:
+        return None
+    pam = _resolve_pam(path, schema.pam, "robot.steering.pam")
+    try:
+        check_kind(pam.geometry, extensile=True, where="robot.steering.pam", role="a steering PAM")
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+    return Steering(pam, schema.count, schema.radius,
+                    _relative(path, schema.pam) if isinstance(schema.pam, str) else None)
 
 
 class MeasuredGrip:

@@ -36,6 +36,8 @@ def geometry_document(pam: Pam) -> dict:
                                            math.degrees(1.0)),
            "bladder_thickness": _entry(g.bladder_thickness * 1e3, sd.get("bladder_thickness"), "mm", 1e3),
            "wall": g.wall}
+    if pam.fitting_length:
+        doc["fitting_length"] = _quantity(pam.fitting_length * 1e3, "mm")
     return doc
 
 

@@ -9,6 +9,9 @@
 
 from __future__ import annotations
 
+import math
+import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -16,13 +19,55 @@ import numpy as np
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.mission import NetworkRoute, Route
 from pampipe.pipes import BoreSpec, bore
+from pampipe.units import to_si
+
+#: "1.5 D": an elbow radius as a multiple of the bore.
+_MULTIPLE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
+#: Joints of a network route that turn by less than this [rad] are not listed as bends (0.5°).
+LEAST_NETWORK_BEND = math.radians(0.5)
 
 
-def listed_route(path: Path, sections, measured=None) -> Route:
+@dataclass(frozen=True)
+class Radius:
+    """An elbow's centreline radius: ``value`` [m], or ``value`` times the bore where ``of_bore``."""
+
+    value: float
+    of_bore: bool
+    text: str
+
+    def at(self, diameter: float, *, path: Path, where: str) -> float:
+        """The radius [m] in a pipe of ``diameter``; smaller than half the bore is an InputError."""
+        radius = self.value * diameter if self.of_bore else self.value
+        if not radius >= diameter / 2:
+            raise InputError(
+                f"{path}: {where}: {self.text!r} gives a centreline radius of {radius * 1e3:.4g} mm in a "
+                f"{diameter * 1e3:.4g} mm bore; an elbow's radius must be at least half the bore "
+                f"({diameter * 500:.4g} mm, '0.5 D'); long-radius elbows are '1.5 D', short-radius '1 D'.")
+        return radius
+
+
+def elbow_radius(path: Path, value, where: str) -> Radius:
+    """A :class:`Radius` from a length (``"114 mm"``, a number in m) or a multiple of the bore ("1.5 D")."""
+    if isinstance(value, str):
+        found = _MULTIPLE.match(value)
+        if found:
+            return Radius(float(found.group(1)), True, value)
+    try:
+        radius = to_si(value, "length", where=where)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc} Give a length ('114 mm') or a multiple of the bore "
+                         "('1.5 D').") from None
+    if not (math.isfinite(radius) and radius > 0):
+        raise InputError(f"{path}: {where}: {value!r} must be a positive length or a multiple of the bore "
+                         "('1.5 D').")
+    return Radius(radius, False, str(value))
+
+
+def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = None) -> Route:
     """The columns of a validated list of sections (``SectionSchema`` objects).
 
     ``measured(where)`` → (μ, σ_μ) of the robot's PAM files, for sections whose friction is
-    ``from_pam`` or absent.
+    ``from_pam`` or absent. A section's ``bend`` without a radius takes ``elbow``.
     """
     names = [s.name for s in sections]
     if len(set(names)) != len(names):
@@ -35,11 +80,26 @@ def listed_route(path: Path, sections, measured=None) -> Route:
     def column(values) -> np.ndarray:
         return np.fromiter(values, dtype=float, count=len(sections))
 
+    bends = {}
+    if any(s.bend is not None for s in sections):
+        angle, radius, direction = np.zeros(len(sections)), np.full(len(sections), np.nan), np.full(
+            len(sections), math.pi)
+        for i, s in enumerate(sections):
+            if s.bend is None or s.bend.angle == 0:
+                continue
+            where = f"route[{i}].bend.radius"
+            given = elbow if s.bend.radius is None else elbow_radius(path, s.bend.radius, where)
+            if given is None:
+                given = elbow_radius(path, "1.5 D", "elbow_radius")
+            angle[i], direction[i] = s.bend.angle, s.bend.direction
+            radius[i] = given.at(bores[i].nominal, path=path,
+                                 where=where if s.bend.radius is not None else f"elbow_radius (route[{i}])")
+        bends = {"bend_angle": angle, "bend_radius": radius, "bend_direction": direction}
     return Route(np.array(names, dtype=str), column(s.length for s in sections),
                  column(b.nominal for b in bores), column(s.incline for s in sections),
                  column(f[0] for f in friction),
                  column(f[1] for f in friction), column(b.low for b in bores), column(b.high for b in bores),
-                 column(b.sd for b in bores), label=np.array([b.label for b in bores], dtype=str))
+                 column(b.sd for b in bores), label=np.array([b.label for b in bores], dtype=str), **bends)
 
 
 def _friction(friction, measured=None, where: str = "route.friction") -> tuple[float, float]:
@@ -76,7 +136,7 @@ def _key(value):
     return None
 
 
-def network_route(path: Path, spec, segments, measured=None) -> Route:
+def network_route(path: Path, spec, segments, measured=None, *, elbow: Radius | None = None) -> Route:
     """The route of ``{network, from, to, friction, tolerance, sd}`` (a ``NetworkRouteSchema``) for a robot
     of ``segments``: only pipes whose whole bore range lies inside the muscles' range are passed.
     """
@@ -123,10 +183,37 @@ def network_route(path: Path, spec, segments, measured=None) -> Route:
     labels = None
     if spec.tolerance is not None or spec.sd is not None:
         labels = np.array([b.label for b in per_pipe], dtype=str)
+    default = elbow or elbow_radius(path, "1.5 D", "elbow_radius")
+    bends = {} if whole else _network_bends(path, sections, default)
     return Route(sections.name, sections.length, sections.diameter, sections.incline, sections.friction,
                  np.full(n, float(mu_sd)), np.array([b.low for b in per_pipe]),
                  np.array([b.high for b in per_pipe]), np.array([b.sd for b in per_pipe]), label=labels,
-                 origin=origin)
+                 origin=origin, **bends)
+
+
+def turn_angles(sections) -> np.ndarray:
+    """(n,) [rad] the turn after each pipe of a network path (0 under 0.5° and after the last): the angle
+    between the pipes' 3-D directions, from the plan-view deflection δ and the inclines,
+    cos θ = cos i₁ cos i₂ cos δ + sin i₁ sin i₂ (|i₂ − i₁| where the network has no coordinates)."""
+    i1, i2 = sections.incline[:-1], sections.incline[1:]
+    delta = sections.bend[1:]
+    cosine = np.cos(i1) * np.cos(i2) * np.cos(np.nan_to_num(delta)) + np.sin(i1) * np.sin(i2)
+    turn = np.where(np.isnan(delta), np.abs(i2 - i1), np.arccos(np.clip(cosine, -1.0, 1.0)))
+    angle = np.zeros(len(sections))
+    angle[:-1] = np.where(turn >= LEAST_NETWORK_BEND, turn, 0.0)
+    return angle
+
+
+def _network_bends(path: Path, sections, elbow: Radius) -> dict:
+    """The elbow after each pipe of a network path (:func:`turn_angles`), with the mission's
+    ``elbow_radius`` in the smaller of the two bores."""
+    n = len(sections)
+    angle = turn_angles(sections)
+    radius = np.full(n, np.nan)
+    for i in np.flatnonzero(angle > 0).tolist():
+        bore_here = min(float(sections.diameter[i]), float(sections.diameter[i + 1]))
+        radius[i] = elbow.at(bore_here, path=path, where=f"elbow_radius (after pipe {sections.name[i]})")
+    return {"bend_angle": angle, "bend_radius": radius, "bend_direction": np.full(n, math.pi)}
 
 
 def _network_bores(path: Path, spec, diameters: np.ndarray) -> list[BoreSpec]:

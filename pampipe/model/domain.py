@@ -1,7 +1,8 @@
 """Domain checks: inputs outside the model's physical range raise :class:`InputError`, never NaN.
 
-The braid model is valid for lengths in (B/√3, B) and for a pipe between the rest diameter D₀ and
-the widest diameter the muscle can pull itself open to, D(B/√3) (docs/physics.md §2, §12).
+The braid model is valid for lengths in (B/√3, B) (an extensile braid: (0, B/√3)), and for a pipe between
+the rest diameter D₀ and the widest diameter the muscle can pull itself open to, D(B/√3) (docs/physics.md §2,
+§12).
 """
 
 from __future__ import annotations
@@ -14,25 +15,42 @@ from pampipe.errors import InputError
 from pampipe.model.forces import wall_section
 from pampipe.model.pam import Geometry
 
+#: The neutral braid angle from the axis [deg], atan √2: contractile below it, extensile above it.
+NEUTRAL_ANGLE_DEG = math.degrees(math.atan(math.sqrt(2.0)))
+
 
 def check_geometry(geometry: Geometry, *, where: str = "geometry") -> None:
-    """A contractile muscle with a bladder that fits inside the braid."""
+    """A contractile or extensile muscle (not at the neutral angle) whose bladder fits inside the braid."""
     alpha_deg = math.degrees(geometry.braid_angle)
     for name, value in (("initial_length", geometry.initial_length),
                         ("initial_diameter", geometry.initial_diameter),
                         ("bladder_thickness", geometry.bladder_thickness)):
         if not (math.isfinite(value) and value > 0):
             raise InputError(f"{where}.{name}: {value!r} m must be a positive length.")
-    if not 0 < alpha_deg < 54.7356:
+    if not 0 < alpha_deg < 90 or abs(alpha_deg - NEUTRAL_ANGLE_DEG) < 0.01:
         raise InputError(
             f"{where}: the braid angle from the axis is {alpha_deg:.2f} deg "
             f"({90 - alpha_deg:.2f} deg from the transverse plane); a contractile muscle needs "
-            "0 < angle from axis < 54.74 deg (i.e. 35.26 deg < angle from transverse < 90 deg). "
-            "Did you give the angle in the other convention?")
+            "0 < angle from axis < 54.74 deg (i.e. 35.26 deg < angle from transverse < 90 deg), an "
+            "extensile one 54.74 deg < angle from axis < 90 deg; at 54.74 deg the braid neither contracts "
+            "nor extends. Did you give the angle in the other convention?")
     if geometry.bladder_thickness >= geometry.initial_diameter / 2:
         raise InputError(
             f"{where}.bladder_thickness: {geometry.bladder_thickness * 1e3:.4g} mm must be less than "
             f"the rest radius {geometry.initial_diameter * 500:.4g} mm.")
+
+
+def check_kind(geometry: Geometry, *, extensile: bool, where: str, role: str) -> None:
+    """The muscle is of the kind its role needs: contractile to anchor, extensile to steer."""
+    if geometry.extensile == extensile:
+        return
+    alpha_deg = math.degrees(geometry.braid_angle)
+    need = (f"an extensile muscle, braid angle from the axis above {NEUTRAL_ANGLE_DEG:.2f} deg (below "
+            f"{90 - NEUTRAL_ANGLE_DEG:.2f} deg from the transverse)" if extensile else
+            f"a contractile muscle, braid angle from the axis below {NEUTRAL_ANGLE_DEG:.2f} deg (above "
+            f"{90 - NEUTRAL_ANGLE_DEG:.2f} deg from the transverse)")
+    raise InputError(f"{where}: {role} needs {need}; this one's is {alpha_deg:.2f} deg from the axis "
+                     f"({90 - alpha_deg:.2f} deg from the transverse).")
 
 
 def check_pipe_diameter(geometry: Geometry, diameter, *, where: str = "pipe_diameter") -> None:
@@ -40,6 +58,13 @@ def check_pipe_diameter(geometry: Geometry, diameter, *, where: str = "pipe_diam
     values = np.atleast_1d(np.asarray(diameter, dtype=float))
     if not np.all(np.isfinite(values)):
         raise InputError(f"{where}: {diameter!r} is not a finite diameter.")
+    if geometry.extensile:
+        raise InputError(
+            f"{where}: this muscle is extensile (braid angle from the axis "
+            f"{math.degrees(geometry.braid_angle):.2f} deg > {NEUTRAL_ANGLE_DEG:.2f} deg): inflated it "
+            f"lengthens and narrows from {geometry.initial_diameter * 1e3:.4g} mm toward "
+            f"{geometry.largest_diameter * 1e3:.4g} mm, so it never presses on a pipe wall. It steers "
+            "(robot.steering in a mission); without --pipe-diameter, simulate shows its extension.")
     narrow = values[values <= geometry.initial_diameter]
     if narrow.size:
         raise InputError(
@@ -60,11 +85,14 @@ def check_length(geometry: Geometry, length, *, where: str = "length") -> None:
     """B/√3 < L < B, and the bladder still fits inside the braid (real inner radius)."""
     values = np.atleast_1d(np.asarray(length, dtype=float))
     low, high = geometry.shortest_length, geometry.braid_length
+    shown = "(B/sqrt(3), B)"
+    if geometry.extensile:  # it lengthens from L0 toward B/sqrt(3)
+        low, high, shown = 0.0, geometry.shortest_length, "(0, B/sqrt(3))"
     bad = values[~((values > low) & (values < high))]
     if bad.size:
         raise InputError(
             f"{where}: {bad[0] * 1e3:.6g} mm is outside the braid's range "
-            f"({low * 1e3:.5g} mm, {high * 1e3:.5g} mm) = (B/sqrt(3), B).")
+            f"({low * 1e3:.5g} mm, {high * 1e3:.5g} mm) = {shown}.")
     if geometry.wall == "thick":
         _, r_i, _ = wall_section(values, geometry)
         crushed = values[~np.isfinite(r_i)]

@@ -241,29 +241,33 @@ class Muscle:
         return _least(pressing, diameter.shape)
 
     def free_length(self, pressure, axial_load: float = 0.0, *, grid: int = 400, iterations: int = 60):
-        """L_free(P) [m]: the largest root of F_ax(P, L) = F_a in (B/√3, L₀] (docs/physics.md §7).
+        """L_free(P) [m]: the root of F_ax(P, L) = F_a nearest L₀ toward B/√3 (docs/physics.md §7, §14.4).
 
-        A downward scan from L₀ brackets the first sign change, then bisection; where
-        F_ax(P, L₀) ≤ F_a the muscle cannot contract and L_free = L₀. Numeric inputs only.
+        A contractile braid scans down from L₀ through (B/√3, L₀], an extensile one (α₀ > 54.74°) up
+        from L₀ through [L₀, B/√3): the first sign change is bracketed, then bisected. Where the pressure
+        cannot move the muscle from L₀ (F_ax(P, L₀) ≤ F_a contractile, ≥ F_a extensile) L_free = L₀.
+        Numeric inputs only.
         """
         pressure = np.atleast_1d(np.asarray(pressure, dtype=float))
         g = self.geometry
-        lengths = np.linspace(g.initial_length, g.shortest_length * (1 + 1e-9), grid)
-        force = self.axial_force(pressure[:, None], lengths[None, :]) - axial_load  # pressures × lengths
+        sign = -1.0 if g.extensile else 1.0  # the extensile braid pushes: −F_ax > 0 until it stops
+        end = g.shortest_length * (1 - 1e-9 if g.extensile else 1 + 1e-9)
+        lengths = np.linspace(g.initial_length, end, grid)
+        force = sign * (self.axial_force(pressure[:, None], lengths[None, :]) - axial_load)
         negative = force < 0
         negative[:, 0] = False  # the scan starts at the rest length L₀
         first = np.argmax(negative, axis=1)
         found = negative[np.arange(pressure.size), first]
-        blocked = force[:, 0] <= 0  # cannot contract at all
+        blocked = force[:, 0] <= 0  # cannot move at all
         if not np.all(found | blocked):
             bad = pressure[~(found | blocked)][0]
-            raise SolverError(f"no free-contraction length in (B/sqrt(3), L0] at {bad:.6g} Pa: the "
-                              "moduli never balance the pressure force", status="no_root")
-        high, low = lengths[np.maximum(first - 1, 0)], lengths[first]
+            raise SolverError(f"no free length between L0 and B/sqrt(3) at {bad:.6g} Pa: the moduli never "
+                              "balance the pressure force", status="no_root")
+        high, low = lengths[np.maximum(first - 1, 0)], lengths[first]  # high: still moving; low: past
         for _ in range(iterations):
             mid = 0.5 * (high + low)
-            positive = self.axial_force(pressure, mid) - axial_load >= 0
-            high, low = np.where(positive, mid, high), np.where(positive, low, mid)
+            moving = sign * (self.axial_force(pressure, mid) - axial_load) >= 0
+            high, low = np.where(moving, mid, high), np.where(moving, low, mid)
         return np.where(found, 0.5 * (high + low), g.initial_length)
 
     # ----------------------------------------------------------------------------------- holding

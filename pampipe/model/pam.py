@@ -53,6 +53,12 @@ class Geometry:
         return self.braid_length / math.sqrt(3.0)
 
     @property
+    def extensile(self) -> bool:
+        """True for a braid wound beyond the neutral angle (α₀ > 54.74° from the axis): it lengthens when
+        inflated, toward B/√3, instead of contracting."""
+        return self.braid_angle > math.atan(math.sqrt(2.0))
+
+    @property
     def largest_diameter(self) -> float:
         """D(B/√3) = B√(2/3)/(Nπ) [m]: the widest the muscle can pull itself open."""
         return self.braid_length * math.sqrt(2.0 / 3.0) / (self.turns * math.pi)
@@ -135,6 +141,7 @@ class Pam:
     ``bladder_thickness``) to a stated standard deviation (SI: m, rad), from ``{value, sd}`` entries of
     the PAM file; empty when none. ``max_pressure`` [Pa] is the maker's rated pressure and
     ``max_contraction`` [-] the largest contraction 1 − L/L₀ the maker allows; None: not stated.
+    ``fitting_length`` [m] is what the end fittings add to the rigid length of the deflated muscle.
     """
 
     name: str
@@ -152,3 +159,9 @@ class Pam:
         """This PAM with ``uncertainty`` and, consistently, its moduli block as ``covariance``."""
         covariance = None if uncertainty is None else uncertainty.moduli_covariance()
         return replace(self, uncertainty=uncertainty, covariance=covariance)
+    fitting_length: float = 0.0  # [m]
+
+    @property
+    def rigid_length(self) -> float:
+        """L₀ + fitting length [m]: the deflated segment as a rigid cylinder (docs/physics.md §14)."""
+        return self.geometry.initial_length + self.fitting_length

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from pampipe.bends.plan import plan_bends
 from pampipe.errors import InputError, SolverError
 from pampipe.planning.checks import cross_check
 from pampipe.planning.confidence import confidence_pressure
@@ -54,13 +55,14 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     arrays = _arrays(mission, muscles, elements, solution, reasons, codes, nominal)
     limit = payload_limit(mission, payloads) if with_max_payload else None
     served = None if mission.route.origin is None else route_coverage(mission.route, codes)
-    return MissionPlan(feasible=not reasons, arrays=arrays,
+    bends, reducers = plan_bends(mission)
+    return MissionPlan(feasible=not reasons and all(b.passable for b in bends), arrays=arrays,
                        mission=str(mission.source), supply_pressure=mission.supply_pressure,
                        safety_factor=mission.safety_factor, load_path=mission.load_path,
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
                        checks=checks, confidence=confidence, max_payload=limit, muscles=muscles,
                        kappa=elements.kappa, warnings=plan_warnings(mission, arrays, confidence),
-                       coverage=served)
+                       coverage=served, bends=bends, reducers=reducers)
 
 
 def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, nominal) -> PlanArrays:

@@ -169,6 +169,8 @@ class MissionPlan:
     wall_time: float = 0.0  # [s] from reading the mission to the plan (set by the API)
     warnings: tuple[str, ...] = ()  # sentences for the engineer: defaults taken, thin contact margins, ...
     coverage: object | None = None  # pampipe.network.Coverage of a network plan (the route's pipes, or all)
+    bends: tuple = ()  # pampipe.bends.plan.BendPlan per bend, in travel order
+    reducers: tuple = ()  # pampipe.bends.plan.ReducerPlan per change of bore
 
     def timed(self, wall_time: float) -> MissionPlan:
         """A copy that reports ``wall_time`` [s]."""
@@ -227,8 +229,9 @@ class MissionPlan:
 
     @property
     def reasons(self) -> list[str]:
-        """'section: reason' for every infeasible section."""
-        return [f"{self.arrays.route.name[s]}: {r}" for s, r in sorted(self.arrays.reasons.items())]
+        """'section: reason' for every infeasible section, then the reason of every impassable bend."""
+        return ([f"{self.arrays.route.name[s]}: {r}" for s, r in sorted(self.arrays.reasons.items())]
+                + [b.reason() for b in self.bends if not b.passable])
 
     def as_document(self) -> dict:
         doc = {"feasible": self.feasible, "sections": [s.as_document() for s in self.sections],
@@ -239,6 +242,9 @@ class MissionPlan:
                           "wall_time_s": self.wall_time}}
         if self.max_payload is not None:
             doc["max_payload"] = self.max_payload.as_document()
+        doc["bends"] = [b.as_document() for b in self.bends]
+        doc["bends_extra_time_s"] = float(sum(b.steps.extra_time for b in self.bends if b.steps is not None))
+        doc["reducers"] = [r.as_document() for r in self.reducers]
         origin = self.arrays.route.origin
         if origin is not None:
             net = origin.network

@@ -2,7 +2,7 @@
 
 * ``route_profile.png``: the elevation along the route above, the planned pressure of each section
   below (largest over the segments, with the contact pressure of the largest bore and the supply),
-  the section that needs most pressure marked;
+  the section that needs most pressure marked, and the bends (green: passed, red: not; their angles);
 * ``network_pressure.png``: every pipe of the network in plan view (node coordinates), the planned ones
   coloured by their pressure, those that cannot be planned in red, the others in grey.
 
@@ -12,6 +12,7 @@ geometry (:meth:`pampipe.mission.Route.elevation_profile`, :class:`pampipe.netwo
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -55,6 +56,16 @@ def route_profile(plan, folder: Path, unit: str, scale: float) -> Path:
                         xytext=(0, 18), textcoords="offset points", ha="center", fontsize=8,
                         arrowprops={"arrowstyle": "->", "lw": 0.8})
         bottom.axvspan(distance[s], distance[s + 1], color="C1", alpha=0.2, lw=0)
+    for k, bend in enumerate(plan.bends):  # at the end of the section each bend follows
+        at = distance[bend.index + 1]
+        colour = "C2" if bend.passable else "C3"
+        for ax in (top, bottom):
+            ax.axvline(at, color=colour, lw=0.9, ls="-." if bend.passable else "-", alpha=0.8)
+        top.annotate(f"{math.degrees(bend.angle):.0f}°", (at, 1.0), xycoords=("data", "axes fraction"),
+                     xytext=(2, -10 - 8 * (k % 2)), textcoords="offset points", fontsize=7, color=colour)
+    if plan.bends:
+        bottom.plot([], [], color="C2", ls="-.", lw=0.9, label="bend the robot passes")
+        bottom.plot([], [], color="C3", lw=0.9, label="bend it cannot pass")
     bottom.set(xlabel="distance along the route [m]", ylabel=f"gauge pressure [{unit}]")
     bottom.grid(alpha=0.3)
     bottom.legend(fontsize=8, loc="best")

@@ -29,6 +29,11 @@ def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
     if origin is not None:
         drawn = network_pressure(plan, folder, unit, scale)
         paths += [drawn] if drawn is not None else []
+    if plan.bends:
+        from pampipe.plots.bends import tightest_bend
+
+        drawn = tightest_bend(plan, folder)
+        paths += [drawn] if drawn is not None else []
     return paths
 
 

@@ -55,3 +55,18 @@ def plot_simulation(result, folder: Path) -> list[Path]:
     ax.grid(alpha=0.3)
     written.append(save_figure(fig, folder, "amplification.png"))
     return written
+
+
+def plot_extension(result, folder: Path) -> Path:
+    """Write extension.png: an extensile PAM's free length against pressure (from ``result``)."""
+    fig, ax = new_figure(figsize=(7, 4.5))
+    ax.plot(result.curve_pressure / 1e3, result.curve_length * 1e3, "k-", lw=1.5,
+            label="free length, F_a = 0")
+    ax.plot(result.pressures / 1e3, result.free_length * 1e3, "o", ms=4)
+    ax.axhline(result.limit * 1e3, color="C3", ls=":", lw=1, label="braid limit B/√3")
+    ax.axhline(result.initial_length * 1e3, color="0.5", ls="--", lw=1, label="rest length L₀")
+    ax.set(xlabel="gauge pressure P [kPa]", ylabel="length L [mm]",
+           title=f"{result.pam}: extension of an extensile PAM")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return save_figure(fig, folder, "extension.png")

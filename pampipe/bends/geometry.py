@@ -1,0 +1,164 @@
+"""Whether a rigid cylinder passes a pipe elbow; how tight a deflated muscle bends (docs/physics.md §14).
+
+Plane of the bend, centre of the elbow at the origin: the centreline is the arc of radius R over the polar
+angles φ ∈ [−θ/2, θ/2], continued by the straight inlet and outlet pipes tangent to it; the bore is D = 2a,
+so the walls are R_i = R − a (inner) and R_o = R + a (outer). e(φ) = (cos φ, sin φ), t(φ) = (−sin φ, cos φ).
+
+* The region on the inner side of the outer wall is the convex set C_o = {p: max_φ p·e(φ) ≤ R_o}; the inner
+  wall bounds the convex set K_i = {p: max_φ p·e(φ) < R_i} that the cylinder may not enter.
+* The cylinder (length L, diameter d) must turn through every axis direction t(ψ), ψ ∈ [−θ/2, θ/2]. At
+  direction ψ it has the most room against the inner wall: its inner side on the tangent p·e(ψ) = R_i, its
+  outer side on p·e(ψ) = R_i + d. Its length is then at most the chord of C_o common to both lines,
+  ``chord(ψ)``, and the longest cylinder that passes is L* = min_ψ chord(ψ).
+* Along a line p = h·e(ψ) + τ·t(ψ) the outer wall is met forward at τ_c = √(R_o² − h²) if that point lies on
+  the arc (atan(τ_c/h) ≤ θ/2 − ψ), else on the outlet wall at f(θ/2 − ψ), f(δ) = (R_o − h cos δ)/sin δ;
+  backward likewise with θ/2 + ψ. Both ends on the arc give the classical 2√(R_o² − (R_i + d)²).
+
+Lengths in m, angles in rad. Floats only (this is geometry, not the muscle model).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Directions ψ sampled on [0, θ/2] before the golden-section refinement of the least chord.
+DIRECTIONS = 181
+
+
+@dataclass(frozen=True)
+class Passage:
+    """The longest rigid cylinder of one diameter that passes one bend, and where it binds.
+
+    ``longest`` [m] is L* (0 when the cylinder is not narrower than the bore); ``direction`` [rad] the axis
+    direction ψ* of the binding position, from the bend's middle (0: the symmetric mid-bend chord; ±θ/2:
+    aligned with the inlet or outlet); ``where`` says it in words: ``"mid-bend, ends on the arc"``,
+    ``"mid-bend, ends in the straight pipes"``, ``"entry/exit"`` (or ``"bore"``: it does not fit the pipe).
+    """
+
+    longest: float  # [m]
+    direction: float  # [rad]
+    where: str
+
+
+def _end(h: float, outer: float, room: float) -> float:
+    """Distance [m] along a line at distance h from the centre to the outer wall, with ``room`` [rad] of arc
+    left ahead of the line's foot: the circle if it is met on the arc, else the straight wall."""
+    tau_c = math.sqrt(max(outer * outer - h * h, 0.0))
+    if math.atan2(tau_c, h) <= room:
+        return tau_c
+    if room <= 0.0:
+        return math.inf
+    return (outer - h * math.cos(room)) / math.sin(room)
+
+
+def chord_interval(direction: float, *, bore: float, radius: float, angle: float,
+                   diameter: float) -> tuple[float, float]:
+    """(τ_back, τ_front) [m]: where a cylinder of ``diameter`` d on the inner wall's tangent at direction ψ
+    may lie, along t(ψ) from the tangent point R_i·e(ψ) (τ_back ≤ 0 ≤ τ_front).
+
+    The inner side lies on p·e(ψ) = R_i, the outer side on p·e(ψ) = R_i + d; each line meets the outer wall
+    backward and forward (:func:`_end`), and the interval is the overlap of the two.
+    """
+    a = bore / 2
+    inner, outer = radius - a, radius + a
+    ahead, behind = angle / 2 - direction, angle / 2 + direction
+    fronts, backs = [], []
+    for h in (inner, inner + diameter):
+        fronts.append(_end(h, outer, ahead))
+        backs.append(_end(h, outer, behind))
+    return -min(backs), min(fronts)
+
+
+def chord(direction: float, *, bore: float, radius: float, angle: float, diameter: float) -> float:
+    """chord(ψ) [m]: the longest cylinder of ``diameter`` d lying on the inner wall's tangent at direction ψ
+    (the length of :func:`chord_interval`)."""
+    back, front = chord_interval(direction, bore=bore, radius=radius, angle=angle, diameter=diameter)
+    return max(front - back, 0.0)
+
+
+def rigid_passage(*, bore: float, radius: float, angle: float, diameter: float) -> Passage:
+    """L* = min over ψ ∈ [0, θ/2] of :func:`chord` (symmetric in ψ), by a scan and golden-section refinement.
+
+    ``bore`` D [m], ``radius`` R [m] of the centreline (R ≥ D/2), ``angle`` θ [rad] in (0, π], ``diameter``
+    d [m] of the cylinder. A straight run (θ = 0) passes any length.
+    """
+    if diameter >= bore:
+        return Passage(0.0, 0.0, "bore")
+    if angle <= 0.0:
+        return Passage(math.inf, 0.0, "straight")
+
+    def length(psi: float) -> float:
+        return chord(psi, bore=bore, radius=radius, angle=angle, diameter=diameter)
+
+    grid = np.linspace(0.0, angle / 2, DIRECTIONS)
+    values = np.array([length(psi) for psi in grid])
+    k = int(np.argmin(values))
+    low, high = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    ratio = (math.sqrt(5) - 1) / 2
+    for _ in range(60):
+        m1, m2 = high - ratio * (high - low), low + ratio * (high - low)
+        if length(m1) <= length(m2):
+            high = m2
+        else:
+            low = m1
+    best = 0.5 * (low + high)
+    longest = min(length(best), float(values[k]))
+    psi = best if length(best) <= values[k] else float(grid[k])
+    if _on_arc(longest, bore, radius, diameter):
+        where = "mid-bend, ends on the arc"
+    elif psi <= 1e-3 * angle:
+        where = "mid-bend, ends in the straight pipes"
+    else:
+        where = "entry/exit"
+    return Passage(longest, psi, where)
+
+
+def _on_arc(longest: float, bore: float, radius: float, diameter: float) -> bool:
+    """True where L* is the classical both-ends-on-the-arc chord 2√(R_o² − (R_i + d)²)."""
+    a = bore / 2
+    h = radius - a + diameter
+    classical = 2 * math.sqrt(max((radius + a) ** 2 - h * h, 0.0))
+    return abs(longest - classical) <= 1e-9 * max(classical, 1e-3)
+
+
+def classical_chord(*, bore: float, radius: float, diameter: float) -> float:
+    """2√(R_o² − (R_i + d)²) [m]: the mid-bend chord of a bend long enough to hold it (pigging's formula)."""
+    a = bore / 2
+    return 2 * math.sqrt(max((radius + a) ** 2 - (radius - a + diameter) ** 2, 0.0))
+
+
+def flexible_bend_radius(*, rest_length: float, rest_diameter: float, braid_length: float) -> float:
+    """ρ_min = (D₀/2)/(B/L₀ − 1) [m]: the least centreline radius a deflated muscle bends to (§14.3).
+
+    The centreline keeps its rest length L₀ (the fibres do not stretch and the deflated bladder buckles on
+    the inner side); the outer side, D₀/2 from the centreline, is L₀(1 + D₀/(2ρ)) long and may grow only
+    until its fibres lie straight along the axis, at the braid length B = L₀/cos α₀.
+    """
+    return rest_diameter / 2 / (braid_length / rest_length - 1)
+
+
+def elbow_radius_needed(*, bore: float, angle: float, diameter: float, length: float,
+                        largest: float = 100.0) -> float:
+    """The least centreline radius R [m] at which a cylinder of ``length`` and ``diameter`` passes (inf if
+    none up to ``largest`` bores); L* grows with R, so bisection on R ∈ [D/2, largest·D]."""
+    if diameter >= bore:
+        return math.inf
+
+    def passes(radius: float) -> bool:
+        return rigid_passage(bore=bore, radius=radius, angle=angle, diameter=diameter).longest >= length
+
+    low, high = bore / 2, largest * bore
+    if passes(low):
+        return low
+    if not passes(high):
+        return math.inf
+    for _ in range(50):
+        mid = 0.5 * (low + high)
+        if passes(mid):
+            high = mid
+        else:
+            low = mid
+    return high

@@ -1,0 +1,203 @@
+"""Every bend and reducer of a route: can the robot pass it, and the steering command (docs/physics.md §14).
+
+Per bend (the elbow at the end of a section): each segment, deflated, as a rigid cylinder L₀ + fittings
+long and D₀ wide, in the bend's smallest bore (:func:`pampipe.bends.geometry.rigid_passage`); with
+``bend_model: flexible`` a segment whose least bend radius fits the bend passes bent; the joints between
+segments must allow the angle two neighbouring chords make; the steering module's least-pressure triad
+(:func:`pampipe.bends.steering.steer`). Per reducer (a change of bore between sections): each segment
+must fit the smaller bore.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from itertools import pairwise
+
+import numpy as np
+
+from pampipe.bends.geometry import (
+    elbow_radius_needed,
+    flexible_bend_radius,
+    rigid_passage,
+)
+from pampipe.bends.steering import SteeringCommand, steer
+from pampipe.model.muscle import Muscle
+
+
+@dataclass(frozen=True)
+class SegmentPassage:
+    """One segment in one bend: its rigid length [m], the longest rigid length that passes [m] and where
+    it binds; ``least_bend_radius`` [m] with the flexible model (else NaN)."""
+
+    name: str
+    length: float  # [m] L₀ + fittings
+    diameter: float  # [m] D₀
+    longest: float  # [m]
+    where: str
+    passable: bool
+    flexible: bool = False  # passes bent (bend_model: flexible)
+    least_bend_radius: float = math.nan  # [m]
+    direction: float = 0.0  # [rad] axis direction ψ of the binding position, from the bend's middle
+
+    @property
+    def clearance(self) -> float:
+        """longest − length [m]: negative by as much as the segment is too long."""
+        return self.longest - self.length
+
+
+@dataclass(frozen=True)
+class BendPlan:
+    """One bend: passability of every segment, the joints and the steering command."""
+
+    index: int  # the section it ends
+    after_section: str
+    angle: float  # [rad]
+    radius: float  # [m]
+    bore: float  # [m] the smallest bore of the section it ends
+    segments: tuple[SegmentPassage, ...]
+    joint_angle: float  # [rad] the angle the joints must take
+    joints_pass: bool
+    steering: SteeringCommand | None
+    radius_needed: float  # [m] least elbow radius at which the limiting segment passes (NaN if it does)
+    steps: object | None = None  # pampipe.bends.gait.SteeringSteps of the gait through it
+
+    @property
+    def limiting(self) -> SegmentPassage:
+        """The segment with the least clearance (a flexible pass counts as ample)."""
+        return min(self.segments, key=lambda s: math.inf if s.flexible else s.clearance)
+
+    @property
+    def passable(self) -> bool:
+        return all(s.passable for s in self.segments) and self.joints_pass
+
+    def reason(self) -> str | None:
+        """Why the robot cannot pass (None if it can): the bend, the segment, by how much, what would pass."""
+        if self.passable:
+            return None
+        head = (f"bend after section '{self.after_section}' ({math.degrees(self.angle):.1f} deg, radius "
+                f"{self.radius * 1e3:.4g} mm = {self.radius / self.bore:.3g} D in a "
+                f"{self.bore * 1e3:.4g} mm bore)")
+        s = self.limiting
+        if not s.passable:
+            if s.where == "bore":
+                return (f"{head}: segment {s.name} ({s.diameter * 1e3:.4g} mm wide) does not fit the bore.")
+            fix = (f"the elbow radius would have to be at least {self.radius_needed * 1e3:.4g} mm "
+                   f"({self.radius_needed / self.bore:.3g} D)" if math.isfinite(self.radius_needed)
+                   else "no elbow radius up to 100 D passes it")
+            return (f"{head}: segment {s.name}, rigid {s.length * 1e3:.4g} mm long and "
+                    f"{s.diameter * 1e3:.4g} mm wide, is {-s.clearance * 1e3:.4g} mm too long (binding "
+                    f"{s.where}); the longest that passes at {s.diameter * 1e3:.4g} mm wide is "
+                    f"{s.longest * 1e3:.4g} mm, or {fix}.")
+        return (f"{head}: the joints must turn {math.degrees(self.joint_angle):.1f} deg, more than robot."
+                "joint_angle allows.")
+
+    def as_document(self) -> dict:
+        s = self.limiting
+        flexible = s.flexible
+        return {"after_section": self.after_section, "section_index": self.index,
+                "angle_deg": math.degrees(self.angle), "radius_m": self.radius,
+                "radius_over_bore": self.radius / self.bore, "inner_diameter_m": self.bore,
+                "passable": self.passable, "reason": self.reason(), "limiting_segment": s.name,
+                "longest_passable_length_m": None if flexible else _finite(s.longest),
+                "clearance_m": None if flexible else _finite(s.clearance), "binding_position": s.where,
+                "elbow_radius_needed_m": _finite(self.radius_needed),
+                "joint_angle_deg": math.degrees(self.joint_angle), "joints_pass": self.joints_pass,
+                "segments": [{"name": g.name, "rigid_length_m": g.length, "rest_diameter_m": g.diameter,
+                              "longest_passable_length_m": _finite(g.longest),
+                              "clearance_m": _finite(g.clearance),
+                              "passable": g.passable, "passes_bent": g.flexible,
+                              "least_bend_radius_m": _finite(g.least_bend_radius)} for g in self.segments],
+                "steering": None if self.steering is None else self.steering.as_document(),
+                "gait": None if self.steps is None else self.steps.as_document()}
+
+
+@dataclass(frozen=True)
+class ReducerPlan:
+    """A change of bore between two sections: the segments pass if they fit the smaller bore."""
+
+    after_section: str
+    before: float  # [m] bore before
+    after: float  # [m] bore after
+    widest_segment: float  # [m] D₀ of the widest segment
+
+    @property
+    def passable(self) -> bool:
+        return self.widest_segment < min(self.before, self.after)
+
+    def as_document(self) -> dict:
+        small = min(self.before, self.after)
+        return {"after_section": self.after_section, "from_inner_diameter_m": self.before,
+                "to_inner_diameter_m": self.after, "passable": self.passable,
+                "reason": (f"a rigid cylinder passes from one bore into the other if it fits the smaller "
+                           f"({small * 1e3:.4g} mm): the widest segment is "
+                           f"{self.widest_segment * 1e3:.4g} mm")}
+
+
+def _finite(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None
+
+
+def joint_angle(lengths, radius: float, angle: float) -> float:
+    """The largest angle [rad] between neighbouring segments laid as chords of the bend's centreline:
+    asin(L₁/2R) + asin(L₂/2R), at most θ (a chord longer than 2R spans the whole turn)."""
+    def half(length):
+        return math.asin(min(length / (2 * radius), 1.0))
+
+    return min(max(half(a) + half(b) for a, b in pairwise(lengths)), angle)
+
+
+def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
+    """Every bend and reducer of ``mission``'s route, in travel order."""
+    route = mission.route
+    reducers = tuple(
+        ReducerPlan(str(route.name[i]), float(route.diameter[i]), float(route.diameter[i + 1]),
+                    max(seg.pam.geometry.initial_diameter for seg in mission.segments))
+        for i in range(len(route) - 1) if route.diameter[i] != route.diameter[i + 1])
+    if route.bend_angle is None:
+        return (), reducers
+    steering = mission.steering
+    muscle = options = None
+    if steering is not None:
+        from pampipe.bends.gait import steering_steps  # locomotion imports planning, which imports this
+        from pampipe.locomotion.options import gait_options
+
+        muscle = Muscle.from_pam(steering.pam, where=f"{mission.source}: robot.steering.pam")
+        options = gait_options(mission.gait, source=mission.source)
+    lengths = [seg.pam.rigid_length for seg in mission.segments]
+    limit = mission.joint_angle
+    out = []
+    for i in np.flatnonzero(route.bend_angle > 0).tolist():
+        angle, radius = float(route.bend_angle[i]), float(route.bend_radius[i])
+        bore = float(route.diameter_low[i])
+        if i + 1 < len(route):
+            bore = min(bore, float(route.diameter_low[i + 1]))
+        segments = tuple(_segment(seg, bore, radius, angle, mission.bend_model) for seg in mission.segments)
+        needed = math.nan
+        worst = min(segments, key=lambda s: math.inf if s.flexible else s.clearance)  # BendPlan.limiting
+        if not worst.passable and worst.where != "bore":
+            needed = elbow_radius_needed(bore=bore, angle=angle, diameter=worst.diameter, length=worst.length)
+        turn = joint_angle(lengths, radius, angle)
+        command = steps = None
+        if muscle is not None:
+            command = steer(muscle, curvature=1 / radius, direction=float(route.bend_direction[i]),
+                            radius=steering.radius, supply=mission.supply_pressure)
+            steps = steering_steps(muscle, command, supply=mission.supply_pressure, options=options)
+        out.append(BendPlan(i, str(route.name[i]), angle, radius, bore, segments, turn,
+                            limit is None or turn <= limit, command, needed, steps))
+    return tuple(out), reducers
+
+
+def _segment(seg, bore: float, radius: float, angle: float, model: str) -> SegmentPassage:
+    g = seg.pam.geometry
+    passage = rigid_passage(bore=bore, radius=radius, angle=angle, diameter=g.initial_diameter)
+    length = seg.pam.rigid_length
+    rigid = SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where,
+                           passage.longest >= length, direction=passage.direction)
+    if model != "flexible" or rigid.passable or passage.where == "bore":
+        return rigid
+    least = flexible_bend_radius(rest_length=g.initial_length, rest_diameter=g.initial_diameter,
+                                 braid_length=g.braid_length)
+    bent = least <= radius + (bore - g.initial_diameter) / 2 and seg.pam.fitting_length == 0
+    return SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where, bent, bent,
+                          least, passage.direction)
