@@ -175,14 +175,14 @@ def test_exported_function_agrees_with_plan(case, real):
 
 
 def test_argument_checks_and_reason_order(tmp_path):
-    """NaN, infinity and a negative payload are refused (5); zero friction comes before a narrow pipe."""
+    """NaN, infinity, a negative payload or friction: refused (5); zero friction before a narrow pipe."""
     export = write_export(load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml"), tmp_path)
     exe = export_c.build(tmp_path)
     rows = [(math.nan, 0.0, 0.3, 2.0), (0.0762, math.inf, 0.3, 2.0), (0.0762, 0.0, 0.3, -1.0),
             (0.01, 0.0, 0.0, 2.0), (0.01, 0.0, 0.3, 2.0), (1.0, 0.0, 0.3, 2.0), (0.0762, 0.0, -0.1, 2.0),
             (0.0762, math.pi / 2, 0.3, 2.0)]
     codes, pressure = export_c.run_law(exe, rows)
-    assert codes.tolist() == [5, 5, 5, 3, 1, 2, 3, 0]
+    assert codes.tolist() == [5, 5, 5, 3, 1, 2, 5, 0]
     assert np.all(np.isnan(pressure[:-1]))
     plan = plan_mission(load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml"))
     riser = [s.pressure for s in plan.sections[0].segments]  # 3 in, 90°, μ 0.3, 2 kg
