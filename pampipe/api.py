@@ -169,7 +169,8 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
 
-def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None):
+def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None,
+                   progress: Progress | None = None):
     """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
     the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
     names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
@@ -188,7 +189,8 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
                 inputs.append((str(path), hashlib.sha256(path.read_bytes()).hexdigest()))
             except OSError as exc:
                 raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
-    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name)
+    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name,
+                    progress=progress)
 
 
 def load_inventory(inventory: Source, *, base=None):

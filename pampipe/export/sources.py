@@ -19,6 +19,26 @@ REASONS = {
 }
 
 
+#: Stands for the mission hash in the texts until :func:`stamped` computes it (NUL bytes: no escaped
+#: name or comment can hold it).
+HASH_MARK = "\0PAMPIPE_MISSION_HASH\0"
+
+
+def stamped(files: dict[str, str]) -> dict[str, str]:
+    """``files`` with :data:`HASH_MARK` replaced by the hash of them all, a C integer of 60 bits.
+
+    The header defines PAMPIPE_MISSION_HASH and the source ``#error``s unless it equals its own, so
+    a header and a source of two different exports never compile together.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    for name in sorted(files):
+        digest.update(name.encode() + b"\0" + files[name].encode("utf-8") + b"\0")
+    value = f"0x{digest.hexdigest()[:15]}"
+    return {name: text.replace(HASH_MARK, value) for name, text in files.items()}
+
+
 def _real(value: float) -> str:
     return cgen.literal(value)
 
@@ -115,6 +135,7 @@ def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
 extern "C" {{
 #endif
 
+#define PAMPIPE_MISSION_HASH {HASH_MARK}  /* this export's hash: pampipe_plan.c refuses another header */
 #define PAMPIPE_SEGMENTS {n}                 /* the mission's segment count */
 #ifdef PAMPIPE_REAL_FLOAT
 typedef float pampipe_real;
@@ -219,6 +240,10 @@ def source(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
 #include <math.h>
 
 #include "pampipe_plan.h"
+
+#if !defined(PAMPIPE_MISSION_HASH) || PAMPIPE_MISSION_HASH != {HASH_MARK}
+#error "pampipe_plan.h comes from another export than pampipe_plan.c: export the mission again"
+#endif
 
 {cgen.PRELUDE}
 {names_comment}const char *const pampipe_segment_name[PAMPIPE_SEGMENTS] = {names};
@@ -376,6 +401,6 @@ void loop()
 
 def is_sketch_name(name: str) -> bool:
     """True if Arduino accepts ``name`` as a sketch (and its folder) name."""
-    return (0 < len(name) <= 63 and name[0].isascii() and name[0].isalnum()
+    return (isinstance(name, str) and 0 < len(name) <= 63 and name[0].isascii() and name[0].isalnum()
             and all(c.isascii() and (c.isalnum() or c in "_.-") for c in name))
 
