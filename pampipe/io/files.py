@@ -17,6 +17,7 @@ outputs exist.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -80,9 +81,10 @@ def atomic_write(target: Path, write: Callable[[Path], None], *, create_folder: 
             raise InputError(f"{folder}: cannot create the output folder ({exc.strerror or exc}).") from None
     import tempfile  # imported here: it costs 5 ms of every command's start-up
 
+    _remove_stale_temps(target)
     tmp = None
     try:
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp", dir=folder)
         tmp = Path(tmp_name)
         os.fchmod(fd, mode)
         os.close(fd)
@@ -95,6 +97,21 @@ def atomic_write(target: Path, write: Callable[[Path], None], *, create_folder: 
         if tmp is not None and tmp.exists():
             tmp.unlink()
     _WRITTEN.append(target)
+
+
+def _remove_stale_temps(target: Path) -> None:
+    """Remove ``.NAME.PID.XXXX.tmp`` files of ``target`` left by killed processes (SIGKILL mid-write)."""
+    prefix = f".{target.name}."
+    try:
+        entries = [e for e in os.scandir(target.parent)
+                   if e.name.startswith(prefix) and e.name.endswith(".tmp")]
+    except OSError:
+        return
+    for entry in entries:
+        pid = entry.name[len(prefix):].split(".")[0]
+        if pid.isdigit() and not _running(int(pid)) and entry.is_file(follow_symlinks=False):
+            with contextlib.suppress(OSError):
+                os.unlink(entry.path)
 
 
 def check_output(target: Path, inputs: Iterable[Path], *, option: str) -> None:
