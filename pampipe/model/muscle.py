@@ -240,11 +240,14 @@ class Muscle:
 
         return _least(pressing, diameter.shape)
 
-    def free_length(self, pressure, axial_load: float = 0.0, *, grid: int = 400, iterations: int = 60):
+    def free_length(self, pressure, axial_load: float = 0.0, *, grid: int = 400, iterations: int = 60,
+                    braid_limit: bool = False):
         """L_free(P) [m]: the largest root of F_ax(P, L) = F_a in (B/√3, L₀] (docs/physics.md §7).
 
         A downward scan from L₀ brackets the first sign change, then bisection; where
-        F_ax(P, L₀) ≤ F_a the muscle cannot contract and L_free = L₀. Numeric inputs only.
+        F_ax(P, L₀) ≤ F_a the muscle cannot contract and L_free = L₀. Where the moduli never balance
+        the pressure force (a pressure beyond the braid's limit), SolverError, or with
+        ``braid_limit`` the shortest length B/√3, where the braid locks. Numeric inputs only.
         """
         pressure = np.atleast_1d(np.asarray(pressure, dtype=float))
         g = self.geometry
@@ -255,7 +258,7 @@ class Muscle:
         first = np.argmax(negative, axis=1)
         found = negative[np.arange(pressure.size), first]
         blocked = force[:, 0] <= 0  # cannot contract at all
-        if not np.all(found | blocked):
+        if not braid_limit and not np.all(found | blocked):
             bad = pressure[~(found | blocked)][0]
             raise SolverError(f"no free-contraction length in (B/sqrt(3), L0] at {bad:.6g} Pa: the "
                               "moduli never balance the pressure force", status="no_root")
@@ -264,7 +267,7 @@ class Muscle:
             mid = 0.5 * (high + low)
             positive = self.axial_force(pressure, mid) - axial_load >= 0
             high, low = np.where(positive, mid, high), np.where(positive, low, mid)
-        return np.where(found, 0.5 * (high + low), g.initial_length)
+        return np.where(found, 0.5 * (high + low), np.where(blocked, g.initial_length, g.shortest_length))
 
     # ----------------------------------------------------------------------------------- holding
     def holding_capacity(self, pressure, diameter, load, *, kappa, friction):
