@@ -15,6 +15,7 @@ import numpy as np
 from pampipe.errors import InfeasibleError
 from pampipe.export.law import Law, Reason
 from pampipe.locomotion import gait_options, sequential_gait
+from pampipe.planning import plan_mission
 
 
 @dataclass(frozen=True)
@@ -58,8 +59,6 @@ def section_gaits(mission, law: Law, *, progress=None) -> tuple[SectionGait, ...
     sections; sections whose segments need the same (same bore, load, friction) share one gait.
     ``progress(text)`` hears every tenth of a route of :data:`PROGRESS_FROM` sections or more.
     """
-    from pampipe.planning import plan_mission
-
     options = gait_options(mission.gait, source=mission.source)
     plan = plan_mission(mission)
     cache: dict = {}

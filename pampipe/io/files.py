@@ -25,6 +25,7 @@ import stat
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from pampipe import interrupts
 from pampipe.errors import InputError, SolverError
 from pampipe.io.paths import kind_of
 
@@ -242,16 +243,18 @@ def atomic_write_set(folder: Path, texts: dict[str, str]) -> None:
             path = staging / name
             path.write_text(text, encoding="utf-8")
             os.chmod(path, _mode_for(real / name))
-        if not (swap and _swap_in(staging, real, texts)):
-            real.mkdir(exist_ok=True)
-            for name in texts:
-                os.replace(staging / name, real / name)
+        with interrupts.deferred():  # Ctrl-C waits until the new set is in and the old one gone
+            if not (swap and _swap_in(staging, real, texts)):
+                real.mkdir(exist_ok=True)
+                for name in texts:
+                    os.replace(staging / name, real / name)
+            shutil.rmtree(staging, ignore_errors=True)
+            _WRITTEN.extend(folder / name for name in texts)
     except OSError as exc:
         raise InputError(f"{folder}: cannot write the output files ({exc.strerror or exc}).") from None
     finally:
         if staging is not None and staging.exists():
             shutil.rmtree(staging, ignore_errors=True)
-    _WRITTEN.extend(folder / name for name in texts)
 
 
 def _swap_in(staging: Path, real: Path, texts: dict[str, str]) -> bool:
