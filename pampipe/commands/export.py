@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -48,6 +49,8 @@ def run(args: argparse.Namespace) -> int:
     mission = load_mission(args.mission)
     inputs = list(dict.fromkeys(Path(p) for p in mission.input_files))
     folder = args.output
+    if os.path.lexists(folder) and not folder.is_dir():
+        raise InputError(f"-o {folder}: exists and is not a folder; give a folder for the C files.")
     sketch = folder.resolve().name if is_sketch_name(folder.resolve().name) else DEFAULT_SKETCH
     targets = [folder / name for name in (HEADER, SOURCE, f"{sketch}.ino")]
     for target in targets:
