@@ -108,3 +108,17 @@ def test_long_names_are_shortened_in_literals_and_whole_in_comments(tmp_path):
     unwrapped = source.replace("\n     * ", "")
     assert cgen.comment(names[0]) in unwrapped and cgen.comment(names[1]) in unwrapped
     assert max(len(line) for line in source.splitlines()) < 200
+
+
+def test_python_law_takes_every_number_and_refuses_the_rest(built):
+    from decimal import Decimal
+    from fractions import Fraction
+
+    _, export, _, _ = built["vertical-climb-3in"]
+    reason, want = export.law.evaluate(0.0762, 1.0, 0.3, 2.0)
+    assert reason == Reason.OK
+    reason, got = export.law.evaluate(np.array(0.0762), np.float32(1.0), Decimal("0.3"), Fraction(2))
+    assert reason == Reason.OK and np.array_equal(got, want)
+    for bad in [("0.0762", 1.0, 0.3, 2.0), (0.0762, True, 0.3, 2.0), (0.0762, 10**400, 0.3, 2.0),
+                (0.0762, 1.0, 0.3 + 0j, 2.0), (0.0762, 1.0, 0.3, None)]:
+        assert export.law.evaluate(*bad)[0] == Reason.BAD_ARGUMENT

@@ -19,7 +19,6 @@ formula is wrong (cos φ < 0 makes the sliding term negative), so the law never 
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 from enum import IntEnum
 
@@ -30,6 +29,7 @@ from pampipe.errors import InputError
 from pampipe.model import slip
 from pampipe.model.effects import LIBRARY
 from pampipe.planning.problem import mission_muscles
+from pampipe.units import real_number
 
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
 
@@ -43,12 +43,14 @@ DOMAIN = {"inner_diameter_m": (0.0, 10.0, True), "incline_rad": (-math.pi / 2, m
 
 
 def in_domain(*arguments) -> bool:
-    """True if (D, φ, μ, m) are real numbers, finite and within :data:`DOMAIN` (NaN is not)."""
+    """True if (D, φ, μ, m) are real numbers (:func:`pampipe.units.real_number`: numpy, Decimal, Fraction
+    too), finite and within :data:`DOMAIN` (NaN is not)."""
     for value, (low, high, open_low) in zip(arguments, DOMAIN.values(), strict=True):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real | np.number):
+        try:
+            value = real_number(value)
+        except InputError:  # beyond the float range
             return False
-        value = float(value)
-        if not (low < value <= high if open_low else low <= value <= high):
+        if value is None or not (low < value <= high if open_low else low <= value <= high):
             return False
     return True
 
@@ -99,7 +101,7 @@ class Law:
         nan = np.full(len(self.segments), np.nan)
         if not in_domain(diameter, incline, friction, payload):
             return Reason.BAD_ARGUMENT, nan
-        diameter, incline, friction, payload = (float(v) for v in (diameter, incline, friction, payload))
+        diameter, incline, friction, payload = map(real_number, (diameter, incline, friction, payload))
         if not friction >= FRICTION_MIN:
             return Reason.NO_FRICTION, nan
         if diameter <= self.narrowest:
