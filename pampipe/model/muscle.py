@@ -266,7 +266,9 @@ class Muscle:
         for _ in range(iterations):
             mid = 0.5 * (high + low)
             positive = self.axial_force(pressure, mid) - axial_load >= 0
-            high, low = np.where(positive, mid, high), np.where(positive, low, mid)
+            high, low, before = np.where(positive, mid, high), np.where(positive, low, mid), (high, low)
+            if np.array_equal(high, before[0]) and np.array_equal(low, before[1]):
+                break  # every bracket is a fixed point (adjacent or equal floats): more steps change nothing
         return np.where(found, 0.5 * (high + low), np.where(blocked, g.initial_length, g.shortest_length))
 
     # ----------------------------------------------------------------------------------- holding
