@@ -15,13 +15,14 @@ The command-line interface is a thin layer over these functions.
 
 from __future__ import annotations
 
+import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from pampipe.units import to_si
+from pampipe.units import real_number, show, to_si
 
 Source = str | os.PathLike | Mapping  # a file, or its content as a dict (or the loaded object itself)
 Progress = Callable[[str], None]
@@ -35,12 +36,69 @@ def _file(source: Source, kind: str, base) -> tuple[Path, dict | None]:
 
 
 def _si(value, dimension: str, name: str):
-    """SI float(s) of a number, a unit string or a sequence of them (None stays None)."""
+    """SI float(s) of one value or a sequence of them (None stays None).
+
+    A value is anything :func:`pampipe.units.to_si` reads: a unit string, any real number (int,
+    float, Decimal, Fraction, numpy scalars and 0-d arrays) or a pint Quantity; a sequence is a list,
+    a tuple or a 1-d array (numpy, or a pint Quantity of one).
+    """
     if value is None:
         return None
-    if isinstance(value, str | int | float):
-        return to_si(value, dimension, where=name)
-    return [to_si(v, dimension, where=name) for v in value]
+    if isinstance(value, list | tuple) or getattr(value, "ndim", 0) == 1:
+        return [to_si(v, dimension, where=f"{name}[{i}]") for i, v in enumerate(value)]
+    return to_si(value, dimension, where=name)
+
+
+def _number(value, name: str, allowed: str) -> float:
+    """A real number of any kind (:func:`pampipe.units.real_number`), else InputError naming ``name``."""
+    from pampipe.errors import InputError
+
+    number = real_number(value, where=name)
+    if number is None:
+        raise InputError(f"{name}: {show(value)} is not a number; {allowed}.")
+    return number
+
+
+def _whole(value, name: str, *, least: int | None = None):
+    """A whole number (None stays None): any real number with no fraction, at least ``least``."""
+    from pampipe.errors import InputError
+
+    if value is None:
+        return None
+    allowed = "give a whole number" + (f" of at least {least}" if least is not None else "")
+    number = _number(value, name, allowed)
+    if not (math.isfinite(number) and number == int(number)) or (least is not None and number < least):
+        raise InputError(f"{name}: {show(value)} is not allowed; {allowed}.")
+    return int(number)
+
+
+def _flag(value, name: str) -> bool:
+    """True or False (a numpy bool too), else InputError."""
+    from pampipe.errors import InputError
+
+    if isinstance(value, bool) or type(value).__name__ == "bool_":
+        return bool(value)
+    raise InputError(f"{name}: {show(value)} is not allowed; give True or False.")
+
+
+def _choice(value, name: str, allowed: Sequence[str]):
+    """One of ``allowed`` (None stays None), else InputError listing them."""
+    from pampipe.errors import InputError
+
+    if value is None or (isinstance(value, str) and value in allowed):
+        return value
+    raise InputError(f"{name}: {show(value)} is not one of {', '.join(repr(a) for a in allowed)}.")
+
+
+def _names(value, name: str):
+    """A list of strings from one string or a sequence of them (None stays None)."""
+    from pampipe.errors import InputError
+
+    if value is None or isinstance(value, str):
+        return None if value is None else [value]
+    if isinstance(value, list | tuple) and all(isinstance(v, str) for v in value):
+        return list(value)
+    raise InputError(f"{name}: {show(value)} is not allowed; give a name or a list of names.")
 
 
 def load_pam(pam: Source, *, base=None):
@@ -86,6 +144,7 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
     from pampipe.simulation import PAPER_PRESSURES
     from pampipe.simulation import simulate as run
 
+    paper_literal = _flag(paper_literal, "paper_literal")
     model = load_pam(pam, base=base)
     diameters = _as_list(_si(pipe_diameter, "length", "pipe_diameter"))
     loads = _as_list(_si(axial_load, "force", "axial_load"))
@@ -124,10 +183,21 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
 
     Returns a :class:`pampipe.planning.MissionPlan` (``to_dict()``: the JSON document).
     """
+    from pampipe.errors import InputError
     from pampipe.planning import plan_mission
 
+    if confidence is not None:
+        if isinstance(confidence, str):
+            raise InputError(f"confidence: {show(confidence)} is text; give a probability in [0.5, 1) as a "
+                             "number, e.g. 0.95.")
+        confidence = _number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
+    solver = _choice(solver, "solver", ("kkt", "ipopt"))
+    max_payload = _flag(max_payload, "max_payload")
+    payload = _si(payload, "mass", "payload")
+    if isinstance(payload, list):
+        raise InputError("payload: give one mass, e.g. '3 kg', not a list.")
     started = time.perf_counter()
-    result = plan_mission(load_mission(mission, base=base), payload=_si(payload, "mass", "payload"),
+    result = plan_mission(load_mission(mission, base=base), payload=payload,
                           confidence=confidence, method=solver, with_max_payload=max_payload)
     return result.timed(time.perf_counter() - started)
 
@@ -135,8 +205,12 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
 def gait(mission: Source, *, section: str | None = None, optimal: bool = False, base=None,
          progress: Progress | None = None) -> GaitReport:
     """The peristaltic schedule in one section; with ``optimal`` also the time-optimal gait (`gait`)."""
+    from pampipe.errors import InputError
     from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
 
+    optimal = _flag(optimal, "optimal")
+    if section is not None and not isinstance(section, str):
+        raise InputError(f"section: {show(section)} is not allowed; give a section's name.")
     model = load_mission(mission, base=base)
     options = gait_options(model.gait, source=model.source)
     sequential = sequential_gait(model, section, options=options)
@@ -170,6 +244,9 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
     from pampipe.identification import identify as run
     from pampipe.identification.options import fit_options
 
+    degree, max_iterations = _whole(degree, "degree"), _whole(max_iterations, "max_iterations")
+    average_legs = None if average_legs is None else _flag(average_legs, "average_legs")
+    calibrate = _names(calibrate, "calibrate")
     spec, data = load_experiment(experiment, base=base, progress=progress)
     diameters = _si(pipe_diameter, "length", "pipe_diameter")
     options = fit_options(spec.fit, {"mode": mode, "objective": objective, "degree": degree,
@@ -189,16 +266,15 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     """
     from pampipe.diagnosis.selection import FOLDS
     from pampipe.diagnosis.workflow import diagnose as run
-    from pampipe.errors import InputError
 
-    folds = FOLDS if folds is None else folds
-    if folds < 2:
-        raise InputError(f"folds: {folds} must be at least 2 for cross-validation.")
+    folds = FOLDS if folds is None else _whole(folds, "folds", least=2)
+    effect = _names(effect, "effect")
     _, data = load_experiment(experiment, base=base, progress=progress)
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
 
-def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None):
+def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None,
+                   progress: Progress | None = None):
     """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
     the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
     names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
@@ -217,7 +293,8 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
                 inputs.append((str(path), hashlib.sha256(path.read_bytes()).hexdigest()))
             except OSError as exc:
                 raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
-    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name)
+    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name,
+                    progress=progress)
 
 
 def load_inventory(inventory: Source, *, base=None):
@@ -245,13 +322,15 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
     from pampipe.inventory import Objective
     from pampipe.parallel import executor
 
+    starts, seed, sizes = _whole(starts, "starts", least=1), _whole(seed, "seed", least=0), _whole(
+        sizes, "sizes", least=1)
+    workers = _whole(workers, "workers", least=1)
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise InputError(f"scheduler: {show(scheduler)} is not allowed; give an address such as "
+                         "'tcp://host:8786'.")
     model = load_inventory(inventory, base=base)
     overrides = {"starts": starts, "seed": seed, "sizes": sizes,
                  "objective": None if objective is None else _objective(objective, Objective)}
-    for key, value in overrides.items():
-        least = 0 if key == "seed" else 1
-        if isinstance(value, int) and value < least:
-            raise InputError(f"{key}: {value} must be at least {least}.")
     space = dataclasses.replace(model.space, **{k: v for k, v in overrides.items() if v is not None})
     model = dataclasses.replace(model, space=space)
     with executor(workers=workers, scheduler=scheduler) as pool:

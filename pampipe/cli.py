@@ -9,13 +9,15 @@ the command's document prints ``{"error": {"code": …, "message": …}}`` on st
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import json
 import re
 import sys
 
 from pampipe import __version__, interrupts
-from pampipe.errors import InputError, PampipeError
+from pampipe.errors import InputError, PampipeError, StreamError
+from pampipe.io import streams
 from pampipe.io.files import forget_written, written
 
 #: Command modules under pampipe.commands, in the order --help lists them.
@@ -89,8 +91,11 @@ def main(argv: list[str] | None = None) -> int:
     """Run one command; return its exit code."""
     argv = sys.argv[1:] if argv is None else list(argv)
     forget_written()
-    with interrupts.handled():
-        return _run(argv)
+    try:
+        with streams.guarded(), interrupts.handled():
+            return _flushed(_run(argv))
+    except StreamError:  # a stream closed before the run: said on the other one if it was open
+        return StreamError.exit_code
 
 
 def _run(argv: list[str]) -> int:
@@ -109,6 +114,8 @@ def _run(argv: list[str]) -> int:
     except _UsageError as exc:
         return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",
                      str(exc))
+    except StreamError as exc:  # stdout or stderr cannot be written: the environment's fault
+        return _fail(args, argv, command, exc.exit_code, "error", str(exc), broken=exc.stream)
     except KeyboardInterrupt:
         return _interrupted(args, argv, command)
     except PampipeError as exc:
@@ -116,8 +123,6 @@ def _run(argv: list[str]) -> int:
             return _interrupted(args, argv, command)
         kind = "error" if isinstance(exc, InputError) else "no solution"
         return _fail(args, argv, command, exc.exit_code, kind, str(exc))
-    except BrokenPipeError:
-        return 0
     except Exception as exc:  # the last resort: a bug, never a user mistake
         if "--debug" in argv:
             import traceback
@@ -130,6 +135,19 @@ def _run(argv: list[str]) -> int:
                      f"({'traceback above' if '--debug' in argv else 'add --debug for the traceback'}).")
 
 
+def _flushed(code: int) -> int:
+    """``code``, once stdout and stderr have taken all the text; 2 if they cannot (a full disk)."""
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except StreamError as exc:
+        if exc.stream == "stdout":
+            with contextlib.suppress(StreamError):
+                print(f"pampipe: error: {exc}", file=sys.stderr, flush=True)
+        return exc.exit_code
+    return code
+
+
 def _interrupted(args, argv, command: str) -> int:
     files = written()
     if files:
@@ -140,14 +158,26 @@ def _interrupted(args, argv, command: str) -> int:
     return _fail(args, argv, command, INTERRUPTED, None, message)
 
 
-def _fail(args, argv, command: str, code: int, kind: str | None, message: str) -> int:
-    """Print the one-paragraph message (and the JSON error document under --json); return ``code``."""
-    print(f"{command}: {kind + ': ' if kind else ''}{message}", file=sys.stderr, flush=True)
-    json_mode = getattr(args, "json", None) if args is not None else _json_flag(argv)
-    if json_mode and not getattr(args, "document_printed", False):
-        sys.stdout.write(json.dumps({"error": {"code": code, "kind": kind or "interrupted",
-                                               "message": message}}, indent=2) + "\n")
-        sys.stdout.flush()
+def _fail(args, argv, command: str, code: int, kind: str | None, message: str, *,
+          broken: str | None = None) -> int:
+    """Print the one-paragraph message (and the JSON error document under --json); return ``code``.
+
+    ``broken`` names a stream that already failed: nothing more is written to it. A stream that
+    fails here makes the exit 2 (:class:`StreamError`), whatever the first error was.
+    """
+    try:
+        if broken != "stderr":
+            print(f"{command}: {kind + ': ' if kind else ''}{message}", file=sys.stderr, flush=True)
+        json_mode = getattr(args, "json", None) if args is not None else _json_flag(argv)
+        if json_mode and broken != "stdout" and not getattr(args, "document_printed", False):
+            sys.stdout.write(json.dumps({"error": {"code": code, "kind": kind or "interrupted",
+                                                   "message": message}}, indent=2) + "\n")
+            sys.stdout.flush()
+    except StreamError as exc:
+        if exc.stream == "stdout" and broken is None:
+            with contextlib.suppress(StreamError):
+                print(f"{command}: error: {exc}", file=sys.stderr, flush=True)
+        return StreamError.exit_code
     return code
 
 

@@ -35,3 +35,16 @@ class SolverError(PampipeError, RuntimeError):
     def __init__(self, message: str, status: str = "unknown") -> None:
         super().__init__(message)
         self.status = status
+
+
+class StreamError(PampipeError):
+    """stdout or stderr cannot be written (a full disk, a closed stream, a broken pipe): exit 2.
+
+    ``stream`` is "stdout" or "stderr"; the environment is at fault, not the input or the solver.
+    """
+
+    exit_code = 2
+
+    def __init__(self, message: str, stream: str) -> None:
+        super().__init__(message)
+        self.stream = stream

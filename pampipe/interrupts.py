@@ -42,3 +42,21 @@ def check(stats: dict | None = None) -> None:
     if _state["requested"] or (stats or {}).get("return_status") == "User_Requested_Stop":
         _state["requested"] = True
         raise KeyboardInterrupt
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """Hold SIGINT and SIGTERM back for a short critical step (swapping a set of files in and cleaning
+    up); a signal that arrives meanwhile is delivered when the step is done. Where signals cannot be
+    blocked (not the main thread, no ``pthread_sigmask``), the step runs unprotected."""
+    import threading
+
+    held = {signal.SIGINT, signal.SIGTERM}
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -28,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InfeasibleError, InputError
+from pampipe.io.paths import read_bounded
 
 #: |Δz| / length above 1 by more than this counts as impossible data (ft -> m rounding stays below).
 _CLIP_SLACK = 1e-9
@@ -126,10 +128,11 @@ def load_network(network: str | Path, *, base: Path | None = None) -> Network:
     text = str(network)
     if text.lower().endswith(".inp") or "/" in text or isinstance(network, Path):
         path = Path(text) if base is None or Path(text).is_absolute() else Path(base) / text
-        if not path.is_file():
+        if not os.path.exists(path):
             raise InputError(f"network {text}: file {path} not found (a network is the name of one shipped "
                              f"with wntr, {', '.join(sorted(model_library.model_name_list))}, or an "
                              "EPANET .inp file).")
+        _check_unique_ids(path, read_bounded(path, what="EPANET .inp file", limit=INP_LIMIT))
         name = path.stem
     elif text in model_library.model_name_list:
         path, name = Path(model_library.get_filepath(text)), text
@@ -144,6 +147,35 @@ def load_network(network: str | Path, *, base: Path | None = None) -> Network:
     except Exception as exc:  # wntr raises many types for unreadable or malformed files
         raise InputError(f"network {path}: cannot read it as an EPANET .inp file ({exc}).") from None
     return _columns(model, name, path)
+
+
+#: Largest .inp file read [bytes].
+INP_LIMIT = 1 << 29
+#: The sections of an .inp file whose first field is an id: (namespace, what a row defines). Links
+#: (pipes, pumps, valves) share one namespace, nodes (junctions, reservoirs, tanks) another.
+_ID_SECTIONS = {"PIPES": ("link", "pipe"), "PUMPS": ("link", "pump"), "VALVES": ("link", "valve"),
+                "JUNCTIONS": ("node", "junction"), "RESERVOIRS": ("node", "reservoir"),
+                "TANKS": ("node", "tank")}
+
+
+def _check_unique_ids(path: Path, raw: bytes) -> None:
+    """Refuse an .inp file that defines one pipe (or node) id twice: wntr would keep only the last."""
+    seen: dict[tuple[str, str], tuple[int, str]] = {}
+    section = None
+    for number, line in enumerate(raw.decode("utf-8", "replace").splitlines(), start=1):
+        fields = line.split(";", 1)[0].split()
+        if not fields:
+            continue
+        if fields[0].startswith("["):
+            section = _ID_SECTIONS.get(fields[0].strip("[]").upper())
+        elif section is not None:
+            (space, what), key = section, (section[0], fields[0])
+            if key in seen:
+                first, before = seen[key]
+                raise InputError(f"network {path}: line {number} defines the {what} id {fields[0]!r}, which "
+                                 f"line {first} already gives to a {before}; every {space} needs its own id "
+                                 "(wntr would silently keep only the last).")
+            seen[key] = number, what
 
 
 def _columns(model, name: str, source: Path) -> Network:

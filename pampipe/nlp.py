@@ -91,7 +91,23 @@ def solve(solver: ca.Function, *, what: str, accept_acceptable: bool = False,
     if not success:
         words = {**IPOPT_STATUS, **(hints or {})}.get(status, "IPOPT did not converge")
         raise SolverError(f"{what} failed: {words} (IPOPT status {status}).", status=status)
+    _check_derivatives(solver, solution, arguments, what)
     return solution, stats
+
+
+def _check_derivatives(solver: ca.Function, solution: dict, arguments: dict, what: str) -> None:
+    """A solution where the objective's gradient or the constraints' Jacobian is NaN or infinite is no
+    solution (CasADi warns "NaN detected" and IPOPT may still report success): SolverError."""
+    for name in ("nlp_grad_f", "nlp_jac_g"):
+        try:
+            oracle = solver.get_function(name)
+        except RuntimeError:  # not built for this problem
+            continue
+        values = oracle(solution["x"], arguments.get("p", ca.DM()))
+        if not all(ca.DM(v).is_regular() for v in values):
+            raise SolverError(f"{what} failed: the model's derivatives are NaN or infinite at IPOPT's answer "
+                              "(a parameter such as contact_smoothing may be out of scale), so the answer "
+                              "cannot be trusted.", status="non_finite_derivatives")
 
 
 @cache

@@ -8,6 +8,7 @@ the value, what is allowed, a did-you-mean for misspelt keys, at most :data:`MAX
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -40,12 +41,21 @@ def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None
         if gt is not None and not value > gt:
             raise ValueError(f"{shown} must be greater than {gt:g}{suffix}")
         if ge is not None and not value >= ge:
-            raise ValueError(f"{shown} must be at least {ge:g}{suffix}")
+            if not _within_rounding(value, ge):
+                raise ValueError(f"{shown} must be at least {ge:g}{suffix}")
+            value = ge
         if lt is not None and not value < lt:
             raise ValueError(f"{shown} must be less than {lt:g}{suffix}")
         if le is not None and not value <= le:
-            raise ValueError(f"{shown} must be at most {le:g}{suffix}")
+            if not _within_rounding(value, le):
+                raise ValueError(f"{shown} must be at most {le:g}{suffix}")
+            value = le
         return value
+
+    def _within_rounding(value: float, bound: float) -> bool:
+        """An angle one ulp beyond a closed bound is the bound: '100 grad' and '5400 arcmin' are π/2
+        rounded up by the conversion (100·π/200 = 1.5707963267948968 > π/2)."""
+        return dimension == "angle" and abs(value - bound) <= math.ulp(bound)
 
     return Annotated[float, BeforeValidator(convert), AfterValidator(check)]
 

@@ -94,7 +94,7 @@ def simulate_anchored(muscle: Muscle, *, pipe_diameter: float, axial_load: float
     anchoring = float(muscle.anchoring_pressure(pipe_diameter, axial_load))
     radial = np.asarray(muscle.radial_force(pressures, pipe_diameter, axial_load), dtype=float)
     radial = radial * np.ones_like(pressures)
-    lengths = np.maximum(muscle.free_length(pressures, axial_load=axial_load), length)
+    lengths = np.maximum(muscle.free_length(pressures, axial_load=axial_load, braid_limit=True), length)
     terms = {k: np.asarray(v, dtype=float) * np.ones_like(pressures)
              for k, v in muscle.radial_force_terms(pressures, pipe_diameter, axial_load).items()}
     return AnchoredCase(
@@ -121,7 +121,8 @@ def simulate(pam: Pam, *, pipe_diameters, axial_loads=(0.0,), pressures=PAPER_PR
     radial = tuple(np.asarray(muscle.radial_force(grid, c.pipe_diameter, c.axial_load), dtype=float)
                    * np.ones_like(grid) for c in cases)
     curves = Curves(grid, radial,
-                    {load: muscle.free_length(grid, axial_load=load) for load in sorted(set(axial_loads))},
+                    {load: muscle.free_length(grid, axial_load=load, braid_limit=True)
+                     for load in sorted(set(axial_loads))},
                     diameters, np.asarray(muscle.amplification_factor(diameters), dtype=float))
     return SimulateResult(pam.name, cases, curves)
 

@@ -74,6 +74,9 @@ UNITS: dict[str, tuple[float, Dimension]] = {
 REFUSED = {name: ("is an absolute pressure; pampipe uses gauge pressures (above the atmosphere): "
                   f"subtract the atmosphere and write {gauge}")
            for name, gauge in (("psia", "psi (or psig)"), ("bara", "bar (or barg)"))}
+#: Names pint reads as something else than they look: 'pct' is pico-carat (a mass), not percent.
+REFUSED.update({name: "is not read (pint takes it for pico-carat, a mass); did you mean '%'? e.g. '5 %'"
+                for name in ("pct", "pcts")})
 
 
 def dimension_name(dimension: Dimension) -> str | None:

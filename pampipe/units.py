@@ -68,20 +68,64 @@ def to_si(value: object, dimension: str, *, where: str | None = None) -> float:
         if found == DIMENSIONS["dimensionless"] and dimension == "angle" and value.strip():
             raise InputError(f"{prefix}{show(value)}: {_angle_hint(value, number)}") from None
         _check_dimension(value, found, dimension, prefix)
-    elif isinstance(value, int | float):
-        if dimension == "angle" and value != 0:
+    elif _is_pint(value):
+        number, found = _from_pint(value, prefix)
+        _check_dimension(f"{value:~}", found, dimension, prefix)
+    elif (number := real_number(value, where=where)) is not None:
+        if dimension == "angle" and number != 0:
             raise InputError(f"{prefix}{show(value)} has no unit; an angle must carry one, "
-                             f"e.g. '{value} deg' or '{value} rad'.")
-        try:
-            number = float(value)
-        except OverflowError:
-            raise InputError(f"{prefix}{show(value)} is beyond the float range (about ±1.8e308).") from None
+                             f"e.g. '{number:g} deg' or '{number:g} rad'.")
     else:
         raise InputError(f"{prefix}expected a {dimension} as a number or a string like "
                          f"'{example(dimension)}', got {_kind(value)}.")
     if not math.isfinite(number):
         raise InputError(f"{prefix}{show(value)} is not a finite number.")
     return number
+
+
+def real_number(value: object, *, where: str | None = None) -> float | None:
+    """float of a real number of any kind, or None if ``value`` is not one.
+
+    Any :class:`numbers.Real` (int, float, Fraction, numpy integers and floats), a numpy 0-d array of
+    reals and :class:`decimal.Decimal`; not bool, str or complex. A value beyond the float range
+    raises InputError (named by ``where``); NaN and ±inf come back as they are.
+    """
+    import numbers
+    from decimal import Decimal
+
+    if isinstance(value, bool) or type(value).__name__ == "bool_":
+        return None
+    if getattr(value, "shape", None) == () and getattr(getattr(value, "dtype", None), "kind", "") in "iuf":
+        value = value.item()  # a numpy scalar or 0-d array
+    if not isinstance(value, numbers.Real | Decimal) or isinstance(value, bool):
+        return None
+    prefix = f"{where}: " if where else ""
+    try:
+        return float(value)
+    except OverflowError:  # a huge int or Fraction
+        raise InputError(f"{prefix}{show(value)} is beyond the float range (about ±1.8e308).") from None
+    except ValueError:  # Decimal('sNaN')
+        raise InputError(f"{prefix}{show(value)} is not a finite number.") from None
+
+
+def _is_pint(value: object) -> bool:
+    """True for a pint Quantity (of any registry), told by its attributes: pint is not imported."""
+    return all(hasattr(value, name) for name in ("magnitude", "units", "to_base_units", "unit_items"))
+
+
+def _from_pint(value, prefix: str) -> tuple[float, Dimension]:
+    """(SI value, dimension) of a scalar pint Quantity; InputError for arrays and odd units."""
+    try:
+        base = value.to_base_units()
+        dimension = _dimension_of(base)
+    except _Refused as exc:
+        raise InputError(f"{prefix}{show(value)}: {exc}") from None
+    except Exception as exc:  # pint's own errors
+        raise InputError(f"{prefix}{show(value)}: pint cannot convert it ({exc}).") from None
+    number = real_number(base.magnitude, where=prefix.rstrip(": ") or None)
+    if number is None:
+        raise InputError(f"{prefix}{show(value)}: the magnitude must be one real number.")
+    return number, dimension
 
 
 def column_factor(unit_text: str, dimension: str, *, where: str) -> float:

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 from pathlib import Path
 
 from pampipe.api import export_mission, load_mission
 from pampipe.commands.common import add_output_options, emit
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
-from pampipe.io.files import atomic_write_text, check_not_input
+from pampipe.io.files import atomic_write_set, check_not_input
 from pampipe.report import table
 
 NAME = "export"
@@ -47,6 +49,8 @@ def run(args: argparse.Namespace) -> int:
     mission = load_mission(args.mission)
     inputs = list(dict.fromkeys(Path(p) for p in mission.input_files))
     folder = args.output
+    if os.path.lexists(folder) and not folder.is_dir():
+        raise InputError(f"-o {folder}: exists and is not a folder; give a folder for the C files.")
     sketch = folder.resolve().name if is_sketch_name(folder.resolve().name) else DEFAULT_SKETCH
     targets = [folder / name for name in (HEADER, SOURCE, f"{sketch}.ino")]
     for target in targets:
@@ -55,9 +59,9 @@ def run(args: argparse.Namespace) -> int:
     if existing and not args.force:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
-    export = export_mission(mission, sketch_name=sketch)
-    for target in targets:
-        atomic_write_text(target, export.files[target.name], create_folder=True)  # -o is a folder here
+    export = export_mission(mission, sketch_name=sketch, progress=lambda text: print(text, file=sys.stderr,
+                                                                                     flush=True))
+    atomic_write_set(folder, export.files)  # the old set or the new one, never a mix
     emit(args, export.to_dict(), _report(export, folder))
     return 0
 

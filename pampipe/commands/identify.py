@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say
+from pampipe.errors import InputError
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
 from pampipe.identification.options import fit_options
@@ -78,6 +79,7 @@ def run(args: argparse.Namespace) -> int:
     document = result.as_document()
     document["experiment"] = str(experiment.source)
     if args.output is not None:
+        _check_determined(result, experiment.source, args.output)
         write_pam(args.output, result.fitted_pam(experiment.pam),
                   comments=result.pam_comments(experiment.source))
         document["output"] = str(args.output)
@@ -109,6 +111,18 @@ def full_report(result, source: str) -> str:
     if result.slip is None:
         return text
     return text + "\n" + slip_report(result.slip) + "".join(f"\nwarning: {w}" for w in result.slip.warnings)
+def _check_determined(result, source, output) -> None:
+    """Refuse to write a PAM from a fit that determines nothing: no coefficient and no pipe's anchoring
+    pressure (e.g. one row per test). Its moduli are any of a family that fits as well, and `simulate`
+    would print one of them as if measured (before: an anchoring pressure of -5830 kPa)."""
+    u = result.uncertainty
+    if u.determined.any() or any(p.determined for p in result.predictions.pipes):
+        return
+    raise InputError(f"{source}: -o {output}: not written: the data determine none of the {len(u.names)} "
+                     f"coefficients and no pipe's anchoring pressure ({u.rank} of {len(u.names)} "
+                     "combinations identifiable), so the fitted moduli are one of many that fit as well. "
+                     "Add tests or rows (the axial test over its pressure range, a radial test per bore), "
+                     "or a prior (fit.prior); without -o the report shows which predictions are determined.")
 
 
 def report(result, source: str) -> str:

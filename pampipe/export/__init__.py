@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 import casadi as ca
 
 from pampipe import __version__
+from pampipe.errors import InputError
 from pampipe.export.gait_table import GaitStep, SectionGait, section_gaits
 from pampipe.export.law import Law, Reason, mission_law
-from pampipe.export.sources import header, is_sketch_name, sketch, source
+from pampipe.export.sources import header, is_sketch_name, sketch, source, stamped
 
 HEADER = "pampipe_plan.h"
 SOURCE = "pampipe_plan.c"
@@ -68,14 +69,18 @@ class Export:
         }
 
 
-def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH) -> Export:
-    """The C export of ``mission`` (InputError if a PAM's effects have no closed form)."""
+def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH, progress=None) -> Export:
+    """The C export of ``mission`` (InputError if a PAM's effects have no closed form).
+
+    ``progress(text)`` hears how far the gait table of a long route is.
+    """
     if not is_sketch_name(sketch_name):
-        raise ValueError(f"{sketch_name!r} is not an Arduino sketch name")
+        raise InputError(f"sketch_name: {sketch_name!r} is not an Arduino sketch name: 1 to 63 ASCII "
+                         "letters, digits, '_', '.' or '-', starting with a letter or digit.")
     law = mission_law(mission)
-    gaits = section_gaits(mission, law)
-    files = {HEADER: header(law, gaits, provenance), SOURCE: source(law, gaits, provenance),
-             f"{sketch_name}.ino": sketch(law, gaits, provenance, sketch_name)}
+    gaits = section_gaits(mission, law, progress=progress)
+    files = stamped({HEADER: header(law, gaits, provenance), SOURCE: source(law, gaits, provenance),
+                     f"{sketch_name}.ino": sketch(law, gaits, provenance, sketch_name)})
     return Export(files, law, gaits, provenance, f"{sketch_name}.ino")
 
 

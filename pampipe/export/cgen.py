@@ -108,18 +108,56 @@ def statements(function: ca.Function, inputs: list[str], outputs: list[str], *,
     return [f"{prefix}{i}" for i in sorted(declared)], body
 
 
-def string(text: str) -> str:
-    """A C string literal of ``text`` (UTF-8; quotes, backslashes, '?' and non-ASCII escaped)."""
-    out = []
-    for byte in text.encode("utf-8"):
+#: The longest string literal C99 promises to translate (5.2.4.1), in bytes; gcc's -Woverlength-strings.
+MAX_STRING = 4095
+#: Source characters per line of a long literal (split into concatenated pieces) or comment.
+LINE = 96
+
+
+def shortened(text: str, limit: int = MAX_STRING) -> str:
+    """``text`` if its UTF-8 fits in ``limit`` bytes, else its head and a mark naming length and hash.
+
+    The mark keeps two long names that share their head apart: '…[10000 chars, sha256 1f2e…]'.
+    """
+    data = text.encode("utf-8")
+    if len(data) <= limit:
+        return text
+    import hashlib
+
+    mark = f"...[{len(text)} chars, sha256 {hashlib.sha256(data).hexdigest()[:16]}]"
+    return data[:limit - len(mark)].decode("utf-8", "ignore") + mark
+
+
+def string(text: str, *, indent: str = "        ") -> str:
+    """A C string literal of ``text`` (UTF-8; quotes, backslashes, '?' and non-ASCII escaped).
+
+    Longer than :data:`MAX_STRING` bytes, the text is :func:`shortened`; a literal longer than
+    :data:`LINE` characters is split into concatenated pieces, one per line, each ``indent``ed.
+    """
+    pieces = []
+    for byte in shortened(text).encode("utf-8"):
         char = chr(byte)
         if char in '"\\?':
-            out.append("\\" + char)
+            pieces.append("\\" + char)
         elif 32 <= byte < 127:
-            out.append(char)
+            pieces.append(char)
         else:
-            out.append(f"\\{byte:03o}")
-    return '"' + "".join(out) + '"'
+            pieces.append(f"\\{byte:03o}")
+    lines, line = [], ""
+    for piece in pieces:
+        if len(line) + len(piece) > LINE:
+            lines.append(line)
+            line = ""
+        line += piece
+    lines.append(line)
+    return f"\n{indent}".join(f'"{line}"' for line in lines)
+
+
+def long_comment(label: str, text: str, indent: str = "    ") -> str:
+    """A /* */ comment holding ``label`` and the whole ``text`` made safe, in lines of :data:`LINE`."""
+    safe = comment(text)
+    rows = [comment(label)] + [safe[k:k + LINE] for k in range(0, len(safe), LINE)]
+    return f"{indent}/* " + f"\n{indent} * ".join(rows) + " */"
 
 
 def comment(text: str) -> str:

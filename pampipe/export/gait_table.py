@@ -15,6 +15,7 @@ import numpy as np
 from pampipe.errors import InfeasibleError
 from pampipe.export.law import Law, Reason
 from pampipe.locomotion import gait_options, sequential_gait
+from pampipe.planning import plan_mission
 
 
 @dataclass(frozen=True)
@@ -47,16 +48,31 @@ class SectionGait:
                 "stride_m": self.stride, "steps": len(self.steps)}
 
 
-def section_gaits(mission, law: Law) -> tuple[SectionGait, ...]:
-    """The gait table of every section of ``mission`` (sections the law refuses have no steps)."""
+#: Routes of at least this many sections report the gait table's progress, every tenth of the way.
+PROGRESS_FROM = 100
+
+
+def section_gaits(mission, law: Law, *, progress=None) -> tuple[SectionGait, ...]:
+    """The gait table of every section of ``mission`` (sections the law refuses have no steps).
+
+    The mission is planned once and every section's gait reads that plan, so the work is linear in
+    sections; sections whose segments need the same (same bore, load, friction) share one gait.
+    ``progress(text)`` hears every tenth of a route of :data:`PROGRESS_FROM` sections or more.
+    """
     options = gait_options(mission.gait, source=mission.source)
+    plan = plan_mission(mission)
+    cache: dict = {}
     out = []
-    for section in mission.route:
+    count = len(mission.route)
+    step = max(1, count // 10)
+    for index, section in enumerate(mission.route):
+        if progress is not None and count >= PROGRESS_FROM and index and index % step == 0:
+            progress(f"gait table: {index} of {count} sections ...")
         reason, _ = law.evaluate(section.diameter, section.incline, section.friction, mission.payload)
         result = None
         if reason == Reason.OK:
             try:
-                result = sequential_gait(mission, section.name, options=options)
+                result = sequential_gait(mission, index, options=options, mission_plan=plan, cache=cache)
             except InfeasibleError:  # the closed form and the plan's bisection split at the supply
                 reason = Reason.ABOVE_SUPPLY
         fields = (section.name, section.diameter, section.incline, section.friction, section.length, reason)

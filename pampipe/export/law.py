@@ -9,10 +9,16 @@ payload m [kg], with the mission's robot, safety factor SF, load path κ and tet
 the same calls `plan` makes, on CasADi symbols instead of numbers. The reasons follow `plan`'s
 order (docs/physics.md §8.4): no wall friction, then a pipe not wider than a muscle at rest, then a
 pipe the braid cannot fill, then a pressure above the supply (inf included).
+
+Every argument comes from a live sensor on the robot, so each is checked first (:data:`DOMAIN`):
+0 < D ≤ 10 m, |φ| ≤ π/2, 0 ≤ μ ≤ 10 and 0 ≤ m ≤ 10⁵ kg, the ranges a mission file allows, each
+finite; anything else (NaN and ±inf included) is ``BAD_ARGUMENT``. Outside |φ| ≤ π/2 the load
+formula is wrong (cos φ < 0 makes the sliding term negative), so the law never answers there.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from enum import IntEnum
 
@@ -25,8 +31,30 @@ from pampipe.model.braid import diameter_at_length
 from pampipe.model.effects import LIBRARY
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.problem import mission_muscles
+from pampipe.units import real_number
 
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
+
+#: The range of each argument, inclusive unless ``open`` says so: (low, high, open_low) in SI. The
+#: bounds are those a mission file accepts (pampipe.io.config); π/2 is the double nearest to it.
+#: Friction below this is no friction (reason 3): a sliding load μ·g·M this small underflows to
+#: subnormal floats, where the law's arithmetic no longer holds. No wall is this slippery.
+FRICTION_MIN = 1e-6
+DOMAIN = {"inner_diameter_m": (0.0, 10.0, True), "incline_rad": (-math.pi / 2, math.pi / 2, False),
+          "friction": (0.0, 10.0, False), "payload_kg": (0.0, 1e5, False)}
+
+
+def in_domain(*arguments) -> bool:
+    """True if (D, φ, μ, m) are real numbers (:func:`pampipe.units.real_number`: numpy, Decimal, Fraction
+    too), finite and within :data:`DOMAIN` (NaN is not)."""
+    for value, (low, high, open_low) in zip(arguments, DOMAIN.values(), strict=True):
+        try:
+            value = real_number(value)
+        except InputError:  # beyond the float range
+            return False
+        if value is None or not (low < value <= high if open_low else low <= value <= high):
+            return False
+    return True
 
 
 class Reason(IntEnum):
@@ -35,9 +63,9 @@ class Reason(IntEnum):
     OK = 0
     NARROW = 1  # the pipe is not wider than a muscle at rest
     WIDE = 2  # the pipe is wider than the braid can fill
-    NO_FRICTION = 3  # no wall friction
+    NO_FRICTION = 3  # no wall friction (below FRICTION_MIN)
     ABOVE_SUPPLY = 4  # a segment needs more than the supply (or no pressure up to 100 MPa holds)
-    BAD_ARGUMENT = 5  # a non-finite argument or a negative payload
+    BAD_ARGUMENT = 5  # an argument outside DOMAIN: NaN, infinite, or out of its range
 
 
 @dataclass(frozen=True)
@@ -74,11 +102,15 @@ class Law:
         return min(self.largest_diameters)
 
     def evaluate(self, diameter: float, incline: float, friction: float, payload: float):
-        """(reason, pressures [Pa]) in Python, as the C function answers (NaN where it writes NaN)."""
+        """(reason, pressures [Pa]) in Python, as the C function answers (NaN where it writes NaN).
+
+        Anything but four real numbers within :data:`DOMAIN` is ``BAD_ARGUMENT``, as in C.
+        """
         nan = np.full(len(self.segments), np.nan)
-        if not all(np.isfinite([diameter, incline, friction, payload])) or payload < 0:
+        if not in_domain(diameter, incline, friction, payload):
             return Reason.BAD_ARGUMENT, nan
-        if not friction > 0:
+        diameter, incline, friction, payload = map(real_number, (diameter, incline, friction, payload))
+        if not friction >= FRICTION_MIN:
             return Reason.NO_FRICTION, nan
         if diameter <= self.narrowest:
             return Reason.NARROW, nan

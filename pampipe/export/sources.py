@@ -10,7 +10,7 @@ import numpy as np
 
 from pampipe.export import cgen
 from pampipe.export.gait_table import SectionGait
-from pampipe.export.law import INPUTS, Law, Reason
+from pampipe.export.law import DOMAIN, FRICTION_MIN, INPUTS, Law, Reason
 
 REASONS = {
     Reason.NARROW: "PAMPIPE_NARROW",
@@ -21,8 +21,34 @@ REASONS = {
 }
 
 
+#: Stands for the mission hash in the texts until :func:`stamped` computes it (NUL bytes: no escaped
+#: name or comment can hold it).
+HASH_MARK = "\0PAMPIPE_MISSION_HASH\0"
+
+
+def stamped(files: dict[str, str]) -> dict[str, str]:
+    """``files`` with :data:`HASH_MARK` replaced by the hash of them all, a C integer of 60 bits.
+
+    The header defines PAMPIPE_MISSION_HASH and the source ``#error``s unless it equals its own, so
+    a header and a source of two different exports never compile together.
+    """
+    import hashlib
+
+    digest = hashlib.sha256()
+    for name in sorted(files):
+        digest.update(name.encode() + b"\0" + files[name].encode("utf-8") + b"\0")
+    value = f"0x{digest.hexdigest()[:15]}"
+    return {name: text.replace(HASH_MARK, value) for name, text in files.items()}
+
+
 def _real(value: float) -> str:
     return cgen.literal(value)
+
+
+def _limit(name: str) -> str:
+    """The upper bound of argument ``name`` with its unit, for the header's table."""
+    unit = {"inner_diameter_m": " m", "payload_kg": " kg"}.get(name, "")
+    return f"{DOMAIN[name][1]:g}{unit}"
 
 
 def _mm(value: float) -> str:
@@ -36,14 +62,14 @@ def _ratings(law: Law) -> str:
     return f", or {', '.join(rated)} (max_pressure)" if rated else ""
 
 
-def _limit(law: Law) -> str:
+def _pressure_limit(law: Law) -> str:
     """The C expression of segment i's pressure limit: the supply, or a table when a rating is lower."""
     if np.all(law.limits >= law.supply_pressure):
         return _real(law.supply_pressure)
     return "(const pampipe_real[]){" + ", ".join(_real(v) for v in law.limits) + "}[i]"
 
 
-def _limit_words(law: Law) -> str:
+def _pressure_limit_words(law: Law) -> str:
     return "the supply" if np.all(law.limits >= law.supply_pressure) else "the supply or the muscle's rating"
 
 
@@ -68,7 +94,11 @@ def _provenance(law: Law, provenance) -> list[str]:
 
 
 def _block(lines: list[str], indent: str = "") -> str:
-    body = "\n".join(f"{indent} * {cgen.comment(line)}".rstrip() for line in lines)
+    """A /* */ block of ``lines`` made safe; a line longer than 120 characters (a long name) is wrapped."""
+    safe = [cgen.comment(line) for line in lines]
+    safe = [part for line in safe for part in
+            ([line] if len(line) <= 120 else [line[k:k + cgen.LINE] for k in range(0, len(line), cgen.LINE)])]
+    body = "\n".join(f"{indent} * {line}".rstrip() for line in safe)
     return f"{indent}/*\n{body}\n{indent} */"
 
 
@@ -88,13 +118,20 @@ def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
         "",
         f"  inner_diameter_m  pipe bore D [m]; anchoring needs {_mm(law.narrowest)} < D < {_mm(law.widest)}",
         "  incline_rad       angle of travel above horizontal [rad], -pi/2 (straight down) to pi/2 (up)",
-        "  friction          braid-wall Coulomb coefficient [-], > 0",
-        "  payload_kg        mass carried [kg], >= 0; the mission's is PAMPIPE_MISSION_PAYLOAD_KG",
+        "  friction          braid-wall Coulomb coefficient [-], > 0 to anchor",
+        "  payload_kg        mass carried [kg]; the mission's is PAMPIPE_MISSION_PAYLOAD_KG",
         "  pressure_Pa       out: PAMPIPE_SEGMENTS gauge pressures [Pa]",
         "",
+        "Every argument is checked: these are the values a sensor may send (each finite, never NaN):",
+        *(f"  {rule:<34} {macro}" for rule, macro in (
+            (f"0 < inner_diameter_m <= {_limit('inner_diameter_m')}", "PAMPIPE_DIAMETER_MAX_M"),
+            ("-pi/2 <= incline_rad <= pi/2", "PAMPIPE_INCLINE_MAX_RAD (steeper is not an incline)"),
+            (f"0 <= friction <= {_limit('friction')}", "PAMPIPE_FRICTION_MAX"),
+            (f"0 <= payload_kg <= {_limit('payload_kg')}", "PAMPIPE_PAYLOAD_MAX_KG"))),
+        "",
         "Returns PAMPIPE_OK (0) with pressure_Pa filled, or the first reason that applies, in this order:",
-        "  5 PAMPIPE_BAD_ARGUMENT  an argument is NaN or infinite, or the payload is negative",
-        "  3 PAMPIPE_NO_FRICTION   friction <= 0: no anchor can grip the wall",
+        "  5 PAMPIPE_BAD_ARGUMENT  an argument is NaN, infinite or outside its range above",
+        f"  3 PAMPIPE_NO_FRICTION   friction < {FRICTION_MIN:g} (PAMPIPE_FRICTION_MIN): no anchor grips",
         f"  1 PAMPIPE_NARROW        D <= {_mm(law.narrowest)}: the pipe is not wider than a muscle at rest",
         f"  2 PAMPIPE_WIDE          D >= {_mm(law.widest)}: the pipe is wider than the braid can fill",
         f"  4 PAMPIPE_ABOVE_SUPPLY  a segment needs more than the {law.supply_pressure / 1e3:.6g} kPa supply"
@@ -119,6 +156,7 @@ def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
 extern "C" {{
 #endif
 
+#define PAMPIPE_MISSION_HASH {HASH_MARK}  /* this export's hash: pampipe_plan.c refuses another header */
 #define PAMPIPE_SEGMENTS {n}                 /* the mission's segment count */
 #ifdef PAMPIPE_REAL_FLOAT
 typedef float pampipe_real;
@@ -130,6 +168,11 @@ typedef double pampipe_real;               /* float when compiled with -DPAMPIPE
 {codes}
 
 #define PAMPIPE_MISSION_PAYLOAD_KG ((pampipe_real){law.payload!r})
+#define PAMPIPE_DIAMETER_MAX_M ((pampipe_real){DOMAIN["inner_diameter_m"][1]!r})   /* bore: 0 < D <= this */
+#define PAMPIPE_INCLINE_MAX_RAD ((pampipe_real){DOMAIN["incline_rad"][1]!r}) /* |incline| <= this (pi/2) */
+#define PAMPIPE_FRICTION_MAX ((pampipe_real){DOMAIN["friction"][1]!r})      /* 0 <= friction <= this */
+#define PAMPIPE_FRICTION_MIN ((pampipe_real){FRICTION_MIN!r})     /* below it: PAMPIPE_NO_FRICTION */
+#define PAMPIPE_PAYLOAD_MAX_KG ((pampipe_real){DOMAIN["payload_kg"][1]!r})  /* 0 <= payload <= this */
 #define PAMPIPE_SUPPLY_PRESSURE_PA ((pampipe_real){law.supply_pressure!r})
 
 {_block(function_doc)}
@@ -179,7 +222,9 @@ def _array(values) -> str:
 
 
 def _section(gait: SectionGait, segments: int) -> str:
-    head = (f"    {{{cgen.string(gait.name)}, {_real(gait.diameter)}, {_real(gait.incline)}, "
+    full = (cgen.long_comment("the section's whole name (the literal is shortened):", gait.name) + "\n"
+            if cgen.shortened(gait.name) != gait.name else "")
+    head = (f"{full}    {{{cgen.string(gait.name)}, {_real(gait.diameter)}, {_real(gait.incline)}, "
             f"{_real(gait.friction)}, {_real(gait.length)}, {REASONS.get(gait.reason, 'PAMPIPE_OK')},\n"
             f"     {_real(gait.cycle_time)}, {_real(gait.stride)}, {{")
     zero = _real(0.0)
@@ -206,6 +251,9 @@ def source(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
     rest = ", ".join(_mm(d) for d in law.rest_diameters)
     largest = ", ".join(_mm(d) for d in law.largest_diameters)
     names = _array(cgen.string(s) for s in law.segments)
+    names_comment = "".join(
+        cgen.long_comment(f"segment {i + 1}'s whole name (the literal is shortened):", name, "") + "\n"
+        for i, name in enumerate(law.segments) if cgen.shortened(name) != name)
     steps = _array(cgen.string(s) for s in ("I", "II", "III", "IV", "V", "VI", "VII"))
     table = ",\n".join(_section(g, n) for g in gaits)
     top = ["pampipe_plan.c: see pampipe_plan.h.", "", *_provenance(law, provenance)]
@@ -214,8 +262,12 @@ def source(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
 
 #include "pampipe_plan.h"
 
+#if !defined(PAMPIPE_MISSION_HASH) || PAMPIPE_MISSION_HASH != {HASH_MARK}
+#error "pampipe_plan.h comes from another export than pampipe_plan.c: export the mission again"
+#endif
+
 {cgen.PRELUDE}
-const char *const pampipe_segment_name[PAMPIPE_SEGMENTS] = {names};
+{names_comment}const char *const pampipe_segment_name[PAMPIPE_SEGMENTS] = {names};
 const char *const pampipe_step_name[PAMPIPE_GAIT_STEPS] = {steps};
 
 int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real incline_rad, pampipe_real friction,
@@ -226,11 +278,14 @@ int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real inclin
     for (i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
         pressure_Pa[i] = PAMPIPE_NAN;
     }}
-    if (!(isfinite(inner_diameter_m) && isfinite(incline_rad) && isfinite(friction) && isfinite(payload_kg))
-        || payload_kg < PAMPIPE_R(0.0)) {{
+    /* every comparison is false for NaN, so NaN fails each range; so do +-inf */
+    if (!(inner_diameter_m > PAMPIPE_R(0.0) && inner_diameter_m <= PAMPIPE_DIAMETER_MAX_M)
+        || !(incline_rad >= -PAMPIPE_INCLINE_MAX_RAD && incline_rad <= PAMPIPE_INCLINE_MAX_RAD)
+        || !(friction >= PAMPIPE_R(0.0) && friction <= PAMPIPE_FRICTION_MAX)
+        || !(payload_kg >= PAMPIPE_R(0.0) && payload_kg <= PAMPIPE_PAYLOAD_MAX_KG)) {{
         return PAMPIPE_BAD_ARGUMENT;
     }}
-    if (!(friction > PAMPIPE_R(0.0))) {{
+    if (!(friction >= PAMPIPE_FRICTION_MIN)) {{
         return PAMPIPE_NO_FRICTION;
     }}
     if (inner_diameter_m <= {_real(law.narrowest)}) {{ /* rest diameters: {rest} */
@@ -242,7 +297,12 @@ int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real inclin
     /* {len(body)} operations generated from pampipe.model.muscle.Muscle.closed_form_pressure */
 {statements}
     for (i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        if (!(pressure_Pa[i] <= {_limit(law)})) {{ /* {_limit_words(law)}; NaN and inf included */
+#ifdef PAMPIPE_REAL_FLOAT
+        /* float rounds P = P_a + x with cancellation, up to 2e-6 of P below the double answer: round
+           up by 5e-6 of P, so that the float law never asks for less than holds */
+        pressure_Pa[i] += PAMPIPE_R(5e-6) * PAMPIPE_FABS(pressure_Pa[i]);
+#endif
+        if (!(pressure_Pa[i] <= {_pressure_limit(law)})) {{ /* {_pressure_limit_words(law)}; NaN and inf included */
             reason = PAMPIPE_ABOVE_SUPPLY;
         }}
     }}
@@ -362,6 +422,6 @@ void loop()
 
 def is_sketch_name(name: str) -> bool:
     """True if Arduino accepts ``name`` as a sketch (and its folder) name."""
-    return (0 < len(name) <= 63 and name[0].isascii() and name[0].isalnum()
+    return (isinstance(name, str) and 0 < len(name) <= 63 and name[0].isascii() and name[0].isalnum()
             and all(c.isascii() and (c.isalnum() or c in "_.-") for c in name))
 

@@ -135,7 +135,7 @@ class FitSchema(Strict):
     bounds: BoundsSchema = BoundsSchema()
     contact_terms: Literal["constant", "full"] = "constant"
     prior: PriorSchema | None = None
-    contact_smoothing: quantity("force", gt=0, le=1e6, unit="N") = 1.0
+    contact_smoothing: quantity("force", ge=1e-6, le=1e6, unit="N") = 1.0  # narrower: exp overflows
     rmse_smoothing: float = Field(1e-4, gt=0, le=1e6)
     max_iterations: int = Field(1000, ge=1, le=100_000)
     tolerance: float = Field(1e-10, gt=0, le=1e-2)

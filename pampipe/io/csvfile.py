@@ -218,7 +218,27 @@ def _read_open(path, blocks, required, progress, size, parse) -> dict[str, np.nd
     return {name: table[:, col] * factors[name] for name, col in names.items()}
 
 
+#: Separators other than the comma that spreadsheets write, by name.
+_OTHER_SEPARATORS = {";": "semicolons (';')", "\t": "tabs"}
+
+
+def _separator_problem(text: str) -> str | None:
+    """Why ``text`` (a row) is not comma-separated plain CSV, or None: other separators, quoted cells."""
+    if "," not in text:
+        for separator, name in _OTHER_SEPARATORS.items():
+            if separator in text:
+                return (f"the row is separated by {name}; pampipe reads comma-separated values: "
+                        "save the file as CSV with ',' between cells")
+    if any(c.strip()[:1] in ('"', "'") for c in text.split(",")):
+        return ("its cells are quoted; pampipe reads plain CSV: save it without quotes, e.g. "
+                "'time [s],pressure [kPa]' and '0.0,101.3'")
+    return None
+
+
 def _parse_header(path, line, required):
+    problem = _separator_problem(line.strip())
+    if problem:
+        raise InputError(f"{path}: line 1: {problem}.")
     cells = [c.strip() for c in line.rstrip("\r\n").split(",")]
     names, factors = {}, {}
     for col, cell in enumerate(cells, start=1):
@@ -277,6 +297,9 @@ def _scan(path, lines, first_line, names, ncols) -> None:
             continue
         cells = [c.strip() for c in text.split(",")]
         where = f"{path}: line {first_line + offset}"
+        problem = _separator_problem(text)
+        if problem:
+            raise InputError(f"{where}: {problem}.")
         if len(cells) != ncols:
             raise InputError(f"{where}: has {len(cells)} cells but the header has {ncols} columns.")
         for col, cell in enumerate(cells):

@@ -35,7 +35,7 @@ def open_input(path: os.PathLike | str, *, what: str) -> BinaryIO:
     mode = os.fstat(fd).st_mode
     if not stat.S_ISREG(mode):
         os.close(fd)
-        article = "an" if what[:1] in "aeiou" else "a"
+        article = "an" if what[:1].lower() in "aeiou" else "a"
         raise InputError(f"{path}: is {kind_of(mode)}, not a regular file; expected {article} {what}.")
     os.set_blocking(fd, True)
     return os.fdopen(fd, "rb")

@@ -8,6 +8,7 @@ P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -47,6 +48,12 @@ class MuscleNeed:
         return capacity / max(self.safety_factor * self.load, 1e-9)
 
 
+@lru_cache(maxsize=64)
+def _chamber(muscle: Muscle, diameter: float) -> Chamber:
+    """:meth:`Chamber.of_muscle`, once per muscle object and bore: a route repeats its bores."""
+    return Chamber.of_muscle(muscle, diameter)
+
+
 def find_section(mission: Mission, name: str | None) -> int:
     """Index of the route section called ``name`` (default: the first)."""
     if name is None:
@@ -58,14 +65,15 @@ def find_section(mission: Mission, name: str | None) -> int:
                      f"{', '.join(repr(s.name) for s in mission.route)}.")
 
 
-def section_needs(mission: Mission, index: int, options: GaitOptions) -> tuple[MuscleNeed, ...]:
+def section_needs(mission: Mission, index: int, options: GaitOptions, *, plan=None) -> tuple[MuscleNeed, ...]:
     """Thresholds, loads and chambers of the three segments in route section ``index``.
 
     The contact and no-slip pressures, the load and the anchored length are the plan's own
     (:func:`pampipe.planning.plan_mission`, whose arrays hold them), so gait and plan agree by construction.
     Raises :class:`InfeasibleError` with the plan's reason when the section cannot be crossed.
+    ``plan``: ``plan_mission(mission)`` when already computed (the gait of every section plans once).
     """
-    plan = plan_mission(mission)
+    plan = plan_mission(mission) if plan is None else plan
     a, section = plan.arrays, mission.route[index]
     if index in a.reasons:
         raise InfeasibleError(f"section {section.name!r} cannot be crossed: {a.reasons[index]}")
@@ -79,6 +87,6 @@ def section_needs(mission: Mission, index: int, options: GaitOptions) -> tuple[M
                              f"({contact:.6g} Pa) in section {section.name!r}.")
         needs.append(MuscleNeed(segment.name, muscle, d, contact, required, required,
                                 float(a.required_hold[index, i]), section.friction, mission.kappa,
-                                mission.safety_factor, Chamber.of_muscle(muscle, d),
+                                mission.safety_factor, _chamber(muscle, d),
                                 float(a.anchored_length[index, i])))
     return tuple(needs)

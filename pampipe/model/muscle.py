@@ -240,13 +240,16 @@ class Muscle:
 
         return _least(pressing, diameter.shape)
 
-    def free_length(self, pressure, axial_load: float = 0.0, *, grid: int = 400, iterations: int = 60):
+    def free_length(self, pressure, axial_load: float = 0.0, *, grid: int = 400, iterations: int = 60,
+                    braid_limit: bool = False):
         """L_free(P) [m]: the root of F_ax(P, L) = F_a nearest L₀ toward B/√3 (docs/physics.md §7, §14.4).
 
         A contractile braid scans down from L₀ through (B/√3, L₀], an extensile one (α₀ > 54.74°) up
         from L₀ through [L₀, B/√3): the first sign change is bracketed, then bisected. Where the pressure
         cannot move the muscle from L₀ (F_ax(P, L₀) ≤ F_a contractile, ≥ F_a extensile) L_free = L₀.
-        Numeric inputs only.
+        Where the moduli never balance the pressure force (a pressure beyond the braid's limit),
+        SolverError, or with ``braid_limit`` the braid's limit B/√3, where the braid locks. Numeric
+        inputs only.
         """
         pressure = np.atleast_1d(np.asarray(pressure, dtype=float))
         g = self.geometry
@@ -259,7 +262,7 @@ class Muscle:
         first = np.argmax(negative, axis=1)
         found = negative[np.arange(pressure.size), first]
         blocked = force[:, 0] <= 0  # cannot move at all
-        if not np.all(found | blocked):
+        if not braid_limit and not np.all(found | blocked):
             bad = pressure[~(found | blocked)][0]
             raise SolverError(f"no free length between L0 and B/sqrt(3) at {bad:.6g} Pa: the moduli never "
                               "balance the pressure force", status="no_root")
@@ -267,8 +270,10 @@ class Muscle:
         for _ in range(iterations):
             mid = 0.5 * (high + low)
             moving = sign * (self.axial_force(pressure, mid) - axial_load) >= 0
-            high, low = np.where(moving, mid, high), np.where(moving, low, mid)
-        return np.where(found, 0.5 * (high + low), g.initial_length)
+            high, low, before = np.where(moving, mid, high), np.where(moving, low, mid), (high, low)
+            if np.array_equal(high, before[0]) and np.array_equal(low, before[1]):
+                break  # every bracket is a fixed point (adjacent or equal floats): more steps change nothing
+        return np.where(found, 0.5 * (high + low), np.where(blocked, g.initial_length, g.shortest_length))
 
     # ----------------------------------------------------------------------------------- holding
     def holding_capacity(self, pressure, diameter, load, *, kappa, friction):
