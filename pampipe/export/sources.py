@@ -302,7 +302,7 @@ int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real inclin
            up by 5e-6 of P, so that the float law never asks for less than holds */
         pressure_Pa[i] += PAMPIPE_R(5e-6) * PAMPIPE_FABS(pressure_Pa[i]);
 #endif
-        if (!(pressure_Pa[i] <= {_pressure_limit(law)})) {{ /* {_pressure_limit_words(law)}; NaN and inf included */
+        if (!(pressure_Pa[i] <= {_pressure_limit(law)})) {{ /* {_pressure_limit_words(law)}; NaN, inf too */
             reason = PAMPIPE_ABOVE_SUPPLY;
         }}
     }}
