@@ -50,7 +50,9 @@ def check_covariance(cov: np.ndarray) -> None:
         raise ValueError("covariance has entries that are not finite numbers")
     diag = np.diag(cov)
     if np.any(diag < 0):
-        raise ValueError(f"covariance has negative variances on its diagonal (row {int(np.argmin(diag))})")
+        i = int(np.argmin(diag))
+        raise ValueError(f"covariance: the variance [{i}][{i}] is negative ({diag[i]:.6g} in SI units); a "
+                         "variance is a squared standard deviation, at least 0")
     s = np.sqrt(diag)
     s[s == 0] = 1.0
     scaled = cov / np.outer(s, s)
