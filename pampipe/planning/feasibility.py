@@ -10,7 +10,10 @@ brackets, counted by a whole-network plan's coverage):
    i.e. the unloaded anchoring pressure exceeds the supply, docs/physics.md §7) [``beyond_reach``];
 5. no pressure up to the model's 100 MPa limit holds the load [``cannot_hold``];
 6. the pressure needed to hold the load exceeds the supply (with the largest payload it allows)
-   [``above_supply``].
+   [``above_supply``];
+7. with ``--confidence``: a direction of the muscle's parameters that the test data leave undetermined
+   moves the least holding pressure here, so no probability can be given [``undetermined``]; this
+   reason replaces the others, since it names the test to run first.
 
 With a bore range (a tolerance), each sentence names the bore that fails: the smallest for 2, the
 largest for 3 and 4, the worst bore (where the pressure is largest) for 5 and 6.
@@ -36,7 +39,8 @@ def element_feasible(elements: Elements, solution: Solution, supply: float) -> n
 REASONS = {"zero_friction": "zero wall friction", "narrower_than_muscle": "narrower than the muscles at rest",
            "wider_than_braid": "wider than the braids can open",
            "beyond_reach": "wider than the muscles reach at the supply pressure",
-           "cannot_hold": "no pressure holds the load", "above_supply": "needs more than the supply pressure"}
+           "cannot_hold": "no pressure holds the load", "above_supply": "needs more than the supply pressure",
+           "undetermined": "the test data do not determine the holding force"}
 
 
 def section_reasons(mission, muscles, elements: Elements, solution: Solution,
@@ -148,3 +152,20 @@ def _free_diameter(muscle: Muscle, supply: float) -> str:
     except SolverError:
         return ""
     return f" (it only opens to {diameter_at_length(length, muscle.geometry) * 1e3:.4g} mm)"
+
+
+def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None:
+    """Add (in place) the ``undetermined`` reason of every section an unresolved direction moves."""
+    r = mission.route
+    for s, (i, direction, delta) in sampled.undetermined.items():
+        pipe, _ = _pipe(r, s)
+        bore = _mm(r.diameter_high[s])
+        test = direction.test or "a radial test"
+        pam = mission.segments[i].pam
+        codes[s] = "undetermined"
+        sentences[s] = (
+            f"{mission.segments[i].name}'s fit ({pam.name}) leaves a direction of its parameters undetermined "
+            f"that moves its least holding pressure in {pipe} (a 1 % step along it: {abs(delta) / 1e3:.3g} kPa), "
+            f"so no holding probability can be given. {test[0].upper() + test[1:]} at the {bore} bore, or a "
+            "slip test in this pipe, would determine it; or plan with --prior-from PAM (or a geometry "
+            "'{value, sd}' in the PAM file) to rest the margin on a prior.")

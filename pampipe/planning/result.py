@@ -169,6 +169,7 @@ class MissionPlan:
     wall_time: float = 0.0  # [s] from reading the mission to the plan (set by the API)
     warnings: tuple[str, ...] = ()  # sentences for the engineer: defaults taken, thin contact margins, ...
     coverage: object | None = None  # pampipe.network.Coverage of a network plan (the route's pipes, or all)
+    uncertainty: object | None = field(default=None, repr=False)  # planning.confidence.Confidence (sampled)
 
     def timed(self, wall_time: float) -> MissionPlan:
         """A copy that reports ``wall_time`` [s]."""
@@ -237,8 +238,15 @@ class MissionPlan:
                "payload_kg": self.payload, "confidence": self.confidence, "warnings": list(self.warnings),
                "solver": {"method": self.method, "iterations": self.iterations, **self.checks,
                           "wall_time_s": self.wall_time}}
+        if self.uncertainty is not None:
+            doc["confidence"] = self.uncertainty.as_document()
+            for s, section in enumerate(doc["sections"]):
+                for i, segment in enumerate(section["segments"]):
+                    segment.update(self.uncertainty.element_document(s, i))
         if self.max_payload is not None:
             doc["max_payload"] = self.max_payload.as_document()
+            if self.uncertainty is not None:
+                doc["max_payload"]["confidence"] = self.confidence
         origin = self.arrays.route.origin
         if origin is not None:
             net = origin.network
