@@ -28,8 +28,9 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
 
     ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C, from ``samples``
     seeded draws (``seed``) of every uncertain input (:mod:`pampipe.planning.confidence`); ``prior`` is a
-    :class:`~pampipe.model.pam.Pam` whose uncertainty serves as prior along undetermined directions. ``check`` compares the NLP's pressures with a bisection on the
-    model (:mod:`pampipe.planning.checks`) and raises :class:`SolverError` beyond a relative 1e-6.
+    :class:`~pampipe.model.pam.Pam` whose uncertainty serves as prior along undetermined directions.
+    ``check`` compares the NLP's pressures with a bisection on the model (:mod:`pampipe.planning.checks`)
+    and raises :class:`SolverError` beyond a relative 1e-6.
     """
     muscles = mission_muscles(mission)
     if payload is not None:
