@@ -21,6 +21,12 @@ from pampipe.mission import Mission, Segment
 from pampipe.model.domain import check_geometry
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.model.uncertainty import (
+    GEOMETRY_NAMES,
+    ParameterUncertainty,
+    UndeterminedDirection,
+    moduli_names,
+)
 from pampipe.schema import Strict, quantity
 from pampipe.schema import validate as _validate
 from pampipe.units import to_si
@@ -50,12 +56,26 @@ def _finite(value: float) -> float:
 
 
 # ---------------------------------------------------------------------------------------------- PAM
+class UncertainLength(Strict):
+    """``{value: 57.15 mm, sd: 0.2 mm}``: a length with its standard deviation (a tolerance)."""
+
+    value: Length
+    sd: quantity("length", ge=0, le=10.0, unit="m")
+
+
+class UncertainAngle(Strict):
+    """``{value: 24 deg, sd: 1 deg}``: an angle with its standard deviation."""
+
+    value: Angle
+    sd: quantity("angle", ge=0, lt=math.pi / 2, unit="rad")
+
+
 class GeometrySchema(Strict):
-    initial_length: Length
-    initial_diameter: Length
-    braid_angle_from_transverse: Angle | None = None
-    braid_angle_from_axis: Angle | None = None
-    bladder_thickness: Length
+    initial_length: Length | UncertainLength
+    initial_diameter: Length | UncertainLength
+    braid_angle_from_transverse: Angle | UncertainAngle | None = None
+    braid_angle_from_axis: Angle | UncertainAngle | None = None
+    bladder_thickness: Length | UncertainLength
     wall: Literal["thick", "thin"] = "thick"
 
     @model_validator(mode="after")
@@ -66,6 +86,13 @@ class GeometrySchema(Strict):
                              "e.g. '65.92 deg') or braid_angle_from_axis (e.g. '24.08 deg'); "
                              f"{'both were' if all(given) else 'neither was'} given")
         return self
+
+
+def _value_sd(entry) -> tuple[float, float | None]:
+    """(value, sd) of a plain or ``{value, sd}`` geometry entry (sd None when plain)."""
+    if isinstance(entry, UncertainLength | UncertainAngle):
+        return entry.value, entry.sd
+    return entry, None
 
 
 class LawSchema(Strict):
@@ -103,11 +130,23 @@ class ModuliSchema(Strict):
         return self
 
 
+class UndeterminedSchema(Strict):
+    """One direction the data do not determine (docs/formats.md §2 ``uncertainty.undetermined``)."""
+
+    direction: dict[str, Coefficient] = Field(min_length=1)  # parameter name -> weight, scaled coordinates
+    scale: quantity("dimensionless", gt=0, le=1e12) = 1.0  # the width left open [scaled units]
+    moves: dict[str, Coefficient] = Field(default_factory=dict)  # prediction -> change per scale
+    test: str = ""  # the test that would determine it
+
+
 class UncertaintySchema(Strict):
-    """Covariance of the moduli vector [axial.a, axial.b, hoop.a, hoop.b], in ``unit``²."""
+    """Joint covariance of ``parameters`` (moduli rows in ``unit``, geometry rows in m or rad)."""
 
     unit: str = "MPa"
+    parameters: list[str] | None = Field(None, min_length=1, max_length=64)
     covariance: list[list[Coefficient]]
+    model_error: NonNegativeForce = 0.0
+    undetermined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
 
 
 class PamSchema(Strict):
@@ -116,6 +155,8 @@ class PamSchema(Strict):
     moduli: ModuliSchema | None = None
     uncertainty: UncertaintySchema | None = None
     effects: dict[str, dict[str, Any]] | None = None  # docs/physics.md §9; checked by build_effects
+    max_pressure: PositivePressure | None = None  # the maker's rated (gauge) pressure
+    max_contraction: quantity("dimensionless", gt=0, lt=1) | None = None  # largest 1 - L/L0 allowed
 
 
 def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, float]] | None:
@@ -148,13 +189,23 @@ def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, 
 def build_pam(schema: PamSchema) -> Pam:
     """SI :class:`Pam` from a validated schema (the geometry's domain is checked too)."""
     g = schema.geometry
-    if g.braid_angle_from_axis is not None:
-        alpha = g.braid_angle_from_axis
-    else:
-        alpha = math.pi / 2 - g.braid_angle_from_transverse
-    geometry = Geometry(g.initial_length, g.initial_diameter, alpha, g.bladder_thickness, g.wall)
+    values, sd = {}, {}
+    for key, name in (("initial_length", "initial_length"), ("initial_diameter", "initial_diameter"),
+                      ("braid_angle_from_axis", "braid_angle"),
+                      ("braid_angle_from_transverse", "braid_angle"),
+                      ("bladder_thickness", "bladder_thickness")):
+        entry = getattr(g, key)
+        if entry is None:
+            continue
+        values[name], spread = _value_sd(entry)
+        if key == "braid_angle_from_transverse":
+            values[name] = math.pi / 2 - values[name]  # α₀ = 90° − β₀; the sd is the same angle
+        if spread is not None:
+            sd[name] = spread
+    geometry = Geometry(values["initial_length"], values["initial_diameter"], values["braid_angle"],
+                        values["bladder_thickness"], g.wall)
     check_geometry(geometry)
-    moduli = covariance = None
+    moduli = uncertainty = None
     if schema.moduli is not None:
         m = schema.moduli
         scale = to_si(f"1 {m.unit}", "pressure", where="moduli.unit")
@@ -165,14 +216,52 @@ def build_pam(schema: PamSchema) -> Pam:
                                               m.contact.hoop.a, m.contact.hoop.b])
         moduli = Moduli.from_vector(scale * np.concatenate([m.axial.a, m.axial.b, m.hoop.a, m.hoop.b]),
                                     reference_pressure=m.reference_pressure, contact=contact)
-        if schema.uncertainty is not None:
-            u = schema.uncertainty
-            cov = np.asarray(u.covariance, dtype=float)
-            n = moduli.as_vector().size
-            if cov.shape != (n, n):
-                raise ValueError(f"uncertainty.covariance must be {n}x{n}, got {cov.shape}")
-            covariance = cov * to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit") ** 2
-    return Pam(schema.name, geometry, moduli, covariance, build_effects(schema.effects))
+    if schema.uncertainty is not None:
+        if moduli is None:
+            raise ValueError("uncertainty: is the uncertainty of the moduli and needs a moduli: block")
+        uncertainty = build_uncertainty(schema.uncertainty, moduli.degree)
+    pam = Pam(schema.name, geometry, moduli, None, build_effects(schema.effects), geometry_sd=sd,
+              max_pressure=schema.max_pressure, max_contraction=schema.max_contraction)
+    return pam.with_uncertainty(uncertainty)
+
+
+def build_uncertainty(u: UncertaintySchema, degree: int) -> ParameterUncertainty:
+    """SI :class:`ParameterUncertainty` from an ``uncertainty:`` block of a PAM with moduli of ``degree``."""
+    moduli = moduli_names(degree)
+    names = tuple(u.parameters) if u.parameters is not None else moduli
+    if names[:len(moduli)] != moduli or any(n not in GEOMETRY_NAMES for n in names[len(moduli):]) \
+            or len(set(names)) != len(names):
+        raise ValueError(f"uncertainty.parameters: {list(names)} is not allowed: it must list the "
+                         f"{len(moduli)} moduli in order ({moduli[0]} … {moduli[-1]}), then any of "
+                         f"{', '.join(GEOMETRY_NAMES)} once each")
+    cov = np.asarray(u.covariance, dtype=float)
+    n = len(names)
+    if cov.ndim != 2 or cov.shape != (n, n):
+        rows = {len(row) for row in u.covariance}
+        raise ValueError(f"uncertainty.covariance must be {n}x{n} (one row and column per parameter), got "
+                         f"{len(u.covariance)} rows of {'/'.join(str(r) for r in sorted(rows)) or 0}")
+    unit = to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit")
+    row_scale = np.array([unit if name in moduli else 1.0 for name in names])
+    directions = tuple(_direction(d, names, i) for i, d in enumerate(u.undetermined))
+    try:
+        return ParameterUncertainty(names, cov * np.outer(row_scale, row_scale), u.model_error, directions)
+    except ValueError as exc:
+        raise ValueError(f"uncertainty: {exc}") from None
+
+
+def _direction(d: UndeterminedSchema, names: tuple[str, ...], i: int) -> UndeterminedDirection:
+    unknown = [name for name in d.direction if name not in names]
+    if unknown:
+        raise ValueError(f"uncertainty.undetermined[{i}].direction: unknown parameter(s) {unknown}; "
+                         f"allowed: the uncertainty's parameters ({', '.join(names)})")
+    vector = np.array([d.direction.get(name, 0.0) for name in names])
+    norm = float(np.linalg.norm(vector))
+    if norm == 0:
+        raise ValueError(f"uncertainty.undetermined[{i}].direction: all weights are zero")
+    scale = d.scale
+    if abs(norm - 1) > 1e-9:  # a hand-written direction: make it a unit vector, keep the step
+        vector, scale = vector / norm, scale * norm
+    return UndeterminedDirection(vector, scale, dict(d.moves), d.test)
 
 
 #: Largest moduli coefficient accepted [Pa]: 1 TPa, far above any elastomer (latex ≈ 1 MPa) or fibre.

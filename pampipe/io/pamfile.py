@@ -18,6 +18,7 @@ from pampipe.io.csvfile import write_csv
 from pampipe.io.files import check_not_input, check_overwrite
 from pampipe.model.effects import get_effect
 from pampipe.model.pam import Pam
+from pampipe.model.uncertainty import GEOMETRY_NAMES, ParameterUncertainty
 
 MPA = 1e6
 
@@ -27,13 +28,22 @@ def _quantity(value: float, unit: str) -> str:
 
 
 def geometry_document(pam: Pam) -> dict:
-    """The ``geometry:`` block (the braid angle from the axis)."""
-    g = pam.geometry
-    return {"initial_length": _quantity(g.initial_length * 1e3, "mm"),
-            "initial_diameter": _quantity(g.initial_diameter * 1e3, "mm"),
-            "braid_angle_from_axis": _quantity(math.degrees(g.braid_angle), "deg"),
-            "bladder_thickness": _quantity(g.bladder_thickness * 1e3, "mm"),
-            "wall": g.wall}
+    """The ``geometry:`` block (braid angle from the axis); an entry with a stated sd is ``{value, sd}``."""
+    g, sd = pam.geometry, pam.geometry_sd
+    doc = {"initial_length": _entry(g.initial_length * 1e3, sd.get("initial_length"), "mm", 1e3),
+           "initial_diameter": _entry(g.initial_diameter * 1e3, sd.get("initial_diameter"), "mm", 1e3),
+           "braid_angle_from_axis": _entry(math.degrees(g.braid_angle), sd.get("braid_angle"), "deg",
+                                           math.degrees(1.0)),
+           "bladder_thickness": _entry(g.bladder_thickness * 1e3, sd.get("bladder_thickness"), "mm", 1e3),
+           "wall": g.wall}
+    return doc
+
+
+def _entry(value: float, sd: float | None, unit: str, factor: float):
+    """A geometry entry shown in ``unit``: a quantity, or ``{value, sd}`` when an sd [SI] is stated."""
+    if sd is None:
+        return _quantity(value, unit)
+    return {"value": _quantity(value, unit), "sd": _quantity(sd * factor, unit)}
 
 
 def _law(vector: np.ndarray, k: int, block: int) -> dict:
@@ -43,8 +53,12 @@ def _law(vector: np.ndarray, k: int, block: int) -> dict:
 
 
 def pam_document(pam: Pam, *, with_moduli: bool = True) -> dict:
-    """The PAM file of ``pam`` as a dict: name, geometry, and (if any) moduli, uncertainty, effects."""
+    """The PAM file of ``pam`` as a dict: name, geometry, limits and (if any) moduli, uncertainty, effects."""
     doc: dict = {"name": pam.name, "geometry": geometry_document(pam)}
+    if pam.max_pressure is not None:
+        doc["max_pressure"] = _quantity(pam.max_pressure / 1e3, "kPa")
+    if pam.max_contraction is not None:
+        doc["max_contraction"] = float(pam.max_contraction)  # a fraction (25 % is 0.25)
     m = pam.moduli
     if m is None or not with_moduli:
         return doc
@@ -55,11 +69,28 @@ def pam_document(pam: Pam, *, with_moduli: bool = True) -> dict:
     if m.contact is not None:
         contact = m.contact_vector()
         doc["moduli"]["contact"] = {"axial": _law(contact, k, 0), "hoop": _law(contact, k, 1)}
-    if pam.covariance is not None:
-        doc["uncertainty"] = {"unit": "MPa", "covariance": [[float(v) for v in row]
-                                                           for row in np.asarray(pam.covariance) / MPA**2]}
+    uncertainty = pam.uncertainty
+    if uncertainty is None and pam.covariance is not None:
+        uncertainty = ParameterUncertainty.moduli_only(pam.covariance, degree=m.degree)
+    if uncertainty is not None:
+        doc["uncertainty"] = uncertainty_document(uncertainty)
     if pam.effects:
         doc["effects"] = {name: _effect_values(name, values) for name, values in pam.effects.items()}
+    return doc
+
+
+def uncertainty_document(u: ParameterUncertainty) -> dict:
+    """The ``uncertainty:`` block: moduli rows in MPa, geometry rows in SI (m, rad), model error in N."""
+    row_scale = np.array([1.0 if name in GEOMETRY_NAMES else MPA for name in u.names])
+    cov = u.covariance / np.outer(row_scale, row_scale)
+    doc = {"unit": "MPa", "parameters": list(u.names), "covariance": [[float(v) for v in row] for row in cov],
+           "model_error": _quantity(u.model_error, "N")}
+    if u.undetermined:
+        doc["undetermined"] = [
+            {"direction": {name: float(w) for name, w in zip(u.names, d.vector, strict=True) if w != 0},
+             "scale": float(d.scale), "moves": {key: float(v) for key, v in d.moves.items()},
+             **({"test": d.test} if d.test else {})}
+            for d in u.undetermined]
     return doc
 
 

@@ -6,12 +6,13 @@ No I/O here: :mod:`pampipe.io.config` builds these from YAML files.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
 
 from pampipe.model import braid
+from pampipe.model.uncertainty import ParameterUncertainty
 
 Wall = Literal["thick", "thin"]
 
@@ -104,11 +105,19 @@ class Moduli:
 
 @dataclass(frozen=True)
 class Pam:
-    """A named muscle: geometry, optional moduli, optional fit covariance and optional effects.
+    """A named muscle: geometry, optional moduli, their uncertainty, effects and the maker's limits.
 
-    ``covariance`` is the covariance of :meth:`Moduli.as_vector` [Pa²], written by ``identify``.
+    ``covariance`` is the covariance of :meth:`Moduli.as_vector` [Pa²], written by ``identify``: the
+    moduli block of ``uncertainty.covariance`` (kept for the code that reads the moduli alone; a PAM
+    built by hand with an ``uncertainty`` should pass both, see :meth:`with_uncertainty`).
     ``effects`` maps effect names of :mod:`pampipe.model.effects` to their parameters (SI), e.g.
     ``{"braid_friction": {"f0": 12.0, "f1": 3e-5}}``, written by ``diagnose``; None: the baseline.
+    ``uncertainty`` is the joint uncertainty of the moduli and calibrated geometry written by
+    ``identify`` (:class:`~pampipe.model.uncertainty.ParameterUncertainty`); None: none stated.
+    ``geometry_sd`` maps geometry entries (``initial_length``, ``initial_diameter``, ``braid_angle``,
+    ``bladder_thickness``) to a stated standard deviation (SI: m, rad), from ``{value, sd}`` entries of
+    the PAM file; empty when none. ``max_pressure`` [Pa] is the maker's rated pressure and
+    ``max_contraction`` [-] the largest contraction 1 − L/L₀ the maker allows; None: not stated.
     """
 
     name: str
@@ -116,3 +125,12 @@ class Pam:
     moduli: Moduli | None = None
     covariance: np.ndarray | None = field(default=None, compare=False)
     effects: dict[str, dict[str, float]] | None = field(default=None, hash=False)
+    uncertainty: ParameterUncertainty | None = field(default=None, hash=False)
+    geometry_sd: dict[str, float] = field(default_factory=dict, hash=False)
+    max_pressure: float | None = None
+    max_contraction: float | None = None
+
+    def with_uncertainty(self, uncertainty: ParameterUncertainty | None) -> Pam:
+        """This PAM with ``uncertainty`` and, consistently, its moduli block as ``covariance``."""
+        covariance = None if uncertainty is None else uncertainty.moduli_covariance()
+        return replace(self, uncertainty=uncertainty, covariance=covariance)
