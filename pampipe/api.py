@@ -99,16 +99,24 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
 
 
 def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
-         max_payload: bool = False, base=None):
+         max_payload: bool = False, base=None, samples: int | None = None, seed: int | None = None,
+         prior=None):
     """The least anchoring pressure of every segment in every section (`pampipe plan`).
 
+    With ``confidence`` C: ``samples`` draws seeded by ``seed`` (defaults of
+    :mod:`pampipe.planning.confidence`), ``prior`` a PAM file (or :class:`~pampipe.model.pam.Pam`) whose
+    uncertainty serves as prior along undetermined directions.
     Returns a :class:`pampipe.planning.MissionPlan` (``to_dict()``: the JSON document).
     """
     from pampipe.planning import plan_mission
+    from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
 
     started = time.perf_counter()
+    prior = None if prior is None else load_pam(prior)
     result = plan_mission(load_mission(mission, base=base), payload=_si(payload, "mass", "payload"),
-                          confidence=confidence, method=solver, with_max_payload=max_payload)
+                          confidence=confidence, method=solver, with_max_payload=max_payload,
+                          samples=DEFAULT_SAMPLES if samples is None else samples,
+                          seed=DEFAULT_SEED if seed is None else seed, prior=prior)
     return result.timed(time.perf_counter() - started)
 
 

@@ -178,6 +178,7 @@ class Mission:
     route: Route
     gait: dict[str, Any]
     warnings: tuple[str, ...] = ()
+    kappa_sd: float = 0.0  # standard deviation of κ, drawn by confidence plans (0 = known exactly)
 
     def __post_init__(self):
         if not isinstance(self.route, Route):

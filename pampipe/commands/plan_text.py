@@ -46,6 +46,8 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
               f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
               f"P - P_anchor (warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the "
               "safety factor where no slip sets the pressure)."]
+    if plan.uncertainty is not None:
+        parts += _confidence_text(plan, rows, unit, scale)
     if plan.coverage is not None:
         parts.append(_coverage_text(plan.coverage, "the network" if origin.whole else "the route"))
     if plan.max_payload is not None:
@@ -55,8 +57,9 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
             parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at "
                          f"{supply}.")
         else:
-            parts.append(f"max payload at {supply}: {limit.payload:.4g} kg, limited by {limit.segment} in "
-                         f"section {limit.section!r}.")
+            held = "" if plan.confidence is None else f" (held with probability {plan.confidence:.3g})"
+            parts.append(f"max payload at {supply}: {limit.payload:.4g} kg{held}, limited by {limit.segment} "
+                         f"in section {limit.section!r}.")
     if plan.feasible:
         parts.append("feasible: every segment holds in every section, over each bore's range, within the "
                      "supply.")
@@ -146,6 +149,34 @@ def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
                         float(capacity), float(capacity / hold) if hold > 0 else "inf",
                         "yes" if a.feasible[s, i] else "NO"))
     return table(headers, out)
+
+
+def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[str]:
+    """The sampled plan: probabilities and pressures per element, then the sources by influence."""
+    c, a = plan.uncertainty, plan.arrays
+    levels = list(c.pressure_at)
+    headers = ["section", "segment", f"P [{unit}]", "P(hold)", "P(contact)",
+               *(f"P@{k} [{unit}]" for k in levels)]
+    out = []
+    for s in rows.tolist():
+        if not a.complete[s]:
+            continue
+        for i, name in enumerate(a.segment_names):
+            out.append((a.route.name[s], name, a.pressure[s, i] / scale,
+                        f"{c.holding_probability[s, i]:.4f} ± {c.holding_se[s, i]:.4f}",
+                        f"{c.contact_probability[s, i]:.4f}",
+                        *(float(c.pressure_at[k][s, i] / scale) for k in levels)))
+    sources = [(r["source"], r["what"], r["pressure_shift_Pa"] / scale) for r in c.dominant()]
+    text = [f"confidence {c.level:.3g}: {c.samples} seeded draws (seed {c.seed}) of every stated uncertainty; "
+            "P is the least pressure that holds in that share of the draws (P(hold) ± its Monte Carlo "
+            "error; holding includes touching the wall: P(contact) is the share in which the unloaded "
+            "muscle touches the largest bore):", table(headers, out),
+            f"what each source adds alone (its {c.level:.3g} quantile with the others at their nominal "
+            "values, the worst element):", table(["source", "what", f"adds [{unit}]"], sources)]
+    if c.prior:
+        text.append("note: part of this margin rests on a prior (--prior-from or a stated geometry sd) "
+                    "along directions the muscle's own test data leave undetermined.")
+    return text
 
 
 def _bore_table(plan, unit: str, scale: float) -> str:

@@ -37,7 +37,7 @@ DEFAULT_SAMPLES = 4000
 DEFAULT_SEED = 22
 #: Draws × sections evaluated per mapped call (bounds memory for long routes).
 BATCH = 1 << 17
-#: An undetermined direction "moves" a hold when a 1 % step along it moves P* by more than this [Pa].
+#: An undetermined direction "moves" a hold when a step of its open width moves P* by more than this [Pa].
 MOVES = 100.0
 
 
@@ -278,11 +278,10 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
 
 
 def _moves(ev: _Evaluator, direction: Direction) -> np.ndarray:
-    """Change of the certain P* [Pa] per section for a 1 % step along ``direction``."""
-    support = np.abs(direction.vector) > 0
-    scale = np.max(np.abs(ev.nominal[support])) if support.any() else 0.0
-    step = 0.01 * (scale if scale > 0 else 1e4)
-    out = [ev.evaluate((), nominal=ev.nominal + sign * step * direction.vector)[0][0] for sign in (1.0, -1.0)]
+    """Change of the certain P* [Pa] per section across ± the width the data leave open along
+    ``direction`` (inf where P* stops existing on either side)."""
+    step = direction.scale * direction.step
+    out = [ev.evaluate((), nominal=ev.nominal + sign * step)[0][0] for sign in (1.0, -1.0)]
     with np.errstate(invalid="ignore"):
         delta = out[0] - out[1]
     return np.where(np.isfinite(delta), delta, np.inf)

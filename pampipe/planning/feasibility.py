@@ -165,8 +165,8 @@ def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None
         codes[s] = "undetermined"
         sentences[s] = (
             f"{mission.segments[i].name}'s fit ({pam.name}) leaves a direction of its parameters "
-            f"undetermined that moves its least holding pressure in {pipe} (a 1 % step along it: "
-            f"{abs(delta) / 1e3:.3g} kPa), "
+            f"undetermined that moves its least holding pressure in {pipe} (by "
+            f"{abs(delta) / 1e3:.3g} kPa across what the data allow), "
             f"so no holding probability can be given. {test[0].upper() + test[1:]} at the {bore} bore, or a "
             "slip test in this pipe, would determine it; or plan with --prior-from PAM (or a geometry "
             "'{value, sd}' in the PAM file) to rest the margin on a prior.")

@@ -16,9 +16,11 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
   not drawn: the plan holds over all of it (the pipe takes every bore of its range along its length).
 * ``friction``: μ ~ N(μ̂, sd²) per section; a draw with μ ≤ 0 cannot hold.
 * ``kappa``: κ ~ N(κ̂, sd²) clipped at 0 (``Mission.kappa_sd``), one draw for the mission.
-* ``prior``: along each ``undetermined`` direction v of a fit, t·v with t ~ N(vᵀ(θ_prior − θ̂), vᵀΣ_prior v)
-  from ``--prior-from PAM`` and the PAM's stated geometry sds; without it the direction is
-  reported instead (exit 3).
+* ``prior``: along each ``undetermined`` direction v of a fit (a unit vector in scaled coordinates q,
+  one unit = 1 MPa, 1 deg or 1 mm: :mod:`pampipe.model.uncertainty`), q = q̂ + t·v with
+  t ~ N(vᵀ(q_prior − q̂), vᵀΣ_q,prior v) from ``--prior-from PAM`` (its moduli and covariance) and the
+  PAM's stated geometry sds; without a prior (vᵀΣ_q,prior v = 0) the direction is reported instead
+  (exit 3).
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.model.muscle import Muscle
+from pampipe.model.uncertainty import scaled_unit
 
 SOURCES = ("moduli", "geometry", "model_error", "bore", "friction", "kappa", "prior")
 #: What each source is, for reports.
@@ -37,15 +40,21 @@ SOURCE_WORDS = {"moduli": "moduli and calibrated geometry (identify's covariance
                 "model_error": "model error (axial force residual beyond noise)",
                 "bore": "bore sd", "friction": "wall friction sd", "kappa": "load coupling kappa sd",
                 "prior": "prior along undetermined directions"}
-GEOMETRY_NAMES = ("initial_length", "initial_diameter", "braid_angle", "bladder_thickness")
 
 
 @dataclass(frozen=True)
 class Direction:
     """A direction of the parameter vector the data leave undetermined, and what would determine it."""
 
-    vector: np.ndarray  # unit vector in the muscle's parameter layout (Structure.names())
+    vector: np.ndarray  # unit vector in scaled coordinates, in the muscle's layout (Structure.names())
+    units: np.ndarray  # SI size of one scaled unit of each parameter (same layout)
+    scale: float  # [scaled units] the width along ``vector`` the data leave open
     test: str  # the test that would determine it
+
+    @property
+    def step(self) -> np.ndarray:
+        """SI change of the parameter vector for one scaled unit along the direction."""
+        return self.vector * self.units
 
 
 @dataclass(frozen=True)
@@ -57,8 +66,8 @@ class MuscleUncertainty:
     tolerance: np.ndarray  # (size,) sds of the stated, uncalibrated geometry
     model_error: float  # [N]
     undetermined: tuple[Direction, ...] = ()
-    prior_shift: tuple[float, ...] = ()  # per undetermined direction, vᵀ(p_prior − p̂)
-    prior_sd: tuple[float, ...] = ()  # per undetermined direction, √(vᵀΣ_prior v) (0: no prior)
+    prior_shift: tuple[float, ...] = ()  # per undetermined direction, vᵀ(q_prior − q̂) [scaled units]
+    prior_sd: tuple[float, ...] = ()  # per undetermined direction, √(vᵀΣ_q,prior v) (0: no prior)
     fit_key: object = None  # segments with equal keys share the fit draw
 
     @property
@@ -113,20 +122,21 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
     fit = _covariance(pam, structure, where)
     tolerance = np.zeros(structure.size)
     calibrated = np.diag(fit) > 0
-    for name, sd in (getattr(pam, "geometry_sd", None) or {}).items():
-        k = GEOMETRY_NAMES.index(name)
+    sds = getattr(pam, "geometry_sd", None) or {}
+    for name, k in zip(sds, _names_index(sds, structure, where), strict=True):
         if not calibrated[k]:
-            tolerance[k] = float(sd)
+            tolerance[k] = float(sds[name])
     u = getattr(pam, "uncertainty", None)
     error = float(getattr(u, "model_error", 0.0) or 0.0)
+    units = np.array([scaled_unit(name) for name in structure.names()])
     directions = []
     for d in getattr(u, "undetermined", None) or ():
         vector = np.zeros(structure.size)
-        index = _names_index(u.names, structure, where)
-        vector[index] = np.asarray(d.vector, dtype=float)
+        vector[_names_index(u.names, structure, where)] = np.asarray(d.vector, dtype=float)
         norm = np.linalg.norm(vector)
         if norm > 0:
-            directions.append(Direction(vector / norm, str(getattr(d, "test", "") or "")))
+            directions.append(Direction(vector / norm, units, float(getattr(d, "scale", 1.0) or 1.0),
+                                        str(getattr(d, "test", "") or "")))
     shift, sds = _prior(directions, muscle, tolerance, prior, where)
     key = segment.pam_file if segment.pam_file is not None else id(pam)
     return MuscleUncertainty(muscle.parameter_vector(), fit, tolerance, error, tuple(directions),
@@ -149,8 +159,10 @@ def _prior(directions, muscle: Muscle, tolerance: np.ndarray, prior, where: str)
                                  f"({other.structure}) than the planned muscle ({structure}).")
             mean = other.parameter_vector()
     base = muscle.parameter_vector()
-    shift = tuple(float(d.vector @ (mean - base)) for d in directions)
-    sds = tuple(float(np.sqrt(max(d.vector @ cov @ d.vector, 0.0))) for d in directions)
+    units = directions[0].units
+    scaled = cov / np.outer(units, units)
+    shift = tuple(float(d.vector @ ((mean - base) / units)) for d in directions)
+    sds = tuple(float(np.sqrt(max(d.vector @ scaled @ d.vector, 0.0))) for d in directions)
     return shift, sds
 
 
@@ -174,7 +186,7 @@ def draw(mission, muscles: list[MuscleUncertainty], n: int, seed: int) -> Draws:
         params["geometry"].append(rng.standard_normal((n, m.tolerance.size)) * m.tolerance)
         prior = np.zeros((n, m.nominal.size))
         for d, shift, sd in zip(m.undetermined, m.prior_shift, m.prior_sd, strict=True):
-            prior += np.outer(shift + sd * rng.standard_normal(n), d.vector)
+            prior += np.outer(shift + sd * rng.standard_normal(n), d.step)
         params["prior"].append(prior)
         errors.append(rng.standard_normal(n) * m.model_error)
     sections = len(route)
