@@ -30,7 +30,8 @@ With --confidence C the plan samples every stated uncertainty (the PAM's fit cov
 and geometry sds, the bores', friction and kappa sds) and plans the least pressure that holds in a share
 C of the draws, with the holding and contact probabilities, the pressures at 0.9, 0.99 and 0.999 and
 the source that dominates. A direction that the muscle's test data leave undetermined and that moves a
-section's holding force makes that section infeasible (exit 3), naming the test that would fix it. A route may be a path through a pipe network (route: {network: ky4,
+section's holding force makes that section infeasible (exit 3), naming the test that would fix it.
+A route may be a path through a pipe network (route: {network: ky4,
 from: J-315, to: J-897, friction: 0.3}) or, without from/to, every pipe of it, with the coverage.
 
 examples:
@@ -58,8 +59,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "and the section that limits it")
     parser.add_argument("--confidence", type=_probability, metavar="C",
                         help="plan the pressure that holds with probability C (e.g. 0.95), sampling every "
-                             "stated uncertainty: the PAM's 'uncertainty:' block (moduli, calibrated geometry, "
-                             "model error), its geometry sds, the bores' and friction sds and kappa's sd; "
+                             "stated uncertainty: the PAM's 'uncertainty:' block (moduli, calibrated "
+                             "geometry, model error), its geometry sds, the bores' and friction sds and "
+                             "kappa's sd; "
                              "with --max-payload, the payload held with probability C")
     parser.add_argument("--samples", type=_count, default=None, metavar="N",
                         help="draws of the uncertain inputs for --confidence (default 4000; the holding "

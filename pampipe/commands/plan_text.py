@@ -167,7 +167,8 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
                         f"{c.contact_probability[s, i]:.4f}",
                         *(float(c.pressure_at[k][s, i] / scale) for k in levels)))
     sources = [(r["source"], r["what"], r["pressure_shift_Pa"] / scale) for r in c.dominant()]
-    text = [f"confidence {c.level:.3g}: {c.samples} seeded draws (seed {c.seed}) of every stated uncertainty; "
+    text = [f"confidence {c.level:.3g}: {c.samples} seeded draws (seed {c.seed}) of every stated uncertainty;"
+            " "
             "P is the least pressure that holds in that share of the draws (P(hold) ± its Monte Carlo "
             "error; holding includes touching the wall: P(contact) is the share in which the unloaded "
             "muscle touches the largest bore):", table(headers, out),
