@@ -88,7 +88,7 @@ def test_a_bore_with_an_sd_is_accepted_and_used_only_by_confidence():
 
 @pytest.mark.parametrize("confidence", [0.8, 0.95])
 def test_bore_sd_under_confidence_holds_in_c_of_monte_carlo_draws(confidence):
-    """First-order propagation of σ_D: the pressure holds in C ± 2 % of 10⁴ draws of the bore (the
+    """Sampled σ_D: the pressure holds in C ± 2 % of 10⁴ draws of the bore (the
     Monte Carlo standard error is ≤ 0.4 %; the demo PAM has no covariance, so the bore is the only source).
     """
     sd = 0.3e-3
