@@ -26,7 +26,6 @@ def pressure_scale(unit: str) -> float:
 
 def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
     """The whole report: header, route, sections as parsed, plan, coverage, payload and verdict."""
-    from pampipe.planning.result import CONTACT_MARGIN  # the plan package is loaded by the run, not --help
     scale = pressure_scale(unit)
     route = plan.arrays.route
     rows = _shown_rows(plan, all_sections)
@@ -43,9 +42,9 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
         parts += ["by bore:", _bore_table(plan, unit, scale)]
     parts += [f"plan (pressures in {unit}, gauge; each segment in the worst bore of its section's range):",
               _plan_table(plan, rows, unit, scale),
-              f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
-              f"P - P_anchor (warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the "
-              "safety factor where no slip sets the pressure)."]
+              "P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
+              "P - P_anchor (thin: below what a 1 mm wider bore or a 1 deg braid angle error costs); "
+              "margin = capacity / W (the safety factor where no slip sets the pressure)."]
     if plan.uncertainty is not None:
         parts += _confidence_text(plan, rows, unit, scale)
     if plan.coverage is not None:
@@ -125,9 +124,8 @@ def _parsed_table(plan, rows: np.ndarray) -> str:
 
 
 def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
-    from pampipe.planning.result import thin_contact
-
     a = plan.arrays
+    thin = a.thin
     uncertain = plan.confidence is not None
     ranged = bool(a.route.toleranced.any())
     headers = ["section", "segment", f"P [{unit}]", *([f"P_nominal [{unit}]"] if uncertain else []),
@@ -145,7 +143,7 @@ def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
             out.append((a.route.name[s], name, p / scale,
                         *([a.nominal_pressure[s, i] / scale] if uncertain else []),
                         *([a.diameter[s, i] * 1e3] if ranged else []), touch / scale,
-                        f"{margin:.4g} (thin)" if thin_contact(p, touch) else float(margin), float(hold),
+                        f"{margin:.4g} (thin)" if thin[s, i] else float(margin), float(hold),
                         float(capacity), float(capacity / hold) if hold > 0 else "inf",
                         "yes" if a.feasible[s, i] else "NO"))
     return table(headers, out)

@@ -10,6 +10,7 @@ import numpy as np
 from pampipe.errors import InputError, SolverError
 from pampipe.planning.checks import cross_check
 from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED, plan_confidence
+from pampipe.planning.contact import contact_costs
 from pampipe.planning.feasibility import element_feasible, section_reasons, undetermined_reasons
 from pampipe.planning.payload import element_payloads, payload_limit
 from pampipe.planning.problem import Elements, build_elements, mission_muscles
@@ -85,7 +86,8 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
         complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=reasons, diameter=np.array(e.diameter),
-        largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes)
+        largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes,
+        contact_cost=contact_costs(muscles, e.diameter_high, e.valid))
 
 
 def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
