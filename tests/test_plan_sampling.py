@@ -211,3 +211,11 @@ def test_bad_sampling_options_exit_2(cli):
     assert cli("plan", mission, "--confidence", "0.9", "--samples", "10").returncode == 2
     assert cli("plan", mission, "--samples", "1000").returncode == 2
     assert api.plan(mission, confidence=0.9, samples=500).uncertainty.samples == 500
+
+
+def test_plots_draw_the_tornado_only_with_confidence(cli, tmp_path):
+    mission = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
+    assert cli("plan", mission, "--confidence", "0.95", "--plots", tmp_path / "c").returncode == 0
+    assert (tmp_path / "c" / "confidence_tornado.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert cli("plan", mission, "--plots", tmp_path / "n").returncode == 0
+    assert not (tmp_path / "n" / "confidence_tornado.png").exists()

@@ -102,6 +102,8 @@ class Confidence:
     pressure_at: dict[str, np.ndarray]  # {"0.9": [Pa], ...}
     pressure_ci95: np.ndarray  # (S, segments, 2) [Pa], order-statistic band of the planned pressure
     shifts: dict[str, np.ndarray]  # source → C-quantile with that source alone − the certain P* [Pa]
+    low_shifts: dict[str, np.ndarray]  # source → (1 − C)-quantile with that source alone − the certain P*
+    certain: np.ndarray  # [Pa] P* with every source at its nominal value (max over the range's bores)
     undetermined: dict[int, tuple[int, Direction, float]] = field(default_factory=dict)  # s → (i, d, ΔP)
     prior: bool = False  # some margin rests on a prior (--prior-from or stated sds)
     payload: np.ndarray | None = None  # [kg], element payload held with probability C at supply
@@ -241,6 +243,8 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     levels = {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}
     band = np.full((*shape, 2), np.inf)
     shifts = {name: np.full(shape, np.nan) for name in draws.active}
+    low_shifts = {name: np.full(shape, np.nan) for name in draws.active}
+    certain_all = np.full(shape, np.nan)
     payload = np.full(shape, -np.inf) if with_payload else None
     undetermined = {}
     n = samples
@@ -264,8 +268,11 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
         if held is not None:
             payload[rows, i] = lower_quantile(held, confidence)
         certain = ev.evaluate(())[0][0]
+        certain_all[rows, i] = certain
         for name in draws.active:
-            shifts[name][rows, i] = upper_quantile(ev.evaluate((name,))[0], confidence) - certain
+            alone = ev.evaluate((name,))[0]
+            shifts[name][rows, i] = upper_quantile(alone, confidence) - certain
+            low_shifts[name][rows, i] = upper_quantile(alone, 1 - confidence) - certain
         for d in uncertainties[i].unresolved:
             moved = _moves(ev, d)
             for k, s in enumerate(rows.tolist()):
@@ -273,8 +280,8 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
                     undetermined[s] = (i, d, float(moved[k]))
     se = np.sqrt(holding * (1 - holding) / n)
     used_prior = any(u.undetermined and not u.unresolved for u in uncertainties)
-    return Confidence(confidence, n, seed, pressure, holding, se, contact, levels, band, shifts,
-                      undetermined, used_prior, payload)
+    return Confidence(confidence, n, seed, pressure, holding, se, contact, levels, band, shifts, low_shifts,
+                      certain_all, undetermined, used_prior, payload)
 
 
 def _moves(ev: _Evaluator, direction: Direction) -> np.ndarray:
