@@ -177,11 +177,14 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
 
-def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None):
+def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None,
+                   confidence: float | None = None, samples: int | None = None, seed: int | None = None):
     """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
     the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
     names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
-    The header records the SHA-256 of every input file (none for a dict).
+    The header records the SHA-256 of every input file (none for a dict). With ``confidence`` C the law
+    adds, per segment, the margin `plan --confidence C` needs over the mission's sections (``samples``
+    draws seeded by ``seed``), stated in the header.
     """
     import hashlib
 
@@ -196,7 +199,9 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
                 inputs.append((str(path), hashlib.sha256(path.read_bytes()).hexdigest()))
             except OSError as exc:
                 raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
-    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name)
+    sampling = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
+    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name,
+                    confidence=confidence, **sampling)
 
 
 def load_inventory(inventory: Source, *, base=None):

@@ -57,7 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-payload", action="store_true",
                         help="also report the largest payload the supply carries through the whole route, "
                              "and the section that limits it")
-    parser.add_argument("--confidence", type=_probability, metavar="C",
+    parser.add_argument("--confidence", type=probability, metavar="C",
                         help="plan the pressure that holds with probability C (e.g. 0.95), sampling every "
                              "stated uncertainty: the PAM's 'uncertainty:' block (moduli, calibrated "
                              "geometry, model error), its geometry sds, the bores' and friction sds and "
@@ -83,7 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_output_options(parser)
 
 
-def _probability(text: str) -> float:
+def probability(text: str) -> float:
     """argparse type: a probability in [0.5, 1), as a number or a percentage ('0.95', '95 %')."""
     try:
         value = to_si(text, "dimensionless")

@@ -21,7 +21,7 @@ import casadi as ca
 
 from pampipe import __version__
 from pampipe.export.gait_table import GaitStep, SectionGait, section_gaits
-from pampipe.export.law import Law, Reason, mission_law
+from pampipe.export.law import Law, Reason, confidence_margins, mission_law
 from pampipe.export.sources import header, is_sketch_name, sketch, source
 
 HEADER = "pampipe_plan.h"
@@ -64,15 +64,21 @@ class Export:
             "diameter_range_m": [law.narrowest, law.widest],
             "reason_codes": {r.name.lower(): int(r) for r in Reason},
             "operations": law.function.n_instructions(),
+            "confidence": None if law.confidence is None else {
+                "level": law.confidence, "margins_Pa": dict(zip(law.segments, law.margins, strict=True))},
             "sections": [s.as_document() for s in self.sections],
         }
 
 
-def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH) -> Export:
-    """The C export of ``mission`` (InputError if a PAM's effects have no closed form)."""
+def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH,
+             confidence: float | None = None, **sampling) -> Export:
+    """The C export of ``mission`` (InputError if a PAM's effects have no closed form); with
+    ``confidence`` C the law carries the margins that plan at C
+    (:func:`~pampipe.export.law.confidence_margins`; ``sampling``: its ``samples``/``seed``)."""
     if not is_sketch_name(sketch_name):
         raise ValueError(f"{sketch_name!r} is not an Arduino sketch name")
-    law = mission_law(mission)
+    margins = () if confidence is None else confidence_margins(mission, confidence, **sampling)
+    law = mission_law(mission, confidence=confidence, margins=margins)
     gaits = section_gaits(mission, law)
     files = {HEADER: header(law, gaits, provenance), SOURCE: source(law, gaits, provenance),
              f"{sketch_name}.ino": sketch(law, gaits, provenance, sketch_name)}
