@@ -219,3 +219,22 @@ def test_plots_draw_the_tornado_only_with_confidence(cli, tmp_path):
     assert (tmp_path / "c" / "confidence_tornado.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert cli("plan", mission, "--plots", tmp_path / "n").returncode == 0
     assert not (tmp_path / "n" / "confidence_tornado.png").exists()
+
+
+def test_a_stated_geometry_sd_is_the_prior_of_an_undetermined_geometry_direction(radial_pam):
+    """The braid angle left undetermined: exit-3 reason without an sd; with `braid_angle: {value, sd: 1 deg}`
+    the plan proceeds on that prior and says so."""
+    names = (*moduli_names(3), "braid_angle")
+    vector = np.zeros(17)
+    vector[16] = 1.0
+    direction = UndeterminedDirection(vector, 2.0, {}, "a radial test at 76.2 mm (3 in)")
+    cov = np.diag(np.r_[np.full(16, 0.05e6), 0.0] ** 2)
+    u = ParameterUncertainty(names, cov, 0.0, (direction,))
+    pam = radial_pam.with_uncertainty(u)
+    mission = with_pam(load_mission(DEMO), pam)
+    bare = plan_mission(mission, confidence=0.95)
+    assert set(bare.arrays.reason_codes.values()) == {"undetermined"} and not bare.feasible
+    stated = with_pam(mission, dataclasses.replace(pam, geometry_sd={"braid_angle": math.radians(1.0)}))
+    planned = plan_mission(stated, confidence=0.95)
+    assert planned.feasible and planned.uncertainty.prior
+    assert "prior" in [r["source"] for r in planned.uncertainty.dominant()]

@@ -120,12 +120,11 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
     """The sources of one segment's muscle, from its PAM (and the ``prior`` PAM, if any)."""
     pam, structure = segment.pam, muscle.structure
     fit = _covariance(pam, structure, where)
-    tolerance = np.zeros(structure.size)
-    calibrated = np.diag(fit) > 0
-    sds = getattr(pam, "geometry_sd", None) or {}
-    for name, k in zip(sds, _names_index(sds, structure, where), strict=True):
-        if not calibrated[k]:
-            tolerance[k] = float(sds[name])
+    stated = np.zeros(structure.size)  # every stated geometry sd, the prior of undetermined directions
+    given = getattr(pam, "geometry_sd", None) or {}
+    for name, k in zip(given, _names_index(given, structure, where), strict=True):
+        stated[k] = float(given[name])
+    tolerance = np.where(np.diag(fit) > 0, 0.0, stated)  # a calibrated entry's spread is the fit's
     u = getattr(pam, "uncertainty", None)
     error = float(getattr(u, "model_error", 0.0) or 0.0)
     units = np.array([scaled_unit(name) for name in structure.names()])
@@ -137,18 +136,18 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
         if norm > 0:
             directions.append(Direction(vector / norm, units, float(getattr(d, "scale", 1.0) or 1.0),
                                         str(getattr(d, "test", "") or "")))
-    shift, sds = _prior(directions, muscle, tolerance, prior, where)
+    shift, sds = _prior(directions, muscle, stated, prior, where)
     key = segment.pam_file if segment.pam_file is not None else id(pam)
     return MuscleUncertainty(muscle.parameter_vector(), fit, tolerance, error, tuple(directions),
                              shift, sds, key)
 
 
-def _prior(directions, muscle: Muscle, tolerance: np.ndarray, prior, where: str):
-    """(mean shift, sd) along each undetermined direction from the prior PAM and the stated sds."""
+def _prior(directions, muscle: Muscle, stated: np.ndarray, prior, where: str):
+    """(mean shift, sd) along each undetermined direction from the prior PAM and the stated geometry sds."""
     if not directions:
         return (), ()
     structure = muscle.structure
-    cov = np.diag(tolerance**2)
+    cov = np.diag(stated**2)
     mean = muscle.parameter_vector()
     if prior is not None:
         cov = cov + _covariance(prior, structure, f"--prior-from {where}")
