@@ -212,3 +212,12 @@ def _mm(length: float) -> str:
 
 def _shown(value: object) -> str:
     return _mm(value) if isinstance(value, int | float) else str(value).strip()
+
+
+def schedule_bores(low: float, high: float, *, schedule: str = "40") -> list[tuple[str, float]]:
+    """[(label, bore [m])] of the ASME steel pipes of ``schedule`` whose bore lies in (low, high)."""
+    from fluids.piping import schedule_lookup
+
+    sizes, bores = schedule_lookup[schedule][0], schedule_lookup[schedule][1]
+    return [(f"NPS {_fraction(nps)} Sch {schedule}", bore * 1e-3)
+            for nps, bore in zip(sizes, bores, strict=True) if low < bore * 1e-3 < high]

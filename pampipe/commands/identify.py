@@ -127,6 +127,7 @@ def report(result, source: str) -> str:
     parts.append(f"identifiable parameter combinations: {u.rank} of {len(result.names)} (listed in --json); "
                  "what that means for the forces:")
     parts.append(_predictions(result))
+    parts.append(_written(result))
     parts.append(_drucker(result))
     parts += [f"warning: {w}" for w in result.warnings]
     return "\n".join(parts)
@@ -178,6 +179,36 @@ def _predictions(result) -> str:
         lines.append(table(["pipe", "envelope", "anchoring [kPa]", "+/- [kPa]", f"F_r at {top:.4g} kPa [N]",
                             "+/- [N]", "verdict"], rows))
     return "\n".join(lines) if lines else "(no predictions: no axial test and no pipe)"
+
+
+def _written(result) -> str:
+    """The PAM file's uncertainty: block in words: the model error and the undetermined directions."""
+    m, w = result.model_error, result.parameter_uncertainty
+    if m is None or w is None:
+        return ""
+    how = (f"cross-validated over {len(m.bands)} pressure bands: held-out RMSE {m.cv_rmse:.3g} N, "
+           f"{m.expected_rmse:.3g} N expected from noise and refit" if m.method == "pressure_bands"
+           else f"in-sample RMSE {m.cv_rmse:.3g} N (one pressure: nothing to hold out)")
+    lines = [f"\nModel error {m.value:.3g} N beyond the noise floor {m.noise_floor:.3g} N ({how})"]
+    if not w.undetermined:
+        lines.append("every parameter direction is determined by the data (or a prior)")
+        return "\n".join(lines)
+    lines.append(f"{len(w.undetermined)} parameter direction(s) NOT determined by the data (zero variance in "
+                 "the covariance; listed under uncertainty.undetermined). A plan that depends on them rests "
+                 "on nothing until the named test or a prior (fit.prior) fixes them:")
+    rows = []
+    for k, d in enumerate(w.undetermined, 1):
+        top = sorted(zip(w.names, d.vector, strict=True), key=lambda item: -abs(item[1]))[:3]
+        force = {key: v for key, v in d.moves.items() if key.startswith("radial_force_N@")}
+        worst = max(force, key=lambda key: abs(force[key]), default=None)
+        anchoring = worst and d.moves.get(worst.replace("radial_force_N", "anchoring_pressure_Pa"))
+        rows.append((k, ", ".join(f"{n} {v:+.2f}" for n, v in top), d.scale,
+                     "-" if worst is None else f"{float(worst.split('@')[1][:-1]) * 1e3:.4g} mm",
+                     "-" if worst is None else f"{abs(force[worst]):.4g}",
+                     "-" if anchoring is None else f"{abs(anchoring) / 1e3:.4g}", d.test))
+    lines.append(table(["#", "mostly (scaled: MPa, deg, mm)", "width left open", "bore", "moves F_r [N]",
+                        "moves anchoring [kPa]", "test that would determine it"], rows))
+    return "\n".join(lines)
 
 
 def _drucker(result) -> str:

@@ -26,11 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.identification import geometry as geo
 from pampipe.identification import problem
 from pampipe.identification.nlp import Structure
 from pampipe.model import braid
-from pampipe.model.muscle import Muscle
 
 #: Grid cells per axis over the tested (P, L) range.
 CELLS = 12
@@ -99,18 +97,8 @@ class Predictions:
 
 def predictions(data, structure: Structure, x, uncertainty, geometry, stated, options, stats) -> Predictions:
     """The verdict of the module docstring for the solution ``x``."""
-    fixed = np.zeros(x.size, dtype=bool)
-    if structure.calibrate:
-        fixed[x.size - len(structure.calibrate):] = True
-
     def muscles(xv):
-        g = geo.from_x(stated, structure.calibrate, xv[fixed]) if structure.calibrate else stated
-        main, pipes, _ = problem.moduli_of(structure, stats, xv)
-
-        def make(m):
-            contact = m.contact_vector() if m.contact is not None else None
-            return Muscle(g, m.as_vector(), m.reference_pressure, contact=contact)
-        return make(main), {d: make(m) for d, m in pipes.items()}
+        return problem.muscles_of(structure, stats, stated, xv)
 
     def judged(function):
         """(value, 95 % half-width, determined) of a vector-valued prediction function of x."""

@@ -23,8 +23,9 @@ import numpy as np
 
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
-from pampipe.identification import drucker, envelope, problem
+from pampipe.identification import drucker, envelope, problem, written
 from pampipe.identification import geometry as geo
+from pampipe.identification import model_error as model_errors
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests
@@ -111,6 +112,18 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     calibration = _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit,
                                blocked, geo.blocked_force(data, stated) if options.calibrate else blocked)
     predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
+
+    def muscles_at(xv):
+        return problem.muscles_of(structure, stats, stated, xv)
+
+    model_error = model_errors.estimate(data, x, problem.prior_hessian(structure, values, x.size), muscles_at,
+                                        slack=options.slack, half_range=0.5 * (ubx - lbx),
+                                        constraints=_constraints(structure, grid, x, lbx, ubx,
+                                                                 uncertainty.at_bound))
+    top = max(float(t.pressure.max()) for t in data.tests)
+    joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
+                                          model_error.value, lambda xv: muscles_at(xv)[0],
+                                          written.bores(data, options, geometry), top)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
                          data, predictions)
     return IdentifyResult(
@@ -122,7 +135,29 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
         calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
-        excluded_rows=stats.excluded)
+        excluded_rows=stats.excluded, parameter_uncertainty=joint, model_error=model_error)
+
+
+#: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.
+ACTIVE = 1e-5
+
+
+def _constraints(structure, grid, x, lower, upper, at_bound):
+    """(rows, lower, active) of the fit's linear constraints rows·x ≥ lower: the bounds and the Drucker
+    rows of every moduli block; ``active``: reached at ``x`` (bounds as the uncertainty says)."""
+    n = x.size
+    rows, low, active = [np.eye(n), -np.eye(n)], [lower, -upper], [at_bound & (x - lower <= upper - x),
+                                                                     at_bound & (x - lower > upper - x)]
+    at = 0
+    for name, size in structure.blocks():
+        if name not in ("contact", "geometry") and grid.shape[0]:
+            block = np.zeros((grid.shape[0], n))
+            block[:, at:at + size] = grid
+            rows.append(block)
+            low.append(np.zeros(grid.shape[0]))
+            active.append(grid @ x[at:at + size] <= ACTIVE)
+        at += size
+    return np.vstack(rows), np.concatenate(low), np.concatenate(active)
 
 
 def _start_geometry(data, stated, options: FitOptions, low, high):

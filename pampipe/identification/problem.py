@@ -18,6 +18,7 @@ from pampipe.identification.nlp import Structure
 from pampipe.identification.options import FitOptions
 from pampipe.identification.statistics import MPA, Statistics, radial_coefficients, regressors, tangent_rows
 from pampipe.model import bladder, braid
+from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
 
 LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
@@ -274,3 +275,42 @@ def moduli_of(structure: Structure, stats: Statistics, x):
     main = out.get("theta", next(iter(out.values())))
     pipes = {d: out[structure.radial_block(k)] for k, d in enumerate(stats.pipes)}
     return main, pipes, out
+
+
+def muscles_of(structure: Structure, stats: Statistics, stated, x):
+    """(the muscle, {pipe diameter: muscle of its radial tests}) of a decision vector ``x``."""
+    geometry = geo.from_x(stated, structure.calibrate, x[x.size - len(structure.calibrate):]) \
+        if structure.calibrate else stated
+    main, pipes, _ = moduli_of(structure, stats, x)
+
+    def make(m: Moduli) -> Muscle:
+        contact = m.contact_vector() if m.contact is not None else None
+        return Muscle(geometry, m.as_vector(), m.reference_pressure, contact=contact)
+
+    return make(main), {d: make(m) for d, m in pipes.items()}
+
+
+def prior_hessian(structure: Structure, values: dict, size: int) -> np.ndarray:
+    """∇²(prior/2) [N²/unit²] over the decision vector: the prior's share of the fit's Hessian."""
+    out = np.zeros((size, size))
+    if structure.prior == "none":
+        return out
+    at, offset = {}, 0
+    for name, length in structure.blocks():
+        at[name] = np.arange(offset, offset + length)
+        offset += length
+    weight = float(values["prior_weight"])
+    if structure.prior in ("fixed", "gaussian"):
+        block = weight * (np.asarray(values["prior_precision"], float) if structure.prior == "gaussian"
+                          else np.eye(structure.n_theta))
+        for name in at:
+            if name not in ("contact", "geometry"):
+                out[np.ix_(at[name], at[name])] += block
+    elif structure.mode == "per_pipe":  # toward the axial moduli
+        for k in range(structure.pipes):
+            pipe, theta = at[f"pipe{k}"], at["theta"]
+            for a, b, sign in ((pipe, pipe, 1), (theta, theta, 1), (pipe, theta, -1), (theta, pipe, -1)):
+                out[np.ix_(a, b)] += sign * weight * np.eye(structure.n_theta)
+    else:  # contact increments toward zero
+        out[np.ix_(at["contact"], at["contact"])] += weight * np.eye(len(at["contact"]))
+    return out

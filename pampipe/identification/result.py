@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
+from pampipe.identification.model_error import ModelError
 from pampipe.identification.options import FitOptions
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.model.uncertainty import ParameterUncertainty
 
 MPA = 1e6
 
@@ -120,6 +122,8 @@ class IdentifyResult:
     predictions: Predictions
     slack_rows: tuple[int, ...] = ()  # per test
     excluded_rows: int = 0
+    parameter_uncertainty: ParameterUncertainty | None = None  # what -o writes (identification.written)
+    model_error: ModelError | None = None
 
     @property
     def drucker_margin(self) -> float:
@@ -144,8 +148,17 @@ class IdentifyResult:
         return self.uncertainty.covariance[np.ix_(index, index)] * MPA**2
 
     def fitted_pam(self, base: Pam) -> Pam:
-        """``base`` with the fitted moduli, the θ covariance and the (calibrated) geometry."""
-        return Pam(base.name, self.geometry, self.moduli, self.theta_covariance())
+        """``base`` with the fitted moduli, their uncertainty and the (calibrated) geometry.
+
+        The maker's limits and the stated sd of geometry that was not calibrated are kept; a calibrated
+        entry's uncertainty is in ``uncertainty`` (the fit's), not in ``geometry_sd``.
+        """
+        kept = {k: v for k, v in base.geometry_sd.items() if k not in self.calibration.calibrated}
+        pam = Pam(base.name, self.geometry, self.moduli, geometry_sd=kept, max_pressure=base.max_pressure,
+                  max_contraction=base.max_contraction)
+        if self.parameter_uncertainty is None:
+            return replace(pam, covariance=self.theta_covariance())
+        return pam.with_uncertainty(self.parameter_uncertainty)
 
     def pam_comments(self, source) -> list[str]:
         """Header lines of the PAM file written from this fit: how it was fitted and how well."""
@@ -224,6 +237,9 @@ class IdentifyResult:
                                   "std_N": _finite([c.std])[0], "interval_95_N": _finite(c.interval),
                                   "singular_value": c.singular_value, "identifiable": c.identifiable}
                                  for c in u.combinations],
+                "model_error": None if self.model_error is None else self.model_error.as_document(),
+                "written": None if self.parameter_uncertainty is None
+                else self.parameter_uncertainty.as_document(),
             },
             "drucker": self._drucker_document(),
             "warnings": list(self.warnings),

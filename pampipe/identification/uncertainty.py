@@ -77,6 +77,17 @@ class Uncertainty:
         return self.rank < len(self.names)
 
 
+def identifiable(lam: np.ndarray, weights: np.ndarray, half_range, sigma: float) -> np.ndarray:
+    """Which combinations c_i = weights_i·x (eigenvalue λ_i of the scaled Hessian) the data identify:
+    λ_i > 10⁻¹⁴·max λ and 95 % half-width Z95·σ/√λ_i below IDENTIFIABLE of the range the bounds allow,
+    |weights_i|·half_range."""
+    lam = np.clip(np.asarray(lam, float), 0, None)
+    allowed = np.abs(weights) @ np.asarray(half_range, float)
+    with np.errstate(divide="ignore"):
+        std = np.where(lam > 0, sigma / np.sqrt(lam), np.inf)
+    return (lam > 1e-14 * max(lam.max(initial=0.0), 1e-300)) & (Z95 * std < IDENTIFIABLE * allowed)
+
+
 def analyse(x, hessian, sse: float, points: int, lower_bounds, upper_bounds, names) -> Uncertainty:
     """Uncertainty of the solution ``x`` (see the module docstring)."""
     x = np.asarray(x, dtype=float)
@@ -91,12 +102,11 @@ def analyse(x, hessian, sse: float, points: int, lower_bounds, upper_bounds, nam
     lam, vec = np.clip(lam[order], 0, None), vec[:, order]
     lb, ub = np.asarray(lower_bounds, float), np.asarray(upper_bounds, float)
     half_range = 0.5 * (ub - lb)
-    combos, keep = [], np.zeros(k, dtype=bool)
+    keep = identifiable(lam, (vec * d[:, None]).T, half_range, sigma)
+    combos = []
     for i in range(k):
         weights = vec[:, i] * d
         std = sigma / np.sqrt(lam[i]) if lam[i] > 0 else np.inf
-        allowed = float(np.abs(weights) @ half_range)
-        keep[i] = bool(lam[i] > 1e-14 * max(lam[0], 1e-300) and Z95 * std < IDENTIFIABLE * allowed)
         if weights[np.argmax(np.abs(weights))] < 0:  # sign convention: largest weight positive
             weights = -weights
         combos.append(Combination(weights, float(weights @ x), float(std), float(np.sqrt(lam[i])),

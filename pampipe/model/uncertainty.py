@@ -144,6 +144,16 @@ class ParameterUncertainty:
         """SI parameter change of one ``scale`` along ``direction``: scale·vector·units, over ``names``."""
         return direction.scale * np.asarray(direction.vector, dtype=float) * self.scaled_units()
 
+    def as_document(self) -> dict:
+        """JSON form (SI): parameters, covariance, model error, undetermined directions (scaled units)."""
+        return {"parameters": list(self.names), "covariance_SI": self.covariance.tolist(),
+                "model_error_N": self.model_error,
+                "scaled_units_SI": {name: scaled_unit(name) for name in self.names},
+                "undetermined": [{"direction": {n: float(w) for n, w in zip(self.names, d.vector, strict=True)
+                                                if w != 0},
+                                  "scale": d.scale, "moves": dict(d.moves), "test": d.test}
+                                 for d in self.undetermined]}
+
     @classmethod
     def moduli_only(cls, covariance, *, degree: int | None = None) -> ParameterUncertainty:
         """The uncertainty of the moduli alone (the old ``uncertainty: {unit, covariance}`` block) [Pa²]."""

@@ -29,6 +29,7 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.model.muscle import Muscle, Structure
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.sources import SOURCE_WORDS, Direction, draw, muscle_uncertainty
 
 METHOD = "monte_carlo"
@@ -227,7 +228,8 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     """The sampled plan of every valid element at confidence C (see the module docstring).
 
     ``prior`` is a :class:`~pampipe.model.pam.Pam` whose uncertainty (and moduli) serve as the prior along
-    undetermined directions; ``with_payload`` adds the payload held with probability C at supply.
+    undetermined directions; ``with_payload`` adds the payload held with probability C at each segment's
+    pressure limit (the supply, or its PAM's lower ``max_pressure``).
     """
     z_value(confidence)
     if not (isinstance(samples, int) and samples >= 100):
@@ -247,6 +249,7 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     certain_all = np.full(shape, np.nan)
     payload = np.full(shape, -np.inf) if with_payload else None
     undetermined = {}
+    limits = pressure_limits(mission)  # the supply, or a PAM's lower rated pressure
     n = samples
     half = 1.959964 * math.sqrt(n * confidence * (1 - confidence))
     ranks = (max(math.floor(n * confidence - half) - 1, 0), min(math.ceil(n * confidence + half) - 1, n - 1))
@@ -255,7 +258,7 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
         if rows.size == 0:
             continue
         ev = _Evaluator(mission, muscle, i, elements, draws, rows)
-        supply = mission.supply_pressure if with_payload else None
+        supply = limits[i] if with_payload else None
         least, touch, held = ev.evaluate(draws.active, supply)
         planned = upper_quantile(least, confidence)
         pressure[rows, i] = planned

@@ -11,7 +11,7 @@ from pampipe.errors import InputError, SolverError
 from pampipe.planning.checks import cross_check
 from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED, plan_confidence
 from pampipe.planning.contact import contact_costs
-from pampipe.planning.feasibility import element_feasible, section_reasons, undetermined_reasons
+from pampipe.planning.feasibility import plan_feasible, section_reasons, undetermined_reasons
 from pampipe.planning.payload import element_payloads, payload_limit
 from pampipe.planning.problem import Elements, build_elements, mission_muscles
 from pampipe.planning.result import MissionPlan, PlanArrays
@@ -82,7 +82,7 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
         loaded_anchoring_pressure=e.anchoring,
         required_hold=e.load, holding_capacity=capacity, radial_force=radial, contact_pressure=contact,
         air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
-        feasible=element_feasible(e, solution, mission.supply_pressure) & _determined(codes, e.valid.shape),
+        feasible=plan_feasible(mission, e, solution) & _determined(codes, e.valid.shape),
         complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=reasons, diameter=np.array(e.diameter),

@@ -13,6 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
+from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.problem import Elements, build_elements, mission_muscles
 
 
@@ -60,9 +61,11 @@ class PayloadLimit:
 
 
 def element_payloads(mission, muscles, elements: Elements) -> np.ndarray:
-    """Largest payload [kg] of every element at the mission's supply pressure, shape (S, segments)."""
+    """Largest payload [kg] of every element at its pressure limit (the supply, or the muscle's rated
+    ``max_pressure`` when lower), shape (S, segments)."""
     e = elements
-    held = np.stack([m.largest_load(mission.supply_pressure, e.diameter[:, i], kappa=e.kappa,
+    limits = pressure_limits(mission)
+    held = np.stack([m.largest_load(limits[i], e.diameter[:, i], kappa=e.kappa,
                                     friction=e.friction[:, i], safety_factor=e.safety_factor)
                      for i, m in enumerate(muscles)], axis=1)
     usable = e.valid & np.isfinite(e.free_anchoring) & (held >= 0)
