@@ -65,10 +65,7 @@ def fitted(stated: Pam, truth: Pam, protocol: Protocol, seed: int, calibrate: tu
     base = dataclasses.replace(stated, moduli=None, covariance=None)
     data = ExperimentData(PROBLEMS / "generated.yaml", base, tests, {})
     result = identify(data, FitOptions(calibrate=calibrate))
-    pam = result.fitted_pam(base)
-    if not getattr(pam, "geometry_sd", None):
-        pam = dataclasses.replace(pam, geometry_sd=dict(stated.geometry_sd))
-    return pam
+    return result.fitted_pam(base)  # keeps the stated sds of the uncalibrated geometry
 
 
 def trial(mission, stated: Pam, prior: Pam, k: int, seed: int, samples: int) -> dict:

@@ -238,3 +238,20 @@ def test_a_stated_geometry_sd_is_the_prior_of_an_undetermined_geometry_direction
     planned = plan_mission(stated, confidence=0.95)
     assert planned.feasible and planned.uncertainty.prior
     assert "prior" in [r["source"] for r in planned.uncertainty.dominant()]
+
+
+def test_draws_of_a_covariance_mixing_pa2_and_rad2_stay_in_its_support():
+    """Moduli in Pa² next to a braid angle in rad² (10²⁰ apart): the draws reproduce the covariance and put
+    nothing into the entries without variance (an eigen-decomposition of the raw matrix leaked ~1 m there)."""
+    from pampipe.planning.sources import _gaussian
+
+    rng = np.random.default_rng(0)
+    a = rng.normal(size=(3, 3))
+    cov = np.zeros((6, 6))
+    block = a @ a.T * np.outer([1e6, 2e6, 1e-4], [1e6, 2e6, 1e-4])  # two moduli [Pa], a braid angle [rad]
+    cov[np.ix_([1, 3, 5], [1, 3, 5])] = block
+    draws = _gaussian(np.random.default_rng(1), cov, 200_000)
+    assert np.all(draws[:, [0, 2, 4]] == 0.0)
+    sd = np.sqrt(np.diag(block))
+    np.testing.assert_allclose(np.cov(draws[:, [1, 3, 5]].T) / np.outer(sd, sd), block / np.outer(sd, sd),
+                               atol=0.01)

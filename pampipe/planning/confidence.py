@@ -38,8 +38,8 @@ DEFAULT_SAMPLES = 4000
 DEFAULT_SEED = 22
 #: Draws × sections evaluated per mapped call (bounds memory for long routes).
 BATCH = 1 << 17
-#: An undetermined direction "moves" a hold when a step of its open width moves P* by more than this [Pa].
-MOVES = 100.0
+#: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
+MOVES = 1e3
 
 
 @cache

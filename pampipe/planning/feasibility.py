@@ -218,13 +218,13 @@ def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None
     for s, (i, direction, delta) in sampled.undetermined.items():
         pipe, _ = _pipe(r, s)
         bore = _mm(r.diameter_high[s])
-        test = direction.test or "a radial test"
+        suggested = f" (the fit's own words: {direction.test})" if direction.test else ""
         pam = mission.segments[i].pam
         codes[s] = "undetermined"
         sentences[s] = (
             f"{mission.segments[i].name}'s fit ({pam.name}) leaves a direction of its parameters "
             f"undetermined that moves its least holding pressure in {pipe} (by "
             f"{abs(delta) / 1e3:.3g} kPa across what the data allow), "
-            f"so no holding probability can be given. {test[0].upper() + test[1:]} at the {bore} bore, or a "
-            "slip test in this pipe, would determine it; or plan with --prior-from PAM (or a geometry "
+            f"so no holding probability can be given. A radial test at the {bore} bore, or a slip test in "
+            f"this pipe, would determine it{suggested}; or plan with --prior-from PAM (or a geometry "
             "'{value, sd}' in the PAM file) to rest the margin on a prior.")

@@ -166,10 +166,20 @@ def _prior(directions, muscle: Muscle, stated: np.ndarray, prior, where: str):
 
 
 def _gaussian(rng, cov: np.ndarray, n: int) -> np.ndarray:
-    """(n, size) zero-mean draws of a (possibly singular) covariance, through its eigen-decomposition."""
-    values, vectors = np.linalg.eigh(cov)
+    """(n, size) zero-mean draws of a (possibly singular) covariance, through the eigen-decomposition of
+    its correlation matrix on the entries with a variance: entries in Pa² and in rad² differ by 10²⁰, and
+    an eigen-decomposition of the raw matrix would leak its round-off (~1 Pa, i.e. ~1 m or 1 rad) into
+    entries of zero variance."""
+    out = np.zeros((n, cov.shape[0]))
+    sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    live = np.flatnonzero(sd > 0)
+    if live.size == 0:
+        return out
+    s = sd[live]
+    values, vectors = np.linalg.eigh(cov[np.ix_(live, live)] / np.outer(s, s))
     root = vectors * np.sqrt(np.clip(values, 0.0, None))
-    return rng.standard_normal((n, cov.shape[0])) @ root.T
+    out[:, live] = (rng.standard_normal((n, live.size)) @ root.T) * s
+    return out
 
 
 def draw(mission, muscles: list[MuscleUncertainty], n: int, seed: int) -> Draws:
