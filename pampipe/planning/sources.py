@@ -17,9 +17,9 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
 * ``friction``: μ ~ N(μ̂, sd²) per section; a draw with μ ≤ 0 cannot hold.
 * ``kappa``: κ ~ N(κ̂, sd²) clipped at 0 (``Mission.kappa_sd``), one draw for the mission.
 * ``prior``: along each ``undetermined`` direction v of a fit (a unit vector in scaled coordinates q,
-  one unit = 1 MPa, 1 deg or 1 mm: :mod:`pampipe.model.uncertainty`), q = q̂ + t·v with
-  t ~ N(vᵀ(q_prior − q̂), vᵀΣ_q,prior v) from ``--prior-from PAM`` (its moduli and covariance) and the
-  PAM's stated geometry sds; without a prior (vᵀΣ_q,prior v = 0) the direction is reported instead
+  one unit = 1 MPa, 1 deg or 1 mm: :mod:`pampipe.model.uncertainty`), q = q̂ + t·v with t from the prior
+  (``--prior-from PAM``: its moduli and covariance; the PAM's stated geometry sds) combined with the
+  width the data leave open (:func:`_prior`); without a prior along v the direction is reported instead
   (exit 3).
 """
 
@@ -143,12 +143,19 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
 
 
 def _prior(directions, muscle: Muscle, stated: np.ndarray, prior, where: str):
-    """(mean shift, sd) along each undetermined direction from the prior PAM and the stated geometry sds."""
+    """(mean, sd) of t along each undetermined direction v [scaled units], from the prior and the data.
+
+    In scaled coordinates q, the prior (the stated geometry sds, plus ``prior``'s covariance and moduli)
+    has precision Λ = Σ_q⁺ (an entry without variance carries no information), so along v its precision
+    is λ = vᵀΛv and its mean m = vᵀΛ(q_prior − q̂)/λ. The data leave v open over its ``scale`` s, so
+    t ~ N(m·λ/(λ + s⁻²), 1/(λ + s⁻²)). λ = 0 (no prior on v): sd 0, the direction stays unresolved.
+    """
     if not directions:
         return (), ()
     structure = muscle.structure
     cov = np.diag(stated**2)
-    mean = muscle.parameter_vector()
+    base = muscle.parameter_vector()
+    mean = base.copy()
     if prior is not None:
         cov = cov + _covariance(prior, structure, f"--prior-from {where}")
         if prior.moduli is not None:
@@ -156,13 +163,20 @@ def _prior(directions, muscle: Muscle, stated: np.ndarray, prior, where: str):
             if other.structure != structure:
                 raise InputError(f"--prior-from: the PAM '{prior.name}' has moduli of another structure "
                                  f"({other.structure}) than the planned muscle ({structure}).")
-            mean = other.parameter_vector()
-    base = muscle.parameter_vector()
+            mean[5:] = other.parameter_vector()[5:]  # its moduli; the geometry stays the stated one
     units = directions[0].units
-    scaled = cov / np.outer(units, units)
-    shift = tuple(float(d.vector @ ((mean - base) / units)) for d in directions)
-    sds = tuple(float(np.sqrt(max(d.vector @ scaled @ d.vector, 0.0))) for d in directions)
-    return shift, sds
+    precision = np.linalg.pinv(cov / np.outer(units, units), rcond=1e-12, hermitian=True)
+    shift, sds = [], []
+    for d in directions:
+        weight = float(d.vector @ precision @ d.vector)
+        if weight <= 1e-12:
+            shift.append(0.0)
+            sds.append(0.0)
+            continue
+        total = weight + d.scale**-2
+        shift.append(float(d.vector @ precision @ ((mean - base) / units)) / total)
+        sds.append(float(total**-0.5))
+    return tuple(shift), tuple(sds)
 
 
 def _gaussian(rng, cov: np.ndarray, n: int) -> np.ndarray:
