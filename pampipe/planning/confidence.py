@@ -1,4 +1,4 @@
-"""Pressure that holds with probability C, by sampling every uncertain input (docs/physics.md §13).
+"""Pressure that holds with probability C, by sampling every uncertain input (docs/physics.md §15).
 
 Per draw k of the sources (:mod:`pampipe.planning.sources`) the least holding pressure is the closed
 form the plan uses, P*_k = max over the bores D of the range (smallest, worst, largest, each + δ_k) of

@@ -1,4 +1,4 @@
-"""What small errors cost the contact margin (docs/physics.md §13).
+"""What small errors cost the contact margin (docs/physics.md §15).
 
 The plan holds only if the muscle touches the wall, i.e. the pressure is above the unloaded first-contact
 pressure of the largest bore, P_a(D_high, 0) (docs/physics.md §7). Two errors a user cannot rule out move

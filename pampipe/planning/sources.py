@@ -1,4 +1,4 @@
-"""The uncertain inputs of a confidence plan, as seeded joint draws (docs/physics.md §13).
+"""The uncertain inputs of a confidence plan, as seeded joint draws (docs/physics.md §15).
 
 Every source is drawn as a zero-mean deviation from the nominal value, so that a plan can add them all
 (the full draw) or one at a time (the dominance table). Sources (:data:`SOURCES`):
