@@ -18,6 +18,7 @@ from pampipe.identification import FitOptions, identify
 from pampipe.identification.written import FORCE_MOVE, PRESSURE_MOVE
 from pampipe.io.config import load_experiment, load_pam
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.yamlfile import load_mapping
 from pampipe.model.pam import Pam
 from pampipe.synth import Protocol, generate
 from tests.conftest import PROBLEMS, run_cli
@@ -118,3 +119,53 @@ def test_identify_writes_and_reports_the_same_uncertainty(tmp_path):
         assert shown["scale"] == pytest.approx(direction.scale, rel=1e-9) and shown["test"] == direction.test
         assert shown["moves"] == pytest.approx(direction.moves, rel=1e-9, abs=1e-9)
     assert "NOT determined by the data" in result.stderr and "Model error" in result.stderr
+
+
+def test_a_prior_determines_what_the_data_leave_open_and_is_named(radial_pam):
+    """The near-rest axial data leave 8 directions open; a Gaussian prior of sd 0.5 MPa on every
+    coefficient closes them: none is undetermined, and each is listed as resting on the prior, with
+    the prior's width (0.5 MPa along any unit direction of a diagonal prior of equal sd's)."""
+    from pampipe.identification.options import parse_fit_options
+    from pampipe.model.uncertainty import moduli_names
+
+    truth = radial_pam.moduli.as_vector()
+    coefficients = {name: {"value": f"{float(v) / 1e6!r} MPa", "sd": "0.5 MPa"}
+                    for name, v in zip(moduli_names(3), truth, strict=True)}
+    data = _data(radial_pam, shortest=0.298, pipes=())
+    plain = identify(data, parse_fit_options({}))
+    assert len(plain.parameter_uncertainty.undetermined) == 8
+    assert not plain.parameter_uncertainty.prior_determined
+    result = identify(data, parse_fit_options({"prior": {"coefficients": coefficients}}))
+    written = result.parameter_uncertainty
+    assert not written.undetermined and len(written.prior_determined) == 8
+    assert [d.scale for d in written.prior_determined] == pytest.approx([0.5] * 8, rel=0.05)
+    prior = result.as_document()["fit"]["prior"]
+    assert prior["kind"] == "gaussian" and prior["sd_Pa"] == pytest.approx([0.5e6] * 16)
+
+
+def test_a_pam_file_is_a_prior(tmp_path):
+    """fit.prior.pam reads the file's moduli (mean) and the moduli block of its uncertainty (covariance)."""
+    from pampipe.identification.options import parse_fit_options
+
+    experiment = load_mapping(PROBLEMS / "experiments" / "paper-protocol.yaml", what="experiment")
+    experiment["fit"] = {"prior": {"pam": str(PROBLEMS / "pams" / "paper-radial-pam-uncertain.yaml")}}
+    experiment["tests"] = [t | {"data": str(PROBLEMS / "experiments" / t["data"])}
+                           for t in experiment["tests"]]
+    options = parse_fit_options(load_experiment(tmp_path / "e.yaml", raw=experiment).fit)
+    precision = np.asarray(options.prior_precision)
+    assert options.prior_mean[8] == pytest.approx(4.443711e6)  # hoop.a0 of the file
+    assert precision[0, 0] == pytest.approx(1 / 0.1e6**2)  # axial.a0: sd 0.1 MPa
+    assert precision[1, 1] == 0  # axial.a1: no variance stated, no information
+    assert "fit.prior.pam" in options.prior_source
+
+
+def test_calibrated_geometry_rows_are_written_in_si(radial_pam):
+    """The braid angle's written variance [rad²] is the one behind the report's 95 % interval [deg]."""
+    result = identify(_data(radial_pam, pipes=(0.0762, 0.0889)), FitOptions(calibrate=("braid_angle",)))
+    written = result.parameter_uncertainty
+    assert written.names[-1] == "braid_angle" and written.names[:16] == tuple(
+        f"{law}.{part}{j}" for law in ("axial", "hoop") for part in "ab" for j in range(4))
+    low, high = result.calibration.intervals["braid_angle"]  # deg
+    assert math.sqrt(written.covariance[-1, -1]) == pytest.approx(math.radians((high - low) / 2 / 1.959964),
+                                                                  rel=1e-9)
+    assert result.fitted_pam(Pam(radial_pam.name, radial_pam.geometry)).uncertainty == written

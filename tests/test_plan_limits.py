@@ -59,3 +59,25 @@ def test_max_contraction_rules_out_the_wider_bore(tmp_path):
     riser, run = doc["sections"]
     assert riser["feasible"] and not run["feasible"]
     assert f"{_contraction(RUN) * 100:.3g} %" in run["reason"] and "max_contraction" in run["reason"]
+
+
+def test_export_obeys_the_rating_and_the_contraction(tmp_path):
+    """The exported C law answers as plan does: the 3.5 in run is above PAM1's 150 kPa rating (code 4),
+    the riser is not; with max_contraction between the two bores' contractions the run is too wide (2)."""
+    from tests.export_c import build, compiler, run_law
+
+    (tmp_path / "rated").mkdir()
+    rated = _mission(tmp_path / "rated", max_pressure="150 kPa")
+    assert run_cli("export", rated, "-o", tmp_path / "rated" / "c").returncode == 0
+    rows = [(RISER, math.pi / 2, 0.3, 2.0), (RUN, 0.0, 0.3, 2.0)]
+    between = 0.5 * (_contraction(RISER) + _contraction(RUN))
+    (tmp_path / "short").mkdir()
+    short = _mission(tmp_path / "short", max_contraction=f"{between * 100:.4g} %")
+    assert run_cli("export", short, "-o", tmp_path / "short" / "c").returncode == 0
+    if compiler() is None:
+        pytest.skip("no C compiler")
+    codes, pressures = run_law(build(tmp_path / "rated" / "c"), rows)
+    assert codes.tolist() == [0, 4]
+    assert pressures[0, 0] == pytest.approx(121.8e3, rel=1e-3) and pressures[1, 0] > 150e3
+    codes, _ = run_law(build(tmp_path / "short" / "c"), rows)
+    assert codes.tolist() == [0, 2]

@@ -190,8 +190,12 @@ def _written(result) -> str:
            f"{m.expected_rmse:.3g} N expected from noise and refit" if m.method == "pressure_bands"
            else f"in-sample RMSE {m.cv_rmse:.3g} N (one pressure: nothing to hold out)")
     lines = [f"\nModel error {m.value:.3g} N beyond the noise floor {m.noise_floor:.3g} N ({how})"]
+    if w.prior_determined:
+        lines.append(f"{len(w.prior_determined)} parameter direction(s) determined only by the prior "
+                     f"({result.options.prior_source}): what depends on them rests on the prior, not on the "
+                     "data (listed under uncertainty.prior_determined)")
     if not w.undetermined:
-        lines.append("every parameter direction is determined by the data (or a prior)")
+        lines.append("every other parameter direction is determined by the data")
         return "\n".join(lines)
     lines.append(f"{len(w.undetermined)} parameter direction(s) NOT determined by the data (zero variance in "
                  "the covariance; listed under uncertainty.undetermined). A plan that depends on them rests "

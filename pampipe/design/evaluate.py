@@ -24,10 +24,13 @@ SLACK = 1e-7
 
 
 def designed_pam(inventory: Inventory, geometry: tuple[float, float, float], name: str) -> Pam:
-    """The designed PAM: the geometry and the material's wall, thickness, moduli and covariance."""
+    """The designed PAM: the geometry and the material's wall, thickness, moduli, covariance and the maker's
+    limits (max_pressure, max_contraction), so that a plan of the designed muscle obeys them."""
     material = inventory.material
     g = material.geometry
-    return Pam(name, Geometry(*geometry, g.bladder_thickness, g.wall), material.moduli, material.covariance)
+    pam = Pam(name, Geometry(*geometry, g.bladder_thickness, g.wall), material.moduli, material.covariance,
+              max_pressure=material.max_pressure, max_contraction=material.max_contraction)
+    return pam if material.uncertainty is None else pam.with_uncertainty(material.uncertainty.moduli_part())
 
 
 @dataclass(frozen=True)

@@ -118,7 +118,7 @@ def hidden_experiment(pam: Pam, effects=None, *, seed: int, protocol: Protocol |
             force += FOREIGN_FORCES[name](base, test, v, protocol, rng)
         tests.append(replace(test, force=force))
     label = "+".join(names) or "none"
-    bare = replace(pam, moduli=None, covariance=None)
+    bare = replace(pam, moduli=None, covariance=None, uncertainty=None)
     return ExperimentData(source or Path(f"<hidden {label} seed {seed}>"), bare, tuple(tests), {})
 
 

@@ -145,7 +145,8 @@ class DiagnoseResult:
         chosen = self.chosen
         moduli = Moduli.from_vector(chosen.theta, reference_pressure=MPA)
         effects = {name: dict(values) for name, values in chosen.parameters.items()} or None
-        return Pam(self.pam.name, self.pam.geometry, moduli, None, effects)
+        return Pam(self.pam.name, self.pam.geometry, moduli, None, effects, geometry_sd=self.pam.geometry_sd,
+                   max_pressure=self.pam.max_pressure, max_contraction=self.pam.max_contraction)
 
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""

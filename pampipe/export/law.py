@@ -23,7 +23,9 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.model import slip
+from pampipe.model.braid import diameter_at_length
 from pampipe.model.effects import LIBRARY
+from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.problem import mission_muscles
 
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
@@ -48,7 +50,7 @@ class Law:
     segments: tuple[str, ...]
     masses: tuple[float, ...]  # [kg]
     rest_diameters: tuple[float, ...]  # D₀ per segment [m]
-    largest_diameters: tuple[float, ...]  # D(B/√3) per segment [m]
+    largest_diameters: tuple[float, ...]  # D(B/√3) per segment, or D at its max_contraction if less [m]
     supply_pressure: float  # [Pa]
     safety_factor: float
     load_path: str
@@ -56,8 +58,14 @@ class Law:
     tether_drag: float  # [N]
     payload: float  # the mission's payload [kg]
     effects: dict  # segment name -> {effect: {parameter: SI value}} of its PAM
+    pressure_limits: tuple[float, ...] = ()  # per segment [Pa]: the supply, or its max_pressure if lower
     confidence: float | None = None  # C of the margins (None: the nominal law)
     margins: tuple[float, ...] = ()  # ΔP_i [Pa] added to each segment's pressure (empty: none)
+
+    @property
+    def limits(self) -> np.ndarray:
+        """Each segment's pressure limit [Pa] (the supply where none is given)."""
+        return np.array(self.pressure_limits or (self.supply_pressure,) * len(self.segments), dtype=float)
 
     @property
     def narrowest(self) -> float:
@@ -81,7 +89,7 @@ class Law:
         if diameter >= self.widest:
             return Reason.WIDE, nan
         pressure = np.array([float(p) for p in self.function(diameter, incline, friction, payload)])
-        return (Reason.OK if np.all(pressure <= self.supply_pressure) else Reason.ABOVE_SUPPLY), pressure
+        return (Reason.OK if np.all(pressure <= self.limits) else Reason.ABOVE_SUPPLY), pressure
 
 
 def confidence_margins(mission, confidence: float, **sampling) -> tuple[float, ...]:
@@ -124,8 +132,17 @@ def mission_law(mission, *, confidence: float | None = None, margins: tuple[floa
     geometry = [seg.pam.geometry for seg in mission.segments]
     return Law(function, tuple(seg.name for seg in mission.segments),
                tuple(seg.mass for seg in mission.segments),
-               tuple(g.initial_diameter for g in geometry), tuple(g.largest_diameter for g in geometry),
+               tuple(g.initial_diameter for g in geometry),
+               tuple(_widest(seg.pam) for seg in mission.segments),
                mission.supply_pressure, mission.safety_factor, mission.load_path, mission.kappa,
                mission.tether_drag, mission.payload,
                {seg.name: seg.pam.effects for seg in mission.segments if seg.pam.effects},
-               confidence, tuple(margins))
+               tuple(float(v) for v in pressure_limits(mission)))
+
+
+def _widest(pam) -> float:
+    """The widest bore [m] a muscle may anchor in: D(B/√3), or where it reaches its rated max_contraction."""
+    g = pam.geometry
+    if pam.max_contraction is None:
+        return g.largest_diameter
+    return min(g.largest_diameter, float(diameter_at_length((1 - pam.max_contraction) * g.initial_length, g)))

@@ -6,6 +6,8 @@ changes: the tables are ``const`` and the function is reentrant.
 
 from __future__ import annotations
 
+import numpy as np
+
 from pampipe.export import cgen
 from pampipe.export.gait_table import SectionGait
 from pampipe.export.law import INPUTS, Law, Reason
@@ -25,6 +27,24 @@ def _real(value: float) -> str:
 
 def _mm(value: float) -> str:
     return f"{value * 1e3:.6g} mm"
+
+
+def _ratings(law: Law) -> str:
+    """' or PAM1's rated 600 kPa (max_pressure)' for the segments whose rating is below the supply."""
+    rated = [f"{name}'s rated {limit / 1e3:.6g} kPa"
+             for name, limit in zip(law.segments, law.limits, strict=True) if limit < law.supply_pressure]
+    return f", or {', '.join(rated)} (max_pressure)" if rated else ""
+
+
+def _limit(law: Law) -> str:
+    """The C expression of segment i's pressure limit: the supply, or a table when a rating is lower."""
+    if np.all(law.limits >= law.supply_pressure):
+        return _real(law.supply_pressure)
+    return "(const pampipe_real[]){" + ", ".join(_real(v) for v in law.limits) + "}[i]"
+
+
+def _limit_words(law: Law) -> str:
+    return "the supply" if np.all(law.limits >= law.supply_pressure) else "the supply or the muscle's rating"
 
 
 def _provenance(law: Law, provenance) -> list[str]:
@@ -77,7 +97,8 @@ def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
         "  3 PAMPIPE_NO_FRICTION   friction <= 0: no anchor can grip the wall",
         f"  1 PAMPIPE_NARROW        D <= {_mm(law.narrowest)}: the pipe is not wider than a muscle at rest",
         f"  2 PAMPIPE_WIDE          D >= {_mm(law.widest)}: the pipe is wider than the braid can fill",
-        f"  4 PAMPIPE_ABOVE_SUPPLY  a segment needs more than the {law.supply_pressure / 1e3:.6g} kPa supply",
+        f"  4 PAMPIPE_ABOVE_SUPPLY  a segment needs more than the {law.supply_pressure / 1e3:.6g} kPa supply"
+        + _ratings(law),
         "pressure_Pa is NaN after codes 1, 2, 3 and 5; after code 4 it holds what each segment would",
         "need (infinity where no pressure up to 100 MPa holds). Straight-line code, no loops or iteration.",
         *_confidence_doc(law),
@@ -222,7 +243,7 @@ int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real inclin
     /* {len(body)} operations generated from pampipe.model.muscle.Muscle.closed_form_pressure */
 {statements}
     for (i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        if (!(pressure_Pa[i] <= {_real(law.supply_pressure)})) {{ /* the supply; NaN and inf included */
+        if (!(pressure_Pa[i] <= {_limit(law)})) {{ /* {_limit_words(law)}; NaN and inf included */
             reason = PAMPIPE_ABOVE_SUPPLY;
         }}
     }}

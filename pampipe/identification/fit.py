@@ -70,7 +70,11 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     p = nlp.layout.pack(values)
     sse0 = float(nlp.sse(x0, p))
     points_fit = stats.points
-    if prior != "none":
+    if prior == "gaussian":  # σ̂²(θ − θ_p)ᵀΣ_p⁻¹(θ − θ_p) in MPa, σ̂² from the start: a posterior
+        values["prior_weight"] = sse0 / max(points_fit - x0.size, 1)
+        values["prior_target"] = np.asarray(options.prior_mean) / MPA
+        values["prior_precision"] = np.asarray(options.prior_precision) * MPA**2
+    elif prior != "none":
         values["prior_weight"] = sse0 / max(points_fit - x0.size, 1) / (options.prior_sd / MPA) ** 2
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
@@ -116,14 +120,17 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     def muscles_at(xv):
         return problem.muscles_of(structure, stats, stated, xv)
 
-    model_error = model_errors.estimate(data, x, problem.prior_hessian(structure, values, x.size), muscles_at,
+    prior_hessian = problem.prior_hessian(structure, values, x.size)
+    data_only = None if prior == "none" else analyse(x, hessian - prior_hessian, sse_model, points_fit, lbx,
+                                                     ubx, names)
+    model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
                                         slack=options.slack, half_range=0.5 * (ubx - lbx),
                                         constraints=_constraints(structure, grid, x, lbx, ubx,
                                                                  uncertainty.at_bound))
     top = max(float(t.pressure.max()) for t in data.tests)
     joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                           model_error.value, lambda xv: muscles_at(xv)[0],
-                                          written.bores(data, options, geometry), top)
+                                          written.bores(data, options, geometry), top, data_only)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
                          data, predictions)
     return IdentifyResult(

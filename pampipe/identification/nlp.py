@@ -74,7 +74,7 @@ class Structure:
     grid_rows: int  # Drucker rows per moduli block (0: no constraint)
     contact_rows: int  # Drucker rows of the anchored (contact) state
     contact_terms: str  # constant | full
-    prior: str  # none | fixed | axial
+    prior: str  # none | fixed | axial | gaussian
     calibrate: tuple[str, ...]  # calibrated geometry, in GEOMETRY order
     wall: str  # thick | thin
     max_iterations: int
@@ -132,8 +132,10 @@ class Structure:
             out += [("cgrid_base", (self.contact_rows, p)), ("cgrid_incr", (self.contact_rows, p))]
         if self.prior != "none":
             out.append(("prior_weight", (1, 1)))
-        if self.prior == "fixed":
+        if self.prior in ("fixed", "gaussian"):
             out.append(("prior_target", (p, 1)))
+        if self.prior == "gaussian":
+            out.append(("prior_precision", (p, p)))
         return out
 
 
@@ -378,9 +380,12 @@ def _prior(structure: Structure, var, par):
     if structure.prior == "none":
         return ca.MX(0)
     weight = par["prior_weight"]
-    if structure.prior == "fixed":
+    if structure.prior in ("fixed", "gaussian"):
         names = [name for name, _ in structure.blocks() if name not in ("contact", "geometry")]
-        return weight * sum(ca.sumsqr(var[name] - par["prior_target"]) for name in names)
+        if structure.prior == "fixed":
+            return weight * sum(ca.sumsqr(var[name] - par["prior_target"]) for name in names)
+        gaps = [var[name] - par["prior_target"] for name in names]
+        return weight * sum(ca.dot(gap, ca.mtimes(par["prior_precision"], gap)) for gap in gaps)
     if structure.mode == "per_pipe":  # toward the axial moduli
         return weight * sum(ca.sumsqr(var[f"pipe{k}"] - var["theta"]) for k in range(structure.pipes))
     return weight * ca.sumsqr(var["contact"])  # contact increments toward zero

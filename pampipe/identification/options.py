@@ -11,7 +11,9 @@ fit:
   drucker_grid: {pressures: 6, lengths: 15}
   bounds: {constant: [0 MPa, 50 MPa], other: [-50 MPa, 50 MPa], contact: [-50 MPa, 50 MPa]}
   contact_terms: constant        # contact_increment mode: constant (ΔE1, ΔE2) | full (all 4(d+1))
-  prior: {sd: 2 MPa, toward: input}   # optional ridge toward input | axial | zero moduli
+  prior: {sd: 2 MPa, toward: input}   # optional ridge toward input | axial | zero moduli, or a
+                                 # Gaussian prior: {coefficients: {hoop.a0: {value: 4.4 MPa, sd: 0.5 MPa}}}
+                                 # or {pam: pams/prior.yaml} (its moduli and uncertainty: covariance)
   contact_smoothing: 1 N         # softplus width of the contact switch
   rmse_smoothing: 1.0e-4         # ε_s [N²] in sqrt(MSE + ε_s) for sum_rmse
   max_iterations: 1000
@@ -35,9 +37,11 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
 from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.model.uncertainty import moduli_names
 from pampipe.schema import Strict, quantity
 from pampipe.schema import validate as _validate
 
@@ -69,9 +73,40 @@ class BoundsSchema(Strict):
         return self
 
 
+class CoefficientPrior(Strict):
+    """``{value: 4.4 MPa, sd: 0.5 MPa}``: a Gaussian prior on one moduli coefficient."""
+
+    value: Stress
+    sd: quantity("pressure", ge=1e3, le=1e10, unit="Pa")
+
+
 class PriorSchema(Strict):
-    sd: quantity("pressure", ge=1e3, le=1e10, unit="Pa")  # below 1 kPa a prior fixes the coefficient
+    """A ridge ``{sd, toward}``; or a Gaussian prior: ``coefficients: {hoop.a0: {value, sd}}``, or
+    ``pam: FILE`` (its moduli and ``uncertainty:`` covariance, read by the experiment loader into
+    ``mean`` [Pa] and ``covariance`` [Pa²])."""
+
+    sd: quantity("pressure", ge=1e3, le=1e10, unit="Pa") | None = None  # below 1 kPa it fixes the coefficient
     toward: Literal["input", "axial", "zero"] = "input"
+    coefficients: dict[str, CoefficientPrior] | None = Field(None, min_length=1, max_length=32)
+    pam: str | None = Field(None, min_length=1)
+    mean: list[float] | None = Field(None, min_length=1, max_length=32)
+    covariance: list[list[float]] | None = None
+
+    @model_validator(mode="after")
+    def _one_kind(self):
+        given = [name for name in ("sd", "coefficients", "pam") if getattr(self, name) is not None]
+        if self.mean is not None and self.pam is None:
+            given.append("mean")
+        if len(given) != 1:
+            raise ValueError("give exactly one of sd (a ridge: {sd: 2 MPa, toward: input}), coefficients "
+                             "({hoop.a0: {value: 4.4 MPa, sd: 0.5 MPa}}) or pam (a PAM file with moduli: "
+                             f"and uncertainty:); {', '.join(given) or 'none'} given")
+        if (self.mean is None) != (self.covariance is None):
+            raise ValueError("mean and covariance go together")
+        if self.pam is not None and self.mean is None:
+            raise ValueError(f"pam: {self.pam!r} is read by the experiment loader; give the prior in an "
+                             "experiment file")
+        return self
 
 
 class CalibrationBoundsSchema(Strict):
@@ -126,8 +161,11 @@ class FitOptions:
     bounds_other: tuple[float, float] = (-50e6, 50e6)
     bounds_contact: tuple[float, float] = (-50e6, 50e6)
     contact_terms: str = "constant"
-    prior_sd: float | None = None  # [Pa]
+    prior_sd: float | None = None  # [Pa] the ridge
     prior_toward: str = "input"
+    prior_mean: tuple[float, ...] | None = None  # Gaussian prior: mean of θ [Pa] ...
+    prior_precision: tuple[tuple[float, ...], ...] | None = None  # ... and its precision [1/Pa²]
+    prior_source: str = ""  # where the Gaussian prior came from (reported)
     contact_smoothing: float = 1.0  # [N]
     rmse_smoothing: float = 1e-4  # [N²]
     max_iterations: int = 1000
@@ -159,12 +197,42 @@ def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file
         bounds_contact=tuple(schema.bounds.contact), contact_terms=schema.contact_terms,
         prior_sd=None if schema.prior is None else schema.prior.sd,
         prior_toward="input" if schema.prior is None else schema.prior.toward,
+        **_gaussian_prior(schema.prior, schema.degree, source),
         contact_smoothing=schema.contact_smoothing, rmse_smoothing=schema.rmse_smoothing,
         max_iterations=schema.max_iterations, tolerance=schema.tolerance, slack=schema.slack,
         calibrate=tuple(n for n in CALIBRATABLE if n in schema.calibrate),
         calibration_bounds=tuple((n, *getattr(schema.calibration_bounds, n)) for n in CALIBRATABLE
                                  if getattr(schema.calibration_bounds, n) is not None),
         pipe_diameters=tuple(schema.pipe_diameters))
+
+
+def _gaussian_prior(prior: PriorSchema | None, degree: int, source) -> dict:
+    """FitOptions fields of a Gaussian prior (``coefficients`` or ``mean``/``covariance``), else {}."""
+    if prior is None or prior.sd is not None:
+        return {}
+    names = moduli_names(degree)
+    n = len(names)
+    if prior.coefficients is not None:
+        unknown = [name for name in prior.coefficients if name not in names]
+        if unknown:
+            raise InputError(f"{source}: fit.prior.coefficients: unknown coefficient(s) "
+                             f"{', '.join(unknown)}; with degree {degree} they are {names[0]} … {names[-1]}.")
+        mean, precision = np.zeros(n), np.zeros((n, n))
+        for name, c in prior.coefficients.items():
+            k = names.index(name)
+            mean[k], precision[k, k] = c.value, 1.0 / c.sd**2
+        where = "fit.prior.coefficients: " + ", ".join(prior.coefficients)
+    else:
+        mean, covariance = np.asarray(prior.mean, float), np.asarray(prior.covariance, float)
+        if mean.size != n or covariance.shape != (n, n):
+            raise InputError(f"{source}: fit.prior: the prior's moduli have {mean.size} coefficients, the "
+                             f"fit has {n} (degree {degree}); give fit.degree to match.")
+        lam, vec = np.linalg.eigh(0.5 * (covariance + covariance.T))
+        keep = lam > 1e-12 * max(lam.max(initial=0.0), 1e-300)  # no variance: no information either
+        precision = (vec[:, keep] / lam[keep]) @ vec[:, keep].T
+        where = f"fit.prior.pam: {prior.pam}" if prior.pam else "fit.prior: mean and covariance"
+    return {"prior_mean": tuple(mean.tolist()), "prior_precision": tuple(map(tuple, precision.tolist())),
+            "prior_source": where}
 
 
 def fit_options(raw: dict | None, overrides: dict, *, calibrate: Sequence[str] = (),

@@ -99,8 +99,10 @@ def parameters(structure: Structure, stats: Statistics, grid, contact_base, cont
         values.update(cgrid_base=contact_base, cgrid_incr=contact_incr)
     if structure.prior != "none":
         values["prior_weight"] = 0.0
-    if structure.prior == "fixed":
+    if structure.prior in ("fixed", "gaussian"):
         values["prior_target"] = np.zeros(structure.n_theta)
+    if structure.prior == "gaussian":
+        values["prior_precision"] = np.zeros((structure.n_theta, structure.n_theta))
     return values
 
 
@@ -167,6 +169,8 @@ def reference_theta(data: ExperimentData, n: int) -> np.ndarray:
 
 
 def prior_kind(options: FitOptions) -> str:
+    if options.prior_mean is not None:
+        return "gaussian"
     if options.prior_sd is None:
         return "none"
     return "axial" if options.prior_toward == "axial" else "fixed"

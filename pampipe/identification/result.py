@@ -218,6 +218,7 @@ class IdentifyResult:
                 "degree": self.options.degree, "average_legs": self.options.average_legs,
                 "slack": self.options.slack, "slack_rows": int(sum(self.slack_rows)),
                 "excluded_rows": self.excluded_rows,
+                "prior": _prior_document(self.options),
             },
             "geometry": self.calibration.as_document(),
             "predictions": self.predictions.as_document(),
@@ -250,6 +251,17 @@ class IdentifyResult:
             doc["per_pipe"] = [{"pipe_diameter_m": d, "moduli": moduli_document(m)}
                                for d, m in sorted(self.pipe_moduli.items())]
         return doc
+
+
+def _prior_document(options: FitOptions) -> dict | None:
+    """How the fit was regularised: a ridge {sd, toward} or a Gaussian prior (where it came from)."""
+    if options.prior_mean is not None:
+        sd = np.sqrt(np.clip(np.diag(np.linalg.pinv(np.asarray(options.prior_precision))), 0, None))
+        return {"kind": "gaussian", "source": options.prior_source, "mean_Pa": list(options.prior_mean),
+                "sd_Pa": [float(v) if v > 0 else None for v in sd]}
+    if options.prior_sd is not None:
+        return {"kind": "ridge", "sd_Pa": options.prior_sd, "toward": options.prior_toward}
+    return None
 
 
 def _drucker_document(result) -> dict:

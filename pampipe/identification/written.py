@@ -57,24 +57,44 @@ def bores(data, options, geometry) -> list[float]:
 
 
 def parameter_uncertainty(u, x, names, structure, hessian, lower, upper, model_error: float, muscle_at,
-                          diameters, pressure: float) -> ParameterUncertainty:
+                          diameters, pressure: float, data_only=None) -> ParameterUncertainty:
     """The written :class:`ParameterUncertainty` (module docstring).
 
     ``u``: the fit's :class:`~pampipe.identification.uncertainty.Uncertainty`; ``muscle_at(x)``: the
-    muscle of a decision vector; ``pressure`` [Pa]: where the radial force is judged.
+    muscle of a decision vector; ``pressure`` [Pa]: where the radial force is judged; ``data_only``:
+    the uncertainty of the same fit without its prior (None: no prior), whose undetermined directions
+    that the prior fixes are listed as ``prior_determined``.
     """
     index, written = written_index(list(names), structure)
     units = np.array([scaled_unit(n) for n in written])
     covariance = u.covariance[np.ix_(index, index)] * np.outer(units, units)
-    directions = []
-    for q in _basis(u, index):
+    def listed(q, scale) -> UndeterminedDirection:
         full = np.zeros(np.size(x))
         full[index] = q
-        scale = _scale(q, u.sigma, np.asarray(hessian)[np.ix_(index, index)],
-                       0.5 * (np.asarray(upper) - np.asarray(lower))[index])
         moves = _moves(muscle_at, np.asarray(x, float), full, scale, diameters, pressure)
-        directions.append(UndeterminedDirection(q, scale, moves, _test(moves, diameters)))
-    return ParameterUncertainty(written, 0.5 * (covariance + covariance.T), model_error, tuple(directions))
+        return UndeterminedDirection(q, scale, moves, _test(moves, diameters))
+
+    free = _basis(u, index)
+    directions = [listed(q, _scale(q, u.sigma, np.asarray(hessian)[np.ix_(index, index)],
+                                   0.5 * (np.asarray(upper) - np.asarray(lower))[index])) for q in free]
+    scaled = u.covariance[np.ix_(index, index)]  # x units = scaled units
+    on_prior = [] if data_only is None else [listed(q, float(np.sqrt(max(q @ scaled @ q, 0.0))))
+                                             for q in _beyond(_basis(data_only, index), free)]
+    return ParameterUncertainty(written, 0.5 * (covariance + covariance.T), model_error, tuple(directions),
+                                tuple(on_prior))
+
+
+def _beyond(candidates: list[np.ndarray], known: list[np.ndarray]) -> list[np.ndarray]:
+    """Orthonormal basis of the part of span(``candidates``) orthogonal to span(``known``)."""
+    if not candidates:
+        return []
+    m = np.array(candidates).T
+    if known:
+        q = np.array(known).T
+        m = m - q @ (q.T @ m)
+    left, singular, _ = np.linalg.svd(m, full_matrices=False)
+    return [v if v[np.argmax(np.abs(v))] > 0 else -v
+            for v in left[:, singular > NEGLIGIBLE * max(1.0, singular.max(initial=0.0))].T]
 
 
 def _basis(u, index) -> list[np.ndarray]:

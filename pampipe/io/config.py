@@ -147,6 +147,7 @@ class UncertaintySchema(Strict):
     covariance: list[list[Coefficient]]
     model_error: NonNegativeForce = 0.0
     undetermined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
+    prior_determined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
 
 
 class PamSchema(Strict):
@@ -242,22 +243,24 @@ def build_uncertainty(u: UncertaintySchema, degree: int) -> ParameterUncertainty
                          f"{len(u.covariance)} rows of {'/'.join(str(r) for r in sorted(rows)) or 0}")
     unit = to_si(f"1 {u.unit}", "pressure", where="uncertainty.unit")
     row_scale = np.array([unit if name in moduli else 1.0 for name in names])
-    directions = tuple(_direction(d, names, i) for i, d in enumerate(u.undetermined))
+    directions = tuple(_direction(d, names, f"undetermined[{i}]") for i, d in enumerate(u.undetermined))
+    on_prior = tuple(_direction(d, names, f"prior_determined[{i}]") for i, d in enumerate(u.prior_determined))
     try:
-        return ParameterUncertainty(names, cov * np.outer(row_scale, row_scale), u.model_error, directions)
+        return ParameterUncertainty(names, cov * np.outer(row_scale, row_scale), u.model_error, directions,
+                                    on_prior)
     except ValueError as exc:
         raise ValueError(f"uncertainty: {exc}") from None
 
 
-def _direction(d: UndeterminedSchema, names: tuple[str, ...], i: int) -> UndeterminedDirection:
+def _direction(d: UndeterminedSchema, names: tuple[str, ...], key: str) -> UndeterminedDirection:
     unknown = [name for name in d.direction if name not in names]
     if unknown:
-        raise ValueError(f"uncertainty.undetermined[{i}].direction: unknown parameter(s) {unknown}; "
+        raise ValueError(f"uncertainty.{key}.direction: unknown parameter(s) {unknown}; "
                          f"allowed: the uncertainty's parameters ({', '.join(names)})")
     vector = np.array([d.direction.get(name, 0.0) for name in names])
     norm = float(np.linalg.norm(vector))
     if norm == 0:
-        raise ValueError(f"uncertainty.undetermined[{i}].direction: all weights are zero")
+        raise ValueError(f"uncertainty.{key}.direction: all weights are zero")
     scale = d.scale
     if abs(norm - 1) > 1e-9:  # a hand-written direction: make it a unit vector, keep the step
         vector, scale = vector / norm, scale * norm
@@ -393,7 +396,29 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
         tests.append(TestSpec(t.name, t.kind, _relative(path, t.data), t.pipe_diameter, t.axial_load,
                               None if t.set_pressures is None else tuple(t.set_pressures), t.protocol))
     pam_file = _relative(path, schema.pam) if isinstance(schema.pam, str) else None
-    return Experiment(path, pam, tuple(tests), dict(schema.fit or {}), pam_file)
+    return Experiment(path, pam, tuple(tests), _prior_from_pam(path, dict(schema.fit or {})), pam_file)
+
+
+def _prior_from_pam(path: Path, fit: dict) -> dict:
+    """``fit`` with ``prior: {pam: FILE}`` read: the file's moduli as ``mean`` [Pa] and the moduli block of
+    its ``uncertainty:`` as ``covariance`` [Pa²] (docs/formats.md §3, fit.prior)."""
+    prior = fit.get("prior")
+    if not (isinstance(prior, dict) and isinstance(prior.get("pam"), str)):
+        return fit
+    target = _relative(path, prior["pam"])
+    try:
+        pam = load_pam(target)
+    except InputError as exc:
+        raise InputError(f"{path}: fit.prior.pam: {exc}") from None
+    if pam.moduli is None or pam.covariance is None:
+        raise InputError(f"{path}: fit.prior.pam: {target} needs a moduli: and an uncertainty: block to be a "
+                         "prior (the moduli are its mean, the covariance its spread).")
+    k = pam.moduli.degree + 1  # the fit's b coefficients are per 1 MPa: rescale the file's P_ref
+    scale = np.ones(4 * k)
+    scale[k:2 * k] = scale[3 * k:] = 1e6 / pam.moduli.reference_pressure
+    covariance = np.asarray(pam.covariance) * np.outer(scale, scale)
+    return fit | {"prior": prior | {"mean": (scale * pam.moduli.as_vector()).tolist(),
+                                    "covariance": covariance.tolist()}}
 
 
 def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:

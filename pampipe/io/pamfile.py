@@ -85,12 +85,13 @@ def uncertainty_document(u: ParameterUncertainty) -> dict:
     cov = u.covariance / np.outer(row_scale, row_scale)
     doc = {"unit": "MPa", "parameters": list(u.names), "covariance": [[float(v) for v in row] for row in cov],
            "model_error": _quantity(u.model_error, "N")}
-    if u.undetermined:
-        doc["undetermined"] = [
-            {"direction": {name: float(w) for name, w in zip(u.names, d.vector, strict=True) if w != 0},
-             "scale": float(d.scale), "moves": {key: float(v) for key, v in d.moves.items()},
-             **({"test": d.test} if d.test else {})}
-            for d in u.undetermined]
+    for key, directions in (("undetermined", u.undetermined), ("prior_determined", u.prior_determined)):
+        if directions:
+            doc[key] = [{"direction": {name: float(w) for name, w in zip(u.names, d.vector, strict=True)
+                                       if w != 0},
+                         "scale": float(d.scale), "moves": {k: float(v) for k, v in d.moves.items()},
+                         **({"test": d.test} if d.test else {})}
+                        for d in directions]
     return doc
 
 

@@ -92,13 +92,16 @@ class ParameterUncertainty:
     ``covariance`` [Pa², rad², m², cross terms in their SI products] is over ``names``, positive
     semi-definite on the determined subspace (zero along the ``undetermined`` directions: they are
     listed, not given a variance). ``model_error`` [N] is the residual spread beyond the noise floor
-    that no parameter value removes (0 when the model fits to the noise).
+    that no parameter value removes (0 when the model fits to the noise). ``prior_determined`` lists
+    the directions that only a prior (``fit.prior``) determines: their variance is the prior's, so a
+    plan that depends on them rests on the prior (``scale`` is then that sd along the direction).
     """
 
     names: tuple[str, ...]
     covariance: np.ndarray
     model_error: float = 0.0
     undetermined: tuple[UndeterminedDirection, ...] = ()
+    prior_determined: tuple[UndeterminedDirection, ...] = ()
 
     def __post_init__(self):
         cov = np.asarray(self.covariance, dtype=float)
@@ -108,7 +111,7 @@ class ParameterUncertainty:
         check_covariance(cov)
         if not (math.isfinite(self.model_error) and self.model_error >= 0):
             raise ValueError(f"model_error {self.model_error!r} N must be a finite number ≥ 0")
-        for d in self.undetermined:
+        for d in (*self.undetermined, *self.prior_determined):
             if np.shape(d.vector) != (len(self.names),):
                 raise ValueError(f"an undetermined direction has {np.size(d.vector)} weights, expected "
                                  f"{len(self.names)}")
@@ -119,6 +122,7 @@ class ParameterUncertainty:
             return NotImplemented
         return (self.names == other.names and self.model_error == other.model_error
                 and self.undetermined == other.undetermined
+                and self.prior_determined == other.prior_determined
                 and np.array_equal(self.covariance, other.covariance))
 
     @property
@@ -136,6 +140,23 @@ class ParameterUncertainty:
         n = self.moduli_count
         return self.covariance[:n, :n]
 
+    def moduli_part(self) -> ParameterUncertainty:
+        """The uncertainty of the moduli alone (geometry rows dropped), for a muscle of another geometry:
+        directions keep their moduli part (renormalised, same step) and lose their moves (other bores)."""
+        n = self.moduli_count
+
+        def cut(d: UndeterminedDirection) -> UndeterminedDirection | None:
+            norm = float(np.linalg.norm(d.vector[:n]))
+            if norm < 1e-12:
+                return None
+            return UndeterminedDirection(d.vector[:n] / norm, d.scale * norm, {}, d.test)
+
+        def kept(directions):
+            return tuple(c for c in map(cut, directions) if c is not None)
+
+        return ParameterUncertainty(self.names[:n], self.covariance[:n, :n], self.model_error,
+                                    kept(self.undetermined), kept(self.prior_determined))
+
     def scaled_units(self) -> np.ndarray:
         """SI size of one scaled unit for each of ``names``."""
         return np.array([scaled_unit(name) for name in self.names])
@@ -149,10 +170,12 @@ class ParameterUncertainty:
         return {"parameters": list(self.names), "covariance_SI": self.covariance.tolist(),
                 "model_error_N": self.model_error,
                 "scaled_units_SI": {name: scaled_unit(name) for name in self.names},
-                "undetermined": [{"direction": {n: float(w) for n, w in zip(self.names, d.vector, strict=True)
-                                                if w != 0},
-                                  "scale": d.scale, "moves": dict(d.moves), "test": d.test}
-                                 for d in self.undetermined]}
+                "undetermined": [self._direction(d) for d in self.undetermined],
+                "prior_determined": [self._direction(d) for d in self.prior_determined]}
+
+    def _direction(self, d: UndeterminedDirection) -> dict:
+        return {"direction": {n: float(w) for n, w in zip(self.names, d.vector, strict=True) if w != 0},
+                "scale": d.scale, "moves": dict(d.moves), "test": d.test}
 
     @classmethod
     def moduli_only(cls, covariance, *, degree: int | None = None) -> ParameterUncertainty:

@@ -198,9 +198,10 @@ def _loaded_reason(mission, muscles, s: int, e: Elements, solution: Solution, pa
     if confidence is not None:
         return code, hold + "."
     payload = float(payloads.min())
+    within = "at the supply" if code == "above_supply" else "within the rating"
     if payload >= 0:
-        return code, f"{hold}; within its limit the robot can carry at most {payload:.3g} kg of payload here."
-    return code, f"{hold}; within its limit it cannot even carry its own weight here, with no payload."
+        return code, f"{hold}; {within} the robot can carry at most {payload:.3g} kg of payload here."
+    return code, f"{hold}; {within} it cannot even carry its own weight here, with no payload."
 
 
 def _free_diameter(muscle: Muscle, supply: float) -> str:
