@@ -137,7 +137,8 @@ def mission_law(mission, *, confidence: float | None = None, margins: tuple[floa
                mission.supply_pressure, mission.safety_factor, mission.load_path, mission.kappa,
                mission.tether_drag, mission.payload,
                {seg.name: seg.pam.effects for seg in mission.segments if seg.pam.effects},
-               tuple(float(v) for v in pressure_limits(mission)))
+               tuple(float(v) for v in pressure_limits(mission)), confidence=confidence,
+               margins=tuple(margins))
 
 
 def _widest(pam) -> float:
