@@ -176,6 +176,7 @@ def test_undetermined_direction_exits_3_naming_section_bore_and_test(tmp_path, r
     doc = json.loads(out.stdout)
     for section in doc["sections"]:
         assert section["feasible"] is False
+        assert all(seg["holding_probability"] is None and seg["undetermined"] for seg in section["segments"])
         assert "radial test" in section["reason"] and "slip test" in section["reason"]
         assert f"{section['inner_diameter_m'] * 1e3:.4g} mm" in section["reason"]
     # the same muscle without --confidence still plans (the deterministic plan makes no probability claim)

@@ -160,6 +160,9 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
         if not a.complete[s]:
             continue
         for i, name in enumerate(a.segment_names):
+            if s in c.undetermined:
+                out.append((a.route.name[s], name, "-", "undetermined", "-", *["-"] * len(levels)))
+                continue
             out.append((a.route.name[s], name, a.pressure[s, i] / scale,
                         f"{c.holding_probability[s, i]:.4f} ± {c.holding_se[s, i]:.4f}",
                         f"{c.contact_probability[s, i]:.4f}",

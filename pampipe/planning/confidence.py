@@ -124,7 +124,12 @@ class Confidence:
                 "prior": self.prior}
 
     def element_document(self, s: int, i: int) -> dict:
-        """The keys one segment of one section gains (docs/commands.md §6)."""
+        """The keys one segment of one section gains (docs/commands.md §6); where an undetermined
+        direction moves the section's hold there is no probability: null, and ``undetermined`` true."""
+        if s in self.undetermined:
+            return {"holding_probability": None, "holding_probability_se": None,
+                    "contact_probability": None, "pressure_at_Pa": dict.fromkeys(self.pressure_at),
+                    "pressure_ci95_Pa": None, "undetermined": True}
         return {"holding_probability": float(self.holding_probability[s, i]),
                 "holding_probability_se": float(self.holding_se[s, i]),
                 "contact_probability": float(self.contact_probability[s, i]),
