@@ -36,7 +36,7 @@ METHOD = "monte_carlo"
 LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
 DEFAULT_SAMPLES = 4000
 DEFAULT_SEED = 22
-#: Draws × sections evaluated per mapped call (bounds memory for long routes).
+#: Draws × sections evaluated per vectorised call (bounds memory for long routes).
 BATCH = 1 << 17
 #: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
 MOVES = 1e3
