@@ -178,13 +178,18 @@ def extension(pam: Source, *, pressure=None, base=None):
 
 
 def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
-         max_payload: bool = False, base=None):
+         max_payload: bool = False, base=None, samples: int | None = None, seed: int | None = None,
+         prior=None):
     """The least anchoring pressure of every segment in every section (`pampipe plan`).
 
+    With ``confidence`` C: ``samples`` draws seeded by ``seed`` (defaults of
+    :mod:`pampipe.planning.confidence`), ``prior`` a PAM file (or :class:`~pampipe.model.pam.Pam`) whose
+    uncertainty serves as prior along undetermined directions.
     Returns a :class:`pampipe.planning.MissionPlan` (``to_dict()``: the JSON document).
     """
     from pampipe.errors import InputError
     from pampipe.planning import plan_mission
+    from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
 
     if confidence is not None:
         if isinstance(confidence, str):
@@ -197,8 +202,11 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
     if isinstance(payload, list):
         raise InputError("payload: give one mass, e.g. '3 kg', not a list.")
     started = time.perf_counter()
+    prior = None if prior is None else load_pam(prior)
     result = plan_mission(load_mission(mission, base=base), payload=payload,
-                          confidence=confidence, method=solver, with_max_payload=max_payload)
+                          confidence=confidence, method=solver, with_max_payload=max_payload,
+                          samples=DEFAULT_SAMPLES if samples is None else samples,
+                          seed=DEFAULT_SEED if seed is None else seed, prior=prior)
     return result.timed(time.perf_counter() - started)
 
 
@@ -274,11 +282,14 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
 
 
 def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None,
-                   progress: Progress | None = None):
+                   progress: Progress | None = None, confidence: float | None = None,
+                   samples: int | None = None, seed: int | None = None):
     """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
     the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
     names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
-    The header records the SHA-256 of every input file (none for a dict).
+    The header records the SHA-256 of every input file (none for a dict). With ``confidence`` C the law
+    adds, per segment, the margin `plan --confidence C` needs over the mission's sections (``samples``
+    draws seeded by ``seed``), stated in the header.
     """
     import hashlib
 
@@ -293,8 +304,9 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
                 inputs.append((str(path), hashlib.sha256(path.read_bytes()).hexdigest()))
             except OSError as exc:
                 raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
+    sampling = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
     return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name,
-                    progress=progress)
+                    progress=progress, confidence=confidence, **sampling)
 
 
 def load_inventory(inventory: Source, *, base=None):

@@ -47,14 +47,6 @@ def test_confidence_pressure_holds_in_c_of_monte_carlo_draws(confidence):
         assert nominal == pytest.approx(0.5, abs=0.05)
 
 
-def test_confidence_one_half_is_the_nominal_plan():
-    mission = load_mission(UNCERTAIN)
-    half, nominal = plan_mission(mission, confidence=0.5), plan_mission(mission)
-    for a, b in zip(half.sections, nominal.sections, strict=True):
-        for x, y in zip(a.segments, b.segments, strict=True):
-            assert x.pressure == y.pressure
-
-
 def test_friction_uncertainty_alone_is_enough():
     """Without a PAM covariance the friction sd still moves the pressure; larger sd, larger pressure."""
     mission = load_mission(UNCERTAIN)

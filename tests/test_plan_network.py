@@ -7,6 +7,7 @@ the contact margins, and a dense scan of each bore range (tests/test_plan_bores.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import json
 import math
@@ -105,7 +106,15 @@ def test_route_plan_holds_in_the_worst_bore_with_contact_margins_and_coverage(ro
             touch = forces.anchoring_pressure(high, pam.geometry, pam.moduli.as_vector(), 1e6)
             assert seg["largest_bore_anchoring_pressure_Pa"] == pytest.approx(touch, rel=1e-12)
             assert seg["contact_margin_Pa"] == pytest.approx(seg["pressure_Pa"] - touch, rel=1e-9)
-            assert seg["thin_contact_margin"] == (seg["contact_margin_Pa"] < 0.05 * touch)
+            # thin: a 1 mm wider bore or a 1° braid angle error costs more than the margin (closed forms)
+            wider = forces.anchoring_pressure(high + 1e-3, pam.geometry, pam.moduli.as_vector(), 1e6)
+            assert seg["contact_cost_1mm_bore_Pa"] == pytest.approx(wider - touch, rel=1e-9)
+            tilted = [forces.anchoring_pressure(high, dataclasses.replace(
+                pam.geometry, braid_angle=pam.geometry.braid_angle + math.radians(d)), pam.moduli.as_vector(),
+                1e6) for d in (1.0, -1.0)]
+            assert seg["contact_cost_1deg_braid_Pa"] == pytest.approx(max(tilted) - touch, rel=1e-9)
+            cost = max(wider, *tilted) - touch
+            assert seg["thin_contact_margin"] == (seg["contact_margin_Pa"] < cost)
     coverage = doc["coverage"]
     assert coverage["scope"] == "route"
     assert coverage["pipes_total"] == coverage["pipes_feasible"] == len(doc["sections"])

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from pampipe.api import export_mission, load_mission
 from pampipe.commands.common import add_output_options, emit
+from pampipe.commands.plan import probability
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_set, check_not_input
@@ -42,6 +43,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", type=Path, metavar="DIR", required=True,
                         help="folder to write the files into (created if missing)")
     parser.add_argument("--force", action="store_true", help="overwrite output files that already exist")
+    parser.add_argument("--confidence", type=probability, metavar="C",
+                        help="export a law that plans at confidence C: each segment's pressure gains the "
+                             "margin `pampipe plan --confidence C` needs over the mission's sections, stated "
+                             "in the header")
     add_output_options(parser, plots=False)
 
 
@@ -59,8 +64,8 @@ def run(args: argparse.Namespace) -> int:
     if existing and not args.force:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
-    export = export_mission(mission, sketch_name=sketch, progress=lambda text: print(text, file=sys.stderr,
-                                                                                     flush=True))
+    export = export_mission(mission, sketch_name=sketch, confidence=args.confidence,
+                            progress=lambda text: print(text, file=sys.stderr, flush=True))
     atomic_write_set(folder, export.files)  # the old set or the new one, never a mix
     emit(args, export.to_dict(), _report(export, folder))
     return 0

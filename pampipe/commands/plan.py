@@ -24,14 +24,21 @@ load W = g(M|sin(incline)| + friction cos(incline)(M - m_segment)) + tether_drag
 friction*pi*F_r >= safety_factor*W (docs/physics.md section 8). The plan is the least such pressure, never
 below the pressure at which the loaded muscle touches the wall. Where a bore has a tolerance the plan
 holds over the whole range: each segment is planned in the worst bore. The contact margin is the plan
-above the pressure at which the unloaded muscle first touches the largest bore; under 5 % of that
-pressure it is warned about. A route may be a path through a pipe network (route: {network: ky4,
+above the pressure at which the unloaded muscle first touches the largest bore; it is warned about
+where a bore 1 mm wider or a braid angle 1 deg off would cost more than that margin.
+With --confidence C the plan samples every stated uncertainty (the PAM's fit covariance, model error
+and geometry sds, the bores', friction and kappa sds) and plans the least pressure that holds in a share
+C of the draws, with the holding and contact probabilities, the pressures at 0.9, 0.99 and 0.999 and
+the source that dominates. A direction that the muscle's test data leave undetermined and that moves a
+section's holding force makes that section infeasible (exit 3), naming the test that would fix it.
+A route may be a path through a pipe network (route: {network: ky4,
 from: J-315, to: J-897, friction: 0.3}) or, without from/to, every pipe of it, with the coverage.
 
 examples:
   pampipe plan problems/missions/vertical-climb-3in.yaml
   pampipe plan MISSION.yaml --max-payload --json -o plan.json --plots plots/ --units psi
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95
+  pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95 --max-payload
   pampipe plan problems/missions/ky4-route.yaml --plots plots/
 
 A section may end with a bend (bend: {angle: 90 deg, radius: 1.5 D}); network routes take theirs from the
@@ -58,9 +65,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-payload", action="store_true",
                         help="also report the largest payload the supply carries through the whole route, "
                              "and the section that limits it")
-    parser.add_argument("--confidence", type=_probability, metavar="C",
-                        help="plan the pressure that holds with probability C (e.g. 0.95), from the PAM "
-                             "covariance ('uncertainty:' block) and the sections' friction sd")
+    parser.add_argument("--confidence", type=probability, metavar="C",
+                        help="plan the pressure that holds with probability C (e.g. 0.95), sampling every "
+                             "stated uncertainty: the PAM's 'uncertainty:' block (moduli, calibrated "
+                             "geometry, model error), its geometry sds, the bores' and friction sds and "
+                             "kappa's sd; "
+                             "with --max-payload, the payload held with probability C")
+    parser.add_argument("--samples", type=_count, default=None, metavar="N",
+                        help="draws of the uncertain inputs for --confidence (default 4000; the holding "
+                             "probability's Monte Carlo error is about sqrt(C(1-C)/N), 0.34 %% at C = 0.95)")
+    parser.add_argument("--seed", type=int, default=None, metavar="S",
+                        help="seed of the draws (default 22): the same seed gives the same plan")
+    parser.add_argument("--prior-from", type=Path, default=None, metavar="PAM.yaml",
+                        help="with --confidence: a PAM file whose moduli and uncertainty serve as the prior "
+                             "along the directions the muscle's own fit leaves undetermined (otherwise "
+                             "those sections exit 3 naming the test to run); the report says the margin "
+                             "rests on a prior")
     parser.add_argument("--solver", choices=("kkt", "ipopt"), default="kkt",
                         help="kkt: Newton on the NLP's KKT conditions (default, fast); ipopt: the same "
                              "NLP solved by IPOPT")
@@ -71,7 +91,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_output_options(parser)
 
 
-def _probability(text: str) -> float:
+def probability(text: str) -> float:
     """argparse type: a probability in [0.5, 1), as a number or a percentage ('0.95', '95 %')."""
     try:
         value = to_si(text, "dimensionless")
@@ -82,6 +102,17 @@ def _probability(text: str) -> float:
     return value
 
 
+def _count(text: str) -> int:
+    """argparse type: a whole number of draws, at least 100."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of draws, e.g. 4000") from None
+    if value < 100:
+        raise argparse.ArgumentTypeError(f"{text!r}: give at least 100 draws (e.g. 4000)")
+    return value
+
+
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
     from pampipe.commands.plan_text import SHOWN, plan_text
@@ -89,8 +120,11 @@ def run(args: argparse.Namespace) -> int:
     mission = api.load_mission(args.mission)
     if args.output is not None:
         check_output(args.output, mission.input_files, option="-o")
+    if args.confidence is None and (args.prior_from or args.samples or args.seed is not None):
+        raise InputError("--samples, --seed and --prior-from only apply with --confidence C.")
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
-                    max_payload=args.max_payload)
+                    max_payload=args.max_payload, samples=args.samples, seed=args.seed,
+                    prior=args.prior_from)
     document = plan.to_dict()
     for warning in plan.warnings:
         print(f"warning: {warning}", file=sys.stderr, flush=True)

@@ -26,7 +26,6 @@ def pressure_scale(unit: str) -> float:
 
 def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
     """The whole report: header, route, sections as parsed, plan, coverage, payload and verdict."""
-    from pampipe.planning.result import CONTACT_MARGIN  # the plan package is loaded by the run, not --help
     scale = pressure_scale(unit)
     route = plan.arrays.route
     rows = _shown_rows(plan, all_sections)
@@ -43,9 +42,11 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
         parts += ["by bore:", _bore_table(plan, unit, scale)]
     parts += [f"plan (pressures in {unit}, gauge; each segment in the worst bore of its section's range):",
               _plan_table(plan, rows, unit, scale),
-              f"P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
-              f"P - P_anchor (warned under {CONTACT_MARGIN:.0%} of P_anchor); margin = capacity / W (the "
-              "safety factor where no slip sets the pressure)."]
+              "P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
+              "P - P_anchor (thin: below what a 1 mm wider bore or a 1 deg braid angle error costs); "
+              "margin = capacity / W (the safety factor where no slip sets the pressure)."]
+    if plan.uncertainty is not None:
+        parts += _confidence_text(plan, rows, unit, scale)
     if plan.bends:
         parts += [_bend_table(plan, unit, scale, all_sections)]
     if plan.reducers:
@@ -62,8 +63,9 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
             parts.append(f"max payload: none; the robot cannot get through section {limit.section!r} at "
                          f"{supply}.")
         else:
-            parts.append(f"max payload at {supply}: {limit.payload:.4g} kg, limited by {limit.segment} in "
-                         f"section {limit.section!r}.")
+            held = "" if plan.confidence is None else f" (held with probability {plan.confidence:.3g})"
+            parts.append(f"max payload at {supply}: {limit.payload:.4g} kg{held}, limited by {limit.segment} "
+                         f"in section {limit.section!r}.")
     if plan.feasible:
         parts.append("feasible: every segment holds in every section, over each bore's range, within the "
                      "supply" + (", and passes every bend." if plan.bends else "."))
@@ -157,9 +159,8 @@ def _parsed_table(plan, rows: np.ndarray) -> str:
 
 
 def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
-    from pampipe.planning.result import thin_contact
-
     a = plan.arrays
+    thin = a.thin
     uncertain = plan.confidence is not None
     ranged = bool(a.route.toleranced.any())
     headers = ["section", "segment", f"P [{unit}]", *([f"P_nominal [{unit}]"] if uncertain else []),
@@ -177,10 +178,42 @@ def _plan_table(plan, rows: np.ndarray, unit: str, scale: float) -> str:
             out.append((a.route.name[s], name, p / scale,
                         *([a.nominal_pressure[s, i] / scale] if uncertain else []),
                         *([a.diameter[s, i] * 1e3] if ranged else []), touch / scale,
-                        f"{margin:.4g} (thin)" if thin_contact(p, touch) else float(margin), float(hold),
+                        f"{margin:.4g} (thin)" if thin[s, i] else float(margin), float(hold),
                         float(capacity), float(capacity / hold) if hold > 0 else "inf",
                         "yes" if a.feasible[s, i] else "NO"))
     return table(headers, out)
+
+
+def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[str]:
+    """The sampled plan: probabilities and pressures per element, then the sources by influence."""
+    c, a = plan.uncertainty, plan.arrays
+    levels = list(c.pressure_at)
+    headers = ["section", "segment", f"P [{unit}]", "P(hold)", "P(contact)",
+               *(f"P@{k} [{unit}]" for k in levels)]
+    out = []
+    for s in rows.tolist():
+        if not a.complete[s]:
+            continue
+        for i, name in enumerate(a.segment_names):
+            if s in c.undetermined:
+                out.append((a.route.name[s], name, "-", "undetermined", "-", *["-"] * len(levels)))
+                continue
+            out.append((a.route.name[s], name, a.pressure[s, i] / scale,
+                        f"{c.holding_probability[s, i]:.4f} ± {c.holding_se[s, i]:.4f}",
+                        f"{c.contact_probability[s, i]:.4f}",
+                        *(float(c.pressure_at[k][s, i] / scale) for k in levels)))
+    sources = [(r["source"], r["what"], r["pressure_shift_Pa"] / scale) for r in c.dominant()]
+    text = [f"confidence {c.level:.3g}: {c.samples} seeded draws (seed {c.seed}) of every stated uncertainty;"
+            " "
+            "P is the least pressure that holds in that share of the draws (P(hold) ± its Monte Carlo "
+            "error; holding includes touching the wall: P(contact) is the share in which the unloaded "
+            "muscle touches the largest bore):", table(headers, out),
+            f"what each source adds alone (its {c.level:.3g} quantile with the others at their nominal "
+            "values, the worst element):", table(["source", "what", f"adds [{unit}]"], sources)]
+    if c.prior:
+        text.append("note: part of this margin rests on a prior (--prior-from or a stated geometry sd) "
+                    "along directions the muscle's own test data leave undetermined.")
+    return text
 
 
 def _bore_table(plan, unit: str, scale: float) -> str:

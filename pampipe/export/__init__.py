@@ -22,7 +22,7 @@ import casadi as ca
 from pampipe import __version__
 from pampipe.errors import InputError
 from pampipe.export.gait_table import GaitStep, SectionGait, section_gaits
-from pampipe.export.law import Law, Reason, mission_law
+from pampipe.export.law import Law, Reason, confidence_margins, mission_law
 from pampipe.export.sources import header, is_sketch_name, sketch, source, stamped
 
 HEADER = "pampipe_plan.h"
@@ -65,19 +65,25 @@ class Export:
             "diameter_range_m": [law.narrowest, law.widest],
             "reason_codes": {r.name.lower(): int(r) for r in Reason},
             "operations": law.function.n_instructions(),
+            "confidence": None if law.confidence is None else {
+                "level": law.confidence, "margins_Pa": dict(zip(law.segments, law.margins, strict=True))},
             "sections": [s.as_document() for s in self.sections],
         }
 
 
-def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH, progress=None) -> Export:
+def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKETCH, progress=None,
+             confidence: float | None = None, **sampling) -> Export:
     """The C export of ``mission`` (InputError if a PAM's effects have no closed form).
 
-    ``progress(text)`` hears how far the gait table of a long route is.
+    ``progress(text)`` hears how far the gait table of a long route is. With ``confidence`` C the law
+    carries the margins that plan at C (:func:`~pampipe.export.law.confidence_margins`; ``sampling``:
+    its ``samples``/``seed``).
     """
     if not is_sketch_name(sketch_name):
         raise InputError(f"sketch_name: {sketch_name!r} is not an Arduino sketch name: 1 to 63 ASCII "
                          "letters, digits, '_', '.' or '-', starting with a letter or digit.")
-    law = mission_law(mission)
+    margins = () if confidence is None else confidence_margins(mission, confidence, **sampling)
+    law = mission_law(mission, confidence=confidence, margins=margins)
     gaits = section_gaits(mission, law, progress=progress)
     files = stamped({HEADER: header(law, gaits, provenance), SOURCE: source(law, gaits, provenance),
                      f"{sketch_name}.ino": sketch(law, gaits, provenance, sketch_name)})

@@ -6,7 +6,9 @@ payload m [kg], with the mission's robot, safety factor SF, load path κ and tet
     W_i = g(M|sin φ| + μ cos φ (M − m_i)) + F_tether,   M = Σm_j + m    (pampipe.model.slip)
     P_i = Muscle.closed_form_pressure(D, W_i, κ, μ, SF)                 (docs/physics.md §8.3)
 
-the same calls `plan` makes, on CasADi symbols instead of numbers. The reasons follow `plan`'s
+the same calls `plan` makes, on CasADi symbols instead of numbers. With ``--confidence C`` each P_i gains
+a margin ΔP_i [Pa] (:func:`confidence_margins`): the largest P_C − P_nominal that `plan --confidence C`
+needs for segment i over the mission's sections, so that the law plans at C there. The reasons follow `plan`'s
 order (docs/physics.md §8.4): no wall friction, then a pipe not wider than a muscle at rest, then a
 pipe the braid cannot fill, then a pressure above the supply (inf included).
 
@@ -85,6 +87,8 @@ class Law:
     payload: float  # the mission's payload [kg]
     effects: dict  # segment name -> {effect: {parameter: SI value}} of its PAM
     pressure_limits: tuple[float, ...] = ()  # per segment [Pa]: the supply, or its max_pressure if lower
+    confidence: float | None = None  # C of the margins (None: the nominal law)
+    margins: tuple[float, ...] = ()  # ΔP_i [Pa] added to each segment's pressure (empty: none)
 
     @property
     def limits(self) -> np.ndarray:
@@ -120,8 +124,22 @@ class Law:
         return (Reason.OK if np.all(pressure <= self.limits) else Reason.ABOVE_SUPPLY), pressure
 
 
-def mission_law(mission) -> Law:
-    """Build the anchoring law of ``mission`` (InputError if a PAM's effects have no closed form)."""
+def confidence_margins(mission, confidence: float, **sampling) -> tuple[float, ...]:
+    """ΔP_i [Pa] per segment: the largest P_C − P_nominal of `plan --confidence C` over the sections
+    where the segment plans (0 where none does); ``sampling``: ``samples``/``seed`` of the plan."""
+    from pampipe.planning import plan_mission
+
+    plan = plan_mission(mission, confidence=confidence, **sampling)
+    a = plan.arrays
+    with np.errstate(invalid="ignore"):
+        finite = np.isfinite(a.pressure) & np.isfinite(a.nominal_pressure)
+        gap = np.where(finite, a.pressure - a.nominal_pressure, -np.inf)
+    return tuple(float(max(g, 0.0)) for g in np.max(gap, axis=0))
+
+
+def mission_law(mission, *, confidence: float | None = None, margins: tuple[float, ...] = ()) -> Law:
+    """Build the anchoring law of ``mission`` (InputError if a PAM's effects have no closed form), with
+    ``margins`` [Pa] per segment added at ``confidence`` (see :func:`confidence_margins`)."""
     muscles = mission_muscles(mission)
     refused = [(seg, name, why) for seg, m in zip(mission.segments, muscles, strict=True)
                for name, why in m.closed_form_refusals().items()]
@@ -136,10 +154,11 @@ def mission_law(mission) -> Law:
     d, incline, friction, payload = (ca.SX.sym(name) for name in INPUTS)
     total = sum(seg.mass for seg in mission.segments) + payload
     outputs = []
-    for seg, muscle in zip(mission.segments, muscles, strict=True):
+    for i, (seg, muscle) in enumerate(zip(mission.segments, muscles, strict=True)):
         load = slip.anchor_load(total, seg.mass, incline, friction, mission.tether_drag)
-        outputs.append(muscle.closed_form_pressure(d, load, kappa=mission.kappa, friction=friction,
-                                                   safety_factor=mission.safety_factor))
+        pressure = muscle.closed_form_pressure(d, load, kappa=mission.kappa, friction=friction,
+                                               safety_factor=mission.safety_factor)
+        outputs.append(pressure + margins[i] if margins else pressure)
     function = ca.Function("pampipe_required_pressure", [d, incline, friction, payload], ca.cse(outputs),
                            list(INPUTS), [f"pressure_{i}" for i in range(len(outputs))])
     geometry = [seg.pam.geometry for seg in mission.segments]
@@ -150,7 +169,8 @@ def mission_law(mission) -> Law:
                mission.supply_pressure, mission.safety_factor, mission.load_path, mission.kappa,
                mission.tether_drag, mission.payload,
                {seg.name: seg.pam.effects for seg in mission.segments if seg.pam.effects},
-               tuple(float(v) for v in pressure_limits(mission)))
+               tuple(float(v) for v in pressure_limits(mission)), confidence=confidence,
+               margins=tuple(margins))
 
 
 def _widest(pam) -> float:

@@ -138,6 +138,7 @@ def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
         + _ratings(law),
         "pressure_Pa is NaN after codes 1, 2, 3 and 5; after code 4 it holds what each segment would",
         "need (infinity where no pressure up to 100 MPa holds). Straight-line code, no loops or iteration.",
+        *_confidence_doc(law),
     ]
     table_doc = [
         "The sequential gait of every route section, as `pampipe gait --section NAME --json` gives it:",
@@ -425,3 +426,17 @@ def is_sketch_name(name: str) -> bool:
     return (isinstance(name, str) and 0 < len(name) <= 63 and name[0].isascii() and name[0].isalnum()
             and all(c.isascii() and (c.isalnum() or c in "_.-") for c in name))
 
+
+
+def _confidence_doc(law: Law) -> list[str]:
+    """The header's statement of the confidence margins (none for a nominal law)."""
+    if law.confidence is None:
+        return []
+    added = ", ".join(f"{name} +{m / 1e3:.4g} kPa" for name, m in zip(law.segments, law.margins, strict=True))
+    return ["",
+            f"CONFIDENCE {law.confidence:g}: each pressure includes a margin, the largest that",
+            f"`pampipe plan --confidence {law.confidence:g}` needs over this mission's sections, so that",
+            "the law plans at that confidence there:",
+            f"  {added}",
+            "Sections unlike those (other bores, inclines, friction) are not covered by it: plan them with",
+            "pampipe first."]

@@ -14,7 +14,10 @@ brackets, counted by a whole-network plan's coverage):
 5. no pressure up to the model's 100 MPa limit holds the load [``cannot_hold``];
 6. the pressure needed to hold the load exceeds the supply (with the largest payload it allows)
    [``above_supply``], or the muscle's rated pressure (``max_pressure`` of its PAM file, when below the
-   supply) [``above_rating``].
+   supply) [``above_rating``];
+7. with ``--confidence``: a direction of the muscle's parameters that the test data leave undetermined
+   moves the least holding pressure here, so no probability can be given [``undetermined``]; this
+   reason replaces the others, since it names the test to run first.
 
 A segment's pressure limit is the supply, or its PAM's ``max_pressure`` when lower (:func:`pressure_limits`):
 no plan asks more, and a margin that exists only above the rating is no margin.
@@ -79,7 +82,8 @@ REASONS = {"zero_friction": "zero wall friction", "narrower_than_muscle": "narro
            "beyond_reach": "wider than the muscles reach at the supply pressure",
            "beyond_contraction": "would contract the muscles beyond their rating",
            "cannot_hold": "no pressure holds the load", "above_supply": "needs more than the supply pressure",
-           "above_rating": "needs more than the muscles' rated pressure"}
+           "above_rating": "needs more than the muscles' rated pressure",
+           "undetermined": "the test data do not determine the holding force"}
 
 
 def section_reasons(mission, muscles, elements: Elements, solution: Solution,
@@ -207,3 +211,21 @@ def _free_diameter(muscle: Muscle, supply: float) -> str:
     except SolverError:
         return ""
     return f" (it only opens to {diameter_at_length(length, muscle.geometry) * 1e3:.4g} mm)"
+
+
+def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None:
+    """Add (in place) the ``undetermined`` reason of every section an unresolved direction moves."""
+    r = mission.route
+    for s, (i, direction, delta) in sampled.undetermined.items():
+        pipe, _ = _pipe(r, s)
+        bore = _mm(r.diameter_high[s])
+        suggested = f" (the fit's own words: {direction.test})" if direction.test else ""
+        pam = mission.segments[i].pam
+        codes[s] = "undetermined"
+        sentences[s] = (
+            f"{mission.segments[i].name}'s fit ({pam.name}) leaves a direction of its parameters "
+            f"undetermined that moves its least holding pressure in {pipe} (by "
+            f"{abs(delta) / 1e3:.3g} kPa across what the data allow), "
+            f"so no holding probability can be given. A radial test at the {bore} bore, or a slip test in "
+            f"this pipe, would determine it{suggested}; or plan with --prior-from PAM (or a geometry "
+            "'{value, sd}' in the PAM file) to rest the margin on a prior.")

@@ -10,8 +10,9 @@ import numpy as np
 from pampipe.bends.plan import plan_bends
 from pampipe.errors import InputError, SolverError
 from pampipe.planning.checks import cross_check
-from pampipe.planning.confidence import confidence_pressure
-from pampipe.planning.feasibility import plan_feasible, section_reasons
+from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED, plan_confidence
+from pampipe.planning.contact import contact_costs
+from pampipe.planning.feasibility import plan_feasible, section_reasons, undetermined_reasons
 from pampipe.planning.payload import element_payloads, payload_limit
 from pampipe.planning.problem import Elements, build_elements, mission_muscles
 from pampipe.planning.result import MissionPlan, PlanArrays
@@ -23,12 +24,15 @@ CHECK_TOLERANCE = 1e-6
 
 
 def plan_mission(mission, *, payload: float | None = None, confidence: float | None = None,
-                 method: str = "kkt", check: bool = True, with_max_payload: bool = False) -> MissionPlan:
+                 method: str = "kkt", check: bool = True, with_max_payload: bool = False,
+                 samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED, prior=None) -> MissionPlan:
     """Plan ``mission`` (a :class:`pampipe.mission.Mission`); ``payload`` [kg] overrides its payload.
 
-    ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C (first order, see
-    :mod:`pampipe.planning.confidence`). ``check`` compares the NLP's pressures with a bisection on the
-    model (:mod:`pampipe.planning.checks`) and raises :class:`SolverError` beyond a relative 1e-6.
+    ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C, from ``samples``
+    seeded draws (``seed``) of every uncertain input (:mod:`pampipe.planning.confidence`); ``prior`` is a
+    :class:`~pampipe.model.pam.Pam` whose uncertainty serves as prior along undetermined directions.
+    ``check`` compares the NLP's pressures with a bisection on the model (:mod:`pampipe.planning.checks`)
+    and raises :class:`SolverError` beyond a relative 1e-6.
     """
     muscles = mission_muscles(mission)
     if payload is not None:
@@ -44,14 +48,19 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
         if worst > CHECK_TOLERANCE:
             raise SolverError(f"the planning NLP disagrees with its cross-check by {worst:.3g} "
                               f"(relative): {checks}", status="cross_check_failed")
-    nominal = None
+    nominal = sampled = None
     if confidence is not None:
         nominal = solution.pressure
-        pressure = confidence_pressure(mission, muscles, nominal, confidence, diameter=elements.diameter)
+        sampled = plan_confidence(mission, muscles, elements, confidence, samples=samples, seed=seed,
+                                  prior=prior, with_payload=with_max_payload)
+        pressure = np.where(elements.valid, sampled.pressure, nominal)
         solution = dataclasses.replace(solution, pressure=pressure,
                                        slip_active=solution.slip_active | (pressure > nominal))
-    payloads = element_payloads(mission, muscles, elements)
+    payloads = element_payloads(mission, muscles, elements) if sampled is None or sampled.payload is None \
+        else sampled.payload
     reasons, codes = section_reasons(mission, muscles, elements, solution, payloads, confidence=confidence)
+    if sampled is not None:
+        undetermined_reasons(mission, sampled, reasons, codes)
     arrays = _arrays(mission, muscles, elements, solution, reasons, codes, nominal)
     limit = payload_limit(mission, payloads) if with_max_payload else None
     served = None if mission.route.origin is None else route_coverage(mission.route, codes)
@@ -62,7 +71,7 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
                        checks=checks, confidence=confidence, max_payload=limit, muscles=muscles,
                        kappa=elements.kappa, warnings=plan_warnings(mission, arrays, confidence),
-                       coverage=served, bends=bends, reducers=reducers)
+                       coverage=served, bends=bends, reducers=reducers, uncertainty=sampled)
 
 
 def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, nominal) -> PlanArrays:
@@ -75,10 +84,12 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
         loaded_anchoring_pressure=e.anchoring,
         required_hold=e.load, holding_capacity=capacity, radial_force=radial, contact_pressure=contact,
         air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
-        feasible=plan_feasible(mission, e, solution), complete=complete,
+        feasible=plan_feasible(mission, e, solution) & _determined(codes, e.valid.shape),
+        complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=reasons, diameter=np.array(e.diameter),
-        largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes)
+        largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes,
+        contact_cost=contact_costs(muscles, e.diameter_high, e.valid))
 
 
 def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
@@ -87,3 +98,10 @@ def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
     radial = np.asarray(muscle.radial_force(pressure, d, e.kappa * load), dtype=float) * np.ones_like(d)
     capacity = e.friction[:, i] * np.pi * radial
     return capacity, radial, muscle.contact_pressure(radial, d)
+
+
+def _determined(codes: dict[int, str], shape) -> np.ndarray:
+    """False in the rows of sections that an undetermined direction makes infeasible."""
+    out = np.ones(shape, dtype=bool)
+    out[[s for s, code in codes.items() if code == "undetermined"]] = False
+    return out

@@ -10,14 +10,11 @@ import numpy as np
 
 from pampipe.planning.payload import PayloadLimit
 
-#: A plan less than this share of the contact pressure above first touching the largest bore is warned
-#: about: a bore a little larger than stated, or a little more stretch, and the muscle does not touch.
-CONTACT_MARGIN = 0.05
 
-
-def thin_contact(pressure, touch):
-    """True where P − P_a(D_high) < CONTACT_MARGIN·P_a(D_high) (elementwise; False where either is NaN)."""
-    return np.asarray(pressure) - np.asarray(touch) < CONTACT_MARGIN * np.abs(touch)
+def thin_contact(pressure, touch, cost):
+    """True where the contact margin P − P_a(D_high) is below ``cost`` [Pa], what a 1 mm wider bore or a
+    1° braid angle error moves P_a (:mod:`pampipe.planning.contact`); False where any is NaN."""
+    return np.asarray(pressure) - np.asarray(touch) < np.asarray(cost)
 
 
 @dataclass(frozen=True)
@@ -47,6 +44,8 @@ class SegmentPlan:
     nominal_pressure: float | None = None  # [Pa], the plan without uncertainty (with --confidence)
     worst_diameter: float = math.nan  # [m]
     largest_bore_anchoring_pressure: float = math.nan  # [Pa], P_a(D_high, 0)
+    contact_cost_bore: float = math.nan  # [Pa], P_a(D_high + 1 mm) − P_a(D_high)
+    contact_cost_angle: float = math.nan  # [Pa], P_a at a braid angle 1° off − P_a(D_high)
 
     @property
     def margin(self) -> float:
@@ -60,8 +59,9 @@ class SegmentPlan:
 
     @property
     def thin_contact(self) -> bool:
-        """True where the contact margin is under :data:`CONTACT_MARGIN` of the contact pressure."""
-        return bool(thin_contact(self.pressure, self.largest_bore_anchoring_pressure))
+        """True where a 1 mm wider bore or a 1° braid angle error would cost more than the contact margin."""
+        cost = max(self.contact_cost_bore, self.contact_cost_angle)
+        return bool(thin_contact(self.pressure, self.largest_bore_anchoring_pressure, cost))
 
     def as_document(self) -> dict:
         doc = {"name": self.name, "pressure_Pa": self.pressure,
@@ -72,7 +72,9 @@ class SegmentPlan:
                "air_volume_m3": self.air_volume, "margin": self.margin, "binding": self.binding,
                "feasible": self.feasible, "worst_inner_diameter_m": self.worst_diameter,
                "largest_bore_anchoring_pressure_Pa": self.largest_bore_anchoring_pressure,
-               "contact_margin_Pa": self.contact_margin, "thin_contact_margin": self.thin_contact}
+               "contact_margin_Pa": self.contact_margin, "contact_cost_1mm_bore_Pa": self.contact_cost_bore,
+               "contact_cost_1deg_braid_Pa": self.contact_cost_angle,
+               "thin_contact_margin": self.thin_contact}
         if self.nominal_pressure is not None:
             doc["nominal_pressure_Pa"] = self.nominal_pressure
         return doc
@@ -138,11 +140,18 @@ class PlanArrays:
     diameter: np.ndarray  # [m], the worst bore of each element
     largest_bore_anchoring: np.ndarray  # [Pa], P_a(D_high, 0) (NaN where the pipe is impassable)
     reason_codes: dict[int, str]  # {section index: reason code}, infeasible sections only
+    contact_cost: np.ndarray | None = None  # (S, segments, 2) [Pa]: 1 mm wider bore, 1° braid angle
 
     @property
     def contact_margin(self) -> np.ndarray:
         """P − P_a(D_high, 0) [Pa] per element."""
         return self.pressure - self.largest_bore_anchoring
+
+    @property
+    def thin(self) -> np.ndarray:
+        """True per element where a 1 mm / 1° error costs more than the contact margin."""
+        with np.errstate(invalid="ignore"):
+            return thin_contact(self.pressure, self.largest_bore_anchoring, np.max(self.contact_cost, axis=2))
 
 
 @dataclass(frozen=True)
@@ -171,6 +180,7 @@ class MissionPlan:
     coverage: object | None = None  # pampipe.network.Coverage of a network plan (the route's pipes, or all)
     bends: tuple = ()  # pampipe.bends.plan.BendPlan per bend, in travel order
     reducers: tuple = ()  # pampipe.bends.plan.ReducerPlan per change of bore
+    uncertainty: object | None = field(default=None, repr=False)  # planning.confidence.Confidence (sampled)
 
     def timed(self, wall_time: float) -> MissionPlan:
         """A copy that reports ``wall_time`` [s]."""
@@ -202,7 +212,8 @@ class MissionPlan:
         columns = [x.tolist() for x in (a.pressure, a.anchoring_pressure, a.required_hold, a.holding_capacity,
                                         a.radial_force, a.contact_pressure, a.loaded_anchoring_pressure,
                                         a.air_volume, a.slip_active, a.feasible, a.diameter,
-                                        a.largest_bore_anchoring)]
+                                        a.largest_bore_anchoring, a.contact_cost[..., 0],
+                                        a.contact_cost[..., 1])]
         nominal = None if a.nominal_pressure is None else a.nominal_pressure.tolist()
         section_columns = zip(r.name.tolist(), r.length.tolist(), r.diameter.tolist(), r.incline.tolist(),
                               r.friction.tolist(), r.friction_sd.tolist(), r.diameter_low.tolist(),
@@ -214,13 +225,14 @@ class MissionPlan:
             reason = a.reasons.get(s)
             segments = ()
             if complete:
-                p, pa, w, cap, fr, pc, pl, vol, active, ok, worst, touch = (c[s] for c in columns)
+                p, pa, w, cap, fr, pc, pl, vol, active, ok, worst, touch, c_d, c_a = (c[s] for c in columns)
                 segments = tuple(
                     SegmentPlan(seg, p[i], pa[i], w[i], cap[i], fr[i], pc[i],
                                 loaded_anchoring_pressure=pl[i], air_volume=vol[i],
                                 binding="no_slip" if active[i] else "contact", feasible=ok[i],
                                 nominal_pressure=None if nominal is None else nominal[s][i],
-                                worst_diameter=worst[i], largest_bore_anchoring_pressure=touch[i])
+                                worst_diameter=worst[i], largest_bore_anchoring_pressure=touch[i],
+                                contact_cost_bore=c_d[i], contact_cost_angle=c_a[i])
                     for i, seg in enumerate(a.segment_names))
             out.append(SectionPlan(name, reason is None, reason, segments, length, d, incline, mu,
                                    (low, high), sd, r.section_label(s), mu_sd,
@@ -240,8 +252,15 @@ class MissionPlan:
                "payload_kg": self.payload, "confidence": self.confidence, "warnings": list(self.warnings),
                "solver": {"method": self.method, "iterations": self.iterations, **self.checks,
                           "wall_time_s": self.wall_time}}
+        if self.uncertainty is not None:
+            doc["confidence"] = self.uncertainty.as_document()
+            for s, section in enumerate(doc["sections"]):
+                for i, segment in enumerate(section["segments"]):
+                    segment.update(self.uncertainty.element_document(s, i))
         if self.max_payload is not None:
             doc["max_payload"] = self.max_payload.as_document()
+            if self.uncertainty is not None:
+                doc["max_payload"]["confidence"] = self.confidence
         doc["bends"] = [b.as_document() for b in self.bends]
         doc["bends_extra_time_s"] = float(sum(b.steps.extra_time for b in self.bends if b.steps is not None))
         doc["reducers"] = [r.as_document() for r in self.reducers]

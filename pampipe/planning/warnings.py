@@ -2,8 +2,10 @@
 
 Warnings are sentences an engineer should read before trusting the numbers: defaults the mission file
 left to pampipe (no safety factor), plans that barely touch the wall (the contact margin
-P − P_a(D_high, 0) under :data:`~pampipe.planning.result.CONTACT_MARGIN` of P_a(D_high, 0)), bore standard
-deviations that only ``--confidence`` uses, and network pipes whose length is shorter than their rise.
+P − P_a(D_high, 0) below what a 1 mm wider bore or a 1° braid angle error costs,
+:mod:`pampipe.planning.contact`; not with ``--confidence``, whose contact probability replaces it),
+bore standard deviations that only ``--confidence`` uses, and network pipes whose length is shorter
+than their rise.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pampipe.planning.result import CONTACT_MARGIN, PlanArrays, thin_contact
+from pampipe.planning.result import PlanArrays
 
 if TYPE_CHECKING:
     from pampipe.network import Coverage
@@ -24,7 +26,7 @@ LISTED = 10
 def plan_warnings(mission, arrays: PlanArrays, confidence: float | None) -> tuple[str, ...]:
     """The mission's own warnings, then those of the plan, in that order."""
     out = list(mission.warnings)
-    out += _thin_contact(arrays)
+    out += _thin_contact(arrays) if confidence is None else []
     route = arrays.route
     if confidence is None and np.any(route.diameter_sd > 0):
         out.append(f"{int(np.count_nonzero(route.diameter_sd > 0))} section(s) give the bore's sd, which "
@@ -38,26 +40,28 @@ def plan_warnings(mission, arrays: PlanArrays, confidence: float | None) -> tupl
 
 
 def _thin_contact(a: PlanArrays) -> list[str]:
-    """One sentence per section (the first :data:`LISTED`) whose plan barely touches the largest bore."""
-    with np.errstate(invalid="ignore"):
-        thin = thin_contact(a.pressure, a.largest_bore_anchoring) & a.feasible
+    """One sentence per section (the first :data:`LISTED`) where a 1 mm / 1° error costs more than the
+    contact margin (:mod:`pampipe.planning.contact`)."""
+    thin = a.thin & a.feasible
     rows = np.flatnonzero(thin.any(axis=1) & a.complete)
     out = []
     for s in rows[:LISTED].tolist():
         i = int(np.argmin(np.where(thin[s], a.contact_margin[s], np.inf)))
         ranged = a.route.diameter_high[s] > a.route.diameter_low[s]
-        advice = ("a bore wider than the stated range would not be gripped: widen the tolerance if the pipe "
-                  "may be wider." if ranged else
-                  "in a slightly wider pipe it would not grip; give the bore's tolerance so that the plan "
-                  "covers it.")
+        bore, angle = a.contact_cost[s, i]
+        advice = ("a bore wider than the stated range would not be gripped" if ranged else
+                  "give the bore's tolerance so that the plan covers it")
         out.append(f"{a.route.name[s]}: {a.segment_names[i]} is planned only "
                    f"{a.contact_margin[s, i] / 1e3:.3g} kPa above first touching the largest bore "
                    f"({a.route.diameter_high[s] * 1e3:.4g} mm) at "
-                   f"{a.largest_bore_anchoring[s, i] / 1e3:.4g} kPa, under {CONTACT_MARGIN:.0%} of it"
-                   + (f": {advice}" if not out else "."))
+                   f"{a.largest_bore_anchoring[s, i] / 1e3:.4g} kPa; "
+                   f"a bore 1 mm wider would cost {bore / 1e3:.3g} kPa and a braid angle 1 deg off "
+                   f"{angle / 1e3:.3g} kPa"
+                   + (f": {advice}, or plan with --confidence and the sds of bore and geometry."
+                      if not out else "."))
     if rows.size > LISTED:
-        out.append(f"... and {rows.size - LISTED} more section(s) with a contact margin under "
-                   f"{CONTACT_MARGIN:.0%} (thin_contact_margin in the JSON).")
+        out.append(f"... and {rows.size - LISTED} more section(s) whose contact margin a 1 mm / 1 deg error "
+                   "would take (thin_contact_margin in the JSON).")
     return out
 
 

@@ -15,11 +15,13 @@ MAX_CURVES = 8  # sections drawn in the capacity plot (the first ones with a pla
 def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
     """Write required_pressure.png and holding_capacity.png into ``folder``, pressures in ``unit``; for a
     route read from a network also network_pressure.png, and for any route but a whole network
-    route_profile.png (:mod:`pampipe.plots.network`).
+    route_profile.png (:mod:`pampipe.plots.network`); with ``--confidence`` confidence_tornado.png
+    (:mod:`pampipe.plots.tornado`).
 
     Every number drawn comes from ``plan`` (a :class:`pampipe.planning.MissionPlan`), curves included.
     """
     from pampipe.plots.network import network_pressure, route_profile
+    from pampipe.plots.tornado import plot_tornado
 
     scale = to_si(f"1 {unit}", "pressure")
     paths = [_required_pressure(plan, folder, unit, scale), _holding_capacity(plan, folder, unit, scale)]
@@ -34,7 +36,8 @@ def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
 
         drawn = tightest_bend(plan, folder)
         paths += [drawn] if drawn is not None else []
-    return paths
+    tornado = plot_tornado(plan, folder, unit, scale)
+    return paths + ([tornado] if tornado is not None else [])
 
 
 def _required_pressure(plan, folder: Path, unit: str, scale: float) -> Path:
