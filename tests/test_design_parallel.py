@@ -3,13 +3,17 @@ Dask LocalCluster give byte-identical `design --reproducible` JSON."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import subprocess
 import sys
+from concurrent.futures import Executor, Future
 
 import pytest
 
+from pampipe.design import solve_inventory
 from pampipe.errors import InputError
+from pampipe.io.inventory import load_inventory
 from pampipe.parallel import SerialExecutor, executor, run_all
 from tests.conftest import PROBLEMS, ROOT
 
@@ -41,6 +45,49 @@ def test_errors_reach_the_caller():
 def test_bad_executor_options_are_input_errors(options, words):
     with pytest.raises(InputError, match=words), executor(**options):
         pass
+
+
+class _LateFuture(Future):
+    """A future whose done-callbacks wait for its executor's shutdown, as a process pool or Dask may run them
+    (in the executor's own thread) after the caller's ``result()`` has returned."""
+
+    def __init__(self, late: list):
+        super().__init__()
+        self._late = late
+
+    def add_done_callback(self, fn):
+        self._late.append(lambda: fn(self))
+
+
+class _LateCallbacks(Executor):
+    """Runs each task at submission; its future's done-callbacks only at shutdown."""
+
+    def __init__(self):
+        self.late: list = []
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        future = _LateFuture(self.late)
+        future.set_result(fn(*args, **kwargs))
+        return future
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        for call in self.late:
+            call()
+
+
+def test_the_solver_tally_counts_finished_tasks_not_callbacks():
+    """`nlp_solves` and `iterations` cannot depend on when an executor runs its done-callbacks (issue 16):
+    with every callback held back until after the design, the tally still counts each start once, and
+    the iterations are the sum over the starts' own records."""
+    inventory = load_inventory(RISER)
+    inventory = dataclasses.replace(inventory, space=dataclasses.replace(inventory.space, starts=6))
+    assert inventory.space.objective.value == "max_pressure"  # one multi-start, no second run
+    pool = _LateCallbacks()
+    result = solve_inventory(inventory, pool=pool)
+    pool.shutdown()
+    runs = result.as_document()["starts"]["runs"]
+    assert result.solves == len(runs) == 6
+    assert result.iterations == sum(r["iterations"] for r in runs) > 0
 
 
 def _design(inventory, *extra: str) -> bytes:

@@ -18,20 +18,31 @@ from pampipe.parallel import SerialExecutor
 
 
 class _Tally(Executor):
-    """Counts the solves and IPOPT iterations that pass through an executor."""
+    """Counts the solves and IPOPT iterations of the tasks that pass through an executor.
+
+    Counted from the finished futures when read, in the caller's thread: a done-callback of a process
+    pool or Dask runs in the executor's own thread, possibly after ``result()`` has returned to the
+    caller, so counting there made ``nlp_solves`` depend on the executor and the machine's load.
+    """
 
     def __init__(self, inner: Executor):
-        self.inner, self.solves, self.iterations = inner, 0, 0
+        self.inner, self.futures = inner, []
 
     def submit(self, fn, /, *args, **kwargs) -> Future:
         future = self.inner.submit(fn, *args, **kwargs)
-        future.add_done_callback(self._count)
+        self.futures.append(future)
         return future
 
-    def _count(self, future: Future) -> None:
-        if not future.cancelled() and future.exception() is None:
-            self.solves += 1
-            self.iterations += max(getattr(future.result(), "iterations", 0), 0)
+    def _results(self) -> list:
+        return [f.result() for f in self.futures if f.done() and not f.cancelled() and f.exception() is None]
+
+    @property
+    def solves(self) -> int:
+        return len(self._results())
+
+    @property
+    def iterations(self) -> int:
+        return sum(max(getattr(r, "iterations", 0), 0) for r in self._results())
 
 
 def check_material(inventory: Inventory) -> Muscle:
