@@ -74,8 +74,8 @@ def say(args: argparse.Namespace, text: str) -> None:
     print(text, file=text_stream(args), flush=True)
 
 
-def emit(args: argparse.Namespace, document: dict, text: str) -> None:
-    """Print the JSON document (under --json) or the text report."""
+def emit(args: argparse.Namespace, document: dict | None, text: str) -> None:
+    """Print the JSON document (under --json) or the text report (``document`` may then be None)."""
     if getattr(args, "json", False):
         print(text, file=sys.stderr, flush=True)
         sys.stdout.write(to_json(document, timings=not args.reproducible))

@@ -83,7 +83,8 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.output, mission.input_files, option="-o")
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload)
-    document = plan.to_dict()
+    # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan
+    document = plan.to_dict() if args.json or args.output is not None else None
     for warning in plan.warnings:
         print(f"warning: {warning}", file=sys.stderr, flush=True)
     emit(args, document, plan_text(plan, unit=args.units, all_sections=args.all_sections))
