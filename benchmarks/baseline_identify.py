@@ -2,9 +2,10 @@
 
 Standalone on purpose (numpy, pandas, scipy only; no pampipe import), so that its process pays
 only for what it uses. It fits the same 16 moduli coefficients (MPa, b per 1 MPa) of the thick-wall
-force balance (docs/physics.md §4.3) to axial rows (max(0, F_ax) on the slack rows, recorded force ≤ 0: the muscle
-cannot push, as pampipe's default ``fit.slack: unilateral``; a peer fitting F_ax there solves another
-problem, whose SSE is 5·10⁻⁵ lower on the paper protocol) and of F_r = max(0, A(F_ax(P, L_p) − F_a))
+force balance (docs/physics.md §4.3) to axial rows (max(0, F_ax) on the slack rows, recorded force
+≤ 0: the muscle cannot push, as pampipe's default ``fit.slack: unilateral``; a peer fitting F_ax there
+solves another problem, whose SSE is 5·10⁻⁵ lower on the paper protocol) and of
+F_r = max(0, A(F_ax(P, L_p) − F_a))
 (docs/physics.md §5.3) to radial rows, with pampipe's coefficient bounds (no Drucker constraint: scipy
 has none). F_ax is linear in the moduli, so the Jacobian is the regressor matrix (times A on the
 radial rows above anchoring, zero below). The start is the unconstrained linear least squares of
@@ -78,7 +79,7 @@ def main() -> None:
         amps.append(amp if amp.size else np.zeros(pressure.size))
     offset, phi, force, radial = (np.concatenate(offsets), np.vstack(phis), np.concatenate(forces),
                                   np.concatenate(amps) > 0)
-    hinged = radial | (force <= 0)  # slack axial rows read max(0, F), as pampipe's default fit.slack: unilateral
+    hinged = radial | (force <= 0)  # slack axial rows read max(0, F), as pampipe's fit.slack: unilateral
     k = degree + 1
     lower = np.full(4 * k, -50.0)
     upper = np.full(4 * k, 50.0)

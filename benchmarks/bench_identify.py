@@ -140,8 +140,9 @@ def main() -> None:
             memory = f"{peak(ours_args, env):.0f}/{peak(theirs_args, env):.0f}"
             same = run([*ours_args, "--drucker", "none"], env)[1]["fit"]["sse_N2"]  # the peer's problem
             gap = (same - sse_theirs) / sse_theirs
-            print(f"{rows:>9} {t_ours:>10.3f} {t_theirs:>11.3f} {t_theirs / t_ours:>6.2f}x {sse_ours:>16.10g} "
-                  f"{same:>16.10g} {sse_theirs:>16.10g} {gap:>9.1e} {memory:>13}", flush=True)
+            print(f"{rows:>9} {t_ours:>10.3f} {t_theirs:>11.3f} {t_theirs / t_ours:>6.2f}x "
+                  f"{sse_ours:>16.10g} {same:>16.10g} {sse_theirs:>16.10g} {gap:>9.1e} {memory:>13}",
+                  flush=True)
         print(f"first pampipe run with an empty NLP cache (build included): {cold:.3f} s")
         python = statistics.median(run([sys.executable, "-c", "print('{}')"], env)[0] for _ in range(3))
         units = statistics.median(run([sys.executable, "-c", "from pampipe.units import to_si; to_si('1 mm', "
