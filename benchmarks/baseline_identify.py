@@ -11,7 +11,8 @@ has none). F_ax is linear in the moduli, so the Jacobian is the regressor matrix
 radial rows above anchoring, zero below). The start is the unconstrained linear least squares of
 the axial rows, clipped into the bounds. Powers are written as products.
 
-Usage: ``python baseline_identify.py JOB.json`` where the job names the CSV files (columns
+Usage: ``python baseline_identify.py JOB.json [exact|lsmr]`` (trf's trust-region solver) where the
+job names the CSV files (columns
 ``pressure [kPa]``, ``length [mm]``, ``force [N]``, as pampipe writes them) and the geometry (SI);
 prints one JSON line: {"sse_N2", "rmse_N", "rows", "status", "iterations"}.
 """
@@ -56,6 +57,7 @@ def regressors(pressure, length, g, degree):
 
 def main() -> None:
     job = json.loads(open(sys.argv[1]).read())
+    solver = sys.argv[2] if len(sys.argv) > 2 else "exact"  # trf's subproblem: "exact" (SVD) or "lsmr"
     g, degree = job["geometry"], job["degree"]
     offsets, phis, forces, amps = [], [], [], []
     for test in job["tests"]:
@@ -96,7 +98,8 @@ def main() -> None:
     axial = ~radial
     start = np.linalg.lstsq(phi[axial], force[axial] - offset[axial], rcond=None)[0]
     start = np.clip(start, lower + 1e-6, upper - 1e-6)
-    fit = least_squares(residual, start, jac=jacobian, bounds=(lower, upper), method="trf", x_scale="jac")
+    fit = least_squares(residual, start, jac=jacobian, bounds=(lower, upper), method="trf", x_scale="jac",
+                        tr_solver=solver)
     sse = float(np.sum(residual(fit.x) ** 2))
     print(json.dumps({"sse_N2": sse, "rmse_N": float(np.sqrt(sse / force.size)), "rows": int(force.size),
                       "status": fit.message, "iterations": int(fit.nfev)}))
