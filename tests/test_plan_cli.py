@@ -179,3 +179,16 @@ def test_the_json_document_is_built_only_when_asked_for(cli, tmp_path, monkeypat
     out = cli("plan", DEMO, "--json")
     assert out.returncode == 0 and len(built) == 2
     assert json.loads(out.stdout)["feasible"] is True
+
+
+def test_a_large_mission_writes_the_same_json_on_one_line(cli, tmp_path, monkeypatch):
+    """Above COMPACT_SECTIONS sections the document is written unindented (the C encoder), same content."""
+    from pampipe.commands import plan as plan_command
+
+    indented = cli("plan", DEMO, "--json", "--reproducible")
+    monkeypatch.setattr(plan_command, "COMPACT_SECTIONS", 1)
+    compact = cli("plan", DEMO, "--json", "--reproducible", "-o", tmp_path / "plan.json")
+    assert indented.returncode == compact.returncode == 0
+    assert indented.stdout.count("\n") > 50 and compact.stdout.count("\n") == 1
+    assert json.loads(compact.stdout) == json.loads(indented.stdout)
+    assert (tmp_path / "plan.json").read_text() == compact.stdout
