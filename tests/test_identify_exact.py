@@ -64,3 +64,20 @@ def test_fit_with_coefficients_at_their_bounds_reaches_the_bounded_optimum(data)
     assert np.sum(np.isclose(np.abs(theta), 0.2)) >= 1  # the peer's optimum has an active bound
     assert result.sse <= peer * (1 + 1e-12)  # IPOPT alone stops 1e-11…1e-10 above it here
     assert result.sse >= peer * (1 - 1e-12)
+
+
+def test_with_active_drucker_rows_the_exact_solve_is_lower_than_ipopt_and_stays_stable(data, monkeypatch):
+    """Drucker rows active (scipy has no general linear constraints): the exact solve ends on the
+    constraint, no higher than IPOPT's own point, stable, and above the unconstrained optimum."""
+    from pampipe.identification import exact
+
+    experiment_, columns, keep = data
+    options = FitOptions(degree=3, slack="exclude")
+    polished = identify(experiment_, options)
+    monkeypatch.setattr(exact, "applies", lambda structure: False)
+    ipopt_only = identify(experiment_, options)
+    unconstrained, _ = peer_sse(experiment_, columns, keep, 3, (0.0, -50e6), (50e6, 50e6))
+    assert polished.drucker_minimum.stable
+    assert unconstrained < polished.sse <= ipopt_only.sse
+    assert abs(polished.drucker_minimum.value) < 1.0  # [Pa]: on the constraint, not inside it
+    assert ipopt_only.drucker_minimum.value > 1e-3  # IPOPT stopped inside it
