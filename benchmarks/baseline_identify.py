@@ -2,13 +2,17 @@
 
 Standalone on purpose (numpy, pandas, scipy only; no pampipe import), so that its process pays
 only for what it uses. It fits the same 16 moduli coefficients (MPa, b per 1 MPa) of the thick-wall
-force balance (docs/physics.md §4.3) to axial rows and of F_r = max(0, A(F_ax(P, L_p) − F_a))
+force balance (docs/physics.md §4.3) to axial rows (max(0, F_ax) on the slack rows, recorded force
+≤ 0: the muscle cannot push, as pampipe's default ``fit.slack: unilateral``; a peer fitting F_ax there
+solves another problem, whose SSE is 5·10⁻⁵ lower on the paper protocol) and of
+F_r = max(0, A(F_ax(P, L_p) − F_a))
 (docs/physics.md §5.3) to radial rows, with pampipe's coefficient bounds (no Drucker constraint: scipy
 has none). F_ax is linear in the moduli, so the Jacobian is the regressor matrix (times A on the
 radial rows above anchoring, zero below). The start is the unconstrained linear least squares of
 the axial rows, clipped into the bounds. Powers are written as products.
 
-Usage: ``python baseline_identify.py JOB.json`` where the job names the CSV files (columns
+Usage: ``python baseline_identify.py JOB.json [exact|lsmr]`` (trf's trust-region solver) where the
+job names the CSV files (columns
 ``pressure [kPa]``, ``length [mm]``, ``force [N]``, as pampipe writes them) and the geometry (SI);
 prints one JSON line: {"sse_N2", "rmse_N", "rows", "status", "iterations"}.
 """
@@ -53,6 +57,7 @@ def regressors(pressure, length, g, degree):
 
 def main() -> None:
     job = json.loads(open(sys.argv[1]).read())
+    solver = sys.argv[2] if len(sys.argv) > 2 else "exact"  # trf's subproblem: "exact" (SVD) or "lsmr"
     g, degree = job["geometry"], job["degree"]
     offsets, phis, forces, amps = [], [], [], []
     for test in job["tests"]:
@@ -76,6 +81,7 @@ def main() -> None:
         amps.append(amp if amp.size else np.zeros(pressure.size))
     offset, phi, force, radial = (np.concatenate(offsets), np.vstack(phis), np.concatenate(forces),
                                   np.concatenate(amps) > 0)
+    hinged = radial | (force <= 0)  # slack axial rows read max(0, F), as pampipe's fit.slack: unilateral
     k = degree + 1
     lower = np.full(4 * k, -50.0)
     upper = np.full(4 * k, 50.0)
@@ -83,16 +89,17 @@ def main() -> None:
 
     def residual(theta):
         u = offset + phi @ theta
-        return np.where(radial, np.maximum(u, 0.0), u) - force
+        return np.where(hinged, np.maximum(u, 0.0), u) - force
 
     def jacobian(theta):
         u = offset + phi @ theta
-        return phi * np.where(radial & (u <= 0), 0.0, 1.0)[:, None]
+        return phi * np.where(hinged & (u <= 0), 0.0, 1.0)[:, None]
 
     axial = ~radial
     start = np.linalg.lstsq(phi[axial], force[axial] - offset[axial], rcond=None)[0]
     start = np.clip(start, lower + 1e-6, upper - 1e-6)
-    fit = least_squares(residual, start, jac=jacobian, bounds=(lower, upper), method="trf", x_scale="jac")
+    fit = least_squares(residual, start, jac=jacobian, bounds=(lower, upper), method="trf", x_scale="jac",
+                        tr_solver=solver)
     sse = float(np.sum(residual(fit.x) ** 2))
     print(json.dumps({"sse_N2": sse, "rmse_N": float(np.sqrt(sse / force.size)), "rows": int(force.size),
                       "status": fit.message, "iterations": int(fit.nfev)}))

@@ -5,6 +5,7 @@ median wall time, and the median CPU time (user + system: close to the wall time
 less disturbed when other processes share the cores), measured in the same run as the baselines:
 
 * ``python -c pass``: the interpreter alone;
+* ``import numpy``: the least any numpy tool pays (the yardstick of issue 25: plan ≤ 2× it);
 * ``import numpy, casadi``: the two libraries plan cannot do without;
 * ``import numpy, casadi, pydantic, yaml`` and one pydantic model: every third-party import of plan.
 
@@ -69,6 +70,7 @@ def main() -> None:
     python = sys.executable
     runs = {
         "python -c pass": [python, "-c", "pass"],
+        "import numpy": [python, "-c", "import numpy"],
         "import numpy, casadi": [python, "-c", "import numpy, casadi"],
         "+ pydantic, yaml (all deps)": [python, "-c", DEPENDENCIES],
         "import pampipe plan command": [python, "-c", "import pampipe.cli as c; c.build_parser(('plan',))"],
@@ -89,6 +91,9 @@ def main() -> None:
     print(f"\nplan beyond all its dependencies: {plan - deps:.3f} s wall, {plan_cpu - deps_cpu:.3f} s CPU "
           f"(pampipe's own imports and the run); goal {GOAL} s: {'met' if plan < GOAL else 'NOT met'} "
           f"(median wall {plan:.3f} s, CPU {plan_cpu:.3f} s; load average {os.getloadavg()[0]:.1f})")
+    numpy_wall, numpy_cpu = results["import numpy"]
+    print(f"pampipe plan (demo) / import numpy: {plan / numpy_wall:.2f}x median wall, "
+          f"{plan_cpu / numpy_cpu:.2f}x CPU (issue 25 goal: 2x)")
     print("\nslowest top-level imports of the plan run (cumulative, python -X importtime):")
     for seconds, name in slowest_imports():
         print(f"  {seconds:8.3f} s  {name}")

@@ -212,9 +212,16 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
 
 def gait(mission: Source, *, section: str | None = None, optimal: bool = False, base=None,
          progress: Progress | None = None) -> GaitReport:
-    """The peristaltic schedule in one section; with ``optimal`` also the time-optimal gait (`gait`)."""
+    """The peristaltic schedule in one section; with ``optimal`` also the time-optimal gait (`gait`).
+
+    The optimal gait is solved warm, from the last solution of the same structure (muscles' model
+    structures, grid, valve) found by this process (:data:`_GAIT_WARM_STARTS`): the built OCP is reused
+    and IPOPT starts at that optimum with its multipliers; another structure starts cold from the
+    sequential schedule. ``result.optimal.solver["warm_start"]`` says which.
+    """
     from pampipe.errors import InputError
     from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
+    from pampipe.locomotion.optimal import problem_key
 
     optimal = _flag(optimal, "optimal")
     if section is not None and not isinstance(section, str):
@@ -226,7 +233,13 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
     if optimal:
         if progress is not None:
             progress("solving the time-optimal gait (CasADi/IPOPT) ...")
-        best = optimal_gait(model, section, options=options, baseline=sequential)
+        key = problem_key(sequential.needs, options)
+        best = optimal_gait(model, section, options=options, baseline=sequential,
+                            warm_start=_GAIT_WARM_STARTS.get(key))
+        _GAIT_WARM_STARTS.pop(key, None)
+        _GAIT_WARM_STARTS[key] = best.warm_start
+        while len(_GAIT_WARM_STARTS) > WARM_STARTS_KEPT:  # the least recently solved structure goes
+            _GAIT_WARM_STARTS.pop(next(iter(_GAIT_WARM_STARTS)))
     bends = None
     if model.route.bend_angle is not None:
         from pampipe.bends.gait import route_time
@@ -235,6 +248,12 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
         bends = route_time(plan_bends(model)[0], float(model.route.length.sum()),
                            (best or sequential).speed)
     return GaitReport(sequential, best, bends)
+
+
+#: Structures whose last optimal-gait solution :func:`gait` keeps to start the next solve from.
+WARM_STARTS_KEPT = 8
+#: problem key (:func:`pampipe.locomotion.optimal.problem_key`) → its last WarmStart, oldest first.
+_GAIT_WARM_STARTS: dict = {}
 
 
 def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,

@@ -165,3 +165,30 @@ def test_pam_without_moduli_and_output_over_input(cli, tmp_path):
     out = cli("plan", mission, "-o", mission)
     assert out.returncode == 2 and "refusing to write over the input" in out.stderr
     assert (tmp_path / "mission.yaml").read_text() == before
+
+
+def test_the_json_document_is_built_only_when_asked_for(cli, tmp_path, monkeypatch):
+    """The text report of a big mission does not pay for the JSON document (issue 25); --json and -o do."""
+    from pampipe.planning.result import MissionPlan
+
+    built = []
+    original = MissionPlan.to_dict
+    monkeypatch.setattr(MissionPlan, "to_dict", lambda self: (built.append(1), original(self))[1])
+    assert cli("plan", DEMO).returncode == 0 and not built
+    assert cli("plan", DEMO, "-o", tmp_path / "plan.json").returncode == 0 and len(built) == 1
+    out = cli("plan", DEMO, "--json")
+    assert out.returncode == 0 and len(built) == 2
+    assert json.loads(out.stdout)["feasible"] is True
+
+
+def test_a_large_mission_writes_the_same_json_on_one_line(cli, tmp_path, monkeypatch):
+    """Above COMPACT_SECTIONS sections the document is written unindented (the C encoder), same content."""
+    from pampipe.commands import plan as plan_command
+
+    indented = cli("plan", DEMO, "--json", "--reproducible")
+    monkeypatch.setattr(plan_command, "COMPACT_SECTIONS", 1)
+    compact = cli("plan", DEMO, "--json", "--reproducible", "-o", tmp_path / "plan.json")
+    assert indented.returncode == compact.returncode == 0
+    assert indented.stdout.count("\n") > 50 and compact.stdout.count("\n") == 1
+    assert json.loads(compact.stdout) == json.loads(indented.stdout)
+    assert (tmp_path / "plan.json").read_text() == compact.stdout

@@ -74,17 +74,17 @@ def say(args: argparse.Namespace, text: str) -> None:
     print(text, file=text_stream(args), flush=True)
 
 
-def emit(args: argparse.Namespace, document: dict, text: str) -> None:
-    """Print the JSON document (under --json) or the text report."""
+def emit(args: argparse.Namespace, document: dict | None, text: str, *, indent: int | None = 2) -> None:
+    """Print the JSON document (under --json) or the text report (``document`` may then be None)."""
     if getattr(args, "json", False):
         print(text, file=sys.stderr, flush=True)
-        sys.stdout.write(to_json(document, timings=not args.reproducible))
+        sys.stdout.write(to_json(document, timings=not args.reproducible, indent=indent))
         sys.stdout.flush()
         args.document_printed = True  # a later error adds no second JSON document
     else:
         print(text, flush=True)
 
 
-def write_json(path: Path, document: dict, args: argparse.Namespace) -> None:
+def write_json(path: Path, document: dict, args: argparse.Namespace, *, indent: int | None = 2) -> None:
     """Write the JSON document to ``path`` atomically (honouring --reproducible)."""
-    atomic_write_text(path, to_json(document, timings=not args.reproducible))
+    atomic_write_text(path, to_json(document, timings=not args.reproducible, indent=indent))

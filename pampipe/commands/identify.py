@@ -156,7 +156,7 @@ def report(result, source: str) -> str:
                         else "fitted as max(0, F)"))
     total = f"sum of RMSE over (test, pressure): {result.sum_rmse:.4g} N   " if result.sum_rmse is not None \
         else ""
-    parts.append(f"\n{total}least squares: {result.sse:.4g} N^2 (RMSE {result.rmse:.4g} N)   "
+    parts.append(f"\n{total}least squares: {result.sse!r} N^2 (RMSE {result.rmse:.4g} N)   "
                  f"residual sigma {u.sigma:.4g} N")
     parts.append(_quality(result))
     parts.append(_geometry(result))

@@ -113,6 +113,10 @@ def _count(text: str) -> int:
     return value
 
 
+#: Above this many sections the JSON document is written on one line (the indented encoder is 3× slower).
+COMPACT_SECTIONS = 10_000
+
+
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
     from pampipe.commands.plan_text import SHOWN, plan_text
@@ -125,12 +129,14 @@ def run(args: argparse.Namespace) -> int:
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload, samples=args.samples, seed=args.seed,
                     prior=args.prior_from)
-    document = plan.to_dict()
+    # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan
+    document = plan.to_dict() if args.json or args.output is not None else None
     for warning in plan.warnings:
         print(f"warning: {warning}", file=sys.stderr, flush=True)
-    emit(args, document, plan_text(plan, unit=args.units, all_sections=args.all_sections))
+    indent = None if len(plan.arrays.route) > COMPACT_SECTIONS else 2
+    emit(args, document, plan_text(plan, unit=args.units, all_sections=args.all_sections), indent=indent)
     if args.output is not None:
-        write_json(args.output, document, args)
+        write_json(args.output, document, args, indent=indent)
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.plan import plot_plan

@@ -23,7 +23,7 @@ import numpy as np
 
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
-from pampipe.identification import drucker, envelope, multistart, problem, quality, seeds, written
+from pampipe.identification import drucker, envelope, exact, multistart, problem, quality, seeds, written
 from pampipe.identification import geometry as geo
 from pampipe.identification import model_error as model_errors
 from pampipe.identification.grip import identify_grip
@@ -203,6 +203,8 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
     x = np.asarray(solution["x"], dtype=float).ravel()
     wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
     p = nlp.layout.pack(values)
+    if exact.applies(structure):  # IPOPT stops at its tolerance: the exact optimum at its active set
+        x = exact.polish(nlp, p, x, lbx, ubx)
     geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if options.calibrate else stated
 
     moduli, pipe_moduli, blocks = problem.moduli_of(structure, stats, x)

@@ -172,6 +172,8 @@ class Problem:
     solver: ca.Function
     sse: ca.Function  # (x, p) -> Σ SSE [N²]
     hessian: ca.Function  # (x, p) -> ∇²[(SSE + prior)/2] [N²/unit²]
+    gradient: ca.Function  # (x, p) -> ((SSE + prior)/2, its gradient)
+    constraints: ca.Function  # (x, p) -> (g ≥ 0, ∂g/∂x): the Drucker rows, linear in x
     build_time: float  # [s] to build, or to load from the disk cache
     origin: str  # "built" or "disk"
     n_x: int
@@ -190,7 +192,8 @@ def build_problem(structure: Structure) -> Problem:
     functions, origin = cached_functions("identify", repr(structure), lambda: _build(structure))
     layout = Layout(structure.parameters())
     solver = functions["solver"]
-    return Problem(structure, layout, solver, functions["sse"], functions["hessian"],
+    return Problem(structure, layout, solver, functions["sse"], functions["hessian"], functions["gradient"],
+                   functions["constraints"],
                    time.perf_counter() - started, origin, int(solver.size1_in("x0")),
                    int(solver.size1_in("lbg")), int(functions["sse"].n_nodes()))
 
@@ -262,8 +265,12 @@ def _build(structure: Structure) -> dict[str, ca.Function]:
     solver = nlpsol("identify", {"x": x, "p": p, "f": f, "g": g},
                     ipopt={"max_iter": structure.max_iterations, "tol": structure.tolerance,
                            "mu_strategy": "monotone"}, **options)
+    half = (sse + prior) / 2
+    gradient = [half, ca.gradient(half, x)] if not structure.calibrate else [half, ca.MX.nan(x.shape[0])]
     return {"solver": solver, "sse": ca.Function("sse", [x, p], [sse]),
-            "hessian": ca.Function("hessian", [x, p], [hess])}
+            "hessian": ca.Function("hessian", [x, p], [hess]),
+            "gradient": ca.Function("gradient", [x, p], gradient),
+            "constraints": ca.Function("constraints", [x, p], [g, ca.jacobian(g, x)])}
 
 
 def _linear_cells(par, theta):

@@ -193,12 +193,14 @@ def _path(parent: tuple) -> str:
     return "result" + "".join(reversed(parts))
 
 
-def to_json(document: dict, *, timings: bool = True) -> str:
+def to_json(document: dict, *, timings: bool = True, indent: int | None = 2) -> str:
     """Deterministic JSON: sorted keys, 12-digit floats; NaN or inf raises SolverError (exit 3).
 
     ``timings=False`` writes wall-clock ``*wall_time_s`` entries as 0, for byte-identical output.
+    ``indent=None`` writes one line (Python's C encoder: about 3× faster than the indented one).
     """
-    return json.dumps(_clean(document, timings=timings), sort_keys=True, indent=2, allow_nan=False) + "\n"
+    cleaned = _clean(document, timings=timings)
+    return json.dumps(cleaned, sort_keys=True, indent=indent, allow_nan=False) + "\n"
 
 
 # ------------------------------------------------------------------------------ a set of files at once

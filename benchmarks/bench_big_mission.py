@@ -1,0 +1,90 @@
+"""Benchmark: `pampipe plan` of a 10⁵-section mission, whole process: text report against --json (issue 25).
+
+The mission is the demo robot on a synthetic route (``bench_network.write_mission``: varied lengths,
+five bores, a fifth with a tolerance, inclines). Each command runs as a fresh process with one BLAS
+thread; its CPU time (user + system, from ``getrusage`` of the children) and wall time are taken, the
+median of ``--repeat`` alternating runs. The peer, in the same run: reading the same file with PyYAML's
+C loader alone (``yaml.load(..., CSafeLoader)``), the least any YAML-reading tool pays before it plans.
+Printed: the load average, then one line per command with CPU [s], wall [s], CPU ÷ peer and the peak
+resident memory (a separate run, started by a small launcher process), also per section.
+
+Goal (issue 25): the text report of 10⁵ sections in ≤ 2.5 s CPU.
+
+    .venv/bin/python benchmarks/bench_big_mission.py [--sections 100000] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_network import ROOT, write_mission
+
+THREADS = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+LAUNCHER = ("import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL, "
+            "stderr=subprocess.DEVNULL); _, s, u = os.wait4(p.pid, 0); print(u.ru_maxrss)")
+PEER = "import sys, yaml; yaml.load(open(sys.argv[1], encoding='utf-8'), Loader=yaml.CSafeLoader)"
+
+
+def measured(args: list[str], env: dict) -> tuple[float, float]:
+    """(CPU [s], wall [s]) of one child process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    started = time.perf_counter()
+    child = subprocess.run(args, capture_output=True, env=env, cwd=ROOT)
+    wall = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if child.returncode:
+        raise RuntimeError(f"{args[:5]} failed: {child.stderr.decode()[-2000:]}")
+    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall
+
+
+def peak_kb(args: list[str], env: dict) -> int:
+    """Peak resident memory [kB] of ``args``, started by a small launcher process."""
+    out = subprocess.run([sys.executable, "-c", LAUNCHER, *args], capture_output=True, env=env, cwd=ROOT)
+    return int(out.stdout)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sections", type=int, default=100_000)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    env = {**os.environ, **THREADS}
+    with tempfile.TemporaryDirectory(prefix="bench-big-mission-") as tmp:
+        mission = str(write_mission(Path(tmp), args.sections))
+        out = str(Path(tmp) / "plan.json")
+        commands = {
+            "peer: yaml.load (CSafeLoader)": [sys.executable, "-c", PEER, mission],
+            "pampipe plan (text report)": [sys.executable, "-m", "pampipe", "plan", mission],
+            "pampipe plan --json": [sys.executable, "-m", "pampipe", "plan", mission, "--json"],
+            "pampipe plan -o plan.json": [sys.executable, "-m", "pampipe", "plan", mission, "-o", out],
+        }
+        runs: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
+        for _ in range(args.repeat):
+            for name, command in commands.items():
+                runs[name].append(measured(command, env))
+        print(f"{args.sections:,} sections; load average {os.getloadavg()[0]:.2f}; one BLAS thread; "
+              f"median of {args.repeat} whole processes")
+        peer = statistics.median(cpu for cpu, _ in runs[next(iter(commands))])
+        bare = peak_kb([sys.executable, "-c", "pass"], env)
+        print(f"{'command':<32} {'CPU s':>7} {'wall s':>7} {'CPU / peer':>10} {'peak MB':>8} "
+              f"{'kB/section':>10}")
+        for name, values in runs.items():
+            cpu = statistics.median(c for c, _ in values)
+            wall = statistics.median(w for _, w in values)
+            peak = peak_kb(commands[name], env)
+            print(f"{name:<32} {cpu:>7.2f} {wall:>7.2f} {cpu / peer:>9.2f}x {peak / 1024:>8.0f} "
+                  f"{(peak - bare) / args.sections:>10.2f}")
+        print("kB/section: the peak resident memory above a bare interpreter's, per section")
+
+
+if __name__ == "__main__":
+    main()
