@@ -13,6 +13,7 @@ from pampipe.identification.geometry import BlockedForce
 from pampipe.identification.options import FitOptions
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
+from pampipe.results import notebook
 from pampipe.slip.result import SlipResult
 
 MPA = 1e6
@@ -90,6 +91,7 @@ class Calibration:
         return doc
 
 
+@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.plots.identify:plot_result")
 @dataclass(frozen=True)
 class IdentifyResult:
     """The outcome of :func:`pampipe.identification.identify`.

@@ -9,6 +9,7 @@ from functools import cached_property
 import numpy as np
 
 from pampipe.planning.payload import PayloadLimit
+from pampipe.results import notebook
 
 #: A plan less than this share of the contact pressure above first touching the largest bore is warned
 #: about: a bore a little larger than stated, or a little more stretch, and the muscle does not touch.
@@ -145,6 +146,8 @@ class PlanArrays:
         return self.pressure - self.largest_bore_anchoring
 
 
+@notebook(headline=("mission", "feasible", "payload_kg", "supply_pressure_Pa", "safety_factor"),
+          plot="pampipe.plots.plan:plot_plan")
 @dataclass(frozen=True)
 class MissionPlan:
     """The anchoring pressures of a whole mission; ``feasible`` only if every section is.

@@ -172,3 +172,19 @@ def _level_colors(n: int) -> np.ndarray:
 
 def _index(result, name: str) -> int:
     return [t.name for t in result.tests].index(name)
+
+
+def plot_result(result, folder: Path) -> list[Path]:
+    """:func:`plot_identification` of a result returned by :func:`pampipe.identify` (which keeps its data)."""
+    return plot_identification(_data(result), result, folder)
+
+
+def _data(result):
+    data = getattr(result, "experiment_data", None)
+    if data is None:
+        from pampipe.errors import InputError
+
+        raise InputError("plot(): this result does not carry its experiment data; get it from "
+                         "pampipe.identify(...), or call pampipe.plots.identify.plot_identification(data, "
+                         "result, folder).")
+    return data
