@@ -14,7 +14,7 @@ import json
 import re
 import sys
 
-from pampipe import __version__, interrupts
+from pampipe import __version__, interrupts, progress
 from pampipe.errors import InputError, PampipeError
 from pampipe.io.files import forget_written, written
 
@@ -105,7 +105,12 @@ def _run(argv: list[str]) -> int:
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
         command = f"pampipe {args.command}"
-        return args.run(args)
+        if getattr(args, "plot_format", None):
+            from pampipe.report import set_plot_format
+
+            set_plot_format(args.plot_format)
+        with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))):
+            return args.run(args)
     except _UsageError as exc:
         return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",
                      str(exc))

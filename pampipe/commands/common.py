@@ -46,6 +46,9 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
     """--json, --reproducible, --debug and (for commands that draw) --plots DIR."""
     parser.add_argument("--json", action="store_true",
                         help="print exactly one JSON document on stdout; human text goes to stderr")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress lines on stderr (--json is quiet too); results and errors still "
+                             "show")
     parser.add_argument("--reproducible", action="store_true",
                         help="write wall-clock timings (keys ending wall_time_s) as 0 in JSON, so that the "
                              "same inputs give byte-identical JSON")
@@ -53,7 +56,10 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
                         help="show the traceback of an internal error")
     if plots:
         parser.add_argument("--plots", metavar="DIR", type=_plots_folder,
-                            help="write PNG plots into DIR (created if missing)")
+                            help="write the plots into DIR (created if missing)")
+        parser.add_argument("--plot-format", choices=("png", "svg", "pdf"), default="png",
+                            help="file format of --plots: png (150 dpi), or svg / pdf (vector, for a paper); "
+                                 "default png")
 
 
 def _plots_folder(text: str) -> Path:

@@ -61,10 +61,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def say_err(args, text: str) -> None:
-    """Progress goes to stderr whatever the output mode."""
-    import sys
+    """A progress line on stderr (:mod:`pampipe.progress`: none under --json or --quiet)."""
+    from pampipe import progress
 
-    print(f"diagnose: {text}", file=sys.stderr, flush=True)
+    progress.note(f"diagnose: {text}")
 
 
 def _parameters(summary) -> str:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, quantity_type, say
@@ -15,6 +14,7 @@ from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
+from pampipe.progress import note
 from pampipe.report import table
 
 NAME = "identify"
@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.output, experiment.input_files, option="-o")
 
     def progress(text: str) -> None:
-        print(f"pampipe identify: {text}", file=sys.stderr, flush=True)
+        note(f"pampipe identify: {text}")
 
     data = load_experiment_data(experiment, progress=progress)
     result = identify(data, options, progress=progress if data.points >= 100_000 else None)
