@@ -67,7 +67,7 @@ def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
     if ax is not None and nrows == ncols == 1 and kwargs.get("squeeze", True):
         _plotting["ax"] = None
         return ax.figure, ax
-    fig = Figure(**{k: kwargs.pop(k) for k in _FIGURE_KEYS if k in kwargs})
+    fig = Figure(**{"layout": "constrained", **{k: kwargs.pop(k) for k in _FIGURE_KEYS if k in kwargs}})
     axes = fig.subplots(nrows, ncols, **kwargs)
     for one in fig.axes:
         apply(one)
@@ -79,7 +79,8 @@ def save_figure(fig, folder: Path, name: str) -> Path | None:
     path; while :func:`capture` is on, collect it instead (and return None)."""
     from pampipe.plots.style import DPI
 
-    fig.tight_layout()
+    if fig.get_layout_engine() is None:  # a figure of the caller's (plot(ax=...))
+        fig.tight_layout()
     if _plotting["captured"] is not None:
         _plotting["captured"].append(fig)
         return None
