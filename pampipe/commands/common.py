@@ -62,6 +62,26 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
                                  "default png")
 
 
+def add_report_option(parser: argparse.ArgumentParser) -> None:
+    """--report FILE.html: the self-contained HTML report (:mod:`pampipe.html_report`)."""
+    parser.add_argument("--report", type=Path, metavar="FILE.html",
+                        help="also write one self-contained HTML file to send: inputs with their SHA-256, "
+                             "tables, warnings, plots (inline SVG) and the model's assumptions")
+
+
+def write_html_report(args: argparse.Namespace, command: str, *, inputs, text: str, document: dict,
+                      draw, warnings=(), reasons=()) -> None:
+    """Write ``args.report`` if asked for; ``draw()`` draws the command's plots (captured as SVG)."""
+    if getattr(args, "report", None) is None:
+        return
+    from pampipe.html_report import svg_figures, write_report
+
+    source = getattr(args, "mission", None) or getattr(args, "experiment", None)
+    write_report(args.report, command, title=f"pampipe {command} {source}", inputs=inputs, text=text,
+                 document=document, warnings=warnings, reasons=reasons, figures=svg_figures(draw))
+    say(args, f"wrote {args.report}")
+
+
 def _plots_folder(text: str) -> Path:
     """argparse type: a folder for the plots, refused at once if it exists as something else."""
     path = Path(text)

@@ -6,7 +6,14 @@ import argparse
 import math
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, quantity_type, say
+from pampipe.commands.common import (
+    add_output_options,
+    add_report_option,
+    emit,
+    quantity_type,
+    say,
+    write_html_report,
+)
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
 from pampipe.identification.options import fit_options
@@ -60,6 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a pipe diameter where the report judges the radial-force prediction, e.g. "
                              "'3 in' (repeatable; adds to fit.pipe_diameters)")
     add_output_options(parser)
+    add_report_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -69,6 +77,8 @@ def run(args: argparse.Namespace) -> int:
                           source=experiment.source, where="command line", names=FLAGS)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
+    if args.report is not None:
+        check_output(args.report, experiment.input_files, option="--report")
 
     def progress(text: str) -> None:
         note(f"pampipe identify: {text}")
@@ -81,7 +91,10 @@ def run(args: argparse.Namespace) -> int:
         write_pam(args.output, result.fitted_pam(experiment.pam),
                   comments=result.pam_comments(experiment.source))
         document["output"] = str(args.output)
-    emit(args, document, full_report(result, str(experiment.source)))
+    text = full_report(result, str(experiment.source))
+    emit(args, document, text)
+    write_html_report(args, "identify", inputs=[experiment.source, *experiment.input_files], text=text,
+                      document=document, draw=lambda: _draw(data, result), warnings=result.warnings)
     if args.output is not None:
         say(args, f"wrote {args.output}")
     if args.plots:
@@ -221,3 +234,14 @@ def _level_table(result) -> str:
     lookup = {(t.name, round(lv.pressure / 1e3, 1)): lv.rmse for t in tests for lv in t.levels}
     rows = [[p, *(lookup.get((t.name, p), "") for t in tests)] for p in pressures]
     return table(["P [kPa]", *(t.name for t in tests)], rows)
+
+
+def _draw(data, result) -> None:
+    """Every plot of `identify --plots` (into the current figure capture)."""
+    from pampipe.plots.identify import plot_identification
+    from pampipe.plots.slip import plot_slip
+
+    if data.tests:
+        plot_identification(data, result, None)
+    if result.slip is not None:
+        plot_slip(data.slip, result.slip, None)

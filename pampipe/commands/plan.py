@@ -6,7 +6,15 @@ import argparse
 import sys
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
+from pampipe.commands.common import (
+    add_output_options,
+    add_report_option,
+    emit,
+    quantity_type,
+    say,
+    write_html_report,
+    write_json,
+)
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import check_output
 from pampipe.units import to_si
@@ -61,6 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--all-sections", action="store_true",
                         help=f"list every section even on routes of more than {FULL_TABLE} sections")
     add_output_options(parser)
+    add_report_option(parser)
 
 
 def _probability(text: str) -> float:
@@ -81,17 +90,26 @@ def run(args: argparse.Namespace) -> int:
     mission = api.load_mission(args.mission)
     if args.output is not None:
         check_output(args.output, mission.input_files, option="-o")
+    if args.report is not None:
+        check_output(args.report, mission.input_files, option="--report")
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload)
     document = plan.to_dict()
     for warning in plan.warnings:
         print(f"warning: {warning}", file=sys.stderr, flush=True)
-    emit(args, document, plan_text(plan, unit=args.units, all_sections=args.all_sections))
+    text = plan_text(plan, unit=args.units, all_sections=args.all_sections)
+    emit(args, document, text)
     if args.output is not None:
         write_json(args.output, document, args)
         say(args, f"wrote {args.output}")
+    from pampipe.plots.plan import plot_plan
+
+    reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
+    write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
+                      document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
+                      warnings=plan.warnings,
+                      reasons=reasons + [str(r) for r in document.get("reasons", [])])
     if args.plots:
-        from pampipe.plots.plan import plot_plan
 
         for path in plot_plan(plan, args.plots, unit=args.units):
             say(args, f"wrote {path}")
