@@ -86,11 +86,31 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run one command; return its exit code."""
-    argv = sys.argv[1:] if argv is None else list(argv)
+    """Run one command; return its exit code (run as the program, an interrupted run ends at once)."""
+    program = argv is None
+    argv = sys.argv[1:] if program else list(argv)
     forget_written()
     with interrupts.handled():
-        return _run(argv)
+        code = _run(argv)
+    if code == INTERRUPTED and program:
+        _end_now(code)
+    return code
+
+
+def _end_now(code: int) -> None:
+    """End the interrupted program now: the exit handlers run (multiprocessing's clean-up included), but
+    not the interpreter's teardown of CasADi, wntr and the rest, which takes about 1 s (more on a busy
+    machine) and would break the promise of an exit within 2 s."""
+    import atexit
+    import os
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    atexit._run_exitfuncs()
+    os._exit(code)
 
 
 def _run(argv: list[str]) -> int:
