@@ -86,6 +86,8 @@ def _long_table(document: dict) -> str:
     if not rows or len(rows[0]) <= 1:
         return ""
     columns = list(dict.fromkeys(k for row in rows for k in row))
+    if len(rows) > 1:  # what every row shares is in the report above
+        columns = [c for c in columns if len({repr(row.get(c)) for row in rows}) > 1 or c == "name"]
     head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
     body = "".join("<tr>" + "".join(f"<td>{html.escape(_cell(row.get(c)))}</td>" for c in columns) + "</tr>"
                    for row in rows[:HTML_ROWS])

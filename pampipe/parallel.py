@@ -48,6 +48,7 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
         with _dask(scheduler) as pool:
             yield pool
     elif workers is not None and workers > 1:
+        _quiet_resource_tracker()
         pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
                                    initializer=_worker_ignores_signals)
         try:
@@ -67,6 +68,23 @@ def _worker_ignores_signals() -> None:
     reaches the whole process group, and a worker interrupted on its own prints its traceback."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
+
+
+def _quiet_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker with its stderr on /dev/null. An interrupt can land
+    between a semaphore's unlink and its unregistering; the tracker then warns of a "leaked semaphore"
+    that no longer exists, in lines after the command's one-line message."""
+    import os
+    from multiprocessing import resource_tracker
+
+    null, saved = os.open(os.devnull, os.O_WRONLY), os.dup(2)
+    os.dup2(null, 2)
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(null)
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:

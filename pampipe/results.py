@@ -57,6 +57,10 @@ def _scalar(value) -> bool:
     return value is None or isinstance(value, str | bool | int | float)
 
 
+def _number(value) -> bool:
+    return value is None or (isinstance(value, int | float) and not isinstance(value, bool))
+
+
 def _show(value) -> str:
     if isinstance(value, float):
         return f"{value:.4g}" if math.isfinite(value) else str(value)
@@ -114,7 +118,7 @@ def _flat(item: Mapping, prefix: str = "") -> dict:
             out[name] = value
         elif isinstance(value, Mapping):
             out.update(_flat(value, f"{name}."))
-        elif isinstance(value, list | tuple) and len(value) == 2 and all(_scalar(v) for v in value):
+        elif isinstance(value, list | tuple) and len(value) == 2 and all(_number(v) for v in value):
             out[f"{name}_low"], out[f"{name}_high"] = value
     return out
 
