@@ -54,7 +54,8 @@ def _chromium(page, folder):
              "--disable-component-update", "--no-first-run", "--disable-sync", "--enable-logging=stderr",
              "--v=0", "--hide-scrollbars"]
     out = subprocess.run([*flags, "--window-size=1200,2400", f"--screenshot={shot}",
-                          f"--log-net-log={netlog}", page.as_uri()], capture_output=True, text=True, timeout=120)
+                          f"--log-net-log={netlog}", page.as_uri()],
+                         capture_output=True, text=True, timeout=120)
     dom = subprocess.run([*flags, "--dump-dom", page.as_uri()], capture_output=True, text=True, timeout=120)
     console = [line for line in out.stderr.splitlines() if ":CONSOLE" in line]
     log = json.loads(netlog.read_text())
