@@ -97,8 +97,8 @@ def _holding_capacity(plan, folder: Path, unit: str, scale: float) -> Path:
     ax.set_yscale("log")
     ax.set_ylim(0.3 * min(positive), 3 * max(max(positive), _capacity_at(plan, drawn, top)))
     ax.set(xlabel=f"gauge pressure P [{unit}]", ylabel="holding capacity μπF_r [N]",
-           title=f"holding capacity vs pressure (dashed: {plan.safety_factor:g} × required hold; "
-                 "dots: operating points)\n(curves start where the muscle touches the wall)")
+           title=f"holding capacity vs pressure\ndashed: {plan.safety_factor:g} × required hold; dots: "
+                 "operating points\n(curves start where the muscle touches the wall)")
     fig.legend(fontsize=7, loc="outside right upper")
     return save_figure(fig, folder, "holding_capacity.png")
 
