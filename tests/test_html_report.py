@@ -81,3 +81,16 @@ def test_chromium_opens_the_report_offline(report, tmp_path):
     pixels = matplotlib.image.imread(shot)
     assert pixels.shape[0] >= 2000 and pixels.std() > 0.05  # drawn, not blank
     assert dom.count("<svg") >= 2 and dom.count("<table") >= 2
+
+
+def test_identify_report_hashes_the_data(tmp_path):
+    experiment = PROBLEMS / "experiments" / "paper-protocol.yaml"
+    target = tmp_path / "identify.html"
+    out = subprocess.run([sys.executable, "-m", "pampipe", "identify", str(experiment),
+                          "--report", str(target), "--quiet"],
+                         capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert out.returncode == 0, out.stderr
+    text = target.read_text()
+    for data in sorted((PROBLEMS / "experiments" / "data" / "paper-protocol").glob("*.csv")):
+        assert hashlib.sha256(data.read_bytes()).hexdigest() in text, data.name
+    assert text.count("<svg") >= 2 and "6. Identification NLP" in text
