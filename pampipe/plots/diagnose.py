@@ -111,6 +111,7 @@ def _map(result, folder):
     for ax, z, label in ((axes[0], z_before, "baseline"), (axes[1], z_after, _label(result))):
         limit = _limit(z)  # each panel its own scale: the refit's residuals are far smaller
         image = ax.imshow(z, cmap="RdBu_r", vmin=-limit, vmax=limit, aspect="auto")
+        ax.grid(False)  # cells, not a chart: the house grid would cross them
         ax.set_xticks(range(len(pressures)), [str(p) for p in pressures], rotation=45)
         ax.set_yticks(range(len(names)), names)
         ax.set_xlabel("pressure level [kPa]")
