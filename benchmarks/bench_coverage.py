@@ -3,7 +3,7 @@
 Truth known independently of the planner (issue 22, item 8). Each trial:
 1. a TRUE muscle: the stated geometry (the paper's radial-test muscle) plus a draw from the stated
    tolerance (sd below), with the demo moduli;
-2. synthetic tests of it (:mod:`pampipe.synth`, force noise 2 N): the axial test alone, and the axial test
+2. synthetic tests of it (:mod:`pampipe.synthetic`, force noise 2 N): the axial test alone, and the axial test
    plus one radial test in the 88.9 mm pipe;
 3. ``identify`` on each, from the STATED geometry with its sds (the PAM file's ``{value, sd}``);
 4. ``plan --confidence 0.95`` of the demo climb (3 × 0.4 kg, 2 kg payload, SF 1.5) up a 3 in riser:
@@ -42,7 +42,7 @@ from pampipe.model import slip  # noqa: E402
 from pampipe.model.muscle import Muscle  # noqa: E402
 from pampipe.model.pam import Pam  # noqa: E402
 from pampipe.planning import plan_mission  # noqa: E402
-from pampipe.synth import Protocol, generate  # noqa: E402
+from pampipe.synthetic import Protocol, generate  # noqa: E402
 
 PROBLEMS = ROOT / "problems"
 CONFIDENCE = 0.95

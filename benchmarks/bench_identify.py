@@ -44,7 +44,7 @@ from pampipe.io.config import load_pam
 from pampipe.io.pamfile import write_experiment
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
-from pampipe.synth import Protocol, generate
+from pampipe.synthetic import Protocol, generate
 
 ROOT = Path(__file__).resolve().parent.parent
 THREADS = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}

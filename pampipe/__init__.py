@@ -13,7 +13,8 @@ Also: :class:`Muscle` (the one door to the model), ``load_pam``, ``load_mission`
 __version__ = "0.1.0"
 
 _API = ("simulate", "identify", "plan", "gait", "diagnose", "design_inventory", "export_mission", "load_pam",
-        "load_mission", "load_experiment", "load_inventory", "extension")
+        "load_mission", "load_experiment", "load_inventory", "extension", "save_pam", "route", "synth",
+        "example")
 __all__ = [*_API, "Muscle", "__version__"]
 
 

@@ -22,6 +22,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from pampipe.results import notebook
 from pampipe.units import real_number, show, to_si
 
 Source = str | os.PathLike | Mapping  # a file, or its content as a dict (or the loaded object itself)
@@ -281,7 +282,9 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
                                      "max_iterations": max_iterations, "slack": slack},
                           calibrate=tuple(calibrate or ()), source=spec.source,
                           pipe_diameters=[diameters] if isinstance(diameters, float) else diameters or ())
-    return run(data, options, progress=progress if data.points >= 100_000 else None)
+    result = run(data, options, progress=progress if data.points >= 100_000 else None)
+    object.__setattr__(result, "experiment_data", data)  # what result.plot() draws against
+    return result
 
 
 def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: int | None = None,
@@ -368,6 +371,121 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
         return solve_inventory(model, pool=pool)
 
 
+def save_pam(pam, path, *, force: bool = False, comments: Sequence[str] = ()) -> Path:
+    """Write a PAM (a :class:`~pampipe.model.pam.Pam`, a PAM file or dict) as a PAM file at ``path``, as
+    ``identify -o`` does: atomically (the old file or the new one, never half of one), never over an
+    input of the PAM; an existing file is replaced only with ``force``. Returns the path.
+
+    A fitted muscle is ``result.fitted_pam(pampipe.load_pam(...))`` of :func:`identify`, or
+    ``result.augmented_pam()`` of :func:`diagnose`.
+    """
+    from pampipe.errors import InputError
+    from pampipe.io.files import check_not_input
+    from pampipe.io.pamfile import write_pam
+
+    model = load_pam(pam)
+    target = Path(path)
+    if target.exists() and not force:
+        raise InputError(f"save_pam: {target} exists; pass force=True to replace it.")
+    check_not_input(target, [Path(pam)] if isinstance(pam, str | os.PathLike) else [], option="save_pam")
+    write_pam(target, model, comments=[f"Written by pampipe.save_pam ({model.name})."])
+    return target
+
+
+def route(network: str | os.PathLike, *, from_node: str, to_node: str, **options) -> CommandResult:
+    """The shortest path through a water network as mission sections (`pampipe route`).
+
+    ``options`` are the command's long options with ``_`` for ``-``: ``output`` (a mission file to
+    write), ``friction``, ``template``, ``min_bore``, ``max_bore`` (unit strings accepted), ``force``.
+    """
+    return _command("route", [str(network), "--from", str(from_node), "--to", str(to_node)], options)
+
+
+def synth(out_dir: str | os.PathLike, **options) -> CommandResult:
+    """Write a synthetic experiment (YAML + CSV) of known moduli (`pampipe synth`);
+    ``to_dict()["experiment"]`` is the file to pass to :func:`identify`.
+
+    ``options`` are the command's long options with ``_`` for ``-``: ``pam``, ``name``, ``seed``,
+    ``force_noise`` ("2 N"), ``pressure_noise``, ``points_per_leg``, ``cycles``, ``radial_points``,
+    ``slip_pipe`` (a list of bores), ``friction``, ``load_coupling``, ``slip_scatter``, ``stick_slip``,
+    ``slip_pressure`` (a list), ``held_trial`` (a list), ``pipe_material``, ``slip_only``, ``force``.
+    """
+    return _command("synth", [str(out_dir)], options)
+
+
+def example(name: str | None = None, out_dir: str | os.PathLike | None = None, *,
+            force: bool = False) -> CommandResult:
+    """Copy a bundled problem (and the files it uses) into ``out_dir`` (`pampipe example`); without a
+    name, ``to_dict()["examples"]`` lists them."""
+    positional = [str(v) for v in (name, out_dir) if v is not None]
+    return _command("example", positional, {"force": force})
+
+
+@notebook(headline=("command",))
+@dataclass(frozen=True)
+class CommandResult:
+    """The outcome of a command that writes files (route, synth, example): its ``--json`` document
+    (``to_dict()``) and its text report (``str()``)."""
+
+    command: str
+    document: dict
+    text: str
+
+    def to_dict(self) -> dict:
+        return {"command": self.command, **self.document}
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def _command(name: str, argv: list[str], options: Mapping) -> CommandResult:
+    """Run command ``name`` with ``argv`` and keyword ``options`` converted as its own parser converts
+    them (unit strings to SI, paths), without printing."""
+    import argparse
+    import importlib
+
+    from pampipe.errors import InputError
+
+    module = importlib.import_module(f"pampipe.commands.{name}")
+    parser = argparse.ArgumentParser(prog=f"pampipe.{name}", exit_on_error=False)
+    module.add_arguments(parser)
+    try:
+        args = parser.parse_args(argv)
+    except (argparse.ArgumentError, SystemExit) as exc:
+        raise InputError(f"pampipe.{name}: {exc}") from None
+    actions = {a.dest: a for a in parser._actions}
+    for key, value in options.items():
+        action = actions.get(key)
+        if action is None or key in {"json", "reproducible", "help"}:
+            allowed = sorted(d for d in actions if d not in {"help", "json", "reproducible", "debug"})
+            raise TypeError(f"pampipe.{name}() got an unexpected option {key!r}; allowed: "
+                            f"{', '.join(allowed)}")
+        setattr(args, key, _converted(action, value, name))
+    return CommandResult(name, *module.compute(args))
+
+
+def _converted(action, value, command: str):
+    """``value`` as the option's parser type makes it (each item of a repeatable option)."""
+    import argparse
+
+    if action.type is None or value is None or isinstance(value, bool):
+        return value
+    if isinstance(value, list | tuple) and isinstance(action, argparse._AppendAction):
+        return [_converted_one(action, v, command) for v in value]
+    return _converted_one(action, value, command)
+
+
+def _converted_one(action, value, command: str):
+    from pampipe.errors import InputError
+
+    if isinstance(value, float) or (isinstance(value, int) and action.type.__name__ != "integer"):
+        return value  # a number: SI already
+    try:
+        return action.type(str(value) if not isinstance(value, os.PathLike) else value)
+    except Exception as exc:  # argparse's types raise ArgumentTypeError or ValueError
+        raise InputError(f"pampipe.{command}({action.dest}={value!r}): {exc}") from None
+
+
 def _objective(name: str, kind):
     from pampipe.errors import InputError
 
@@ -377,6 +495,7 @@ def _objective(name: str, kind):
         raise InputError(f"objective: {name!r} is not one of {', '.join(k.value for k in kind)}.") from None
 
 
+@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot="pampipe.plots.gait:plot_report")
 @dataclass(frozen=True)
 class GaitReport:
     """The sequential gait and, if asked for, the time-optimal one; ``to_dict()`` is `gait --json`."""

@@ -15,7 +15,7 @@ import json
 import re
 import sys
 
-from pampipe import __version__, interrupts
+from pampipe import __version__, interrupts, progress
 from pampipe.errors import InputError, PampipeError, StreamError
 from pampipe.io import streams
 from pampipe.io.files import forget_written, written
@@ -88,14 +88,34 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run one command; return its exit code."""
-    argv = sys.argv[1:] if argv is None else list(argv)
+    """Run one command; return its exit code (run as the program, an interrupted run ends at once)."""
+    program = argv is None
+    argv = sys.argv[1:] if program else list(argv)
     forget_written()
     try:
         with streams.guarded(), interrupts.handled():
-            return _flushed(_run(argv))
+            code = _flushed(_run(argv))
     except StreamError:  # a stream closed before the run: said on the other one if it was open
         return StreamError.exit_code
+    if code == INTERRUPTED and program:
+        _end_now(code)
+    return code
+
+
+def _end_now(code: int) -> None:
+    """End the interrupted program now: the exit handlers run (multiprocessing's clean-up included), but
+    not the interpreter's teardown of CasADi, wntr and the rest, which takes about 1 s (more on a busy
+    machine) and would break the promise of an exit within 2 s."""
+    import atexit
+    import os
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    atexit._run_exitfuncs()
+    os._exit(code)
 
 
 def _run(argv: list[str]) -> int:
@@ -110,7 +130,12 @@ def _run(argv: list[str]) -> int:
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
         command = f"pampipe {args.command}"
-        return args.run(args)
+        if getattr(args, "plot_format", None):
+            from pampipe.report import set_plot_format
+
+            set_plot_format(args.plot_format)
+        with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))):
+            return args.run(args)
     except _UsageError as exc:
         return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",
                      str(exc))

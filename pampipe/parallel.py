@@ -17,10 +17,12 @@ CasADi functions (cached per process).
 from __future__ import annotations
 
 import multiprocessing
+import signal
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from concurrent.futures import BrokenExecutor, Executor, Future, ProcessPoolExecutor
+from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, Future, ProcessPoolExecutor, wait
 from contextlib import contextmanager
 
+from pampipe import progress
 from pampipe.errors import InputError, SolverError
 
 
@@ -46,11 +48,13 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
         with _dask(scheduler) as pool:
             yield pool
     elif workers is not None and workers > 1:
-        pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+        _quiet_resource_tracker()
+        pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_worker_ignores_signals)
         try:
             yield pool
-        except BaseException:  # an error or Ctrl-C: do not wait for the queued tasks
-            pool.shutdown(wait=False, cancel_futures=True)
+        except BaseException:  # an error or Ctrl-C: stop the workers now, wait for nothing queued
+            _stop(pool)
             raise
         pool.shutdown()
     else:
@@ -59,13 +63,64 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
         yield SerialExecutor()
 
 
-def run_all(fn: Callable, tasks: Iterable, pool: Executor) -> list:
-    """[fn(task) for task in tasks] computed on ``pool``, in task order (the first error is raised).
+def _worker_ignores_signals() -> None:
+    """A worker leaves Ctrl-C and SIGTERM to the command (which stops the workers): a terminal's Ctrl-C
+    reaches the whole process group, and a worker interrupted on its own prints its traceback."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+
+
+def _quiet_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker with its stderr on /dev/null. An interrupt can land
+    between a semaphore's unlink and its unregistering; the tracker then warns of a "leaked semaphore"
+    that no longer exists, in lines after the command's one-line message."""
+    import os
+    from multiprocessing import resource_tracker
+
+    null, saved = os.open(os.devnull, os.O_WRONLY), os.dup(2)
+    os.dup2(null, 2)
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(null)
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Cancel the queued tasks and kill the workers, then let the pool's threads end (no orphan, no hang)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.kill()
+    for process in processes:
+        process.join(timeout=1.0)
+    pool.shutdown(wait=True)
+
+
+def run_all(fn: Callable, tasks: Iterable, pool: Executor, *, what: str = "tasks") -> list:
+    """[fn(task) for task in tasks] computed on ``pool``, in task order (the first error is raised);
+    each finished task is counted in :mod:`pampipe.progress` as one of ``what``.
 
     A worker process that dies (killed, out of memory) is a :class:`SolverError` (exit 3).
     """
+    if isinstance(pool, SerialExecutor):
+        tasks = list(tasks)
+        results = []
+        for task in tasks:
+            results.append(fn(task))
+            progress.count(what, len(results), len(tasks))
+        return results
     try:
         futures: Sequence[Future] = [pool.submit(fn, task) for task in tasks]
+        waiting, done = set(futures), 0
+        while waiting:
+            finished, waiting = wait(waiting, return_when=FIRST_COMPLETED)
+            for future in finished:
+                future.result()  # the first error, at once
+            done += len(finished)
+            progress.count(what, done, len(futures))
         return [f.result() for f in futures]
     except BrokenExecutor as exc:
         raise SolverError(f"a worker process stopped before finishing its task ({exc}); run again, or "

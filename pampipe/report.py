@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 from pampipe.io.files import atomic_write
@@ -27,22 +28,63 @@ def _fmt(value: object) -> str:
     return str(value)
 
 
-def new_figure(*args, **kwargs):
-    """A matplotlib figure on the non-interactive Agg backend."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(*args, **kwargs)
+#: The file formats of ``--plot-format`` (the first is the default).
+PLOT_FORMATS = ("png", "svg", "pdf")
+_FIGURE_KEYS = ("figsize", "dpi", "layout")
+_plotting = {"format": "png", "captured": None, "ax": None}
 
 
-def save_figure(fig, folder: Path, name: str) -> Path:
-    """Save ``fig`` as ``folder/name`` (PNG) atomically, close it and return the path."""
-    import matplotlib.pyplot as plt
+def set_plot_format(name: str) -> None:
+    """The format :func:`save_figure` writes (one of :data:`PLOT_FORMATS`)."""
+    if name not in PLOT_FORMATS:
+        from pampipe.errors import InputError
 
-    target = Path(folder) / name
-    fig.tight_layout()
-    atomic_write(target, lambda tmp: fig.savefig(tmp, format="png", dpi=120), create_folder=True)
-    plt.close(fig)
+        raise InputError(f"--plot-format: {name!r} is not one of {', '.join(PLOT_FORMATS)}.")
+    _plotting["format"] = name
+
+
+@contextmanager
+def capture(ax=None) -> Iterator[list]:
+    """Collect the figures that plot functions finish instead of writing them; the first single-axes
+    figure asked for is drawn into ``ax`` when given (``result.plot(ax=...)``, the HTML report)."""
+    figures: list = []
+    saved = _plotting["captured"], _plotting["ax"]
+    _plotting["captured"], _plotting["ax"] = figures, ax
+    try:
+        yield figures
+    finally:
+        _plotting["captured"], _plotting["ax"] = saved
+
+
+def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
+    """(figure, axes) as ``plt.subplots`` gives, on a plain Figure (no pyplot state, no backend switch),
+    in the house style (:mod:`pampipe.plots.style`)."""
+    from matplotlib.figure import Figure
+
+    from pampipe.plots.style import apply
+
+    ax = _plotting["ax"]
+    if ax is not None and nrows == ncols == 1 and kwargs.get("squeeze", True):
+        _plotting["ax"] = None
+        return ax.figure, ax
+    fig = Figure(**{"layout": "constrained", **{k: kwargs.pop(k) for k in _FIGURE_KEYS if k in kwargs}})
+    axes = fig.subplots(nrows, ncols, **kwargs)
+    for one in fig.axes:
+        apply(one)
+    return fig, axes
+
+
+def save_figure(fig, folder: Path, name: str) -> Path | None:
+    """Save ``fig`` as ``folder/name`` atomically, its suffix that of ``--plot-format``, and return the
+    path; while :func:`capture` is on, collect it instead (and return None)."""
+    from pampipe.plots.style import DPI
+
+    if fig.get_layout_engine() is None:  # a figure of the caller's (plot(ax=...))
+        fig.tight_layout()
+    if _plotting["captured"] is not None:
+        _plotting["captured"].append(fig)
+        return None
+    kind = _plotting["format"]
+    target = (Path(folder) / name).with_suffix(f".{kind}")
+    atomic_write(target, lambda tmp: fig.savefig(tmp, format=kind, dpi=DPI), create_folder=True)
     return target

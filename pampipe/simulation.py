@@ -9,6 +9,7 @@ import numpy as np
 from pampipe.model.domain import check_pipe_diameter, check_pressure
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
+from pampipe.results import notebook
 
 #: The paper's test pressures, 69…689 kPa in 69 kPa steps (10 psi steps).
 PAPER_PRESSURES = tuple(68947.57 * k for k in range(1, 11))
@@ -67,6 +68,8 @@ class Curves:
     amplification_factor: np.ndarray  # A(D) on that grid [-]
 
 
+@notebook(headline=("pam", "pipe_diameter_m", "axial_load_N", "anchoring_pressure_Pa"),
+          plot="pampipe.plots.simulate:plot_simulation")
 @dataclass(frozen=True)
 class SimulateResult:
     """One muscle in one or more pipes and under one or more loads."""

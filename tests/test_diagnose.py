@@ -26,7 +26,7 @@ from pampipe.io.files import to_json
 from pampipe.io.pamfile import write_pam
 from pampipe.model.muscle import Muscle
 from pampipe.simulation import simulate_anchored
-from pampipe.synth import PAPER_PIPES
+from pampipe.synthetic import PAPER_PIPES
 from tests.conftest import PROBLEMS, run_cli
 
 EXAMPLE = PROBLEMS / "experiments" / "hidden-contact-stiffening.yaml"

@@ -120,7 +120,7 @@ def test_two_pipes_flag_the_confounded_pair_and_propose_a_third_diameter(radial_
     factors: hidden wall friction is flagged as confounded with it, in the verdict's words too, and the
     tool proposes a radial test in a pipe between the two, where the two models differ by more than
     the noise floor."""
-    from pampipe.synth import PAPER_PIPES
+    from pampipe.synthetic import PAPER_PIPES
 
     protocol = replace(hidden_protocol(), pipes=PAPER_PIPES)
     result = diagnose(hidden_experiment(radial_pam, "wall_friction", seed=5700, protocol=protocol))

@@ -1,6 +1,6 @@
 """Moduli identification: recovery from generated data, uncertainty coverage, Drucker, modes, build size.
 
-Data come from :mod:`pampipe.synth` with known moduli (the demo moduli of docs/physics.md §7) and known
+Data come from :mod:`pampipe.synthetic` with known moduli (the demo moduli of docs/physics.md §7) and known
 Gaussian force noise σ, so every expected answer is known independently of the fitting code.
 """
 
@@ -18,7 +18,7 @@ from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli, Pam
-from pampipe.synth import Protocol, generate
+from pampipe.synthetic import Protocol, generate
 from tests.conftest import PROBLEMS
 
 SIGMA = 2.0  # [N] force noise of the generated data

@@ -1,6 +1,6 @@
 """What identify writes of its uncertainty, against truths known independently of the fitting code.
 
-Data come from :mod:`pampipe.synth` with known moduli and known Gaussian force noise σ = 2 N: the spread of
+Data come from :mod:`pampipe.synthetic` with known moduli and known Gaussian force noise σ = 2 N: the spread of
 repeated fits over noise seeds, which directions a protocol cannot see, and whether the model is right.
 """
 
@@ -20,7 +20,7 @@ from pampipe.io.config import load_experiment, load_pam
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.yamlfile import load_mapping
 from pampipe.model.pam import Pam
-from pampipe.synth import Protocol, generate
+from pampipe.synthetic import Protocol, generate
 from tests.conftest import PROBLEMS, run_cli
 
 SIGMA = 2.0  # [N]

@@ -46,6 +46,9 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
     """--json, --reproducible, --debug and (for commands that draw) --plots DIR."""
     parser.add_argument("--json", action="store_true",
                         help="print exactly one JSON document on stdout; human text goes to stderr")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress lines on stderr (--json is quiet too); results and errors still "
+                             "show")
     parser.add_argument("--reproducible", action="store_true",
                         help="write wall-clock timings (keys ending wall_time_s) as 0 in JSON, so that the "
                              "same inputs give byte-identical JSON")
@@ -53,7 +56,30 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
                         help="show the traceback of an internal error")
     if plots:
         parser.add_argument("--plots", metavar="DIR", type=_plots_folder,
-                            help="write PNG plots into DIR (created if missing)")
+                            help="write the plots into DIR (created if missing)")
+        parser.add_argument("--plot-format", choices=("png", "svg", "pdf"), default="png",
+                            help="file format of --plots: png (150 dpi), or svg / pdf (vector, for a paper); "
+                                 "default png")
+
+
+def add_report_option(parser: argparse.ArgumentParser) -> None:
+    """--report FILE.html: the self-contained HTML report (:mod:`pampipe.html_report`)."""
+    parser.add_argument("--report", type=Path, metavar="FILE.html",
+                        help="also write one self-contained HTML file to send: inputs with their SHA-256, "
+                             "tables, warnings, plots (inline SVG) and the model's assumptions")
+
+
+def write_html_report(args: argparse.Namespace, command: str, *, inputs, text: str, document: dict,
+                      draw, warnings=(), reasons=()) -> None:
+    """Write ``args.report`` if asked for; ``draw()`` draws the command's plots (captured as SVG)."""
+    if getattr(args, "report", None) is None:
+        return
+    from pampipe.html_report import svg_figures, write_report
+
+    source = getattr(args, "mission", None) or getattr(args, "experiment", None)
+    write_report(args.report, command, title=f"pampipe {command} {source}", inputs=inputs, text=text,
+                 document=document, warnings=warnings, reasons=reasons, figures=svg_figures(draw))
+    say(args, f"wrote {args.report}")
 
 
 def _plots_folder(text: str) -> Path:

@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, integer_type, say
+from pampipe.commands.common import (
+    add_output_options,
+    add_report_option,
+    emit,
+    integer_type,
+    say,
+    write_html_report,
+)
 from pampipe.diagnosis import structure
 from pampipe.diagnosis.selection import FOLDS
 from pampipe.io.config import load_experiment
@@ -32,6 +39,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
+    add_report_option(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
                      + "; ".join(f"{e.name}: {e.summary}" for e in LIBRARY.values())
                      + ". Exit codes: 0 success (including 'none'), 2 bad input, 3 solver failure.")
@@ -42,10 +50,18 @@ def run(args: argparse.Namespace) -> int:
     experiment = load_experiment(args.experiment)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
+    if args.report is not None:
+        check_output(args.report, experiment.input_files, option="--report")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
     text = report(result) if result.slip is None else report(result) + "\n" + result.slip.report()
-    emit(args, result.as_document(), text)
+    document = result.as_document()
+    emit(args, document, text)
+    from pampipe.plots.diagnose import plot_diagnosis
+
+    write_html_report(args, "diagnose", inputs=[experiment.source, *experiment.input_files], text=text,
+                      document=document, draw=lambda: plot_diagnosis(result, None),
+                      reasons=[document["reason"]] if document.get("reason") else [])
     if args.output is not None:
         write_pam(args.output, result.augmented_pam(),
                   comments=[f"Written by `pampipe diagnose` from {experiment.source}.",
@@ -61,10 +77,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def say_err(args, text: str) -> None:
-    """Progress goes to stderr whatever the output mode."""
-    import sys
+    """A progress line on stderr (:mod:`pampipe.progress`: none under --json or --quiet)."""
+    from pampipe import progress
 
-    print(f"diagnose: {text}", file=sys.stderr, flush=True)
+    progress.note(f"diagnose: {text}")
 
 
 def _parameters(summary) -> str:

@@ -22,6 +22,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    emit(args, *compute(args))
+    return 0
+
+
+def compute(args: argparse.Namespace) -> tuple[dict, str]:
+    """(the JSON document, the text report) of the command; files are written here."""
     from pampipe.errors import InputError
     from pampipe.io.config import load_experiment, load_mission
     from pampipe.io.inventory import load_inventory
@@ -29,8 +35,7 @@ def run(args: argparse.Namespace) -> int:
     if args.name is None:
         listing = bundled.catalogue()
         text = "\n".join(f"{kind}: {', '.join(names)}" for kind, names in listing.items())
-        emit(args, {"examples": listing}, text + "\ncopy one with: pampipe example NAME DIR")
-        return 0
+        return {"examples": listing}, text + "\ncopy one with: pampipe example NAME DIR"
     if args.out_dir is None:
         raise InputError(f"example {args.name}: give the folder to copy into, e.g. "
                          f"`pampipe example {args.name} my-{args.name}`.")
@@ -48,6 +53,5 @@ def run(args: argparse.Namespace) -> int:
     main = written[0]
     commands = {"missions": "plan", "experiments": "identify", "pams": "simulate", "inventories": "design"}
     hint = f"pampipe {commands[kind]} {main}" + (" --pipe-diameter '3 in'" if kind == "pams" else "")
-    emit(args, {"example": args.name, "kind": kind, "files": [str(p) for p in written]},
-         "\n".join(f"wrote {p}" for p in written) + f"\ntry: {hint}")
-    return 0
+    return ({"example": args.name, "kind": kind, "files": [str(p) for p in written]},
+            "\n".join(f"wrote {p}" for p in written) + f"\ntry: {hint}")

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from pathlib import Path
 
 from pampipe import api
 from pampipe.commands.common import add_output_options, emit, say
 from pampipe.locomotion.result import GaitResult
 from pampipe.locomotion.schedule import POSITION_KEYS
+from pampipe.progress import note
 from pampipe.report import table
 
 NAME = "gait"
@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     report = api.gait(args.mission, section=args.section, optimal=args.optimal,
-                      progress=lambda text: print(text, file=sys.stderr, flush=True))
+                      progress=note)
     sequential, best = report.sequential, report.optimal
     text = [_header(sequential), _schedule_text(sequential)]
     if best is not None:

@@ -4,10 +4,16 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, quantity_type, say
+from pampipe.commands.common import (
+    add_output_options,
+    add_report_option,
+    emit,
+    quantity_type,
+    say,
+    write_html_report,
+)
 from pampipe.errors import InputError
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
@@ -16,6 +22,7 @@ from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
+from pampipe.progress import note
 from pampipe.report import table
 
 NAME = "identify"
@@ -61,6 +68,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a pipe diameter where the report judges the radial-force prediction, e.g. "
                              "'3 in' (repeatable; adds to fit.pipe_diameters)")
     add_output_options(parser)
+    add_report_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -70,9 +78,11 @@ def run(args: argparse.Namespace) -> int:
                           source=experiment.source, where="command line", names=FLAGS)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
+    if args.report is not None:
+        check_output(args.report, experiment.input_files, option="--report")
 
     def progress(text: str) -> None:
-        print(f"pampipe identify: {text}", file=sys.stderr, flush=True)
+        note(f"pampipe identify: {text}")
 
     data = load_experiment_data(experiment, progress=progress)
     result = identify(data, options, progress=progress if data.points >= 100_000 else None)
@@ -83,7 +93,10 @@ def run(args: argparse.Namespace) -> int:
         write_pam(args.output, result.fitted_pam(experiment.pam),
                   comments=result.pam_comments(experiment.source))
         document["output"] = str(args.output)
-    emit(args, document, full_report(result, str(experiment.source)))
+    text = full_report(result, str(experiment.source))
+    emit(args, document, text)
+    write_html_report(args, "identify", inputs=[experiment.source, *experiment.input_files], text=text,
+                      document=document, draw=lambda: _draw(data, result), warnings=result.warnings)
     if args.output is not None:
         say(args, f"wrote {args.output}")
     if args.plots:
@@ -291,3 +304,14 @@ def _level_table(result) -> str:
     lookup = {(t.name, round(lv.pressure / 1e3, 1)): lv.rmse for t in tests for lv in t.levels}
     rows = [[p, *(lookup.get((t.name, p), "") for t in tests)] for p in pressures]
     return table(["P [kPa]", *(t.name for t in tests)], rows)
+
+
+def _draw(data, result) -> None:
+    """Every plot of `identify --plots` (into the current figure capture)."""
+    from pampipe.plots.identify import plot_identification
+    from pampipe.plots.slip import plot_slip
+
+    if data.tests:
+        plot_identification(data, result, None)
+    if result.slip is not None:
+        plot_slip(data.slip, result.slip, None)

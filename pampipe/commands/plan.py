@@ -6,7 +6,15 @@ import argparse
 import sys
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, quantity_type, say, write_json
+from pampipe.commands.common import (
+    add_output_options,
+    add_report_option,
+    emit,
+    quantity_type,
+    say,
+    write_html_report,
+    write_json,
+)
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import check_output
 from pampipe.units import to_si
@@ -89,6 +97,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--all-sections", action="store_true",
                         help=f"list every section even on routes of more than {FULL_TABLE} sections")
     add_output_options(parser)
+    add_report_option(parser)
 
 
 def probability(text: str) -> float:
@@ -126,6 +135,8 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.output, mission.input_files, option="-o")
     if args.confidence is None and (args.prior_from or args.samples or args.seed is not None):
         raise InputError("--samples, --seed and --prior-from only apply with --confidence C.")
+    if args.report is not None:
+        check_output(args.report, mission.input_files, option="--report")
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload, samples=args.samples, seed=args.seed,
                     prior=args.prior_from)
@@ -133,13 +144,20 @@ def run(args: argparse.Namespace) -> int:
     document = plan.to_dict() if args.json or args.output is not None else None
     for warning in plan.warnings:
         print(f"warning: {warning}", file=sys.stderr, flush=True)
+    text = plan_text(plan, unit=args.units, all_sections=args.all_sections)
     indent = None if len(plan.arrays.route) > COMPACT_SECTIONS else 2
-    emit(args, document, plan_text(plan, unit=args.units, all_sections=args.all_sections), indent=indent)
+    emit(args, document, text, indent=indent)
     if args.output is not None:
         write_json(args.output, document, args, indent=indent)
         say(args, f"wrote {args.output}")
+    from pampipe.plots.plan import plot_plan
+
+    reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
+    write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
+                      document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
+                      warnings=plan.warnings,
+                      reasons=reasons + [str(r) for r in document.get("reasons", [])])
     if args.plots:
-        from pampipe.plots.plan import plot_plan
 
         for path in plot_plan(plan, args.plots, unit=args.units):
             say(args, f"wrote {path}")

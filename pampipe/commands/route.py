@@ -58,6 +58,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    emit(args, *compute(args))
+    return 0
+
+
+def compute(args: argparse.Namespace) -> tuple[dict, str]:
+    """(the JSON document, the text report) of the command; files are written here."""
     from pampipe.io.routes import turn_angles
     from pampipe.network import load_network, route_sections
 
@@ -93,8 +99,7 @@ def run(args: argparse.Namespace) -> int:
                 "output": None if args.output is None else str(args.output),
                 "incline_clipped": sections.name[sections.clipped].tolist(),
                 "sections": sections.as_document()}
-    emit(args, document, _text(net, args, sections, template))
-    return 0
+    return document, _text(net, args, sections, template)
 
 
 def _friction(given: float | None, mission) -> float:

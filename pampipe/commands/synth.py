@@ -16,7 +16,7 @@ from pampipe.io.pamfile import write_experiment
 from pampipe.model.domain import check_kind
 from pampipe.model.muscle import Muscle
 from pampipe.slip.synthetic import SlipProtocol, generate_slip
-from pampipe.synth import Protocol, comments, generate
+from pampipe.synthetic import Protocol, comments, generate
 
 NAME = "synth"
 HELP = ("generate a synthetic experiment (paper protocol, known moduli, noise, seed) for identify; with "
@@ -70,6 +70,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    emit(args, *compute(args))
+    return 0
+
+
+def compute(args: argparse.Namespace) -> tuple[dict, str]:
+    """(the JSON document, the text report) of the command; files are written here."""
     protocol = Protocol(cycles=args.cycles, points_per_leg=args.points_per_leg,
                         radial_points=args.radial_points, force_noise=args.force_noise,
                         pressure_noise=args.pressure_noise)
@@ -106,10 +112,9 @@ def run(args: argparse.Namespace) -> int:
         document["slip"] = {"friction": slip.friction, "load_coupling": slip.load_coupling,
                             "scatter": slip.scatter, "stick_slip": slip.stick_slip,
                             "pipe_diameters_m": list(slip.pipes)}
-    emit(args, document, f"wrote {target} (seed {args.seed}, force noise {args.force_noise:g} N, "
-                         f"pressure noise {args.pressure_noise / 1e3:g} kPa); fit it with\n"
-                         f"  pampipe identify {target} -o fitted-pam.yaml")
-    return 0
+    return document, (f"wrote {target} (seed {args.seed}, force noise {args.force_noise:g} N, "
+                      f"pressure noise {args.pressure_noise / 1e3:g} kPa); fit it with\n"
+                      f"  pampipe identify {target} -o fitted-pam.yaml")
 
 
 def _slip_protocol(args) -> SlipProtocol | None:

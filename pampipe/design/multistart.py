@@ -229,4 +229,4 @@ def multistart(problem: Problem, *, starts: int, seed: int, pool,
         points = np.concatenate([with_epigraph(problem, extra)[None, :], points])
     tasks = [StartTask(k, problem.structure, problem.objective, problem.size, points[k], problem.p,
                        problem.lbx, problem.ubx, problem.lbg, problem.ubg) for k in range(len(points))]
-    return MultiStart(problem, tuple(run_all(solve_start, tasks, pool)))
+    return MultiStart(problem, tuple(run_all(solve_start, tasks, pool, what="design starts")))

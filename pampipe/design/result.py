@@ -14,6 +14,7 @@ from pampipe.design.single import SizeDesign
 from pampipe.inventory import Inventory
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
+from pampipe.results import notebook
 
 
 def _finite(value: float) -> float | None:
@@ -50,6 +51,7 @@ def starts_document(run: MultiStart) -> dict:
                       "iterations": r.iterations, "wall_time_s": r.wall_time} for r in run.results]}
 
 
+@notebook(headline=("feasible", "objective", "binding"), plot="pampipe.plots.design:plot_design")
 @dataclass(frozen=True)
 class DesignResult:
     """The design of an inventory: one or K muscles, or the binding constraint where none exists.

@@ -11,6 +11,7 @@ import numpy as np
 from pampipe.diagnosis import selection
 from pampipe.model.effects import get_effect
 from pampipe.model.pam import Moduli, Pam
+from pampipe.results import notebook
 
 MPA = 1e6
 
@@ -94,6 +95,7 @@ def summarize(model, base_bic: float, data, cells, refitter) -> Summary:
                    model.bic - base_bic, tests, model.cv_rmse, fit.iterations, fit.wall_time, fit.status)
 
 
+@notebook(headline=("verdict", "reason"), plot="pampipe.plots.diagnose:plot_diagnosis")
 @dataclass(frozen=True)
 class DiagnoseResult:
     source: Path

@@ -24,6 +24,7 @@ from pampipe.errors import InputError
 from pampipe.export.gait_table import GaitStep, SectionGait, section_gaits
 from pampipe.export.law import Law, Reason, confidence_margins, mission_law
 from pampipe.export.sources import header, is_sketch_name, sketch, source, stamped
+from pampipe.results import notebook
 
 HEADER = "pampipe_plan.h"
 SOURCE = "pampipe_plan.c"
@@ -40,6 +41,7 @@ class Provenance:
     casadi: str = field(default_factory=lambda: ca.__version__)
 
 
+@notebook(headline=())
 @dataclass(frozen=True)
 class Export:
     """The exported files (name → text) and what they contain."""

@@ -15,9 +15,11 @@ from pampipe.experiment import ExperimentData
 from pampipe.identification.options import FitOptions
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
+from pampipe.results import notebook
 from pampipe.slip import SlipResult, fit_slip
 
 
+@notebook(headline=("success", "status"), plot="pampipe.plots.slip:plot_grip")
 @dataclass(frozen=True)
 class GripResult:
     """The outcome of `identify` on slip tests only: the stated muscle and :class:`SlipResult`."""

@@ -17,6 +17,7 @@ from pampipe.identification.quality import Quality
 from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
+from pampipe.results import notebook
 from pampipe.slip.result import SlipResult
 
 MPA = 1e6
@@ -98,6 +99,7 @@ class Calibration:
         return doc
 
 
+@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.plots.identify:plot_result")
 @dataclass(frozen=True)
 class IdentifyResult:
     """The outcome of :func:`pampipe.identification.identify`.

@@ -20,6 +20,7 @@ from pampipe.locomotion.schedule import (
     valve_action,
 )
 from pampipe.locomotion.simulation import Trajectory, simulate
+from pampipe.results import notebook
 
 
 @dataclass(frozen=True)
@@ -36,6 +37,7 @@ class StepState:
     slip_margins: dict[str, float]  # holding capacity / required hold of each anchor (≥ SF)
 
 
+@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"), plot="pampipe.plots.gait:plot_gait")
 @dataclass(frozen=True)
 class GaitResult:
     """One simulated gait cycle in one section: steps, timing, speed, and the dense trajectory."""

@@ -103,6 +103,20 @@ class Muscle:
         for key in self.effects or ():
             _effect(key)
 
+    def __repr__(self) -> str:
+        """``Muscle('name', L0=… mm, D0=… mm, alpha0=… deg, t0=… mm, theta=[…] MPa, effects=[…])``."""
+        g = self.geometry
+        try:
+            theta = "[" + ", ".join(f"{float(v) / 1e6:.4g}" for v in np.ravel(self.theta)) + "] MPa"
+        except (TypeError, ValueError, RuntimeError):  # CasADi symbols
+            theta = "symbolic"
+        effects = f", effects={sorted(self.effects)}" if self.effects else ""
+        contact = ", contact" if self.contact is not None else ""
+        return (f"Muscle({self.name!r}, L0={g.initial_length * 1e3:.4g} mm, "
+                f"D0={g.initial_diameter * 1e3:.4g} mm, alpha0={np.degrees(g.braid_angle):.4g} deg, "
+                f"t0={g.bladder_thickness * 1e3:.4g} mm, "
+                f"theta={theta}{contact}{effects})")
+
     # ------------------------------------------------------------------------------ construction
     @classmethod
     def from_pam(cls, pam: Pam, *, where: str | None = None) -> Muscle:

@@ -9,6 +9,7 @@ from functools import cached_property
 import numpy as np
 
 from pampipe.planning.payload import PayloadLimit
+from pampipe.results import notebook
 
 
 def thin_contact(pressure, touch, cost):
@@ -154,6 +155,8 @@ class PlanArrays:
             return thin_contact(self.pressure, self.largest_bore_anchoring, np.max(self.contact_cost, axis=2))
 
 
+@notebook(headline=("mission", "feasible", "payload_kg", "supply_pressure_Pa", "safety_factor"),
+          plot="pampipe.plots.plan:plot_plan")
 @dataclass(frozen=True)
 class MissionPlan:
     """The anchoring pressures of a whole mission; ``feasible`` only if every section is.

@@ -107,11 +107,11 @@ def _cells(result, residuals):
 def _map(result, folder):
     names, pressures, z_before = _cells(result, result.residuals[0])
     _, _, z_after = _cells(result, result.residuals[1])
-    finite = np.abs(z_before[np.isfinite(z_before)])
-    limit = max(5.0, float(np.percentile(finite, 95))) if finite.size else 5.0
     fig, axes = new_figure(1, 2, figsize=(15, 0.5 * len(names) + 3), sharey=True)
     for ax, z, label in ((axes[0], z_before, "baseline"), (axes[1], z_after, _label(result))):
+        limit = _limit(z)  # each panel its own scale: the refit's residuals are far smaller
         image = ax.imshow(z, cmap="RdBu_r", vmin=-limit, vmax=limit, aspect="auto")
+        ax.grid(False)  # cells, not a chart: the house grid would cross them
         ax.set_xticks(range(len(pressures)), [str(p) for p in pressures], rotation=45)
         ax.set_yticks(range(len(names)), names)
         ax.set_xlabel("pressure level [kPa]")
@@ -122,6 +122,12 @@ def _map(result, folder):
                 ax.text(j, i, f"{value:.0f}", ha="center", va="center", fontsize=6)
         fig.colorbar(image, ax=ax, shrink=0.8, label="z = mean(model - data) / (σ/√n)")
     return save_figure(fig, folder, "disagreement_map.png")
+
+
+def _limit(z: np.ndarray) -> float:
+    """The colour scale's half-width: the 95th percentile of |z|, at least 3 (the systematic threshold)."""
+    finite = np.abs(z[np.isfinite(z)])
+    return max(3.0, float(np.percentile(finite, 95))) if finite.size else 3.0
 
 
 def _candidates(result, folder):

@@ -79,3 +79,8 @@ def plot_gait(result: GaitResult, folder: Path) -> list[Path]:
     shift.legend(fontsize=7, loc="upper left")
     written.append(save_figure(fig, folder, f"gait_space_time_{result.schedule}.png"))
     return written
+
+
+def plot_report(report, folder: Path) -> list[Path]:
+    """:func:`plot_gait` of each schedule of a :class:`pampipe.api.GaitReport`, the optimal one first."""
+    return [path for result in reversed(report.results) for path in plot_gait(result, folder)]

@@ -152,15 +152,17 @@ def _drucker(drucker, result, folder: Path) -> Path:
     image = ax.pcolormesh(ll * 1e3, pp / 1e3, margin, shading="auto", cmap="viridis")
     fig.colorbar(image, ax=ax, label="min(E₁ᵗ, E₂ᵗ) [MPa]")
     if margin.min() < 0 < margin.max():
-        ax.contour(ll * 1e3, pp / 1e3, margin, levels=[0], colors="red", linewidths=1.5)
+        zero = ax.contour(ll * 1e3, pp / 1e3, margin, levels=[0], colors="red", linewidths=1.5)
+        zero.set_label("margin = 0 (unstable beyond)")
     gp, gl = np.meshgrid(grid["pressures"], grid["lengths"], indexing="ij")
     ax.plot(gl.ravel() * 1e3, gp.ravel() / 1e3, "w+", ms=5, label="constraint grid")
     verdict = "stable" if low.stable else "UNSTABLE"
-    ax.plot(low.length * 1e3, low.pressure / 1e3, "r*", ms=12,
+    ax.plot(low.length * 1e3, low.pressure / 1e3, "r*", ms=12, clip_on=False, zorder=5,
             label=f"exact minimum {low.value / 1e6:.3g} MPa ({low.direction})")
+    ax.margins(0.04)  # the minimum often lies on the box's edge: keep the star inside the frame
     ax.set(xlabel="length L [mm]", ylabel="gauge pressure P [kPa]",
-           title=f"Drucker margin (exact minimum {low.value / 1e6:.3g} MPa: {verdict}; red line: 0)")
-    ax.legend(fontsize=8, loc="upper left")
+           title=f"Drucker margin (exact minimum {low.value / 1e6:.3g} MPa: {verdict})")
+    fig.legend(fontsize=8, loc="outside lower center", ncols=2)
     return save_figure(fig, folder, "drucker_margin.png")
 
 
@@ -172,3 +174,19 @@ def _level_colors(n: int) -> np.ndarray:
 
 def _index(result, name: str) -> int:
     return [t.name for t in result.tests].index(name)
+
+
+def plot_result(result, folder: Path) -> list[Path]:
+    """:func:`plot_identification` of a result returned by :func:`pampipe.identify` (which keeps its data)."""
+    return plot_identification(_data(result), result, folder)
+
+
+def _data(result):
+    data = getattr(result, "experiment_data", None)
+    if data is None:
+        from pampipe.errors import InputError
+
+        raise InputError("plot(): this result does not carry its experiment data; get it from "
+                         "pampipe.identify(...), or call pampipe.plots.identify.plot_identification(data, "
+                         "result, folder).")
+    return data

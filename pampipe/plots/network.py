@@ -19,6 +19,7 @@ import numpy as np
 
 from pampipe.report import new_figure, save_figure
 
+MIN_SPAN = 0.05  # the colour bar spans at least this fraction of the supply pressure
 
 def route_profile(plan, folder: Path, unit: str, scale: float) -> Path:
     """Elevation and planned pressure against distance along the route."""
@@ -42,20 +43,23 @@ def route_profile(plan, folder: Path, unit: str, scale: float) -> Path:
     if high < supply / 1.5:  # zoom on the pressures, so that their variation shows; the supply is named
         pad = max(0.1 * (high - low), 0.01 * high)
         bottom.set_ylim(low - pad, high + 3 * pad)
-        bottom.plot([], [], color="C3", ls="--", lw=1.2, label=f"supply pressure {supply:.4g} {unit} (above)")
+        bottom.annotate(f"supply pressure {supply:.4g} {unit}: above this axis", (0.99, 0.97),
+                        xycoords="axes fraction", ha="right", va="top", fontsize=8, color="C3")
     else:
         bottom.set_ylim(0, 1.08 * max(supply, high))
         bottom.axhline(supply, color="C3", ls="--", lw=1.2, label="supply pressure")
-    for s in sorted(a.reasons):
+    for n, s in enumerate(sorted(a.reasons)):
         for ax in (top, bottom):
-            ax.axvspan(distance[s], distance[s + 1], color="C3", alpha=0.12, lw=0)
+            ax.axvspan(distance[s], distance[s + 1], color="C3", alpha=0.12, lw=0,
+                       label="infeasible section" if n == 0 and ax is bottom else None)
     if np.isfinite(pressure).any():
         s = int(np.nanargmax(np.where(np.isfinite(pressure), pressure, np.nan)))
         middle = 0.5 * (distance[s] + distance[s + 1])
         bottom.annotate(f"most pressure: {a.route.name[s]}\n{pressure[s]:.4g} {unit}", (middle, pressure[s]),
                         xytext=(0, 18), textcoords="offset points", ha="center", fontsize=8,
                         arrowprops={"arrowstyle": "->", "lw": 0.8})
-        bottom.axvspan(distance[s], distance[s + 1], color="C1", alpha=0.2, lw=0)
+        bottom.axvspan(distance[s], distance[s + 1], color="C1", alpha=0.2, lw=0,
+                       label="section of most pressure")
     for k, bend in enumerate(plan.bends):  # at the end of the section each bend follows
         at = distance[bend.index + 1]
         colour = "C2" if bend.passable else "C3"
@@ -88,6 +92,10 @@ def network_pressure(plan, folder: Path, unit: str, scale: float) -> Path | None
     planned = np.isfinite(pressure) & plan.arrays.feasible.all(axis=1)
     width = 1.6 if origin.whole else 2.6
     lines = LineCollection(_polylines(net, pipes[planned]), array=pressure[planned], cmap="viridis", lw=width)
+    if planned.any():  # a span of a fraction of a kPa would paint rounding noise as a pattern
+        low, high = float(np.min(pressure[planned])), float(np.max(pressure[planned]))
+        half = max(0.5 * (high - low), MIN_SPAN * plan.supply_pressure / scale / 2)
+        lines.set_clim(0.5 * (low + high) - half, 0.5 * (low + high) + half)
     ax.add_collection(lines)
     failed = ~planned
     if failed.any():

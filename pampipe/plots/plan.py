@@ -44,15 +44,17 @@ def _required_pressure(plan, folder: Path, unit: str, scale: float) -> Path:
     fig, ax = new_figure(figsize=(8, 4.5))
     a = plan.arrays
     edges = np.concatenate([[0.0], np.cumsum(a.route.length)])
-    for k, name in enumerate(a.segment_names):
-        values = np.where(a.complete, a.pressure[:, k], np.nan) / scale
-        ax.stairs(values, edges, baseline=None, lw=2.2 - 0.5 * k, label=f"{name}: planned pressure")
+    for k, names in enumerate(_distinct_columns(a.pressure, a.segment_names)):
+        values = np.where(a.complete, a.pressure[:, a.segment_names.index(names[0])], np.nan) / scale
+        ax.stairs(values, edges, baseline=None, lw=2.2 - 0.5 * k, color=f"C{k}",
+                  label=f"{', '.join(names)}: planned pressure")
     anchoring = np.where(a.complete, np.max(a.largest_bore_anchoring, axis=1), np.nan) / scale
     ax.stairs(anchoring, edges, baseline=None, color="grey", ls=":", lw=1.5,
               label="anchoring pressure (no load, largest bore)")
     ax.axhline(plan.supply_pressure / scale, color="C3", ls="--", lw=1.2, label="supply pressure")
-    for s in sorted(a.reasons):
-        ax.axvspan(edges[s], edges[s + 1], color="C3", alpha=0.12, lw=0)
+    for n, s in enumerate(sorted(a.reasons)):
+        ax.axvspan(edges[s], edges[s + 1], color="C3", alpha=0.12, lw=0,
+                   label="infeasible section" if n == 0 else None)
     if len(a.route) <= 30:
         top = ax.secondary_xaxis("top")
         tilted = len(plan.sections) > 3
@@ -62,10 +64,22 @@ def _required_pressure(plan, folder: Path, unit: str, scale: float) -> Path:
             label.set_color("k" if sec.feasible else "C3")
     ax.set_ylim(bottom=0)
     ax.set(xlabel="distance along the route [m]", ylabel=f"gauge pressure [{unit}]",
-           title="required anchoring pressure along the route (red band: infeasible section)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+           title="required anchoring pressure along the route")
+    fig.legend(fontsize=8, loc="outside right upper")
     return save_figure(fig, folder, "required_pressure.png")
+
+
+def _distinct_columns(pressure: np.ndarray, names) -> list[list[str]]:
+    """Segment names grouped by identical planned pressures along the whole route (drawn as one line)."""
+    groups: list[list[str]] = []
+    for k, name in enumerate(names):
+        same = next((g for g in groups if np.array_equal(pressure[:, list(names).index(g[0])], pressure[:, k],
+                                                         equal_nan=True)), None)
+        if same is None:
+            groups.append([name])
+        else:
+            same.append(name)
+    return groups
 
 
 def _holding_capacity(plan, folder: Path, unit: str, scale: float) -> Path:
@@ -91,10 +105,9 @@ def _holding_capacity(plan, folder: Path, unit: str, scale: float) -> Path:
     ax.set_yscale("log")
     ax.set_ylim(0.3 * min(positive), 3 * max(max(positive), _capacity_at(plan, drawn, top)))
     ax.set(xlabel=f"gauge pressure P [{unit}]", ylabel="holding capacity μπF_r [N]",
-           title=f"holding capacity vs pressure (dashed: {plan.safety_factor:g} × required hold; "
-                 "dots: operating points)\n(curves start where the muscle touches the wall)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper left")
+           title=f"holding capacity vs pressure\ndashed: {plan.safety_factor:g} × required hold; dots: "
+                 "operating points\n(curves start where the muscle touches the wall)")
+    fig.legend(fontsize=7, loc="outside right upper")
     return save_figure(fig, folder, "holding_capacity.png")
 
 

@@ -59,3 +59,8 @@ def plot_slip(tests, result, folder: Path) -> list[Path]:
 
 def _safe(name: str) -> str:
     return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
+
+
+def plot_grip(result, folder: Path) -> list[Path]:
+    """slip_fit.png of an `identify` result on slip tests only (the fit needs no raw data)."""
+    return plot_slip((), result.slip, folder)

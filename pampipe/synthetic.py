@@ -106,3 +106,4 @@ def comments(pam: Pam, protocol: Protocol, seed: int) -> list[str]:
 
 def _mpa_list(theta) -> str:
     return "[" + ", ".join(f"{v / 1e6:.6g}" for v in theta) + "]"
+

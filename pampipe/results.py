@@ -1,0 +1,168 @@
+"""What every result shows in a notebook: a short repr, an HTML table, a DataFrame and its main plot.
+
+:func:`notebook` decorates a result class (placed above ``@dataclass``, whose repr it replaces). It
+reads nothing but the result's JSON document (``to_dict()``, else ``as_document()``), so the notebook
+shows the numbers of ``--json``:
+
+* ``repr(result)``: the class and its headline numbers, under 300 characters;
+* ``result._repr_html_()``: the headline numbers and the first rows of the long table, as HTML;
+* ``result.to_frame()``: a pandas DataFrame in long form, one row per innermost record of the
+  document (a plan's segment in a section, a simulation's pressure point), its columns the JSON keys
+  (unit-suffixed: ``pressure_Pa``), the enclosing records' keys prefixed with their singular name
+  (``section_name``); pandas is the optional extra ``pampipe[frames]``;
+* ``result.plot(ax=None)``: the command's main figure (the first one ``--plots`` writes), drawn
+  into ``ax`` when given, returned as a matplotlib Figure.
+"""
+
+from __future__ import annotations
+
+import html
+import importlib
+import math
+from collections.abc import Callable, Mapping
+
+from pampipe.errors import InputError
+
+REPR_LIMIT = 299  # characters of repr()
+HTML_ROWS = 40  # rows of the long table shown by _repr_html_
+
+
+def notebook(*, headline: tuple[str, ...] = (), plot: str | None = None):
+    """Class decorator: ``__repr__``, ``_repr_html_``, ``to_frame``, ``records`` and ``plot``.
+
+    ``headline``: the document's top-level keys shown first in the repr (others follow while they
+    fit); ``plot``: ``"module:function"`` taking ``(result, folder)`` as the command's ``--plots``
+    does, whose first figure ``plot()`` returns.
+    """
+
+    def decorate(cls):
+        cls.__repr__ = lambda self: short_repr(type(self).__name__, document(self), headline)
+        cls._repr_html_ = lambda self: html_table(type(self).__name__, document(self), headline)
+        cls.records = lambda self: records(document(self))
+        cls.to_frame = lambda self: frame(records(document(self)))
+        if plot is not None:
+            cls.plot = lambda self, ax=None: main_figure(self, plot, ax)
+        return cls
+
+    return decorate
+
+
+def document(result) -> dict:
+    """The result's JSON document."""
+    to_dict = getattr(result, "to_dict", None)
+    return to_dict() if to_dict is not None else result.as_document()
+
+
+def _scalar(value) -> bool:
+    return value is None or isinstance(value, str | bool | int | float)
+
+
+def _number(value) -> bool:
+    return value is None or (isinstance(value, int | float) and not isinstance(value, bool))
+
+
+def _show(value) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}" if math.isfinite(value) else str(value)
+    return str(value)
+
+
+def headlines(doc: Mapping, first: tuple[str, ...]) -> list[tuple[str, object]]:
+    """The document's top-level scalars, the ``first`` keys leading."""
+    keys = [k for k in first if k in doc] + [k for k in doc if k not in first]
+    return [(k, doc[k]) for k in keys if _scalar(doc[k])]
+
+
+def short_repr(name: str, doc: Mapping, first: tuple[str, ...]) -> str:
+    """``<Name key=value …>`` cut to :data:`REPR_LIMIT` characters."""
+    text = f"<{name}"
+    for key, value in headlines(doc, first):
+        item = f" {key}={_show(value)}"
+        if len(text) + len(item) + 5 > REPR_LIMIT:
+            return text + " …>"
+        text += item
+    return text + ">"
+
+
+def html_table(name: str, doc: Mapping, first: tuple[str, ...]) -> str:
+    """The headline scalars as a two-column table, then the first rows of the long table."""
+    esc = html.escape
+    head = "".join(f"<tr><th style='text-align:left'>{esc(k)}</th><td>{esc(_show(v))}</td></tr>"
+                   for k, v in headlines(doc, first))
+    parts = [f"<div><strong>{esc(name)}</strong><table>{head}</table>"]
+    rows = records(doc)
+    if rows and len(rows[0]) > 1:
+        columns = list(dict.fromkeys(k for row in rows for k in row))
+        body = "".join("<tr>" + "".join(f"<td>{esc(_show(row.get(c, '')))}</td>" for c in columns) + "</tr>"
+                       for row in rows[:HTML_ROWS])
+        more = f"<p>… {len(rows) - HTML_ROWS} more rows: <code>.to_frame()</code></p>" \
+            if len(rows) > HTML_ROWS else ""
+        parts.append("<table><tr>" + "".join(f"<th>{esc(c)}</th>" for c in columns) + f"</tr>{body}</table>"
+                     + more)
+    return "".join(parts) + "</div>"
+
+
+def _singular(key: str) -> str:
+    if key.endswith("ies"):
+        return key[:-3] + "y"
+    return key[:-1] if key.endswith("s") and not key.endswith("ss") else key
+
+
+def _flat(item: Mapping, prefix: str = "") -> dict:
+    """The scalars of ``item``, nested dicts of scalars flattened to ``key.sub``; [low, high] pairs to
+    ``key_low``/``key_high``."""
+    out = {}
+    for key, value in item.items():
+        name = f"{prefix}{key}"
+        if _scalar(value):
+            out[name] = value
+        elif isinstance(value, Mapping):
+            out.update(_flat(value, f"{name}."))
+        elif isinstance(value, list | tuple) and len(value) == 2 and all(_number(v) for v in value):
+            out[f"{name}_low"], out[f"{name}_high"] = value
+    return out
+
+
+def _depth(value) -> int:
+    """How deep lists of records nest in ``value`` (0: none)."""
+    if isinstance(value, list) and value and all(isinstance(v, Mapping) for v in value):
+        return 1 + max(_depth(v) for v in value)
+    if isinstance(value, Mapping):
+        return max((_depth(v) for v in value.values()), default=0)
+    return 0
+
+
+def records(doc: Mapping, context: dict | None = None, name: str = "") -> list[dict]:
+    """The long table: one row per innermost record of ``doc``, following its deepest list of records
+    and carrying the enclosing records' scalars (prefixed with the singular of their list's key)."""
+    context = context or {}
+    lists = {k: v for k, v in doc.items()
+             if isinstance(v, list) and v and all(isinstance(x, Mapping) for x in v)}
+    if not lists:
+        return [{**context, **_flat(doc)}]
+    key = max(lists, key=lambda k: (_depth(lists[k]), len(lists[k])))
+    own = {f"{name}_{k}" if name else k: v for k, v in _flat(doc).items()}
+    return [row for item in lists[key] for row in records(item, {**context, **own}, _singular(key))]
+
+
+def frame(rows: list[dict]):
+    """A pandas DataFrame of ``rows`` (ImportError naming the extra without pandas)."""
+    try:
+        import pandas
+    except ImportError:
+        raise ImportError("to_frame() needs pandas: install the optional extra with "
+                          "`pip install pampipe[frames]` (or `pip install pandas`).") from None
+    return pandas.DataFrame.from_records(rows)
+
+
+def main_figure(result, target: str, ax=None):
+    """The first figure that ``target`` (``"module:function"``) draws for ``result``, into ``ax`` if given."""
+    from pampipe.report import capture
+
+    module, name = target.split(":")
+    draw: Callable = getattr(importlib.import_module(module), name)
+    with capture(ax) as figures:
+        draw(result, None)
+    if not figures:
+        raise InputError(f"{type(result).__name__}: there is nothing to plot.")
+    return figures[0]
