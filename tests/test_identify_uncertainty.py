@@ -1,7 +1,8 @@
 """What identify writes of its uncertainty, against truths known independently of the fitting code.
 
 Data come from :mod:`pampipe.synthetic` with known moduli and known Gaussian force noise σ = 2 N: the
-spread of repeated fits over noise seeds, which directions a protocol cannot see, and whether the model is right.
+spread of repeated fits over noise seeds, which directions a protocol cannot see, and whether the model is
+right.
 """
 
 from __future__ import annotations
