@@ -56,12 +56,14 @@ def test_unconstrained_fit_reaches_the_least_squares_optimum(data, degree):
 
 def test_fit_with_coefficients_at_their_bounds_reaches_the_bounded_optimum(data):
     experiment_, columns, keep = data
-    low, high = (0.0, -0.2e6), (50e6, 0.2e6)  # tight bounds on the non-constant terms: some are active
+    # tight bounds on the non-constant terms: some are active. Not tighter: at ±0.2 MPa the fitted model goes
+    # negative on measured rows, and the slack hinge (docs/physics.md §6.2) makes it another problem than BVLS'
+    low, high = (0.0, -0.5e6), (50e6, 0.5e6)
     result = identify(experiment_, FitOptions(degree=2, drucker="none", slack="exclude",
                                               bounds_constant=low[:1] + high[:1],
                                               bounds_other=(low[1], high[1])))
     peer, theta = peer_sse(experiment_, columns, keep, 2, low, high)
-    assert np.sum(np.isclose(np.abs(theta), 0.2)) >= 1  # the peer's optimum has an active bound
+    assert np.sum(np.isclose(np.abs(theta), 0.5)) >= 1  # the peer's optimum has an active bound
     assert result.sse <= peer * (1 + 1e-12)  # IPOPT alone stops 1e-11…1e-10 above it here
     assert result.sse >= peer * (1 - 1e-12)
 

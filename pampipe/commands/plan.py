@@ -141,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
                     max_payload=args.max_payload, samples=args.samples, seed=args.seed,
                     prior=args.prior_from)
     # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan
-    document = plan.to_dict() if args.json or args.output is not None else None
+    document = plan.to_dict() if args.json or args.output is not None or args.report is not None else None
     for warning in plan.warnings:
         print(f"warning: {warning}", file=sys.stderr, flush=True)
     text = plan_text(plan, unit=args.units, all_sections=args.all_sections)
@@ -152,13 +152,13 @@ def run(args: argparse.Namespace) -> int:
         say(args, f"wrote {args.output}")
     from pampipe.plots.plan import plot_plan
 
-    reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
-    write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
-                      document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
-                      warnings=plan.warnings,
-                      reasons=reasons + [str(r) for r in document.get("reasons", [])])
+    if args.report is not None:
+        reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
+        write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
+                          document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
+                          warnings=plan.warnings,
+                          reasons=reasons + [str(r) for r in document.get("reasons", [])])
     if args.plots:
-
         for path in plot_plan(plan, args.plots, unit=args.units):
             say(args, f"wrote {path}")
     if plan.coverage is not None and plan.arrays.route.origin.whole:

@@ -60,16 +60,17 @@ def route_profile(plan, folder: Path, unit: str, scale: float) -> Path:
                         arrowprops={"arrowstyle": "->", "lw": 0.8})
         bottom.axvspan(distance[s], distance[s + 1], color="C1", alpha=0.2, lw=0,
                        label="section of most pressure")
+    labelled = set()  # one legend entry per kind of bend, on its first drawn line
     for k, bend in enumerate(plan.bends):  # at the end of the section each bend follows
         at = distance[bend.index + 1]
         colour = "C2" if bend.passable else "C3"
-        for ax in (top, bottom):
-            ax.axvline(at, color=colour, lw=0.9, ls="-." if bend.passable else "-", alpha=0.8)
+        label = "bend the robot passes" if bend.passable else "bend it cannot pass"
+        top.axvline(at, color=colour, lw=0.9, ls="-." if bend.passable else "-", alpha=0.8)
+        bottom.axvline(at, color=colour, lw=0.9, ls="-." if bend.passable else "-", alpha=0.8,
+                       label=None if label in labelled else label)
+        labelled.add(label)
         top.annotate(f"{math.degrees(bend.angle):.0f}°", (at, 1.0), xycoords=("data", "axes fraction"),
                      xytext=(2, -10 - 8 * (k % 2)), textcoords="offset points", fontsize=7, color=colour)
-    if plan.bends:
-        bottom.plot([], [], color="C2", ls="-.", lw=0.9, label="bend the robot passes")
-        bottom.plot([], [], color="C3", lw=0.9, label="bend it cannot pass")
     bottom.set(xlabel="distance along the route [m]", ylabel=f"gauge pressure [{unit}]")
     bottom.grid(alpha=0.3)
     bottom.legend(fontsize=8, loc="best")
