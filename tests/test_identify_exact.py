@@ -56,8 +56,8 @@ def test_unconstrained_fit_reaches_the_least_squares_optimum(data, degree):
 
 def test_fit_with_coefficients_at_their_bounds_reaches_the_bounded_optimum(data):
     experiment_, columns, keep = data
-    # tight bounds on the non-constant terms: some are active. Not tighter: at ±0.2 MPa the fitted model goes
-    # negative on measured rows, and the slack hinge (docs/physics.md §6.2) makes it another problem than BVLS'
+    # tight bounds on the non-constant terms: some are active. Not tighter: at ±0.2 MPa the fitted model
+    # goes negative on measured rows, and the slack hinge (docs/physics.md §6.2) makes it another problem
     low, high = (0.0, -0.5e6), (50e6, 0.5e6)
     result = identify(experiment_, FitOptions(degree=2, drucker="none", slack="exclude",
                                               bounds_constant=low[:1] + high[:1],
