@@ -34,7 +34,8 @@ def test_unwritable_stdout_is_exit_2_with_one_line(redirect, json_flag):
     done = shell(f"PAMPIPE plan {MISSION} {json_flag} {redirect}")
     assert done.returncode == 2, done.stderr
     assert "Traceback" not in done.stderr and "bug" not in done.stderr
-    errors = [line for line in done.stderr.splitlines() if line.startswith(("pampipe plan: error", "pampipe: error"))]
+    errors = [line for line in done.stderr.splitlines()
+              if line.startswith(("pampipe plan: error", "pampipe: error"))]
     assert len(errors) == 1 and "stdout" in errors[0], done.stderr
 
 
