@@ -7,12 +7,13 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, integer_type, say
 from pampipe.diagnosis import structure
+from pampipe.diagnosis.candidates import CANDIDATES, GEOMETRY, candidate
 from pampipe.diagnosis.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
-from pampipe.model.effects import LIBRARY, get_effect
+from pampipe.model.effects import LIBRARY
 from pampipe.report import table
 
 NAME = "diagnose"
@@ -26,14 +27,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write the augmented PAM file (refitted moduli: and the selected effects: "
                              "block), "
                              "which `simulate` and `plan` use")
-    parser.add_argument("--effect", action="append", choices=list(LIBRARY), metavar="NAME",
-                        help="test only this effect (repeatable; default: all of "
-                             f"{', '.join(LIBRARY)})")
+    parser.add_argument("--effect", action="append", choices=list(CANDIDATES), metavar="NAME",
+                        help="test only this effect or mis-stated geometry entry (repeatable; default: "
+                             f"all of {', '.join(CANDIDATES)})")
     parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
                      + "; ".join(f"{e.name}: {e.summary}" for e in LIBRARY.values())
+                     + ". Geometry candidates: "
+                     + "; ".join(f"{g.name}: {g.summary}" for g in GEOMETRY.values())
                      + ". Exit codes: 0 success (including 'none'), 2 bad input, 3 solver failure.")
 
 
@@ -70,7 +73,7 @@ def _parameters(summary) -> str:
     """The effects' parameters with their joint 95 % intervals, in display units."""
     cells = []
     for name in summary.effects:
-        for p in get_effect(name).parameters:
+        for p in candidate(name).parameters:
             value = summary.parameters[name][p.name] / p.scale
             unit = "" if p.unit == "-" else f" {p.unit}"
             band = summary.intervals.get(name, {}).get(p.name, (float("nan"),) * 2)
@@ -140,7 +143,7 @@ def report(result) -> str:
         decision.append(f"  selected: {' + '.join(result.selected_effects)}; parameters (joint 95 % "
                         f"intervals): {_parameters(chosen)}")
         for name in result.selected_effects:
-            decision.append(f"  {name}: {get_effect(name).summary}")
+            decision.append(f"  {name}: {candidate(name).summary}")
     for c in result.confounded:
         text = f"  caution: {c['effect']} and {c['with']} explain the data almost equally (confounded)"
         if c["separate_by"]:

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.diagnosis import selection
-from pampipe.model.effects import get_effect
+from pampipe.diagnosis.candidates import candidate, corrected_geometry, library_part
 from pampipe.model.pam import Moduli, Pam
 
 MPA = 1e6
@@ -60,7 +60,7 @@ class Summary:
 
     def _keys(self) -> list[tuple[str, object, str]]:
         """[(effect, Parameter, JSON key)]; keys are prefixed with the effect where two would clash."""
-        entries = [(name, p) for name in self.effects for p in get_effect(name).parameters]
+        entries = [(name, p) for name in self.effects for p in candidate(name).parameters]
         keys = [p.json_key for _, p in entries]
         return [(name, p, key if keys.count(key) == 1 else f"{name}.{key}")
                 for (name, p), key in zip(entries, keys, strict=True)]
@@ -144,8 +144,9 @@ class DiagnoseResult:
         """The muscle with the refitted moduli and the selected effects (none: the baseline moduli)."""
         chosen = self.chosen
         moduli = Moduli.from_vector(chosen.theta, reference_pressure=MPA)
-        effects = {name: dict(values) for name, values in chosen.parameters.items()} or None
-        return Pam(self.pam.name, self.pam.geometry, moduli, None, effects)
+        effects = {name: dict(chosen.parameters[name]) for name in library_part(chosen.effects)} or None
+        geometry = corrected_geometry(self.pam.geometry, chosen.effects, chosen.parameters)
+        return Pam(self.pam.name, geometry, moduli, None, effects)
 
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""

@@ -21,6 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from pampipe.diagnosis import noise, selection, structure
+from pampipe.diagnosis.candidates import CANDIDATES, candidate
 from pampipe.diagnosis.cells import reduce_rows, slack_rows
 from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter
 from pampipe.diagnosis.result import DiagnoseResult, summarize
@@ -29,7 +30,6 @@ from pampipe.diagnosis.separate import separating_experiment
 from pampipe.diagnosis.verdict import Scores, decide
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
-from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.model.forces import contact_switch
 
 DEGREE = 3
@@ -101,10 +101,10 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     """Find the effects missing from the baseline model of ``data`` (see the module docstring)."""
     say = progress or (lambda _text: None)
     started = time.perf_counter()
-    names = list(LIBRARY) if effects is None else list(dict.fromkeys(effects))
+    names = list(CANDIDATES) if effects is None else list(dict.fromkeys(effects))
     for name in names:
         try:
-            get_effect(name)
+            candidate(name)
         except KeyError as exc:
             raise InputError(str(exc.args[0])) from None
     n = data.points
