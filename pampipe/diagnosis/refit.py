@@ -210,7 +210,7 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
                           [ca.triu(lam_f * 2 * ca.mtimes(weighted_jac, jac_t.T) / total)])
     grad_f = ca.Function("grad_f", [x, p], [objective, gradient])
     nlp = {"x": x, "p": p, "f": objective, "g": constraints}
-    label = "_".join(effects) or "baseline"
+    label = "_".join(effects).replace(":", "_") or "baseline"
     solver = nlpsol(f"refit_{label}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian, grad_f=grad_f)
     residuals = ca.Function("residuals", [x, p], [res.T])
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
