@@ -1,7 +1,8 @@
 """Forward selection of several effects, then a backward step (every fit joint: moduli + all effects).
 
 Forward: from the current model (first the baseline), refit it with each candidate not yet in it
-(library effects and mis-stated geometry entries, :mod:`.candidates`), warm-started. An addition is *eligible* when it
+(library effects and mis-stated geometry entries, :mod:`.candidates`), warm-started.
+An addition is *eligible* when it
 
 1. lowers BIC by at least :data:`BIC_MARGIN` (Kass & Raftery: > 10 is "very strong");
 2. lowers the cross-validated RMSE by at least :data:`CV_MARGIN` (additions are cross-validated in
