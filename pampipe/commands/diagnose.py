@@ -7,7 +7,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, integer_type, say
 from pampipe.diagnosis import structure
-from pampipe.diagnosis.candidates import CANDIDATES, GEOMETRY, candidate
+from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate
 from pampipe.diagnosis.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "which `simulate` and `plan` use")
     parser.add_argument("--effect", action="append", choices=list(CANDIDATES), metavar="NAME",
                         help="test only this effect or mis-stated geometry entry (repeatable; default: "
-                             f"all of {', '.join(CANDIDATES)})")
+                             f"all of {', '.join(DEFAULT)})")
     parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)

@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from pampipe.diagnosis import noise, selection, structure
-from pampipe.diagnosis.candidates import CANDIDATES, candidate
+from pampipe.diagnosis.candidates import DEFAULT, candidate
 from pampipe.diagnosis.cells import reduce_rows, slack_rows
 from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter, effect_parameters
 from pampipe.diagnosis.result import DiagnoseResult, summarize
@@ -113,7 +113,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     """Find the effects missing from the baseline model of ``data`` (see the module docstring)."""
     say = progress or (lambda _text: None)
     started = time.perf_counter()
-    names = list(CANDIDATES) if effects is None else list(dict.fromkeys(effects))
+    names = list(DEFAULT) if effects is None else list(dict.fromkeys(effects))
     for name in names:
         try:
             candidate(name)
