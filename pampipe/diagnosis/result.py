@@ -84,9 +84,7 @@ class Summary:
 def summarize(model, base_bic: float, data, cells, refitter) -> Summary:
     """A :class:`Summary` of a :class:`pampipe.diagnosis.search.Model`."""
     fit = model.fit
-    within = np.bincount(cells.test, weights=cells.within_ss, minlength=len(data.tests))
-    rows = np.bincount(cells.test, weights=cells.count, minlength=len(data.tests))
-    rmse = np.sqrt((model.test_ss + within) / np.maximum(rows, 1))
+    rmse = cells.test_rmse(model.test_ss, len(data.tests))
     tests = tuple(TestRmse(t.name, t.kind, t.points, float(rmse[i])) for i, t in enumerate(data.tests))
     full = selection.intervals(fit, cells, refitter)
     bands = {e: {k: (v[1], v[2]) for k, v in ps.items()} for e, ps in full.items()}
@@ -151,10 +149,7 @@ class DiagnoseResult:
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""
         model = next(t.model for t in step.trials if t.effect == step.effect)
-        cells = self.cells
-        within = np.bincount(cells.test, weights=cells.within_ss, minlength=len(self.data.tests))
-        rows = np.bincount(cells.test, weights=cells.count, minlength=len(self.data.tests))
-        return float(np.sum(np.sqrt((model.test_ss + within) / np.maximum(rows, 1))))
+        return float(np.sum(self.cells.test_rmse(model.test_ss, len(self.data.tests))))
 
     def trial_summary(self, trial) -> Summary | None:
         if trial.model is None:
