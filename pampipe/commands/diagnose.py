@@ -7,7 +7,7 @@ from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit, integer_type, say
 from pampipe.diagnosis import structure
-from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate
+from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate, describe
 from pampipe.diagnosis.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
@@ -144,6 +144,16 @@ def report(result) -> str:
                         f"intervals): {_parameters(chosen)}")
         for name in result.selected_effects:
             decision.append(f"  {name}: {candidate(name).summary}")
+    for name in chosen.effects:
+        if name in GEOMETRY:
+            decision.append(f"  {name}: {describe(name, chosen.parameters[name], result.pam.geometry)}")
+    for group in verdict.indistinguishable:
+        decision.append(f"  indistinguishable: {' or '.join(group)} (these tests cannot tell them apart)")
+    if verdict.undetermined:
+        decision.append("  undetermined (interval spans the allowed range): "
+                        + ", ".join(verdict.undetermined))
+    for caution in verdict.cautions:
+        decision.append(f"  caution: {caution}")
     for c in result.confounded:
         text = f"  caution: {c['effect']} and {c['with']} explain the data almost equally (confounded)"
         if c["separate_by"]:
