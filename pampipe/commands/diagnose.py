@@ -52,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
         write_pam(args.output, result.augmented_pam(),
                   comments=[f"Written by `pampipe diagnose` from {experiment.source}.",
                             f"Verdict: {result.verdict.verdict}. Moduli refitted in shared mode together "
-                            f"with the selected effects: {' + '.join(result.selected_effects) or 'none'}."])
+                            f"with: {' + '.join(result.chosen.effects) or 'no effect'}."])
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.diagnose import plot_diagnosis
@@ -139,9 +139,10 @@ def report(result) -> str:
               t.wall_time) for t in step.trials]))
     verdict = result.verdict
     decision = [f"Verdict: {verdict.verdict}. {verdict.reason}."]
-    if result.selected_effects:
-        decision.append(f"  selected: {' + '.join(result.selected_effects)}; parameters (joint 95 % "
-                        f"intervals): {_parameters(chosen)}")
+    if chosen.effects:
+        named = f"named: {' + '.join(result.selected_effects) or 'none on its own'}; "
+        decision.append(f"  refitted: {' + '.join(chosen.effects)} ({named}parameters, joint 95 % "
+                        f"intervals: {_parameters(chosen)})")
         for name in result.selected_effects:
             decision.append(f"  {name}: {candidate(name).summary}")
     for name in chosen.effects:
