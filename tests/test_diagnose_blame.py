@@ -212,11 +212,15 @@ def test_braid_extensibility_with_axial_preload_is_named(seed, scale):
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [9231, 9232])
 def test_a_thin_wall_stated_as_thick_is_not_explained_by_a_sensor_gain(seed):
+    """Data from a thin-wall muscle, the file states thick: never a pressure-sensor gain on its own."""
     pam = _pam()
     thin = replace(pam, geometry=replace(pam.geometry, wall="thin"))
     result = diagnose(hidden_experiment(thin, None, seed=seed, stated=pam.geometry))
+    # never the sensor on its own: the wall model is named, or the two are one group the tests cannot
+    # separate (seed 9232: within 10 BIC)
     assert "pressure_offset" not in result.selected_effects, result.verdict.reason
-    assert result.verdict.verdict != "explained" or result.selected_effects == ("geometry:wall",)
+    groups = [set(g) for g in result.verdict.indistinguishable]
+    assert "geometry:wall" in result.selected_effects or any("geometry:wall" in g for g in groups)
 
 
 @pytest.mark.slow
