@@ -2,8 +2,9 @@
 
 Two estimates, both unbiased for white noise and both only *inflated* by structured error:
 
-* ``repeats`` (pure error): the scatter of rows within a cell (after the cell's own linear trend,
-  :mod:`.cells`) plus the scatter of exact cells that repeat one set point in other cycles,
+* ``repeats`` (pure error): the scatter of rows within an exact cell (rows sharing one set point;
+  binned cells do not count, see below) plus the scatter of exact cells that repeat one set point
+  in other cycles,
   σ²_rep = (Σ SS_within + Σ_g Σ_c n_c (r̄_c − r̄_g)²) / (Σ dof_within + Σ_g (cells_g − 1));
 * ``neighbours`` (a high-pass estimate): along each path (cells of a test, held group, direction
   and cycle, sorted by the swept coordinate), e_i = r̄_i − w₋r̄_{i−1} − w₊r̄_{i+1} with linear
