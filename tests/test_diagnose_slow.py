@@ -4,7 +4,7 @@ Acceptance (issue 13), every case generated from known parameters with σ = 2 N 
 
 * clean data: ``none`` in at least 95 % of 20 seeds;
 * single library effects at their default magnitude: every one named (or, for two effects the data
-  cannot tell apart, named as the flagged confounded alternative), every test at ≤ 1.2 σ after;
+  cannot tell apart, reported in one indistinguishable group), every test at ≤ 1.2 σ after;
 * pairs of library effects (all 28, at ×0.7 and ×1.4): both named (or flagged) in at least 80 %;
 * effects outside the library (5 kinds × 4): ``unexplained`` or ``partly_explained`` in at least
   80 %, and a confident wrong name (``explained``) in at most 10 %;
