@@ -70,6 +70,7 @@ def run_case(case: Case) -> dict:
     result = diagnose(hidden_experiment(pam, case.effects or None, seed=case.seed, scale=case.scale))
     return {"case": case, "verdict": result.verdict.verdict, "named": result.selected_effects,
             "confounded": tuple(c["with"] for c in result.confounded),
+            "groups": tuple(result.verdict.indistinguishable),
             "rmse_after": [t.rmse for t in result.chosen.tests], "time": time.perf_counter() - started}
 
 
@@ -85,8 +86,9 @@ def outcome_class(outcome: dict) -> str:
         return verdict
     if truth <= named:
         return "all named" + (" (+extra)" if named - truth else "")
-    flagged = named | set(outcome["confounded"])
-    if truth <= flagged:  # a true effect named as the flagged, confounded alternative of a named one
+    grouped = {name for group in outcome.get("groups", ()) for name in group}
+    flagged = named | set(outcome["confounded"]) | grouped
+    if truth <= flagged:  # a true effect in a group the tests cannot separate (or flagged as confounded)
         return "all named or flagged"
     if named & truth:
         return "one named"

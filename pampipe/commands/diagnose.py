@@ -14,12 +14,13 @@ from pampipe.commands.common import (
     write_html_report,
 )
 from pampipe.diagnosis import structure
+from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate, describe
 from pampipe.diagnosis.selection import FOLDS
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
-from pampipe.model.effects import LIBRARY, get_effect
+from pampipe.model.effects import LIBRARY
 from pampipe.report import table
 
 NAME = "diagnose"
@@ -33,15 +34,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write the augmented PAM file (refitted moduli: and the selected effects: "
                              "block), "
                              "which `simulate` and `plan` use")
-    parser.add_argument("--effect", action="append", choices=list(LIBRARY), metavar="NAME",
-                        help="test only this effect (repeatable; default: all of "
-                             f"{', '.join(LIBRARY)})")
+    parser.add_argument("--effect", action="append", choices=list(CANDIDATES), metavar="NAME",
+                        help="test only this effect or mis-stated geometry entry (repeatable; default: "
+                             f"all of {', '.join(DEFAULT)})")
     parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
     add_report_option(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
                      + "; ".join(f"{e.name}: {e.summary}" for e in LIBRARY.values())
+                     + ". Geometry candidates: "
+                     + "; ".join(f"{g.name}: {g.summary}" for g in GEOMETRY.values())
                      + ". Exit codes: 0 success (including 'none'), 2 bad input, 3 solver failure.")
 
 
@@ -66,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
         write_pam(args.output, result.augmented_pam(),
                   comments=[f"Written by `pampipe diagnose` from {experiment.source}.",
                             f"Verdict: {result.verdict.verdict}. Moduli refitted in shared mode together "
-                            f"with the selected effects: {' + '.join(result.selected_effects) or 'none'}."])
+                            f"with: {' + '.join(result.chosen.effects) or 'no effect'}."])
         say(args, f"wrote {args.output}")
     if args.plots:
         from pampipe.plots.diagnose import plot_diagnosis
@@ -87,7 +90,7 @@ def _parameters(summary) -> str:
     """The effects' parameters with their joint 95 % intervals, in display units."""
     cells = []
     for name in summary.effects:
-        for p in get_effect(name).parameters:
+        for p in candidate(name).parameters:
             value = summary.parameters[name][p.name] / p.scale
             unit = "" if p.unit == "-" else f" {p.unit}"
             band = summary.intervals.get(name, {}).get(p.name, (float("nan"),) * 2)
@@ -153,11 +156,22 @@ def report(result) -> str:
               t.wall_time) for t in step.trials]))
     verdict = result.verdict
     decision = [f"Verdict: {verdict.verdict}. {verdict.reason}."]
-    if result.selected_effects:
-        decision.append(f"  selected: {' + '.join(result.selected_effects)}; parameters (joint 95 % "
-                        f"intervals): {_parameters(chosen)}")
+    if chosen.effects:
+        named = f"named: {' + '.join(result.selected_effects) or 'none on its own'}; "
+        decision.append(f"  refitted: {' + '.join(chosen.effects)} ({named}parameters, joint 95 % "
+                        f"intervals: {_parameters(chosen)})")
         for name in result.selected_effects:
-            decision.append(f"  {name}: {get_effect(name).summary}")
+            decision.append(f"  {name}: {candidate(name).summary}")
+    for name in chosen.effects:
+        if name in GEOMETRY:
+            decision.append(f"  {name}: {describe(name, chosen.parameters[name], result.pam.geometry)}")
+    for group in verdict.indistinguishable:
+        decision.append(f"  indistinguishable: {' or '.join(group)} (these tests cannot tell them apart)")
+    if verdict.undetermined:
+        decision.append("  undetermined (interval spans the allowed range): "
+                        + ", ".join(verdict.undetermined))
+    for caution in verdict.cautions:
+        decision.append(f"  caution: {caution}")
     for c in result.confounded:
         text = f"  caution: {c['effect']} and {c['with']} explain the data almost equally (confounded)"
         if c["separate_by"]:

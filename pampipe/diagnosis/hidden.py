@@ -37,7 +37,7 @@ import numpy as np
 from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.model.muscle import Muscle
-from pampipe.model.pam import Pam
+from pampipe.model.pam import Geometry, Pam
 from pampipe.synthetic import PAPER_LOAD, Protocol, generate
 
 #: Realistic magnitudes (SI) at which each library effect is hidden; see the module docstring of
@@ -85,12 +85,13 @@ def _names(effects) -> tuple[str, ...]:
 
 def hidden_experiment(pam: Pam, effects=None, *, seed: int, protocol: Protocol | None = None,
                       values: dict[str, float] | None = None, scale: float = 1.0,
-                      source: Path | None = None) -> ExperimentData:
+                      source: Path | None = None, stated: Geometry | None = None) -> ExperimentData:
     """An :class:`ExperimentData` generated from ``pam`` with ``effects`` hidden (None: clean).
 
     ``effects`` is a name or a sequence of names of :data:`MAGNITUDES` or :data:`FOREIGN`;
     ``values`` overrides the magnitudes of a single library effect; ``scale`` multiplies all
-    magnitudes (φ of ``ar1_noise`` and the oscillation period excepted).
+    magnitudes (φ of ``ar1_noise`` and the oscillation period excepted). ``stated``: the geometry
+    the experiment's PAM states (a mis-stated geometry; default: the true one, ``pam``'s).
     """
     protocol = protocol or hidden_protocol()
     if protocol.pressure_noise:
@@ -118,7 +119,7 @@ def hidden_experiment(pam: Pam, effects=None, *, seed: int, protocol: Protocol |
             force += FOREIGN_FORCES[name](base, test, v, protocol, rng)
         tests.append(replace(test, force=force))
     label = "+".join(names) or "none"
-    bare = replace(pam, moduli=None, covariance=None, uncertainty=None)
+    bare = replace(pam, moduli=None, covariance=None, uncertainty=None, geometry=stated or pam.geometry)
     return ExperimentData(source or Path(f"<hidden {label} seed {seed}>"), bare, tuple(tests), {})
 
 

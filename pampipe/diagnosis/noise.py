@@ -2,8 +2,9 @@
 
 Two estimates, both unbiased for white noise and both only *inflated* by structured error:
 
-* ``repeats`` (pure error): the scatter of rows within a cell (after the cell's own linear trend,
-  :mod:`.cells`) plus the scatter of exact cells that repeat one set point in other cycles,
+* ``repeats`` (pure error): the scatter of rows within an exact cell (rows sharing one set point;
+  binned cells do not count, see below) plus the scatter of exact cells that repeat one set point
+  in other cycles,
   σ²_rep = (Σ SS_within + Σ_g Σ_c n_c (r̄_c − r̄_g)²) / (Σ dof_within + Σ_g (cells_g − 1));
 * ``neighbours`` (a high-pass estimate): along each path (cells of a test, held group, direction
   and cycle, sorted by the swept coordinate), e_i = r̄_i − w₋r̄_{i−1} − w₊r̄_{i+1} with linear
@@ -20,7 +21,15 @@ neither (too few rows), the fallback is the dof-weighted pool of the other tests
 then of all tests, said in ``note``; if no test has a floor, σ is taken as the test's own RMSE
 (``method = "assumed"``, ν = 0: that test cannot be tested against the noise).
 
-Slack cells (readings of exactly 0 N) carry no noise and are left out of both estimates. The
+Slack cells (readings of exactly 0 N) carry no noise and are left out of both estimates. Binned
+cells (a ramp's distinct set points, :mod:`.cells`) are not repeats: the scatter about their
+within-bin line does not enter the repeats estimate (the line is fitted to the same rows, so it
+would read low), and such a test's floor comes from its neighbours.
+
+A floor cannot be lower than the noise, but it can be *higher* when the test itself is noisier than
+the others: :func:`noisier_than_twins` names every test whose own floor is :data:`NOISY` times the
+pooled floor of its twins (the other tests of its kind), significant by an F test at FLOOR_ALPHA
+(Bonferroni over the tests). The
 uncertainty is stated as a 95 % interval from σ̂²ν/σ² ~ χ²_ν.
 """
 
@@ -38,6 +47,8 @@ FLOOR_ALPHA = 0.01
 OVERLAP = 1.944
 #: Terms beyond this many robust standard deviations are dropped from the neighbour estimate.
 TRIM = 5.0
+#: A test whose own floor is this many times its twins' (same kind, pooled) is "noisier than its twins".
+NOISY = 3.0
 
 
 @dataclass(frozen=True)
@@ -74,9 +85,9 @@ class NoiseFloor:
 
 def repeats_estimate(cells, index: np.ndarray, residual: np.ndarray) -> tuple[float, float]:
     """(SS, dof) of pure error over the cells ``index`` of one test."""
+    index = index[cells.spread[index] == 0]  # repeats of one set point: exact cells only
     ss = float(cells.within_ss[index].sum())
     dof = float(cells.within_dof[index].sum())
-    index = index[cells.spread[index] == 0]  # repeats of one set point: exact cells only
     groups = cells.repeat[index]
     n, r = cells.count[index], residual[index]
     _, inverse, sizes = np.unique(groups, return_inverse=True, return_counts=True)
@@ -175,4 +186,24 @@ def _fallbacks(data, cells, residual, found: list[NoiseFloor]) -> list[NoiseFloo
             out.append(NoiseFloor(test.name, max(rmse, 1e-12), 0.0, "assumed", floor.repeats,
                                   floor.repeats_dof, floor.neighbours, floor.neighbours_dof,
                                   f"{reason}, and no other test has one: σ assumed = its RMSE, untested"))
+    return out
+
+
+def noisier_than_twins(data, floors) -> list[tuple[str, float, float, float]]:
+    """[(test, σ/σ_twins, σ, σ_twins)] of the tests noisier than their twins (see the module)."""
+    from scipy.special import fdtrc  # survival function of the F distribution
+
+    own = [f if f.method in ("repeats", "neighbours") and f.dof >= MIN_DOF else None for f in floors]
+    out = []
+    for test, floor in zip(data.tests, own, strict=True):
+        twins = [f for t, f in zip(data.tests, own, strict=True) if f is not None and f is not floor
+                 and t.kind == test.kind]
+        if floor is None or not twins:
+            continue
+        dof = sum(f.dof for f in twins)
+        pooled = float(np.sqrt(sum(f.sigma**2 * f.dof for f in twins) / dof))
+        if pooled <= 0 or floor.sigma < NOISY * pooled:
+            continue
+        if fdtrc(floor.dof, dof, (floor.sigma / pooled) ** 2) < FLOOR_ALPHA / len(floors):
+            out.append((floor.test, floor.sigma / pooled, floor.sigma, pooled))
     return out

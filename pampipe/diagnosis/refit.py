@@ -32,7 +32,15 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
-from pampipe.model.effects import LIBRARY, get_effect
+from pampipe.diagnosis.candidates import (
+    CANDIDATES,
+    candidate,
+    corrected_geometry,
+    corrected_vector,
+    geometry_part,
+    library_part,
+    wall_of,
+)
 from pampipe.model.forces import contact_switch
 from pampipe.model.muscle import Muscle, Structure
 from pampipe.nlp import nlpsol, solve
@@ -49,13 +57,13 @@ def canonical(effects) -> tuple[str, ...]:
     """A set of effect names in registry order (the key of every build and every report)."""
     names = set(effects or ())
     for name in names:
-        get_effect(name)  # unknown names fail here
-    return tuple(name for name in LIBRARY if name in names)
+        candidate(name)  # unknown names fail here
+    return tuple(name for name in CANDIDATES if name in names)
 
 
 def effect_parameters(effects: tuple[str, ...]) -> list[tuple[str, object]]:
     """[(effect, Parameter)] in the order of η."""
-    return [(name, p) for name in effects for p in get_effect(name).parameters]
+    return [(name, p) for name in effects for p in candidate(name).parameters]
 
 
 def padded(n: int) -> int:
@@ -144,9 +152,11 @@ class Problem:
 def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple[int, ...]) -> Problem:
     """The NLP for one set of effects (() : the baseline) and one padded data size (built once)."""
     started = time.perf_counter()
-    structure = Structure(wall, degree, False, effects)
+    wall = wall_of(wall, effects)
+    structure = Structure(wall, degree, False, library_part(effects))
     sym = Muscle.symbolic(structure)
     params = effect_parameters(effects)
+    n_library = len(effect_parameters(library_part(effects)))
     n_theta = structure.n_theta
     row, smooth = ca.SX.sym("row", ROWS), ca.SX.sym("smooth")
     muscle = sym.muscle
@@ -158,8 +168,9 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     # decision variables: θ in MPa (b at P_ref = 1 MPa in the fit) and η in display units
     xs = ca.SX.sym("x", n_theta + len(params))
     g, pref = ca.SX.sym("g", 4), ca.SX.sym("pref")
-    scales = ca.DM([p.scale for _, p in params]) if params else ca.DM.zeros(0, 1)
-    p_expr = ca.vertcat(g, pref, xs[:n_theta] * MPA, xs[n_theta:] * scales)
+    scales = ca.DM([p.scale for _, p in params[:n_library]]) if n_library else ca.DM.zeros(0, 1)
+    g_fit = ca.vertcat(*_geometry(g, xs, effects, n_theta))
+    p_expr = ca.vertcat(g_fit, pref, xs[:n_theta] * MPA, xs[n_theta:n_theta + n_library] * scales)
     inputs = [row, xs, g, pref, smooth]
     shift = ca.vertcat(row[5], row[6], ca.DM.zeros(ROWS - 2, 1))
     cell_functions = []
@@ -186,8 +197,9 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     res, jac_t, w = ca.horzcat(*res_parts), ca.horzcat(*jac_parts), ca.horzcat(*w_parts)  # 1×n, nx×n
     total = ca.sum2(w)
     objective = ca.sum2(w * res**2) / total
+    g_x = ca.vertcat(*_geometry(g_p, x, effects, n_theta))
     drucker = _drucker_function(wall, degree).map(GRID[0] * GRID[1])(grid_p.T, grid_l.T, x[:n_theta],
-                                                                     g_p, pref_p)
+                                                                     g_x, pref_p)
     constraints = ca.vec(drucker.T)
     p = ca.vertcat(*(ca.vec(b) for b in blocks), g_p, pref_p, smooth_p, grid_p, grid_l)
     weighted_jac = jac_t * ca.repmat(w, nx, 1)
@@ -198,11 +210,22 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
                           [ca.triu(lam_f * 2 * ca.mtimes(weighted_jac, jac_t.T) / total)])
     grad_f = ca.Function("grad_f", [x, p], [objective, gradient])
     nlp = {"x": x, "p": p, "f": objective, "g": constraints}
-    label = "_".join(effects) or "baseline"
+    label = "_".join(effects).replace(":", "_") or "baseline"
     solver = nlpsol(f"refit_{label}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian, grad_f=grad_f)
     residuals = ca.Function("residuals", [x, p], [res.T])
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
     return Problem(solver, residuals, jacobian, n_theta, len(params), time.perf_counter() - started)
+
+
+def _geometry(g, x, effects: tuple[str, ...], n_theta: int) -> list:
+    """[L₀, D₀, α₀, t₀] of the fit: the stated ``g`` with the geometry candidates' corrections, whose
+    display values are the last entries of ``x`` (SX or MX)."""
+    params = effect_parameters(effects)
+    start = n_theta + len(params) - len(effect_parameters(geometry_part(effects)))
+    values = {}
+    for j, (name, p) in enumerate(effect_parameters(geometry_part(effects))):
+        values.setdefault(name, {})[p.name] = x[start + j] * p.scale
+    return corrected_vector(g, effects, values)
 
 
 @cache
@@ -242,7 +265,7 @@ class Fit:
         """{effect: η (display units)}."""
         out, start = {}, self.x.size - self.n_eta
         for name in self.effects:
-            k = len(get_effect(name).parameters)
+            k = len(candidate(name).parameters)
             out[name] = self.x[start:start + k]
             start += k
         return out
@@ -251,7 +274,7 @@ class Fit:
         """{effect: {parameter: SI value}}."""
         out = {}
         for name, eta in self.eta().items():
-            params = get_effect(name).parameters
+            params = candidate(name).parameters
             out[name] = {p.name: float(v * p.scale) for p, v in zip(params, eta, strict=True)}
         return out
 
@@ -270,17 +293,36 @@ class Refitter:
         low = np.full(4 * k, -50.0)
         high = np.full(4 * k, 50.0)
         low[[0, 2 * k]] = 0.0
-        params = [p for _, p in effect_parameters(effects)]
-        low = np.concatenate([low, [p.lower / p.scale for p in params]])
-        high = np.concatenate([high, [p.upper / p.scale for p in params]])
+        params = effect_parameters(effects)
+        limits = [self._angle_limits() if name == "geometry:braid_angle" else (p.lower, p.upper)
+                  for name, p in params]
+        low = np.concatenate([low, [lo / p.scale for (lo, _), (_, p) in zip(limits, params, strict=True)]])
+        high = np.concatenate([high, [hi / p.scale for (_, hi), (_, p) in zip(limits, params, strict=True)]])
         return low, high
+
+    def _angle_limits(self) -> tuple[float, float]:
+        """Bounds [rad] of the braid-angle correction: ±10°, narrowed to the model's domain (every
+        tested length below B = L₀/cos α₀ and above B/√3, every pipe below √(2/3)·D₀/sin α₀), 0.5 %
+        from its edges."""
+        p = candidate("geometry:braid_angle").parameters[0]
+        g, cells, margin = self.geometry, self.cells, 1.005
+        alpha, low, high = g.braid_angle, g.braid_angle + p.lower, g.braid_angle + p.upper
+        if np.any(cells.axial):
+            lengths = cells.length[cells.axial]
+            low = max(low, math.acos(min(1.0, g.initial_length / (float(np.max(lengths)) * margin))))
+            shortest = float(np.min(lengths))
+            high = min(high, math.acos(min(1.0, g.initial_length * margin / (math.sqrt(3) * shortest))))
+        if np.any(~cells.axial):
+            widest = float(np.max(cells.diameter[~cells.axial])) * margin
+            high = min(high, math.asin(min(1.0, math.sqrt(2 / 3) * g.initial_diameter / widest)))
+        return min(low - alpha, 0.0), max(high - alpha, 0.0)
 
     def start(self, effects: tuple[str, ...], theta0: np.ndarray, known: dict[str, np.ndarray] | None = None
               ) -> np.ndarray:
         """x₀: θ₀ (MPa) and each effect's η from ``known`` or its null value."""
         parts = [np.asarray(theta0, dtype=float)]
         for name in effects:
-            params = get_effect(name).parameters
+            params = candidate(name).parameters
             parts.append(np.asarray(known[name]) if known and name in known
                          else np.array([p.null / p.scale for p in params]))
         return np.concatenate(parts)
@@ -325,7 +367,13 @@ class Refitter:
 
     def muscle(self, fit: Fit) -> Muscle:
         """The fitted model as a numeric :class:`Muscle` (for row residuals, anchoring and plots)."""
-        return Muscle(self.geometry, self.moduli_si(fit.x), MPA, effects=fit.effect_values() or None)
+        values = fit.effect_values()
+        effects = {name: values[name] for name in library_part(fit.effects)}
+        return Muscle(self.fitted_geometry(fit), self.moduli_si(fit.x), MPA, effects=effects or None)
+
+    def fitted_geometry(self, fit: Fit):
+        """The stated geometry, corrected by the fit's geometry candidates."""
+        return corrected_geometry(self.geometry, fit.effects, fit.effect_values())
 
 
 def _grid(data, cells):

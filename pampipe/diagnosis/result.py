@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.diagnosis import selection
-from pampipe.model.effects import get_effect
+from pampipe.diagnosis.candidates import candidate, corrected_geometry, library_part
 from pampipe.model.pam import Moduli, Pam
 from pampipe.results import notebook
 
@@ -61,7 +61,7 @@ class Summary:
 
     def _keys(self) -> list[tuple[str, object, str]]:
         """[(effect, Parameter, JSON key)]; keys are prefixed with the effect where two would clash."""
-        entries = [(name, p) for name in self.effects for p in get_effect(name).parameters]
+        entries = [(name, p) for name in self.effects for p in candidate(name).parameters]
         keys = [p.json_key for _, p in entries]
         return [(name, p, key if keys.count(key) == 1 else f"{name}.{key}")
                 for (name, p), key in zip(entries, keys, strict=True)]
@@ -85,9 +85,7 @@ class Summary:
 def summarize(model, base_bic: float, data, cells, refitter) -> Summary:
     """A :class:`Summary` of a :class:`pampipe.diagnosis.search.Model`."""
     fit = model.fit
-    within = np.bincount(cells.test, weights=cells.within_ss, minlength=len(data.tests))
-    rows = np.bincount(cells.test, weights=cells.count, minlength=len(data.tests))
-    rmse = np.sqrt((model.test_ss + within) / np.maximum(rows, 1))
+    rmse = cells.test_rmse(model.test_ss, len(data.tests))
     tests = tuple(TestRmse(t.name, t.kind, t.points, float(rmse[i])) for i, t in enumerate(data.tests))
     full = selection.intervals(fit, cells, refitter)
     bands = {e: {k: (v[1], v[2]) for k, v in ps.items()} for e, ps in full.items()}
@@ -147,8 +145,9 @@ class DiagnoseResult:
         """The muscle with the refitted moduli and the selected effects (none: the baseline moduli)."""
         chosen = self.chosen
         moduli = Moduli.from_vector(chosen.theta, reference_pressure=MPA)
-        effects = {name: dict(values) for name, values in chosen.parameters.items()} or None
-        return Pam(self.pam.name, self.pam.geometry, moduli, None, effects, self.pam.grip,
+        effects = {name: dict(chosen.parameters[name]) for name in library_part(chosen.effects)} or None
+        geometry = corrected_geometry(self.pam.geometry, chosen.effects, chosen.parameters)
+        return Pam(self.pam.name, geometry, moduli, None, effects, self.pam.grip,
                    geometry_sd=self.pam.geometry_sd,
                    max_pressure=self.pam.max_pressure, max_contraction=self.pam.max_contraction,
                    fitting_length=self.pam.fitting_length)
@@ -156,10 +155,7 @@ class DiagnoseResult:
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""
         model = next(t.model for t in step.trials if t.effect == step.effect)
-        cells = self.cells
-        within = np.bincount(cells.test, weights=cells.within_ss, minlength=len(self.data.tests))
-        rows = np.bincount(cells.test, weights=cells.count, minlength=len(self.data.tests))
-        return float(np.sum(np.sqrt((model.test_ss + within) / np.maximum(rows, 1))))
+        return float(np.sum(self.cells.test_rmse(model.test_ss, len(self.data.tests))))
 
     def trial_summary(self, trial) -> Summary | None:
         if trial.model is None:
@@ -185,7 +181,12 @@ class DiagnoseResult:
             "steps": [_step_document(s) for s in self.steps],
             "selected": {**chosen.as_document(), "effect": self.selected,
                          "effects": list(self.selected_effects), "reason": self.verdict.reason,
-                         "confounded_with": first_confounded, "confounded": _clean(list(self.confounded))},
+                         "confounded_with": first_confounded, "confounded": _clean(list(self.confounded)),
+                         "fitted_effects": list(self.verdict.fitted or self.chosen.effects),
+                         "indistinguishable": [list(g) for g in self.verdict.indistinguishable],
+                         "undetermined": list(self.verdict.undetermined)},
+            "judged": self.verdict.judged,
+            "cautions": list(self.verdict.cautions),
             "improvement": self.improvement,
             "remaining": [w.as_document() for w in self.verdict.remaining],
             "probes": {"library_removed_N2": self.verdict.library_removed,

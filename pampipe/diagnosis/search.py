@@ -1,7 +1,8 @@
 """Forward selection of several effects, then a backward step (every fit joint: moduli + all effects).
 
-Forward: from the current model (first the baseline), refit it with each library effect not yet in
-it, warm-started. An addition is *eligible* when it
+Forward: from the current model (first the baseline), refit it with each candidate not yet in it
+(library effects and mis-stated geometry entries, :mod:`.candidates`), warm-started.
+An addition is *eligible* when it
 
 1. lowers BIC by at least :data:`BIC_MARGIN` (Kass & Raftery: > 10 is "very strong");
 2. lowers the cross-validated RMSE by at least :data:`CV_MARGIN` (additions are cross-validated in
@@ -12,7 +13,11 @@ it, warm-started. An addition is *eligible* when it
 
 The eligible addition with the lowest BIC is taken; every other addition within BIC_MARGIN of it
 (eligible or not) is *confounded* with it. Forward stops when no addition is eligible or when
-every test is at the noise. Backward: each effect of a set of two or more is removed in turn; the
+every test is at the noise. A small beam keeps a wrong first step from being final: forward (and
+backward) selection is run from each of the :data:`BEAM` best eligible first additions (up to
+CV_TOP + BEAM − 1 are cross-validated) until one path ends with every test at the noise, and the
+path that ends at the lowest BIC is taken.
+Backward: each effect of a set of two or more is removed in turn; the
 weakest whose removal does not cost both BIC_MARGIN of BIC and CV_MARGIN of cross-validated RMSE is
 dropped, and so on.
 """
@@ -33,6 +38,8 @@ from pampipe.errors import SolverError
 BIC_MARGIN = 10.0
 CV_MARGIN = 0.02
 CV_TOP = 3
+#: First additions from which forward selection is run (a small beam: a wrong first step is not final).
+BEAM = 3
 WHERE_SHARE = 0.25
 WHERE_FOCUS = 0.5
 
@@ -127,32 +134,68 @@ class Search:
         return model, time.perf_counter() - started, ""
 
     def run(self, baseline: Model, names: list[str]) -> tuple[Model, list[Step]]:
+        """Forward then backward from the baseline, from the best eligible first addition and, unless
+        that path ends at the noise, from the next of the :data:`BEAM` best; the path that ends at the
+        lowest BIC wins (its steps are returned)."""
         current = self.taken(baseline)
-        steps: list[Step] = []
+        first, starts = self._step(current, names, [], wanted=BEAM)
+        if not starts:
+            return current, [first]
+        paths = []
+        for start in starts:
+            if paths and paths[0][0].assessment.at_noise:
+                break  # the best first step already ends at the noise: no other path can do better
+            steps = [self._added(first, start)]
+            model = self.taken(start.model)
+            self.say(f"step 1: add {start.effect} (dBIC {start.delta_bic:.1f})"
+                     + (f", beam {len(paths) + 1} of {len(starts)}" if len(starts) > 1 else ""))
+            model = self._forward(model, names, steps)
+            paths.append(self._backward(model, steps))
+        best = min(paths, key=lambda path: path[0].bic)
+        if len(paths) > 1:
+            others = [f"{' + '.join(m.effects) or 'baseline'} ({m.bic - best[0].bic:+.1f})" for m, _ in paths
+                      if m is not best[0]]
+            self.say(f"beam: {' + '.join(best[0].effects)} ends lowest; other paths: {', '.join(others)}")
+        return best
+
+    def _added(self, step: Step, trial: Trial) -> Step:
+        """The step that takes ``trial`` (its confounded alternatives within BIC_MARGIN of it)."""
+        confounded = tuple(t.effect for t in step.trials if t is not trial and t.model is not None
+                           and t.delta_bic - trial.delta_bic < BIC_MARGIN and t.delta_bic <= -BIC_MARGIN)
+        return Step(step.number, "add", trial.effect, trial.effects, step.trials, confounded, step.wall_time)
+
+    def _step(self, current: Model, names: list[str], steps: list[Step], *, wanted: int = 1
+              ) -> tuple[Step, list[Trial]]:
+        """One forward step's trials: (a stop step or the step's trials, the eligible additions)."""
+        started = time.perf_counter()
+        misfit = current.assessment.misfit
+        remaining = [n for n in names if n not in current.effects]
+        number = len(steps) + 1
+        if not misfit or not remaining:
+            why = "every test is at the noise" if not misfit else "no effect left to add"
+            self.say(f"step {number}: stop ({why})")
+            return Step(number, "stop", None, current.effects, (), (), 0.0), []
+        trials = self._forward_trials(current, remaining, misfit, wanted)
+        eligible = [t for t in trials if t.eligible]
+        wall = time.perf_counter() - started
+        if not eligible:
+            self.say(f"step {number}: no eligible addition ({wall:.1f} s)")
+            return Step(number, "stop", None, current.effects, tuple(trials), (), wall), []
+        return Step(number, "add", None, current.effects, tuple(trials), (), wall), eligible[:wanted]
+
+    def _forward(self, current: Model, names: list[str], steps: list[Step]) -> Model:
         while True:
-            started = time.perf_counter()
-            misfit = current.assessment.misfit
-            remaining = [n for n in names if n not in current.effects]
-            if not misfit or not remaining:
-                why = "every test is at the noise" if not misfit else "no effect left to add"
-                steps.append(Step(len(steps) + 1, "stop", None, current.effects, (), (), 0.0))
-                self.say(f"step {len(steps)}: stop ({why})")
-                break
-            trials = self._forward_trials(current, remaining, misfit)
-            eligible = [t for t in trials if t.eligible]
-            wall = time.perf_counter() - started
+            step, eligible = self._step(current, names, steps)
             if not eligible:
-                steps.append(Step(len(steps) + 1, "stop", None, current.effects, tuple(trials), (), wall))
-                self.say(f"step {len(steps)}: no eligible addition ({wall:.1f} s)")
-                break
+                steps.append(step)
+                return current
             best = eligible[0]
-            confounded = tuple(t.effect for t in trials if t is not best and t.model is not None
-                               and t.delta_bic - best.delta_bic < BIC_MARGIN and t.delta_bic <= -BIC_MARGIN)
             current = self.taken(best.model)
-            wall = time.perf_counter() - started
-            steps.append(Step(len(steps) + 1, "add", best.effect, current.effects, tuple(trials), confounded,
-                              wall))
-            self.say(f"step {len(steps)}: add {best.effect} (dBIC {best.delta_bic:.1f}) in {wall:.1f} s")
+            steps.append(self._added(step, best))
+            self.say(f"step {len(steps)}: add {best.effect} (dBIC {best.delta_bic:.1f}) in "
+                     f"{step.wall_time:.1f} s")
+
+    def _backward(self, current: Model, steps: list[Step]) -> tuple[Model, list[Step]]:
         while len(current.effects) >= 2:
             started = time.perf_counter()
             trials = self._backward_trials(current)
@@ -169,7 +212,8 @@ class Search:
             self.say(f"step {len(steps)}: remove {weakest.effect} ({wall:.1f} s)")
         return current, steps
 
-    def _forward_trials(self, current: Model, remaining: list[str], misfit: tuple[int, ...]) -> list[Trial]:
+    def _forward_trials(self, current: Model, remaining: list[str], misfit: tuple[int, ...], wanted: int = 1
+                        ) -> list[Trial]:
         excess = current.assessment.excess(misfit)
         rows = []
         for name in remaining:
@@ -200,7 +244,8 @@ class Search:
                 notes.append(f"removes {share:.0%} of the excess where the residual was "
                              f"({focus:.0%} of its gain there)")
             ratio = None
-            if not notes and validated < CV_TOP and not any(t.eligible for t in out):
+            passed = sum(t.eligible for t in out)
+            if not notes and validated < CV_TOP + passed and passed < wanted:
                 started = time.perf_counter()
                 cv, reference = self.cv(trial.model), self.cv(current)
                 validated += 1

@@ -5,9 +5,10 @@
 * Cross-validation: K folds across pressure bands: within each test the cells' distinct pressures
   are ranked, cut into 2K bands and fold = band mod K (with stepped pressures a band is a pressure
   level; a ramp is cut by pressure all the same). Each fold is refitted without its cells (weights
-  0, same NLP) from the full fit, and predicts them: cv_rmse = √(Σ held-out (n r̄² + SS_within) / rows).
+  0, same NLP) from the full fit, and predicts them: cv_rmse = √(Σ held-out (n r̄² + SS_within) / (rows − m)).
 * Intervals: Gauss-Newton covariance σ̂²(JᵀJ)⁻¹ of all fitted parameters jointly at the fit,
-  σ̂² = SSE/(n − k); 95 % = ±1.96 sd, clipped to the parameter's bounds.
+  σ̂² = SSE/(n − k − m), m the within-cell line coefficients of binned cells (:mod:`.cells`);
+  95 % = ±1.96 sd, clipped to the parameter's bounds.
 """
 
 from __future__ import annotations
@@ -51,7 +52,7 @@ def cross_validate(refitter: Refitter, full: Fit, *, k: int = FOLDS) -> float:
         except SolverError:
             continue
         total += float(np.sum(cells.count[held] * fit.residual[held] ** 2) + np.sum(cells.within_ss[held]))
-        count += float(cells.count[held].sum())
+        count += float(cells.count[held].sum() - cells.within_fitted[held].sum())
     return float(np.sqrt(total / count)) if count else float("nan")
 
 
@@ -61,7 +62,7 @@ def intervals(fit: Fit, cells, refitter: Refitter) -> dict[str, dict[str, tuple[
         return {}
     jac = fit.jacobian
     k = fit.x.size
-    sigma2 = sse(fit, cells) / max(cells.rows - k, 1)
+    sigma2 = sse(fit, cells) / max(cells.rows - k - float(cells.within_fitted.sum()), 1)
     jtj = jac.T @ jac
     col = np.sqrt(np.maximum(np.diag(jtj), 1e-300))
     scaled = jtj / np.outer(col, col)  # column scaling before the inverse (θ and η differ a lot)

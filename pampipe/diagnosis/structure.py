@@ -72,7 +72,7 @@ class TestCheck:
 
     test: str
     ss: float  # Σ n r̄² [N²]
-    rmse: float  # √((SS + SS_within)/rows) [N]
+    rmse: float  # √((SS + SS_within)/(rows − within-cell line coefficients)) [N]
     sigma: float
     lack_dof: float
     lack_ratio: float  # SS/(ν₁σ²)
@@ -214,7 +214,8 @@ def assess(data, cells, fit, floors, anchoring, *, alpha: float = ALPHA) -> Asse
         sigma2, nu = floor.sigma**2, floor.dof
         ss = float(np.sum(y[index] ** 2))
         rows = float(cells.count[index].sum())
-        rmse = float(np.sqrt((ss + cells.within_ss[index].sum()) / max(rows, 1)))
+        effective = rows - float(cells.within_fitted[index].sum())  # the within-cell lines' dof
+        rmse = float(np.sqrt((ss + cells.within_ss[index].sum()) / max(effective, 1)))
         lack_dof = float(max(index.size - leverage[index].sum(), 0.0))
         testable = nu > 0 and sigma2 > 0
         lack_ratio = ss / (lack_dof * sigma2) if lack_dof > 0.5 and sigma2 > 0 else float("nan")

@@ -10,12 +10,26 @@ With M the tests the baseline leaves off the noise (:mod:`.structure`) and S the
   more than the search's BIC margin (a generic term is the better explanation): nothing is named;
 * ``explained``: S brings every test to the noise;
 * ``partly_explained``: S helps, but some test keeps structured residual (reported with where).
+
+Then :func:`qualify` keeps the verdict from claiming more than the data show (the four values stay;
+``judged``, ``indistinguishable``, ``undetermined`` and ``cautions`` say why a verdict was lowered):
+
+* a floor that was *assumed* (no repeats, too few neighbours: σ = the test's own RMSE) cannot show
+  a fit at the noise: ``none`` becomes ``unexplained`` with ``judged = false`` and the reason
+  "cannot judge: …", ``explained`` becomes ``partly_explained``;
+* a test that scatters :data:`pampipe.diagnosis.noise.NOISY` times more than its twins is named in
+  ``cautions``; its floor judges nothing, so ``none`` becomes ``unexplained`` and ``explained``
+  ``partly_explained``;
+* effects that tie with an alternative (within the search's BIC margin, :mod:`.search`) are
+  reported as one group in ``indistinguishable`` and not named on their own;
+* an effect with a parameter whose 95 % interval covers :data:`SPAN` or more of its allowed range
+  is ``undetermined``, not named; a verdict whose fitted set holds one is not ``explained``.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from pampipe.diagnosis.search import BIC_MARGIN
 from pampipe.diagnosis.structure import Assessment, Where
@@ -23,6 +37,8 @@ from pampipe.diagnosis.structure import Assessment, Where
 VERDICTS = ("none", "explained", "partly_explained", "unexplained")
 #: The library must remove at least this share of what the probes remove on the misfit tests.
 LIBRARY_SHARE = 0.5
+#: An effect parameter whose 95 % interval covers this share of its allowed range is undetermined.
+SPAN = 0.5
 
 
 @dataclass(frozen=True)
@@ -33,6 +49,11 @@ class Verdict:
     library_removed: float  # [N²] on the baseline's misfit tests
     probes_removed: float  # [N²] by the probes from the baseline, same tests
     remaining: tuple[Where, ...]  # where structured residual remains (partly_explained, unexplained)
+    fitted: tuple[str, ...] = ()  # the set refitted (named, tied and undetermined effects)
+    indistinguishable: tuple[tuple[str, ...], ...] = ()  # groups these tests cannot separate
+    undetermined: tuple[str, ...] = ()  # fitted effects whose interval spans its allowed range
+    judged: bool = True  # False: an assumed noise floor, the fit cannot be judged against the noise
+    cautions: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -92,3 +113,79 @@ def decide(names: list[str], baseline: Assessment, final: Assessment, effects: t
 
 def _remaining(assessment: Assessment) -> tuple[Where, ...]:
     return tuple(t.where for t in assessment.tests if t.where is not None)
+
+
+def qualify(verdict: Verdict, *, groups, undetermined, floors, noisy) -> Verdict:
+    """The verdict lowered where the data cannot support it (see the module docstring).
+
+    ``groups``: tie groups (each holds one fitted effect); ``undetermined``: {effect: parameter};
+    ``floors``: the noise floors; ``noisy``: [(test, ratio, its σ, the twins' σ)].
+    """
+    fitted = verdict.effects
+    tied = {name for group in groups for name in group}
+    named = tuple(e for e in fitted if e not in tied and e not in undetermined)
+    reason = verdict.reason
+    for group in groups:  # the verdict names the group, never one of its members on its own
+        for name in group:
+            if name in fitted:
+                reason = reason.replace(name, f"({' or '.join(group)})")
+    value, reasons, cautions = verdict.verdict, [reason], []
+    assumed = [f.test for f in floors if f.method == "assumed"]
+    judged = not assumed
+    for test, ratio, sigma, twins in noisy:
+        cautions.append(f"{test} scatters {ratio:.1f}x more than its twins ({sigma:.3g} N against "
+                        f"{twins:.3g} N): noise the other tests do not have (an oscillating pressure, a "
+                        "loose fixture?); its floor cannot judge the fit")
+    if not judged:
+        reasons = [f"cannot judge: the noise floor of {', '.join(assumed)} was assumed, not measured (no "
+                   "repeated set points and too few neighbouring points), so no fit can be shown to reach "
+                   "the noise; record repeats of some set points"]
+        if value == "explained":
+            reasons.append(reason)
+    if noisy:
+        reasons.append("; ".join(cautions))
+    for group in groups:
+        reasons.append(f"{' or '.join(group)}: these tests cannot tell them apart (indistinguishable)")
+    for name, parameter in undetermined.items():
+        reasons.append(f"{name} is undetermined: the 95 % interval of {parameter} spans its allowed range")
+    if value == "none" and (not judged or noisy):
+        value = "unexplained"
+    elif value == "explained" and (not judged or noisy or undetermined):
+        value = "partly_explained" if named or groups else "unexplained"
+    elif value == "partly_explained" and not named and not groups:
+        value = "unexplained"
+    return replace(verdict, verdict=value, effects=named if value != "unexplained" else (),
+                   reason="; ".join(reasons), fitted=fitted, indistinguishable=tuple(groups),
+                   undetermined=tuple(undetermined), judged=judged, cautions=tuple(cautions))
+
+
+def tie_groups(steps, fitted: tuple[str, ...]) -> list[tuple[str, ...]]:
+    """Groups of effects that tie: each fitted effect with the alternatives confounded with it at the
+    step that added it (alternatives that are fitted too are not ties), overlapping groups merged."""
+    from pampipe.diagnosis.refit import canonical
+
+    groups: list[set[str]] = []
+    for step in steps:
+        if step.action != "add" or step.effect not in fitted:
+            continue
+        members = {step.effect, *(e for e in step.confounded if e not in fitted)}
+        if len(members) < 2:
+            continue
+        for group in [g for g in groups if g & members]:
+            members |= group
+            groups.remove(group)
+        groups.append(members)
+    return [canonical(g) for g in groups]
+
+
+def undetermined_effects(summary, bounds) -> dict[str, str]:
+    """{effect: parameter} of the fitted effects with a parameter whose 95 % interval covers
+    :data:`SPAN` of its allowed range ``bounds[effect][parameter] = (low, high)`` (SI)."""
+    out = {}
+    for name, parameters in summary.intervals.items():
+        for parameter, (low, high) in parameters.items():
+            lower, upper = bounds[name][parameter]
+            if upper > lower and (high - low) >= SPAN * (upper - lower):
+                out[name] = parameter
+                break
+    return out

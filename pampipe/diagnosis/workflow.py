@@ -21,19 +21,21 @@ from dataclasses import replace
 import numpy as np
 
 from pampipe.diagnosis import noise, selection, structure
+from pampipe.diagnosis.candidates import DEFAULT, candidate
 from pampipe.diagnosis.cells import reduce_rows, slack_rows
-from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter
+from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter, effect_parameters
 from pampipe.diagnosis.result import DiagnoseResult, summarize
 from pampipe.diagnosis.search import Model, Search
 from pampipe.diagnosis.separate import separating_experiment
 from pampipe.diagnosis.slip import diagnose_slip
-from pampipe.diagnosis.verdict import Scores, decide
+from pampipe.diagnosis.verdict import Scores, decide, qualify, tie_groups, undetermined_effects
 from pampipe.errors import InputError, PampipeError
 from pampipe.experiment import ExperimentData
-from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.model.forces import contact_switch
 
 DEGREE = 3
+#: A separating experiment is proposed only where the two models differ by this many noise floors.
+SEPARATES = 3.0
 #: Generic start when neither identify nor the PAM gives moduli: E₁ = 1.5 MPa, E₂ = 4.4 MPa.
 GENERIC_THETA = np.array([1.5, 0, 0, 0, 0, 0, 0, 0, 4.4, 0, 0, 0, 0, 0, 0, 0])
 
@@ -65,6 +67,16 @@ def _b_scale(reference_pressure: float) -> np.ndarray:
     scale = np.ones(4 * k)
     scale[k:2 * k] = scale[3 * k:] = MPA / reference_pressure
     return scale
+
+
+def _bounds(refitter: Refitter, effects) -> dict[str, dict[str, tuple[float, float]]]:
+    """{effect: {parameter: (low, high)}} [SI] of the fitted effects' parameters (the refit's bounds)."""
+    low, high = refitter.bounds(effects)
+    start = low.size - len(effect_parameters(effects))
+    out: dict[str, dict[str, tuple[float, float]]] = {}
+    for j, (name, p) in enumerate(effect_parameters(effects)):
+        out.setdefault(name, {})[p.name] = (low[start + j] * p.scale, high[start + j] * p.scale)
+    return out
 
 
 def anchoring_pressures(data: ExperimentData, refitter: Refitter, fit: Fit) -> tuple[float | None, ...]:
@@ -102,10 +114,10 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     """Find the effects missing from the baseline model of ``data`` (see the module docstring)."""
     say = progress or (lambda _text: None)
     started = time.perf_counter()
-    names = list(LIBRARY) if effects is None else list(dict.fromkeys(effects))
+    names = list(DEFAULT) if effects is None else list(dict.fromkeys(effects))
     for name in names:
         try:
-            get_effect(name)
+            candidate(name)
         except KeyError as exc:
             raise InputError(str(exc.args[0])) from None
     n = data.points
@@ -145,6 +157,11 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     scores = Scores(cells.rows, baseline.sse, baseline.fit.x.size, final.sse, final.fit.x.size)
     verdict = decide(test_names, baseline.assessment, final.assessment, final.effects, scores)
     chosen = final if verdict.effects else baseline
+    selected_summary = summarize(chosen, baseline.bic, data, cells, refitter)
+    groups = tie_groups(steps, verdict.effects)
+    undetermined = undetermined_effects(selected_summary, _bounds(refitter, chosen.fit.effects))
+    verdict = qualify(verdict, groups=groups, undetermined=undetermined, floors=floors,
+                      noisy=noise.noisier_than_twins(data, floors))
 
     t0 = time.perf_counter()
     confounded = []
@@ -153,6 +170,8 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
             continue
         trials = {t.effect: t for t in step.trials}
         for other in step.confounded:
+            if other in chosen.effects:
+                continue
             separate = separating_experiment(data, refitter, trials[step.effect].model.fit,
                                              trials[other].model.fit, floors)
             confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
@@ -160,10 +179,14 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     if confounded:
         words = []
         for c in confounded:
-            text = f"{c['effect']} and {c['with']} explain the data about equally well (confounded)"
-            if c["separate_by"]:
-                text += f"; {c['separate_by']['experiment']} would separate them"
-            words.append(text)
+            sep = c["separate_by"]
+            if sep is not None and sep["ratio"] is not None and sep["ratio"] >= SEPARATES:
+                words.append(f"{sep['experiment']} would separate {c['effect']} and {c['with']} (predictions "
+                             f"differ by {sep['ratio']:.1f}x the noise floor)")
+            else:
+                c["separate_by"] = None
+                best = "" if sep is None else f" (the best differs by {sep['ratio'] or 0:.2g}x the noise)"
+                words.append(f"no test in range separates {c['effect']} and {c['with']}{best}")
         verdict = replace(verdict, reason=f"{verdict.reason}; " + "; ".join(words))
     baseline, chosen = search.with_cv(baseline), search.with_cv(chosen)
     summaries = {"baseline": summarize(baseline, baseline.bic, data, cells, refitter),

@@ -31,7 +31,7 @@ def plot_diagnosis(result, folder: Path) -> list[Path]:
 
 
 def _label(result) -> str:
-    effects = result.selected_effects
+    effects = result.chosen.effects  # the refitted set (named, tied or undetermined)
     return f"with {' + '.join(effects)}" if effects else "baseline (nothing named)"
 
 
