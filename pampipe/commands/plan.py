@@ -152,11 +152,13 @@ def run(args: argparse.Namespace) -> int:
         say(args, f"wrote {args.output}")
     from pampipe.plots.plan import plot_plan
 
-    reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
-    write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
-                      document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
-                      warnings=plan.warnings,
-                      reasons=reasons + [str(r) for r in document.get("reasons", [])])
+    if args.report is not None:  # the report embeds the JSON document: built here if not asked for above
+        document = plan.to_dict() if document is None else document
+        reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
+        write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
+                          document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
+                          warnings=plan.warnings,
+                          reasons=reasons + [str(r) for r in document.get("reasons", [])])
     if args.plots:
 
         for path in plot_plan(plan, args.plots, unit=args.units):
