@@ -14,7 +14,7 @@ import numpy as np
 
 
 def is_symbolic(*args) -> bool:
-    """True when any argument is a CasADi SX, MX or DM (False, without importing CasADi, if it is not loaded)."""
+    """True when any argument is a CasADi SX, MX or DM (False, without importing CasADi, when not loaded)."""
     ca = sys.modules.get("casadi")
     return ca is not None and any(isinstance(a, (ca.SX, ca.MX, ca.DM)) for a in args)
 
