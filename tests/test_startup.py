@@ -123,3 +123,15 @@ def test_plan_without_json_or_report_exits_0():
     out = run_cli("plan", DEMO)
     assert out.returncode == 0, out.stderr
     assert "feasible" in out.stdout
+
+
+def test_large_mission_files_are_not_kept(tmp_path):
+    from pampipe.io.mission_cache import LARGEST_KEPT
+
+    shutil.copytree(PROBLEMS / "missions", tmp_path / "missions")
+    shutil.copytree(PROBLEMS / "pams", tmp_path / "pams")
+    mission = tmp_path / "missions" / DEMO.name
+    mission.write_text(DEMO.read_text() + "#" * LARGEST_KEPT + "\n")
+    for _ in range(2):
+        code, _, loaded = _plan_in_fresh_interpreter(mission, tmp_path / "cache")
+        assert code == 0 and loaded == ["pydantic"]

@@ -7,7 +7,8 @@ folder, the path as given, the file's bytes, the package's source and the Python
 records the hash of every file the mission read (:attr:`Mission.input_files`: itself, its PAM files,
 its network file); it is used only while each of those files is unchanged, else the mission is
 validated again. A file that fails validation is never kept, so an error is always explained by the
-schema. An unreadable, damaged or unwritable cache is skipped: the mission is then validated.
+schema. An unreadable, damaged or unwritable cache is skipped: the mission is then validated. Mission files
+over :data:`LARGEST_KEPT` bytes are not kept.
 """
 
 from __future__ import annotations
@@ -23,6 +24,9 @@ from pathlib import Path
 from pampipe.io.cache import cache_folder, prune, source_digest
 
 PICKLE = "mission.pickle"
+#: Mission files larger than this [bytes] are not kept: their parse and plan, not start-up, set their time,
+#: and their entries would fill the cache.
+LARGEST_KEPT = 1_000_000
 
 
 def _file_digest(path: Path) -> str:
@@ -42,6 +46,8 @@ def cached_mission(path: Path):
     if folder is None:
         return None
     try:
+        if path.stat().st_size > LARGEST_KEPT:
+            return None
         with open(_entry(folder, path) / PICKLE, "rb") as handle:
             inputs, mission = pickle.load(handle)
         if all(_file_digest(Path(name)) == digest for name, digest in inputs):
@@ -57,6 +63,8 @@ def keep_mission(path: Path, mission) -> None:
     if folder is None:
         return
     try:
+        if path.stat().st_size > LARGEST_KEPT:
+            return
         inputs = [(str(name), _file_digest(Path(name))) for name in dict.fromkeys(mission.input_files)]
         entry = _entry(folder, path)
         folder.mkdir(parents=True, exist_ok=True)
