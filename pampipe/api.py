@@ -114,7 +114,10 @@ def load_pam(pam: Source, *, base=None):
 
 
 def load_mission(mission: Source, *, base=None):
-    """A :class:`~pampipe.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself."""
+    """A :class:`~pampipe.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself.
+
+    A file that loaded before and is unchanged, with every file it names, comes from the cache
+    (:mod:`pampipe.io.mission_cache`) without being parsed again."""
     from pampipe.io.mission_cache import cached_mission, keep_mission
     from pampipe.mission import Mission
 
