@@ -3,7 +3,8 @@
 Validating a mission file costs importing pydantic and building its schemas, more than ``pampipe plan``
 spends on the plan itself. Once a mission file has loaded, the :class:`~pampipe.mission.Mission` is kept
 (pickled) in the user's cache (:mod:`pampipe.io.cache`), in an entry named by the hash of the working
-folder, the path as given, the file's bytes, the package's source and the Python version. The entry
+folder, the path as given, the file's bytes, the package's source files (names, sizes, times) and the Python
+version. The entry
 records the hash of every file the mission read (:attr:`Mission.input_files`: itself, its PAM files,
 its network file); it is used only while each of those files is unchanged, else the mission is
 validated again. A file that fails validation is never kept, so an error is always explained by the
@@ -21,7 +22,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from pampipe.io.cache import cache_folder, prune, source_digest
+from pampipe.io.cache import cache_folder, prune, source_stamp
 
 PICKLE = "mission.pickle"
 #: Mission files larger than this [bytes] are not kept: their parse and plan, not start-up, set their time,
@@ -35,7 +36,7 @@ def _file_digest(path: Path) -> str:
 
 def _entry(folder: Path, path: Path) -> Path:
     """The entry of ``path`` (read from the current folder) under ``folder``."""
-    key = "\0".join([os.getcwd(), str(path), _file_digest(path), source_digest(), sys.version])
+    key = "\0".join([os.getcwd(), str(path), _file_digest(path), source_stamp(), sys.version])
     return folder / f"mission-{hashlib.sha256(key.encode()).hexdigest()[:32]}"
 
 
