@@ -9,7 +9,6 @@ carries the same :class:`SolverStats` record.
 from __future__ import annotations
 
 import hashlib
-import os
 import re
 import shutil
 import tempfile
@@ -23,6 +22,7 @@ import casadi as ca
 
 from pampipe import interrupts
 from pampipe.errors import SolverError
+from pampipe.io.cache import CACHE_VARIABLE, cache_folder, prune, source_digest  # noqa: F401 (re-exported)
 
 #: IPOPT options every pampipe NLP starts from (quiet; bounds are not relaxed, so a solution
 #: never leaves the physical box it was given).
@@ -118,24 +118,6 @@ def ipopt_version() -> str:
 
 
 # --------------------------------------------------------------------------------- on-disk cache
-#: Environment variable: the folder of the on-disk cache of built NLPs, or ``off`` to disable it.
-CACHE_VARIABLE = "PAMPIPE_NLP_CACHE"
-#: Entries kept in the cache folder (the oldest are removed beyond this).
-CACHE_ENTRIES = 64
-
-
-def cache_folder() -> Path | None:
-    """Where built NLPs are kept: $PAMPIPE_NLP_CACHE, else $XDG_CACHE_HOME/pampipe/nlp (default
-    ~/.cache/pampipe/nlp); None when the variable is ``off``."""
-    chosen = os.environ.get(CACHE_VARIABLE, "")
-    if chosen.lower() in ("off", "0", "no", "false"):
-        return None
-    if chosen:
-        return Path(chosen)
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "pampipe" / "nlp"
-
-
 def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Function]]
                      ) -> tuple[dict[str, ca.Function], str]:
     """(functions, "disk" | "built"): ``build()`` once per key, kept across processes on disk.
@@ -148,7 +130,7 @@ def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Funct
     folder = cache_folder()
     if folder is None:
         return build(), "built"
-    digest = hashlib.sha256("\0".join([name, key, ca.__version__, _source_digest()]).encode()).hexdigest()
+    digest = hashlib.sha256("\0".join([name, key, ca.__version__, source_digest()]).encode()).hexdigest()
     entry = folder / f"{name}-{digest[:32]}"
     if entry.is_dir():
         try:
@@ -167,25 +149,7 @@ def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Funct
             staging.rename(entry)  # atomic: readers see a whole entry or none
         except OSError:  # another process stored it first
             shutil.rmtree(staging, ignore_errors=True)
-        _prune(folder)
+        prune(folder)
     except Exception:  # caching is an optimisation, never a failure
         pass
     return functions, "built"
-
-
-def _prune(folder: Path) -> None:
-    entries = sorted((p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")),
-                     key=lambda p: p.stat().st_mtime)
-    for old in entries[:-CACHE_ENTRIES]:
-        shutil.rmtree(old, ignore_errors=True)
-
-
-@cache
-def _source_digest() -> str:
-    """A hash of the package's source files (any edit invalidates the cached NLPs)."""
-    root = Path(__file__).resolve().parent
-    digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        digest.update(path.relative_to(root).as_posix().encode())
-        digest.update(path.read_bytes())
-    return digest.hexdigest()

@@ -25,7 +25,7 @@ MAX_PROBLEMS = 10
 class Strict(BaseModel):
     """Base of every schema: unknown keys are errors, values are not coerced, objects are frozen."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, defer_build=True)
 
 
 def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,

@@ -28,6 +28,7 @@ this says why in ``no_closed_form``.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -528,9 +529,9 @@ def radial_force_with_effects(pressure, diameter, geometry, theta, reference_pre
 
 def _vector(entries, *, like):
     """A column of ``entries`` of the same kind as ``like`` (CasADi when any entry is symbolic)."""
-    import casadi as ca
     import numpy as np
 
-    if any(isinstance(e, ca.SX | ca.MX) for e in entries) or isinstance(like, ca.SX | ca.MX):
+    ca = sys.modules.get("casadi")  # an entry can only be a symbol once CasADi is loaded
+    if ca is not None and any(isinstance(e, ca.SX | ca.MX) for e in (*entries, like)):
         return ca.vertcat(*entries)
     return np.array([float(e) for e in entries])

@@ -1,37 +1,44 @@
 """Elementary functions that dispatch on the argument: numpy for numbers and arrays, CasADi for symbols.
 
 This lets one model source serve floats, whole numpy arrays (fast vectorized evaluation) and
-CasADi SX/MX graphs (exact derivatives inside NLPs).
+CasADi SX/MX graphs (exact derivatives inside NLPs). CasADi is never imported here: an argument can
+only be a CasADi symbol once the caller has imported CasADi, so numeric work (``pampipe plan``'s
+closed form) runs without loading it.
 """
 
 from __future__ import annotations
 
-import casadi as ca
+import sys
+
 import numpy as np
 
-_SYMBOLIC = (ca.SX, ca.MX, ca.DM)
+
+def is_symbolic(*args) -> bool:
+    """True when any argument is a CasADi SX, MX or DM (False, without importing CasADi, when not loaded)."""
+    ca = sys.modules.get("casadi")
+    return ca is not None and any(isinstance(a, (ca.SX, ca.MX, ca.DM)) for a in args)
 
 
-def _pick(numeric, symbolic):
+def _pick(numeric, symbolic: str):
     def op(*args):
-        if any(isinstance(a, _SYMBOLIC) for a in args):
-            return symbolic(*args)
+        if is_symbolic(*args):
+            return getattr(sys.modules["casadi"], symbolic)(*args)
         return numeric(*args)
 
     op.__name__ = numeric.__name__
     return op
 
 
-sqrt = _pick(np.sqrt, ca.sqrt)
-cos = _pick(np.cos, ca.cos)
-tan = _pick(np.tan, ca.tan)
-arccos = _pick(np.arccos, ca.acos)
-exp = _pick(np.exp, ca.exp)
-log1p = _pick(np.log1p, ca.log1p)
-fmax = _pick(np.maximum, ca.fmax)
-fmin = _pick(np.minimum, ca.fmin)
-sin = _pick(np.sin, ca.sin)
-fabs = _pick(np.abs, ca.fabs)
+sqrt = _pick(np.sqrt, "sqrt")
+cos = _pick(np.cos, "cos")
+tan = _pick(np.tan, "tan")
+arccos = _pick(np.arccos, "acos")
+exp = _pick(np.exp, "exp")
+log1p = _pick(np.log1p, "log1p")
+fmax = _pick(np.maximum, "fmax")
+fmin = _pick(np.minimum, "fmin")
+sin = _pick(np.sin, "sin")
+fabs = _pick(np.abs, "fabs")
 
 
 def softplus(x):
@@ -41,10 +48,10 @@ def softplus(x):
 
 def if_else(condition, then, otherwise):
     """``then`` where ``condition`` holds, else ``otherwise`` (np.where / casadi.if_else)."""
-    if any(isinstance(a, _SYMBOLIC) for a in (condition, then, otherwise)):
-        return ca.if_else(condition, then, otherwise)
+    if is_symbolic(condition, then, otherwise):
+        return sys.modules["casadi"].if_else(condition, then, otherwise)
     return np.where(condition, then, otherwise)
 
 
-logical_and = _pick(np.logical_and, ca.logic_and)
-logical_or = _pick(np.logical_or, ca.logic_or)
+logical_and = _pick(np.logical_and, "logic_and")
+logical_or = _pick(np.logical_or, "logic_or")

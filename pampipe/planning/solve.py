@@ -24,7 +24,6 @@ from functools import cache
 
 import numpy as np
 
-from pampipe import nlp
 from pampipe.model.muscle import PRESSURE_LIMIT, Muscle, Structure
 from pampipe.planning.problem import Elements, chunks
 
@@ -83,6 +82,8 @@ def block_solver(structure: Structure, size: int):
     """IPOPT on a block of ``size`` elements of one muscle; built once per (structure, size)."""
     import casadi as ca
 
+    from pampipe import nlp
+
     element = _element_function(structure)
     x = ca.MX.sym("x", size)
     p_muscle = ca.MX.sym("muscle", structure.size)
@@ -98,6 +99,8 @@ def _solve_ipopt(muscles, e: Elements, supply: float, least: np.ndarray, *, bloc
 
     The box is [max(P_a(κW), 0), supply] where the supply holds the load, else [.., 100 MPa].
     """
+    from pampipe import nlp
+
     pressure = np.full(least.shape, np.inf)
     iterations = 0
     lower = e.lower_bound / PRESSURE_SCALE
