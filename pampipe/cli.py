@@ -15,7 +15,7 @@ import json
 import re
 import sys
 
-from pampipe import __version__, interrupts, progress
+from pampipe import __version__, display, interrupts, progress
 from pampipe.errors import InputError, PampipeError, StreamError
 from pampipe.io import streams
 from pampipe.io.files import forget_written, written
@@ -134,7 +134,8 @@ def _run(argv: list[str]) -> int:
             from pampipe.report import set_plot_format
 
             set_plot_format(args.plot_format)
-        with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))):
+        with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))), \
+                display.shown_in(getattr(args, "units", None) or "metric"):
             return args.run(args)
     except _UsageError as exc:
         return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",

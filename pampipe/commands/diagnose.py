@@ -8,6 +8,7 @@ from pathlib import Path
 from pampipe.commands.common import (
     add_output_options,
     add_report_option,
+    add_units_option,
     emit,
     integer_type,
     say,
@@ -39,6 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
+    add_units_option(parser)
     add_report_option(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
                      + "; ".join(f"{e.name}: {e.summary}" for e in LIBRARY.values())

@@ -9,6 +9,7 @@ from pathlib import Path
 from pampipe.commands.common import (
     add_output_options,
     add_report_option,
+    add_units_option,
     emit,
     quantity_type,
     say,
@@ -68,6 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a pipe diameter where the report judges the radial-force prediction, e.g. "
                              "'3 in' (repeatable; adds to fit.pipe_diameters)")
     add_output_options(parser)
+    add_units_option(parser)
     add_report_option(parser)
 
 
