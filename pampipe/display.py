@@ -58,7 +58,7 @@ PRESETS = {
 PRESSURES = ("kPa", "psi", "bar", "MPa", "Pa")
 #: Every value of --units.
 CHOICES = (*PRESETS, *PRESSURES)
-#: Metric units that :func:`localize` converts in free text (after a number).
+#: Metric units that :func:`localize` converts in free text (after a number; also per a unit: mm/s).
 _TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "kN", "N")
 
 _current = {"units": PRESETS["metric"]}
@@ -99,9 +99,9 @@ def factor(source: str, target: str) -> float:
 _HEADER = re.compile(r"\[([A-Za-z]+)(?:/([A-Za-z]+))?\]")
 _NUMBER = re.compile(r"(?<![\w.])(-?)(\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)")
 _VALUE = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
-#: A number, or a range 'a - b', 'a -> b', 'a to b', followed by a metric unit.
-_IN_TEXT = re.compile(r"(?<![\w.])(?:" + _VALUE + r"(\s*(?:->|-|–|to)\s*))?" + _VALUE + "( ?)("
-                      + "|".join(_TEXT_UNITS) + r")(?![\w/²³^])")
+#: A number, or a range 'a - b', 'a -> b', 'a to b', a space and a metric unit (not names: 'radial-3in-0N').
+_IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to)\s*))?" + _VALUE + "( )("
+                      + "|".join(_TEXT_UNITS) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
 
 
 def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | None:
@@ -112,9 +112,11 @@ def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | No
     scale = factor(unit, to)
     shown = to
     if per is not None:
-        per_to = units.target(per)
-        if per_to is None or to is None:
+        if per not in UNITS:
             return None
+        per_to = units.target(per) or per  # a per-second stays one
+        if per == "m" and units.distance != "m":
+            per_to = units.length  # lbf/in, not lbf/ft
         scale /= factor(per, per_to)
         shown = f"{to}/{per_to}"
     if shown == (unit if per is None else f"{unit}/{per}"):
@@ -122,9 +124,15 @@ def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | No
     return shown, scale
 
 
+def scaled(unit: str) -> tuple[str, float]:
+    """The display unit of metric ``unit`` and the factor to it (for a table whose unit is in its title)."""
+    return _convert(unit, None, current()) or (unit, 1.0)
+
+
 def column(header: str, values: list[object]) -> tuple[str, list[object]]:
-    """A table column in the display units: its header's bracketed unit replaced and its numbers scaled
-    (floats and ints; numbers inside text cells such as '12.3 (thin)' or '10.1-12.5')."""
+    """A table column (or a row, labelled ``header``) in the display units: the bracketed unit replaced
+    and the numbers scaled (floats and ints; numbers inside text cells such as '12.3 (thin)' or
+    '10.1-12.5')."""
     match = _HEADER.search(header)
     if match is None or match.group(1) not in _TEXT_UNITS:
         return header, values
@@ -153,8 +161,8 @@ def localize(text: str) -> str:
         return text
 
     def one(m: re.Match) -> str:
-        low, between, value, space, unit = m.groups()
-        converted = _convert(unit, None, units)
+        low, between, value, space, unit, per = m.groups()
+        converted = _convert(unit, per, units)
         if converted is None:
             return m.group(0)
         shown, scale = converted

@@ -11,12 +11,12 @@ from pampipe.io.files import atomic_write
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     """A plain aligned text table; floats are shown with 4 significant digits. Columns whose header names a
-    unit in brackets are shown in the display units (:func:`pampipe.display.column`)."""
-    from pampipe.display import column
+    unit in brackets, and quantities in text cells, are shown in the display units (pampipe.display)."""
+    from pampipe.display import column, localize
 
     shown = [column(h, [r[i] for r in rows]) for i, h in enumerate(headers)]
     headers = [h for h, _ in shown]
-    cells = [[_fmt(col[j]) for _, col in shown] for j in range(len(rows))]
+    cells = [[localize(_fmt(col[j])) for _, col in shown] for j in range(len(rows))]
     widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h)
               for i, h in enumerate(headers)]
     line = "  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))
