@@ -105,9 +105,10 @@ _IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to)\s*))?" 
 
 
 def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | None:
-    """The display unit and factor of ``unit`` (or ``unit/per``), or None when nothing changes."""
+    """The display unit and factor of ``unit`` (or ``unit/per``), or None when nothing changes (metric
+    shows the text as written, MPa included)."""
     to = units.target(unit)
-    if to is None:
+    if to is None or units == PRESETS["metric"]:
         return None
     scale = factor(unit, to)
     shown = to
@@ -125,8 +126,12 @@ def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | No
 
 
 def scaled(unit: str) -> tuple[str, float]:
-    """The display unit of metric ``unit`` and the factor to it (for a table whose unit is in its title)."""
-    return _convert(unit, None, current()) or (unit, 1.0)
+    """The display unit of metric ``unit`` (or 'a/b') and the factor to it, for numbers a caller formats
+    itself (a table whose unit is in its title, a value with its interval)."""
+    top, _, per = unit.partition("/")
+    if top not in _TEXT_UNITS:
+        return unit, 1.0
+    return _convert(top, per or None, current()) or (unit, 1.0)
 
 
 def column(header: str, values: list[object]) -> tuple[str, list[object]]:

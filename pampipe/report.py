@@ -15,7 +15,7 @@ def table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     from pampipe.display import column, localize
 
     shown = [column(h, [r[i] for r in rows]) for i, h in enumerate(headers)]
-    headers = [h for h, _ in shown]
+    headers = [localize(h) for h, _ in shown]
     cells = [[localize(_fmt(col[j])) for _, col in shown] for j in range(len(rows))]
     widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h)
               for i, h in enumerate(headers)]

@@ -16,6 +16,7 @@ from pampipe.commands.common import (
 )
 from pampipe.diagnosis import structure
 from pampipe.diagnosis.selection import FOLDS
+from pampipe.display import scaled
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
@@ -90,10 +91,11 @@ def _parameters(summary) -> str:
     cells = []
     for name in summary.effects:
         for p in get_effect(name).parameters:
-            value = summary.parameters[name][p.name] / p.scale
-            unit = "" if p.unit == "-" else f" {p.unit}"
+            shown, factor = scaled(p.unit)  # the display units of --units
+            value = summary.parameters[name][p.name] / p.scale * factor
+            unit = "" if p.unit == "-" else f" {shown}"
             band = summary.intervals.get(name, {}).get(p.name, (float("nan"),) * 2)
-            low, high = (v / p.scale for v in band)
+            low, high = (v / p.scale * factor for v in band)
             cells.append(f"{name}.{p.name} = {value:.4g}{unit} [{low:.4g}, {high:.4g}]")
     return "; ".join(cells) or "-"
 
