@@ -10,7 +10,7 @@ display context converts it late, at the two places all text passes through:
   to as many significant digits as it was written with (at least 3).
 
 Presets: ``si`` (Pa, m, N), ``metric`` (kPa, mm and m, N: the default, today's text unchanged) and
-``us`` (psi, in and ft, lbf). A single pressure unit (``psi``, ``bar``, ``kPa``, ``MPa``, ``Pa``)
+``us`` (psi, in, ft and mi, lbf). A single pressure unit (``psi``, ``bar``, ``kPa``, ``MPa``, ``Pa``)
 changes pressures only. JSON is never converted.
 """
 
@@ -27,17 +27,20 @@ from pampipe.unit_table import DIMENSIONS, UNITS
 
 @dataclass(frozen=True)
 class Units:
-    """Display units: pressure, short length (bores, lengths of muscles), long length (routes), force."""
+    """Display units: pressure, short length (bores, muscles), length (pipes), far (networks), force."""
 
     pressure: str = "kPa"
     length: str = "mm"
     distance: str = "m"
+    far: str = "km"
     force: str = "N"
 
     def target(self, unit: str) -> str | None:
         """The display unit of metric/SI ``unit`` (None for a unit it does not convert)."""
-        if unit in ("m", "km"):
-            return unit if self.distance == "m" else self.distance
+        if unit == "m":
+            return self.distance
+        if unit == "km":
+            return self.far
         if unit not in UNITS:
             return None
         dimension = UNITS[unit][1]
@@ -53,13 +56,13 @@ class Units:
 PRESETS = {
     "si": Units(pressure="Pa", length="m", distance="m", force="N"),
     "metric": Units(),
-    "us": Units(pressure="psi", length="in", distance="ft", force="lbf"),
+    "us": Units(pressure="psi", length="in", distance="ft", far="mi", force="lbf"),
 }
 PRESSURES = ("kPa", "psi", "bar", "MPa", "Pa")
 #: Every value of --units.
 CHOICES = (*PRESETS, *PRESSURES)
 #: Metric units that :func:`localize` converts in free text (after a number; also per a unit: mm/s).
-_TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "kN", "N")
+_TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "km", "kN", "N")
 
 _current = {"units": PRESETS["metric"]}
 
@@ -99,8 +102,8 @@ def factor(source: str, target: str) -> float:
 _HEADER = re.compile(r"\[([A-Za-z]+)(?:/([A-Za-z]+))?\]")
 _NUMBER = re.compile(r"(?<![\w.])(-?)(\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)")
 _VALUE = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
-#: A number, or a range 'a - b', 'a -> b', 'a to b', a space and a metric unit (not names: 'radial-3in-0N').
-_IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to)\s*))?" + _VALUE + "( )("
+#: A number, or a range 'a - b', 'a -> b', 'a to b', 'a of b', a space and a metric unit (not names: 'radial-3in-0N').
+_IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to|of)\s*))?" + _VALUE + "( )("
                       + "|".join(_TEXT_UNITS) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
 
 

@@ -14,9 +14,14 @@ def table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     unit in brackets, and quantities in text cells, are shown in the display units (pampipe.display)."""
     from pampipe.display import column, localize
 
-    shown = [column(h, [r[i] for r in rows]) for i, h in enumerate(headers)]
-    headers = [localize(h) for h, _ in shown]
-    cells = [[localize(_fmt(col[j])) for _, col in shown] for j in range(len(rows))]
+    columns = []  # (header, cells); a column the conversion made a copy of another ('bore [in]') is dropped
+    for i, h in enumerate(headers):
+        header, values = column(h, [r[i] for r in rows])
+        shown = (localize(header), [localize(_fmt(v)) for v in values])
+        if shown not in columns:
+            columns.append(shown)
+    headers = [h for h, _ in columns]
+    cells = [[col[j] for _, col in columns] for j in range(len(rows))]
     widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h)
               for i, h in enumerate(headers)]
     line = "  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))

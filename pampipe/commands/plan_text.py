@@ -12,7 +12,6 @@ import math
 import numpy as np
 
 from pampipe.commands.plan import FULL_TABLE
-from pampipe.display import current
 from pampipe.report import table
 from pampipe.units import to_si
 
@@ -142,15 +141,14 @@ def _parsed_table(plan, rows: np.ndarray) -> str:
     route, a = plan.arrays.route, plan.arrays
     origin = route.origin
     bends = origin is not None and not origin.whole
-    inches = current().length != "in"  # a second bore column in inches, unless the first one is
-    headers = ["section", "bore [mm]", *(["bore [in]"] if inches else []), "range [mm]", "bore as given",
-               "length [m]", "incline [deg]", "friction", "W [N]", *(["bend [deg]"] if bends else [])]
+    headers = ["section", "bore [mm]", "bore [in]", "range [mm]", "bore as given", "length [m]",
+               "incline [deg]", "friction", "W [N]", *(["bend [deg]"] if bends else [])]
     out = []
     for s in rows.tolist():
         low, high = route.diameter_low[s] * 1e3, route.diameter_high[s] * 1e3
         sd = route.friction_sd[s]
         friction = f"{route.friction[s]:.4g}" + (f" ± {sd:.3g}" if sd else "")
-        row = [route.name[s], route.diameter[s] * 1e3, *([route.diameter[s] / INCH] if inches else []),
+        row = [route.name[s], route.diameter[s] * 1e3, route.diameter[s] / INCH,
                f"{low:.5g}-{high:.5g}" if high > low else "-", route.section_label(s), route.length[s],
                math.degrees(route.incline[s]), friction, float(np.max(a.required_hold[s]))]
         if bends:
