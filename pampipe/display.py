@@ -102,7 +102,8 @@ def factor(source: str, target: str) -> float:
 _HEADER = re.compile(r"\[([A-Za-z]+)(?:/([A-Za-z]+))?\]")
 _NUMBER = re.compile(r"(?<![\w.])(-?)(\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)")
 _VALUE = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
-#: A number, or a range 'a - b', 'a -> b', 'a to b', 'a of b', a space and a metric unit (not names: 'radial-3in-0N').
+#: A number, or a range 'a - b', 'a -> b', 'a to b', 'a of b', then a space and a metric unit (names such
+#: as 'radial-3in-0N' are left alone).
 _IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to|of)\s*))?" + _VALUE + "( )("
                       + "|".join(_TEXT_UNITS) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
 
