@@ -186,4 +186,5 @@ def _significant(number: str, scale: float) -> str:
     mantissa = re.split(r"[eE]", number.lstrip("-"))[0]
     digits = len(mantissa.replace(".", "").lstrip("0")) or 1
     value = float(number) * scale
-    return f"{value:.{max(3, min(digits, 8))}g}"
+    text = f"{value:.{max(3, min(digits, 8))}g}"
+    return f"{float(text):.0f}" if "e" in text and 1 <= abs(value) < 1e9 else text  # 12500, not 1.25e+04
