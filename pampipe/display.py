@@ -62,7 +62,7 @@ PRESSURES = ("kPa", "psi", "bar", "MPa", "Pa")
 #: Every value of --units.
 CHOICES = (*PRESETS, *PRESSURES)
 #: Metric units that :func:`localize` converts in free text (after a number; also per a unit: mm/s).
-_TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "km", "kN", "N")
+TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "km", "kN", "N")
 
 _current = {"units": PRESETS["metric"]}
 
@@ -105,7 +105,7 @@ _VALUE = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
 #: A number, or a range 'a - b', 'a -> b', 'a to b', 'a of b', then a space and a metric unit (names such
 #: as 'radial-3in-0N' are left alone).
 _IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to|of)\s*))?" + _VALUE + "( )("
-                      + "|".join(_TEXT_UNITS) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
+                      + "|".join(TEXT_UNITS) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
 
 
 def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | None:
@@ -133,23 +133,32 @@ def scaled(unit: str) -> tuple[str, float]:
     """The display unit of metric ``unit`` (or 'a/b') and the factor to it, for numbers a caller formats
     itself (a table whose unit is in its title, a value with its interval)."""
     top, _, per = unit.partition("/")
-    if top not in _TEXT_UNITS:
+    if top not in TEXT_UNITS:
         return unit, 1.0
     return _convert(top, per or None, current()) or (unit, 1.0)
+
+
+def relabel(label: str) -> tuple[str, float] | None:
+    """``label`` with its bracketed metric unit ('P [kPa]') replaced by the display unit, and the factor
+    to it; None when the display units leave it as it is."""
+    match = _HEADER.search(label)
+    if match is None or match.group(1) not in TEXT_UNITS:
+        return None
+    converted = _convert(match.group(1), match.group(2), current())
+    if converted is None:
+        return None
+    shown, scale = converted
+    return label[:match.start()] + f"[{shown}]" + label[match.end():], scale
 
 
 def column(header: str, values: list[object]) -> tuple[str, list[object]]:
     """A table column (or a row, labelled ``header``) in the display units: the bracketed unit replaced
     and the numbers scaled (floats and ints; numbers inside text cells such as '12.3 (thin)' or
     '10.1-12.5')."""
-    match = _HEADER.search(header)
-    if match is None or match.group(1) not in _TEXT_UNITS:
+    relabelled = relabel(header)
+    if relabelled is None:
         return header, values
-    converted = _convert(match.group(1), match.group(2), current())
-    if converted is None:
-        return header, values
-    shown, scale = converted
-    header = header[:match.start()] + f"[{shown}]" + header[match.end():]
+    header, scale = relabelled
     out: list[object] = []
     for v in values:
         if isinstance(v, bool):
@@ -188,3 +197,4 @@ def _significant(number: str, scale: float) -> str:
     value = float(number) * scale
     text = f"{value:.{max(3, min(digits, 8))}g}"
     return f"{float(text):.0f}" if "e" in text and 1 <= abs(value) < 1e9 else text  # 12500, not 1.25e+04
+

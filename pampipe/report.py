@@ -88,7 +88,9 @@ def save_figure(fig, folder: Path, name: str) -> Path | None:
     """Save ``fig`` as ``folder/name`` atomically, its suffix that of ``--plot-format``, and return the
     path; while :func:`capture` is on, collect it instead (and return None)."""
     from pampipe.plots.style import DPI
+    from pampipe.plots.units import localize_figure
 
+    localize_figure(fig)  # --units
     if fig.get_layout_engine() is None:  # a figure of the caller's (plot(ax=...))
         fig.tight_layout()
     if _plotting["captured"] is not None:

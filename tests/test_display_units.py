@@ -124,3 +124,29 @@ def test_plan_numbers_in_us_units_match_the_json(cli):
 def test_units_is_refused_with_the_choices(cli):
     out = cli("gait", MISSION, "--units", "imperial")
     assert out.returncode == 2 and "--units" in out.stderr and "us" in out.stderr
+
+
+def test_plot_axes_keep_their_data_and_show_round_ticks_of_the_display_unit():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from pampipe.plots.units import localize_figure
+
+    fig, ax = plt.subplots()
+    ax.plot([0.0, 689.0], [0.0, 50.0], label="no slip 121.8 kPa")
+    ax.set(xlabel="pressure [kPa]", ylabel="position [mm]", title="stride 23.85 mm")
+    ax.legend()
+    with shown_in("us"):
+        localize_figure(fig)
+    fig.canvas.draw()
+    assert ax.get_xlabel() == "pressure [psi]" and ax.get_ylabel() == "position [in]"
+    assert ax.get_title() == f"stride {23.85 / 25.4:.4g} in"
+    assert ax.get_legend().get_texts()[0].get_text() == f"no slip {121.8e3 / PSI:.4g} psi"
+    ticks = [t for t in ax.get_xticks() if 0 <= t <= 689.0]
+    labels = [t.get_text() for t in ax.get_xticklabels() if 0 <= t.get_position()[0] <= 689.0]
+    psi = [t * 1e3 / PSI for t in ticks]
+    assert len(psi) >= 3 and all(abs(v - round(v)) < 1e-6 for v in psi)  # round psi, placed in kPa
+    assert [float(label.replace("−", "-")) for label in labels] == pytest.approx(psi)
+    plt.close(fig)
