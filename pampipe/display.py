@@ -164,7 +164,7 @@ def column(header: str, values: list[object]) -> tuple[str, list[object]]:
         if isinstance(v, bool):
             out.append(v)
         elif isinstance(v, Real):
-            out.append(float(v) * scale)
+            out.append(_significant(repr(float(v)), scale, digits=4))  # as report.table shows floats
         elif isinstance(v, str):
             out.append(_NUMBER.sub(lambda m: m.group(1) + _significant(m.group(2), scale), v))
         else:
@@ -190,11 +190,13 @@ def localize(text: str) -> str:
     return _IN_TEXT.sub(one, text)
 
 
-def _significant(number: str, scale: float) -> str:
-    """``number`` x ``scale`` with as many significant digits as ``number`` was written with (at least 3)."""
-    mantissa = re.split(r"[eE]", number.lstrip("-"))[0]
-    digits = len(mantissa.replace(".", "").lstrip("0")) or 1
+def _significant(number: str, scale: float, digits: int | None = None) -> str:
+    """``number`` x ``scale`` with ``digits`` significant digits, by default as many as ``number`` was
+    written with (3 to 8)."""
+    if digits is None:
+        mantissa = re.split(r"[eE]", number.lstrip("-"))[0]
+        digits = max(3, min(len(mantissa.replace(".", "").lstrip("0")), 8))
     value = float(number) * scale
-    text = f"{value:.{max(3, min(digits, 8))}g}"
+    text = f"{value:.{digits}g}"
     return f"{float(text):.0f}" if "e" in text and 1 <= abs(value) < 1e9 else text  # 12500, not 1.25e+04
 
