@@ -150,3 +150,15 @@ def test_plot_axes_keep_their_data_and_show_round_ticks_of_the_display_unit():
     assert len(psi) >= 3 and all(abs(v - round(v)) < 1e-6 for v in psi)  # round psi, placed in kPa
     assert [float(label.replace("−", "-")) for label in labels] == pytest.approx(psi)
     plt.close(fig)
+
+
+def test_a_reason_that_ends_the_run_is_in_the_users_units_and_the_json_error_stays_si(cli):
+    import json
+
+    args = ("gait", PROBLEMS / "missions" / "infeasible-survey.yaml", "--section", "heavy-riser")
+    us, metric = cli(*args, "--units", "us", "--json"), cli(*args, "--json")
+    assert us.returncode == metric.returncode == 3
+    assert "kPa" in metric.stderr.splitlines()[-1] and " N " in metric.stderr.splitlines()[-1]
+    last = us.stderr.splitlines()[-1]
+    assert "psi" in last and "lbf" in last and not METRIC.search(last)
+    assert json.loads(us.stdout) == json.loads(metric.stdout)  # the error document keeps SI-metric
