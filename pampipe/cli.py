@@ -15,7 +15,7 @@ import json
 import re
 import sys
 
-from pampipe import __version__, interrupts, progress
+from pampipe import __version__, display, interrupts, progress
 from pampipe.errors import InputError, PampipeError, StreamError
 from pampipe.io import streams
 from pampipe.io.files import forget_written, written
@@ -134,7 +134,8 @@ def _run(argv: list[str]) -> int:
             from pampipe.report import set_plot_format
 
             set_plot_format(args.plot_format)
-        with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))):
+        with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))), \
+                display.shown_in(getattr(args, "units", None) or "metric"):
             return args.run(args)
     except _UsageError as exc:
         return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",
@@ -147,7 +148,11 @@ def _run(argv: list[str]) -> int:
         if interrupts.requested():  # a solver stopped by the signal reports a failure: it was the signal
             return _interrupted(args, argv, command)
         kind = "error" if isinstance(exc, InputError) else "no solution"
-        return _fail(args, argv, command, exc.exit_code, kind, str(exc))
+        shown = None
+        if not isinstance(exc, InputError):  # a reason, in the units of --units (input errors echo the input)
+            with display.shown_in(getattr(args, "units", None) or "metric"):
+                shown = display.localize(str(exc))
+        return _fail(args, argv, command, exc.exit_code, kind, str(exc), shown=shown)
     except Exception as exc:  # the last resort: a bug, never a user mistake
         if "--debug" in argv:
             import traceback
@@ -184,15 +189,16 @@ def _interrupted(args, argv, command: str) -> int:
 
 
 def _fail(args, argv, command: str, code: int, kind: str | None, message: str, *,
-          broken: str | None = None) -> int:
-    """Print the one-paragraph message (and the JSON error document under --json); return ``code``.
+          broken: str | None = None, shown: str | None = None) -> int:
+    """Print the one-paragraph message (``shown``, the message in the display units, if given) and the JSON
+    error document under --json (``message``, SI-metric); return ``code``.
 
     ``broken`` names a stream that already failed: nothing more is written to it. A stream that
     fails here makes the exit 2 (:class:`StreamError`), whatever the first error was.
     """
     try:
         if broken != "stderr":
-            print(f"{command}: {kind + ': ' if kind else ''}{message}", file=sys.stderr, flush=True)
+            print(f"{command}: {kind + ': ' if kind else ''}{shown or message}", file=sys.stderr, flush=True)
         json_mode = getattr(args, "json", None) if args is not None else _json_flag(argv)
         if json_mode and broken != "stdout" and not getattr(args, "document_printed", False):
             sys.stdout.write(json.dumps({"error": {"code": code, "kind": kind or "interrupted",

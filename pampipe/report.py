@@ -10,8 +10,18 @@ from pampipe.io.files import atomic_write
 
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
-    """A plain aligned text table; floats are shown with 4 significant digits."""
-    cells = [[_fmt(v) for v in row] for row in rows]
+    """A plain aligned text table; floats are shown with 4 significant digits. Columns whose header names a
+    unit in brackets, and quantities in text cells, are shown in the display units (pampipe.display)."""
+    from pampipe.display import column, localize
+
+    columns = []  # (header, cells); a column the conversion made a copy of another ('bore [in]') is dropped
+    for i, h in enumerate(headers):
+        header, values = column(h, [r[i] for r in rows])
+        shown = (localize(header), [localize(_fmt(v)) for v in values])
+        if shown not in columns:
+            columns.append(shown)
+    headers = [h for h, _ in columns]
+    cells = [[col[j] for _, col in columns] for j in range(len(rows))]
     widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h)
               for i, h in enumerate(headers)]
     line = "  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))
@@ -78,7 +88,9 @@ def save_figure(fig, folder: Path, name: str) -> Path | None:
     """Save ``fig`` as ``folder/name`` atomically, its suffix that of ``--plot-format``, and return the
     path; while :func:`capture` is on, collect it instead (and return None)."""
     from pampipe.plots.style import DPI
+    from pampipe.plots.units import localize_figure
 
+    localize_figure(fig)  # --units
     if fig.get_layout_engine() is None:  # a figure of the caller's (plot(ax=...))
         fig.tight_layout()
     if _plotting["captured"] is not None:

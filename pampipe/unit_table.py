@@ -43,7 +43,8 @@ UNITS: dict[str, tuple[float, Dimension]] = {
     **{name: (f, _L) for f, names in (
         (1.0, "m meter meters metre metres"), (1e-3, "mm millimeter millimeters millimetre millimetres"),
         (1e-2, "cm centimeter centimeters"), (0.1, "dm"), (1e3, "km"), (1e-6, "um µm μm micrometer"),
-        (0.0254, "in inch inches"), (0.3048, "ft foot feet"), (0.9144, "yd yard yards"))
+        (0.0254, "in inch inches"), (0.3048, "ft foot feet"), (0.9144, "yd yard yards"),
+        (1609.344, "mi mile miles"))
        for name in names.split()},
     **{name: (f, _P) for f, names in (
         (1.0, "Pa pascal"), (1e2, "hPa"), (1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa"),

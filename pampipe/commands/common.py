@@ -62,6 +62,16 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
                                  "default png")
 
 
+def add_units_option(parser: argparse.ArgumentParser) -> None:
+    """--units: the units of the text output (:mod:`pampipe.display`); JSON stays SI."""
+    from pampipe.display import CHOICES
+
+    parser.add_argument("--units", choices=CHOICES, default="metric",
+                        help="units of the tables, warnings, reasons and plots: si (Pa, m, N), metric (kPa, "
+                             "mm, N; default), us (psi, in, lbf), or one pressure unit (kPa, psi, bar, MPa, "
+                             "Pa) for pressures only; the JSON stays SI")
+
+
 def add_report_option(parser: argparse.ArgumentParser) -> None:
     """--report FILE.html: the self-contained HTML report (:mod:`pampipe.html_report`)."""
     parser.add_argument("--report", type=Path, metavar="FILE.html",
@@ -74,11 +84,13 @@ def write_html_report(args: argparse.Namespace, command: str, *, inputs, text: s
     """Write ``args.report`` if asked for; ``draw()`` draws the command's plots (captured as SVG)."""
     if getattr(args, "report", None) is None:
         return
+    from pampipe.display import localize
     from pampipe.html_report import svg_figures, write_report
 
     source = getattr(args, "mission", None) or getattr(args, "experiment", None)
-    write_report(args.report, command, title=f"pampipe {command} {source}", inputs=inputs, text=text,
-                 document=document, warnings=warnings, reasons=reasons, figures=svg_figures(draw))
+    write_report(args.report, command, title=f"pampipe {command} {source}", inputs=inputs,
+                 text=localize(text), document=document, warnings=[localize(w) for w in warnings],
+                 reasons=[localize(r) for r in reasons], figures=svg_figures(draw))
     say(args, f"wrote {args.report}")
 
 
@@ -101,7 +113,11 @@ def say(args: argparse.Namespace, text: str) -> None:
 
 
 def emit(args: argparse.Namespace, document: dict | None, text: str, *, indent: int | None = 2) -> None:
-    """Print the JSON document (under --json) or the text report (``document`` may then be None)."""
+    """Print the JSON document (under --json) or the text report (``document`` may then be None); the text
+    in the display units of --units (:func:`pampipe.display.localize`)."""
+    from pampipe.display import localize
+
+    text = localize(text)
     if getattr(args, "json", False):
         print(text, file=sys.stderr, flush=True)
         sys.stdout.write(to_json(document, timings=not args.reproducible, indent=indent))

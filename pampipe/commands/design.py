@@ -8,7 +8,7 @@ import math
 from collections import defaultdict
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, say
+from pampipe.commands.common import add_output_options, add_units_option, emit, say
 from pampipe.errors import InfeasibleError
 from pampipe.io.files import check_not_input
 from pampipe.io.inventory import load_inventory
@@ -56,6 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--all-pipes", action="store_true",
                         help=f"list every pipe even in inventories of more than {MAX_PIPE_ROWS} pipes")
     add_output_options(parser)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:

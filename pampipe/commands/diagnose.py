@@ -8,6 +8,7 @@ from pathlib import Path
 from pampipe.commands.common import (
     add_output_options,
     add_report_option,
+    add_units_option,
     emit,
     integer_type,
     say,
@@ -16,6 +17,7 @@ from pampipe.commands.common import (
 from pampipe.diagnosis import structure
 from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate, describe
 from pampipe.diagnosis.selection import FOLDS
+from pampipe.display import scaled
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
@@ -40,6 +42,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--folds", type=integer_type("--folds", ge=2), default=FOLDS, metavar="K",
                         help=f"cross-validation folds across pressure levels (default {FOLDS})")
     add_output_options(parser)
+    add_units_option(parser)
     add_report_option(parser)
     parser.epilog = ("Effects (docs/physics.md §9): "
                      + "; ".join(f"{e.name}: {e.summary}" for e in LIBRARY.values())
@@ -91,10 +94,11 @@ def _parameters(summary) -> str:
     cells = []
     for name in summary.effects:
         for p in candidate(name).parameters:
-            value = summary.parameters[name][p.name] / p.scale
-            unit = "" if p.unit == "-" else f" {p.unit}"
+            shown, factor = scaled(p.unit)  # the display units of --units
+            value = summary.parameters[name][p.name] / p.scale * factor
+            unit = "" if p.unit == "-" else f" {shown}"
             band = summary.intervals.get(name, {}).get(p.name, (float("nan"),) * 2)
-            low, high = (v / p.scale for v in band)
+            low, high = (v / p.scale * factor for v in band)
             cells.append(f"{name}.{p.name} = {value:.4g}{unit} [{low:.4g}, {high:.4g}]")
     return "; ".join(cells) or "-"
 

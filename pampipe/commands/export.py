@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from pampipe.api import export_mission, load_mission
-from pampipe.commands.common import add_output_options, emit
+from pampipe.commands.common import add_output_options, add_units_option, emit
 from pampipe.commands.plan import probability
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
@@ -48,6 +48,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "margin `pampipe plan --confidence C` needs over the mission's sections, stated "
                              "in the header")
     add_output_options(parser, plots=False)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:

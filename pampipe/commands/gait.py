@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 
 from pampipe import api
-from pampipe.commands.common import add_output_options, emit, say
+from pampipe.commands.common import add_output_options, add_units_option, emit, say
 from pampipe.locomotion.result import GaitResult
 from pampipe.locomotion.schedule import POSITION_KEYS
 from pampipe.progress import note
@@ -25,6 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--optimal", action="store_true",
                         help="also solve the minimum-time gait (CasADi/IPOPT) and compare the speeds")
     add_output_options(parser)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -9,11 +9,13 @@ from pathlib import Path
 from pampipe.commands.common import (
     add_output_options,
     add_report_option,
+    add_units_option,
     emit,
     quantity_type,
     say,
     write_html_report,
 )
+from pampipe.display import column, scaled
 from pampipe.errors import InputError
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
@@ -68,6 +70,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a pipe diameter where the report judges the radial-force prediction, e.g. "
                              "'3 in' (repeatable; adds to fit.pipe_diameters)")
     add_output_options(parser)
+    add_units_option(parser)
     add_report_option(parser)
 
 
@@ -157,7 +160,8 @@ def report(result, source: str) -> str:
     parts.append("\nFit per test\n" + table(["test", "protocol", "points", "slack rows", "RMSE [N]",
                                               "worst level [N]", "at [kPa]"], rows))
     if any(t.levels for t in result.tests):
-        parts.append("\nRMSE per pressure level [N]\n" + _level_table(result))
+        force, scale = scaled("N")
+        parts.append(f"\nRMSE per pressure level [{force}]\n" + _level_table(result, scale))
     ramps = [t.name for t in result.tests if not t.levels]
     if ramps:
         parts.append(f"\nno pressure levels in {', '.join(ramps)} (pressure ramps): no per-level RMSE"
@@ -218,7 +222,8 @@ def _geometry(result) -> str:
         interval = c.intervals.get(name)
         shown = f"[{interval[0]:.5g}, {interval[1]:.5g}]" if interval else \
             ("undetermined" if name in c.calibrated else "-")
-        rows.append((label, before, value, shown))
+        label, cells = column(label, [before, value, shown])  # a row labelled with its unit
+        rows.append((label, *cells))
     lines.append(table(["", "stated", "fitted", "95 % interval"], rows))
     if c.stated_rmse is not None:
         lines.append(f"RMSE at the stated geometry {c.stated_rmse:.4g} N, calibrated {result.rmse:.4g} N")
@@ -298,10 +303,11 @@ def _drucker(result) -> str:
             f"{verdict}")
 
 
-def _level_table(result) -> str:
+def _level_table(result, scale: float) -> str:
+    """RMSE per test and pressure level, times ``scale`` (the display unit of force per newton)."""
     tests = [t for t in result.tests if t.levels]
     pressures = sorted({round(lv.pressure / 1e3, 1) for t in tests for lv in t.levels})
-    lookup = {(t.name, round(lv.pressure / 1e3, 1)): lv.rmse for t in tests for lv in t.levels}
+    lookup = {(t.name, round(lv.pressure / 1e3, 1)): lv.rmse * scale for t in tests for lv in t.levels}
     rows = [[p, *(lookup.get((t.name, p), "") for t in tests)] for p in pressures]
     return table(["P [kPa]", *(t.name for t in tests)], rows)
 

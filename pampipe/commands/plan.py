@@ -9,6 +9,7 @@ from pathlib import Path
 from pampipe.commands.common import (
     add_output_options,
     add_report_option,
+    add_units_option,
     emit,
     quantity_type,
     say,
@@ -21,8 +22,6 @@ from pampipe.units import to_si
 
 NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
-#: Pressure units of --units, as the quantity parser reads them.
-PRESSURE_UNITS = ("kPa", "psi", "bar")
 FULL_TABLE = 60  # sections the text report lists in full; longer routes are summarised
 
 
@@ -92,11 +91,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--solver", choices=("kkt", "ipopt"), default="kkt",
                         help="kkt: Newton on the NLP's KKT conditions (default, fast); ipopt: the same "
                              "NLP solved by IPOPT")
-    parser.add_argument("--units", choices=PRESSURE_UNITS, default="kPa",
-                        help="pressure unit of the tables and plots (default kPa); the JSON stays in Pa")
     parser.add_argument("--all-sections", action="store_true",
                         help=f"list every section even on routes of more than {FULL_TABLE} sections")
     add_output_options(parser)
+    add_units_option(parser)
     add_report_option(parser)
 
 
@@ -142,9 +140,12 @@ def run(args: argparse.Namespace) -> int:
                     prior=args.prior_from)
     # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan
     document = plan.to_dict() if args.json or args.output is not None or args.report is not None else None
+    from pampipe.display import current, localize
+
+    unit = current().pressure
     for warning in plan.warnings:
-        print(f"warning: {warning}", file=sys.stderr, flush=True)
-    text = plan_text(plan, unit=args.units, all_sections=args.all_sections)
+        print(f"warning: {localize(warning)}", file=sys.stderr, flush=True)
+    text = plan_text(plan, unit=unit, all_sections=args.all_sections)
     indent = None if len(plan.arrays.route) > COMPACT_SECTIONS else 2
     emit(args, document, text, indent=indent)
     if args.output is not None:
@@ -155,11 +156,11 @@ def run(args: argparse.Namespace) -> int:
     if args.report is not None:
         reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]
         write_html_report(args, "plan", inputs=[mission.source, *mission.input_files], text=text,
-                          document=document, draw=lambda: plot_plan(plan, None, unit=args.units),
+                          document=document, draw=lambda: plot_plan(plan, None, unit=unit),
                           warnings=plan.warnings,
                           reasons=reasons + [str(r) for r in document.get("reasons", [])])
     if args.plots:
-        for path in plot_plan(plan, args.plots, unit=args.units):
+        for path in plot_plan(plan, args.plots, unit=unit):
             say(args, f"wrote {path}")
     if plan.coverage is not None and plan.arrays.route.origin.whole:
         if plan.coverage.pipes_feasible == 0:

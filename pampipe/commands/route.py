@@ -7,7 +7,7 @@ import math
 import os
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, emit, quantity_type
+from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type
 from pampipe.errors import InputError
 from pampipe.io import bundled, yamlwrite
 from pampipe.io.config import load_mission
@@ -55,6 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="use only pipes with at most this inner diameter, e.g. '4 in'")
     parser.add_argument("--force", action="store_true", help="overwrite an existing -o file")
     add_output_options(parser, plots=False)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:

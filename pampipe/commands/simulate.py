@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe import api
-from pampipe.commands.common import add_output_options, emit, quantity_type, say
+from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type, say
 from pampipe.report import table
 
 NAME = "simulate"
@@ -31,6 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--paper-literal", action="store_true",
                         help="contact pressure as F_r/(pi D L) (the paper's wording) instead of F_r/(D L)")
     add_output_options(parser)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
