@@ -1,4 +1,4 @@
-"""The Python API (docs/commands.md §7.6): every command as a function, for scripts and notebooks.
+"""The Python API (docs/commands.md §11.1): every command as a function, for scripts and notebooks.
 
 Each function takes a file path or a dict (the file's content; relative paths in it resolve
 beside ``base``, the current folder by default), the same options as the command line — physical
@@ -357,7 +357,7 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
 
 
 def load_inventory(inventory: Source, *, base=None):
-    """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §7.7)."""
+    """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §8)."""
     from pampipe.inventory import Inventory
     from pampipe.io.inventory import load_inventory as load
 

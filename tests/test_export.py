@@ -213,7 +213,7 @@ def test_gait_table_equals_gait_json(exports, capsys, name):
             assert row["cycle_time_s"] == 0 and all(s["duration_s"] == 0 for s in row["steps"])
             continue
         assert code == 0
-        # the CLI's JSON has 12 significant digits (docs/commands.md §5): 1e-11 relative
+        # the CLI's JSON has 12 significant digits (docs/commands.md §1.2): 1e-11 relative
         assert row["cycle_time_s"] == pytest.approx(document["cycle_time_s"], rel=1e-11)
         assert row["stride_m"] == pytest.approx(document["stride_m"], rel=1e-11)
         for step, want in zip(row["steps"], document["steps"], strict=True):
