@@ -1,6 +1,6 @@
 """pampipe: pressures for pneumatic-muscle pipe crawlers, from a symbolic CasADi model of the muscle.
 
-The Python API (:mod:`pampipe.api`, docs/commands.md §7.6) — each command as a function that takes
+The Python API (:mod:`pampipe.api`, docs/commands.md §11.1) — each command as a function that takes
 a file path or a dict and unit strings, and returns a result with ``.to_dict()``::
 
     import pampipe

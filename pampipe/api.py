@@ -1,4 +1,4 @@
-"""The Python API (docs/commands.md §7.6): every command as a function, for scripts and notebooks.
+"""The Python API (docs/commands.md §11.1): every command as a function, for scripts and notebooks.
 
 Each function takes a file path or a dict (the file's content; relative paths in it resolve
 beside ``base``, the current folder by default), the same options as the command line — physical
@@ -313,15 +313,28 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
 
+def _relative(path: Path, folder: Path) -> str:
+    """``path`` relative to ``folder`` with '/' separators (``../pams/x.yaml``), so that an export
+    names its inputs the same on every machine; absolute only where no relative path exists
+    (another drive)."""
+    import os
+
+    try:
+        return Path(os.path.relpath(path.absolute(), folder.absolute())).as_posix()
+    except ValueError:
+        return path.absolute().as_posix()
+
+
 def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None,
                    progress: Progress | None = None, confidence: float | None = None,
                    samples: int | None = None, seed: int | None = None):
     """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
     the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
     names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
-    The header records the SHA-256 of every input file (none for a dict). With ``confidence`` C the law
-    adds, per segment, the margin `plan --confidence C` needs over the mission's sections (``samples``
-    draws seeded by ``seed``), stated in the header.
+    The header records the SHA-256 of every input file (none for a dict), each named relative to the
+    mission's folder (the mission by its file name), so an export does not depend on where it ran.
+    With ``confidence`` C the law adds, per segment, the margin `plan --confidence C` needs over the
+    mission's sections (``samples`` draws seeded by ``seed``), stated in the header.
     """
     import hashlib
 
@@ -329,20 +342,22 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
     from pampipe.export import Provenance, generate
 
     model = load_mission(mission, base=base)
+    folder = Path(model.source).parent
     inputs = []
     for path in dict.fromkeys(Path(p) for p in model.input_files):
         if path.is_file():
             try:
-                inputs.append((str(path), hashlib.sha256(path.read_bytes()).hexdigest()))
+                inputs.append((_relative(path, folder), hashlib.sha256(path.read_bytes()).hexdigest()))
             except OSError as exc:
                 raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
     sampling = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
-    return generate(model, provenance=Provenance(str(model.source), tuple(inputs)), sketch_name=sketch_name,
+    provenance = Provenance(Path(model.source).name, tuple(inputs))
+    return generate(model, provenance=provenance, sketch_name=sketch_name,
                     progress=progress, confidence=confidence, **sampling)
 
 
 def load_inventory(inventory: Source, *, base=None):
-    """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §7.7)."""
+    """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §8)."""
     from pampipe.inventory import Inventory
     from pampipe.io.inventory import load_inventory as load
 

@@ -1,6 +1,6 @@
 """Command-line entry point: argument parsing and exit codes, no physics.
 
-Exit codes (docs/commands.md §5): 0 success, 2 bad input, 3 no solution (infeasible or solver
+Exit codes (docs/commands.md §1.3): 0 success, 2 bad input, 3 no solution (infeasible or solver
 failure, or an internal error, reported with a "please report" hint), 130 interrupted. No error
 prints a Python traceback unless ``--debug`` is given. Under ``--json`` an error that comes before
 the command's document prints ``{"error": {"code": …, "message": …}}`` on stdout instead.

@@ -119,7 +119,7 @@ class TestData:
 
     @property
     def slack(self) -> np.ndarray:
-        """Rows where the muscle is slack (recorded force ≤ 0), docs/commands.md §7.1."""
+        """Rows where the muscle is slack (recorded force ≤ 0), docs/commands.md §3.3."""
         return self.force <= 0
 
 

@@ -1,4 +1,4 @@
-"""Ctrl-C and SIGTERM, honoured even inside IPOPT (docs/commands.md §5: exit 130).
+"""Ctrl-C and SIGTERM, honoured even inside IPOPT (docs/commands.md §1.3: exit 130).
 
 CasADi polls Python's signals while IPOPT iterates; a KeyboardInterrupt raised there is swallowed,
 and IPOPT stops with ``User_Requested_Stop`` (or, if the signal lands between iterations, finishes).

@@ -1,4 +1,4 @@
-"""A pipe inventory to design a muscle for, as frozen SI objects (docs/commands.md §7.7).
+"""A pipe inventory to design a muscle for, as frozen SI objects (docs/commands.md §8).
 
 No I/O here: :func:`pampipe.io.inventory.load_inventory` builds these from an inventory file.
 """

@@ -68,7 +68,7 @@ class Section:
 
 @dataclass(frozen=True, eq=False)
 class NetworkRoute:
-    """Where a route came from when it was read from a pipe network (docs/commands.md §7.3).
+    """Where a route came from when it was read from a pipe network (docs/commands.md §7).
 
     ``network`` is the :class:`pampipe.network.Network` (node coordinates and elevations, for plots and
     reports); ``entry``/``exit`` index its nodes for each section, in travel order; ``bend`` [rad] is the

@@ -1,4 +1,4 @@
-"""Routes through EPANET water networks (docs/commands.md §7.3), read with wntr.
+"""Routes through EPANET water networks (docs/commands.md §7), read with wntr.
 
 :func:`load_network` reads a network once into columnar arrays. :func:`route_sections` gives the pipes of
 the shortest path by length through the pipes the robot can pass, :func:`whole_network` every pipe, and

@@ -1,4 +1,4 @@
-"""Pipe bores from standard sizes, with a tolerance (docs/commands.md §7.2).
+"""Pipe bores from standard sizes, with a tolerance (docs/commands.md §4.3).
 
 :func:`bore` reads the value of a route section's ``inner_diameter`` key, already parsed from YAML, and
 returns the bore range in metres. Four forms are accepted:
@@ -55,7 +55,7 @@ class BoreSpec:
     sd: float = 0.0  # [m] standard deviation of the bore (0 = known exactly)
 
     def as_document(self) -> dict:
-        """JSON keys of a planned section (docs/commands.md §7.2), SI with unit suffixes."""
+        """JSON keys of a planned section (docs/commands.md §4.3), SI with unit suffixes."""
         return {"inner_diameter_m": self.nominal, "inner_diameter_range_m": [self.low, self.high],
                 "inner_diameter_sd_m": self.sd, "inner_diameter_label": self.label}
 

@@ -38,7 +38,7 @@ class AnchoredCase:
         return self.pressures > self.anchoring_pressure
 
     def as_document(self) -> dict:
-        """The `simulate` JSON document of docs/commands.md §6 for this case."""
+        """The `simulate` JSON document of docs/commands.md §2.2 for this case."""
         points = []
         for i, p in enumerate(self.pressures):
             points.append({

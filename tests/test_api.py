@@ -1,4 +1,4 @@
-"""The Python API (docs/commands.md §7.6), the bundled problems as package data, and PAM round trips.
+"""The Python API (docs/commands.md §11.1), the bundled problems as package data, and PAM round trips.
 
 * the API returns the same documents as the CLI's ``--json`` (byte for byte with ``--reproducible``);
 * a path, a dict and unit strings give the same answers as SI numbers;

@@ -1,5 +1,6 @@
-"""`pampipe design` end to end (issue 16): the §7.7 JSON, -o, plots, exit 3 with the binding constraint,
-exit 2 on bad inventories, and every proposed size planned with `pampipe plan` holds as promised."""
+"""`pampipe design` end to end (issue 16): the docs/commands.md §8 JSON, -o, plots, exit 3 with the
+binding constraint, exit 2 on bad inventories, and every proposed size planned with `pampipe plan` holds as
+promised."""
 
 from __future__ import annotations
 

@@ -142,7 +142,7 @@ def test_the_checker_catches_a_bad_citation(text):
     ("docs/physics.md §2-§3, Eqs. 1-5", ["2", "3"]),
     ("docs/physics.md §8 / §7 for segment i", ["8", "7"]),
     ("docs/physics.md section 8). The plan", ["8"]),
-    ("docs/commands.md §6 `plan`", ["6"]),
+    ("docs/commands.md §4.2 `plan`", ["4.2"]),
     ("the pages docs/workflows.md and docs/formats.md", []),
 ])
 def test_the_checker_reads_every_citation_style(text, refs):
@@ -175,6 +175,37 @@ def test_links_between_pages_land_on_headings():
             elif anchor is not None and anchor not in slugs(_read(target)):
                 problems.append(f"{path.name}: link to {page or ''}#{anchor}: no such heading")
     assert not problems, "\n".join(problems)
+
+
+#: `commands.md#42-json`, `docs/physics.md#62-the-slack-hinge`: an anchor into a page, in any file.
+ANCHORED = re.compile(rf"(?<![\w.-])(?:docs/)?(?P<page>{'|'.join(PAGES)})\.md#(?P<anchor>[\w-]+)")
+
+
+def anchor_problems(text: str, *, where: str, docs: Path = DOCS) -> list[str]:
+    """One sentence per `page.md#anchor` in ``text`` that is no heading's GitHub slug on that page."""
+    return [f"{where}: {m.group(0)}: no such heading" for m in ANCHORED.finditer(text)
+            if m.group("anchor") not in slugs(_read(docs / f"{m.group('page')}.md"))]
+
+
+def test_every_anchor_into_a_page_is_a_heading():
+    """Code docstrings and YAML comments too, not only Markdown links (docs/commands.md was renumbered)."""
+    problems, found = [], 0
+    for path in _files(SCANNED):
+        text = _read(path)
+        found += len(ANCHORED.findall(text))
+        problems += anchor_problems(text, where=str(path.relative_to(ROOT)))
+    assert not problems, "\n".join(problems)
+    assert found > 20, f"only {found} anchors found: the scanner is broken"
+
+
+_H = "#"  # fabricated bad anchors are spelt with it, so that the repository scan does not find them
+
+
+@pytest.mark.parametrize("text", [
+    f"[x](commands.md{_H}75-diagnose-verdict)", f"see docs/commands.md{_H}5-commands",
+    f"[y](physics.md{_H}no-such-heading)"])
+def test_the_anchor_check_can_fail(text):
+    assert anchor_problems(text, where="fabricated")
 
 
 def private_mentions(text: str) -> list[str]:

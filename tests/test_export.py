@@ -213,7 +213,7 @@ def test_gait_table_equals_gait_json(exports, capsys, name):
             assert row["cycle_time_s"] == 0 and all(s["duration_s"] == 0 for s in row["steps"])
             continue
         assert code == 0
-        # the CLI's JSON has 12 significant digits (docs/commands.md §5): 1e-11 relative
+        # the CLI's JSON has 12 significant digits (docs/commands.md §1.2): 1e-11 relative
         assert row["cycle_time_s"] == pytest.approx(document["cycle_time_s"], rel=1e-11)
         assert row["stride_m"] == pytest.approx(document["stride_m"], rel=1e-11)
         for step, want in zip(row["steps"], document["steps"], strict=True):
@@ -276,7 +276,8 @@ def test_export_command(tmp_path, capsys):
     assert [s["reason_code"] for s in document["sections"]] == [0, 0]
     header = (out / "pampipe_plan.h").read_text()
     assert hashlib.sha256(mission.read_bytes()).hexdigest() in header
-    assert str(mission) in header and "pampipe 0.1.0" in header
+    assert "Mission: vertical-climb-3in.yaml" in header and "pampipe 0.1.0" in header
+    assert str(PROBLEMS) not in header  # inputs are named relative to the mission's folder
     assert "#define PAMPIPE_SEGMENTS 3" in header
     assert ("int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real incline_rad, "
             "pampipe_real friction,\n                              pampipe_real payload_kg, "
@@ -292,6 +293,26 @@ def test_export_command(tmp_path, capsys):
     assert main(["export", str(mission), "-o", str(odd)]) == 0
     assert (odd / "pampipe_example.ino").exists()
     assert "folder named pampipe_example" in capsys.readouterr().out
+
+
+def test_header_is_the_same_wherever_the_mission_lies(tmp_path, capsys):
+    """The same mission exported from two absolute folders: byte-identical files, mission hash included;
+    the inputs named relative to the mission's folder with the SHA-256 of their bytes."""
+    import shutil
+
+    texts = []
+    for place in ("a", "deeper/b"):
+        problems = shutil.copytree(PROBLEMS, tmp_path / place / "problems")
+        out = tmp_path / place / "out"
+        assert main(["export", str(problems / "missions" / "vertical-climb-3in.yaml"), "-o", str(out)]) == 0
+        texts.append({p.name: p.read_bytes() for p in out.iterdir()})
+    assert texts[0] == texts[1]
+    header = texts[0]["pampipe_plan.h"].decode()
+    for name in ("missions/vertical-climb-3in.yaml", "pams/paper-radial-pam.yaml"):
+        digest = hashlib.sha256((PROBLEMS / name).read_bytes()).hexdigest()
+        shown = name.split("/")[1] if name.startswith("missions/") else f"../{name}"
+        assert f"  {digest}  {shown}\n" in header
+    assert str(tmp_path) not in header
 
 
 def test_api_returns_the_command_document(tmp_path, capsys):

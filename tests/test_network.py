@@ -1,4 +1,4 @@
-"""Routes through EPANET networks (docs/commands.md §7.3) against an independent networkx computation."""
+"""Routes through EPANET networks (docs/commands.md §7) against an independent networkx computation."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""One model everywhere (docs/commands.md §7.8): for a PAM with each library effect, plan, gait,
+"""One model everywhere (docs/commands.md §11.2): for a PAM with each library effect, plan, gait,
 simulate and the plots' numbers agree, each quantity computed two ways.
 
 * plan's pressure P* against an independent bisection on F_r from :mod:`pampipe.model.effects`

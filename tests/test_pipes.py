@@ -1,4 +1,4 @@
-"""Standard pipe bores (docs/commands.md §7.2) against published values typed here, not from fluids."""
+"""Standard pipe bores (docs/commands.md §4.3) against published values typed here, not from fluids."""
 
 from __future__ import annotations
 
@@ -93,7 +93,7 @@ def test_sizes_and_schedules_are_read_as_engineers_write_them(nps, schedule, lab
 
 
 def test_every_schedule_of_the_spec_is_offered():
-    # docs/commands.md §7.2: schedules 5 to 160, STD, XS, XXS, 5S to 80S; NPS 1/8 to 36
+    # docs/commands.md §4.3: schedules 5 to 160, STD, XS, XXS, 5S to 80S; NPS 1/8 to 36
     for schedule in ("5", "10", "20", "30", "40", "60", "80", "100", "120", "140", "160", "STD", "XS", "XXS",
                      "5S", "10S", "40S", "80S"):
         assert schedule in SCHEDULES

@@ -1,4 +1,4 @@
-"""`pampipe plan` end to end: table, JSON (docs/commands.md §6), -o, --plots, exit 3 reasons,
+"""`pampipe plan` end to end: table, JSON (docs/commands.md §4.2), -o, --plots, exit 3 reasons,
 exit 2 errors."""
 
 from __future__ import annotations

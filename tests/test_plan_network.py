@@ -1,4 +1,4 @@
-"""`plan` on routes through a pipe network (docs/commands.md §7.3): `route: {network, from, to}` in a mission.
+"""`plan` on routes through a pipe network (docs/commands.md §7): `route: {network, from, to}` in a mission.
 
 Independent answers: wntr's own model of ky4 (read here, not through pampipe.network), networkx for the
 shortest path, the closed form of the anchoring pressure (docs/physics.md §7, pampipe.model.forces) for

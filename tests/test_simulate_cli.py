@@ -19,7 +19,7 @@ AXIAL = PROBLEMS / "pams" / "paper-axial-load-pam.yaml"
 
 
 def test_simulate_json_document(axial_load_pam):
-    """The issue's 'done when' command prints the docs/commands.md §6 document with the model's numbers."""
+    """The issue's 'done when' command prints the docs/commands.md §2.2 document with the model's numbers."""
     out = run_cli("simulate", AXIAL, "--pipe-diameter", "3 in", "--axial-load", "1024.74 N",
                   "--pressure", "400 kPa", "--json")
     assert out.returncode == 0, out.stderr

@@ -1,4 +1,4 @@
-"""`pampipe design`: the muscle geometry (or K sizes) for a pipe inventory (docs/commands.md §7.7)."""
+"""`pampipe design`: the muscle geometry (or K sizes) for a pipe inventory (docs/commands.md §8)."""
 
 from __future__ import annotations
 

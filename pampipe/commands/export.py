@@ -1,4 +1,4 @@
-"""`pampipe export`: the mission's anchoring law and gait schedule as C (docs/commands.md §7.4)."""
+"""`pampipe export`: the mission's anchoring law and gait schedule as C (docs/commands.md §9)."""
 
 from __future__ import annotations
 

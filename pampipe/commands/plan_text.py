@@ -1,4 +1,4 @@
-"""The text report of `pampipe plan`: sections as parsed, the plan, coverage (docs/commands.md §5, §7.3).
+"""The text report of `pampipe plan`: sections as parsed, the plan, coverage (docs/commands.md §4.1, §7).
 
 Pressures are shown in the unit of ``--units`` (kPa, psi or bar; the JSON stays SI). Routes of more
 than :data:`FULL_TABLE` sections are summarised: the sections that need the most pressure, the

@@ -1,4 +1,4 @@
-"""`pampipe design`: choose the muscle geometry for a pipe inventory (docs/commands.md §7.7).
+"""`pampipe design`: choose the muscle geometry for a pipe inventory (docs/commands.md §8).
 
 The rest length, rest diameter and braid angle are the decision variables of an NLP built once
 from the symbolic :class:`~pampipe.model.muscle.Muscle` (:mod:`pampipe.design.nlp`); the bladder

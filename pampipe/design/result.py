@@ -1,4 +1,4 @@
-"""Frozen results of `design` and their JSON document (docs/commands.md §7.7). SI inside."""
+"""Frozen results of `design` and their JSON document (docs/commands.md §8). SI inside."""
 
 from __future__ import annotations
 

@@ -263,7 +263,7 @@ def _test_cells(index: int, test, max_exact: float, held_limit: float) -> dict:
 
 
 def slack_rows(test) -> np.ndarray:
-    """Rows of an axial test that recorded exactly 0 N (a slack muscle, docs/commands.md §7.1).
+    """Rows of an axial test that recorded exactly 0 N (a slack muscle, docs/commands.md §3.3).
 
     Only exact zeros: a noisy reading below zero near F = 0 is noise, and splitting cells by its
     sign would bias both halves' means.

@@ -1,4 +1,4 @@
-"""Frozen results of `diagnose` and their JSON document (docs/commands.md §6 and §7.5)."""
+"""Frozen results of `diagnose` and their JSON document (docs/commands.md §6.2 and §6.3)."""
 
 from __future__ import annotations
 
@@ -163,7 +163,7 @@ class DiagnoseResult:
         return summarize(trial.model, self.baseline.bic, self.data, self.cells, self.refitter)
 
     def to_dict(self) -> dict:
-        """The `diagnose --json` document (docs/commands.md §6)."""
+        """The `diagnose --json` document (docs/commands.md §6.2)."""
         return self.as_document()
 
     def as_document(self) -> dict:

@@ -1,4 +1,4 @@
-"""The verdict (docs/commands.md §7.5): none, explained, partly_explained or unexplained.
+"""The verdict (docs/commands.md §6.3): none, explained, partly_explained or unexplained.
 
 With M the tests the baseline leaves off the noise (:mod:`.structure`) and S the selected effects:
 

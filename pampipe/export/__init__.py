@@ -1,4 +1,4 @@
-"""`pampipe export`: the mission's anchoring law and gait schedule as portable C (docs/commands.md §7.4).
+"""`pampipe export`: the mission's anchoring law and gait schedule as portable C (docs/commands.md §9).
 
 Library API (no file I/O here: the texts come back, :mod:`pampipe.commands.export` writes them)::
 

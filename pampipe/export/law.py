@@ -60,7 +60,7 @@ def in_domain(*arguments) -> bool:
 
 
 class Reason(IntEnum):
-    """Return codes of ``pampipe_required_pressure`` (docs/commands.md §7.4; 5 is an addition)."""
+    """Return codes of ``pampipe_required_pressure`` (docs/commands.md §9; 5 is an addition)."""
 
     OK = 0
     NARROW = 1  # the pipe is not wider than a muscle at rest

@@ -1,6 +1,6 @@
 """The texts of the exported files: pampipe_plan.h, pampipe_plan.c and an Arduino example sketch.
 
-Plain C99 with ``<math.h>`` only (interfaces: docs/commands.md §7.4); no allocation and no state that
+Plain C99 with ``<math.h>`` only (interfaces: docs/commands.md §9); no allocation and no state that
 changes: the tables are ``const`` and the function is reentrant.
 """
 

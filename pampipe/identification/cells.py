@@ -3,7 +3,7 @@
 Two parts of the axial fit cannot use the exact QR reduction of :mod:`pampipe.identification.statistics`:
 
 * **slack rows** (recorded force ≤ 0, ``fit.slack: unilateral``): the model there is max(0, F_ax),
-  a hinge (docs/commands.md §7.1);
+  a hinge (docs/commands.md §3.3);
 * **geometry calibration**: L₀, α₀ (and t₀) enter F_ax nonlinearly, so the regressors cannot be
   computed before the fit.
 

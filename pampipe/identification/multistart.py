@@ -1,5 +1,5 @@
 """Global calibration: the calibrated fit solved from many starting geometries with one NLP
-(docs/commands.md §7.10).
+(docs/commands.md §3.4).
 
 Starts: the braid angle is first screened at :data:`SCREENED` evenly spread points of its range (the
 other calibrated entries at their stated values) by the moduli's linear least squares at each

@@ -1,5 +1,5 @@
 """Is the fit as good as the data allow? The noise floor of every test, structure in the residuals,
-parameters at their bounds, and the warning that names the likely cause (docs/commands.md §7.10).
+parameters at their bounds, and the warning that names the likely cause (docs/commands.md §3.4).
 
 **Noise floor** σ̂ of a test (a high-pass estimate that a smooth misfit does not inflate): the rows
 are cut into paths (one per held length or pressure level, direction and cycle; radial tests per

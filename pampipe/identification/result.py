@@ -205,11 +205,11 @@ class IdentifyResult:
         return _drucker_document(self)
 
     def to_dict(self) -> dict:
-        """The `identify --json` document (docs/commands.md §6)."""
+        """The `identify --json` document (docs/commands.md §3.2)."""
         return self.as_document()
 
     def as_document(self) -> dict:
-        """The ``identify`` JSON document (docs/commands.md §6), with extra keys.
+        """The ``identify`` JSON document (docs/commands.md §3.2), with extra keys.
 
         Undetermined quantities (intervals of unidentifiable coefficients, the Drucker margin
         with ``drucker: none``) are null.

@@ -457,7 +457,7 @@ class SectionSchema(Strict):
 
 
 class NetworkRouteSchema(Strict):
-    """``route: {network, from, to, friction}``: a path through a pipe network (docs/commands.md §7.3)."""
+    """``route: {network, from, to, friction}``: a path through a pipe network (docs/commands.md §7)."""
 
     network: str = Field(min_length=1)
     from_node: str | int | None = Field(default=None, alias="from")

@@ -1,6 +1,6 @@
 """Writing results safely: atomic files, never over an input, deterministic JSON.
 
-The policy every command follows (docs/commands.md §5):
+The policy every command follows (docs/commands.md §1.2):
 
 * an input of the command is never overwritten, not even with ``--force`` (:func:`check_not_input`);
 * an existing data file (a CSV or an experiment file that ``synth`` would write) is replaced only with

@@ -1,4 +1,4 @@
-"""The inventory file of `pampipe design` (docs/commands.md §7.7): a strict schema → :class:`Inventory`.
+"""The inventory file of `pampipe design` (docs/commands.md §8): a strict schema → :class:`Inventory`.
 
 ```yaml
 material: ../pams/paper-radial-pam.yaml   # a PAM whose moduli and bladder thickness are the material

@@ -1,4 +1,4 @@
-"""Frozen results of `pampipe gait` and their JSON document (docs/commands.md §6, ``gait``)."""
+"""Frozen results of `pampipe gait` and their JSON document (docs/commands.md §5.2)."""
 
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ class GaitResult:
         return tuple(n.name for n in self.needs)
 
     def as_document(self) -> dict:
-        """The ``gait`` JSON document: docs/commands.md §6 keys plus thresholds and checks."""
+        """The ``gait`` JSON document: docs/commands.md §5.2 keys plus thresholds and checks."""
         doc = {
             "section": self.section, "schedule": self.schedule, "stride_m": self.stride,
             "cycle_time_s": self.cycle_time, "speed_m_per_s": self.speed,

@@ -346,7 +346,7 @@ class WallFriction(Effect):
         return 1 / (1 + values["lock"] * math.pi * amp)
 
 
-#: The registry: every effect the package knows, by name (docs/commands.md §6 names).
+#: The registry: every effect the package knows, by name (docs/commands.md §6.1 names).
 LIBRARY: dict[str, Effect] = {e.name: e for e in (
     BraidFriction(), BraidExtensibility(), EndEffects(), ContactStiffening(), PressureOffset(),
     AxialPreload(), WallFriction(), PressureHysteresis(), Prestrain())}

@@ -1,4 +1,4 @@
-"""The worst bore of a bore range: where the least holding pressure P*(D) is largest (docs/commands.md §7.2).
+"""The worst bore of a bore range: where the least holding pressure P*(D) is largest (docs/commands.md §4.3).
 
 A plan that holds over [D_low, D_high] needs max P*(D) over the range: P* holds at every D ≤ P (the
 capacity grows with P above contact), so the largest P* holds everywhere. P*(D) is not monotone in

@@ -120,7 +120,7 @@ class Confidence:
                 "prior": self.prior}
 
     def element_document(self, s: int, i: int) -> dict:
-        """The keys one segment of one section gains (docs/commands.md §6); where an undetermined
+        """The keys one segment of one section gains (docs/commands.md §4.5); where an undetermined
         direction moves the section's hold there is no probability: null, and ``undetermined`` true."""
         if s in self.undetermined:
             return {"holding_probability": None, "holding_probability_se": None,

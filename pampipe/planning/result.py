@@ -1,4 +1,4 @@
-"""Frozen results of `plan`, and their JSON document (docs/commands.md §6 `plan`, §7.2, §7.3). SI inside."""
+"""Frozen results of `plan`, and their JSON document (docs/commands.md §4.2, §4.3, §7). SI inside."""
 
 from __future__ import annotations
 
@@ -190,7 +190,7 @@ class MissionPlan:
         return replace(self, wall_time=wall_time)
 
     def to_dict(self) -> dict:
-        """The `plan --json` document (docs/commands.md §6)."""
+        """The `plan --json` document (docs/commands.md §4.2)."""
         return self.as_document()
 
     def capacity_curve(self, section: int, segment: int, pressures) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""What a plan warns about, and the coverage of a whole-network plan (docs/commands.md §6 `plan`, §7.2, §7.3).
+"""What a plan warns about, and the coverage of a whole-network plan (docs/commands.md §4.2, §4.3, §7).
 
 Warnings are sentences an engineer should read before trusting the numbers: defaults the mission file
 left to pampipe (no safety factor), plans that barely touch the wall (the contact margin

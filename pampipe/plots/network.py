@@ -1,4 +1,4 @@
-"""Plots of a plan along a route and over a pipe network (docs/commands.md §7.3).
+"""Plots of a plan along a route and over a pipe network (docs/commands.md §7).
 
 * ``route_profile.png``: the elevation along the route above, the planned pressure of each section
   below (largest over the segments, with the contact pressure of the largest bore and the supply),
