@@ -11,7 +11,6 @@ from __future__ import annotations
 import hashlib
 import re
 import shutil
-import tempfile
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
@@ -22,7 +21,7 @@ import casadi as ca
 
 from pampipe import interrupts
 from pampipe.errors import SolverError
-from pampipe.io.cache import CACHE_VARIABLE, cache_folder, prune, source_digest  # noqa: F401 (re-exported)
+from pampipe.io.cache import CACHE_VARIABLE, cache_folder, prune, source_digest, store  # noqa: F401 (re-exported)
 
 #: IPOPT options every pampipe NLP starts from (quiet; bounds are not relaxed, so a solution
 #: never leaves the physical box it was given).
@@ -140,16 +139,10 @@ def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Funct
         except Exception:  # a damaged entry is removed and rebuilt
             shutil.rmtree(entry, ignore_errors=True)
     functions = build()
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}-", dir=folder))
+
+    def write(staging: Path) -> None:
         for label, function in functions.items():
             function.save(str(staging / f"{label}.casadi"))
-        try:
-            staging.rename(entry)  # atomic: readers see a whole entry or none
-        except OSError:  # another process stored it first
-            shutil.rmtree(staging, ignore_errors=True)
-        prune(folder)
-    except Exception:  # caching is an optimisation, never a failure
-        pass
+
+    store(folder, entry, write)
     return functions, "built"

@@ -10,6 +10,8 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
+import tempfile
+from collections.abc import Callable
 from functools import cache
 from pathlib import Path
 
@@ -62,3 +64,22 @@ def source_stamp() -> str:
             where = f"{os.path.relpath(folder, root)}/{name}"
             digest.update(f"{where}\0{stat.st_size}\0{stat.st_mtime_ns}\0".encode())
     return digest.hexdigest()
+
+
+def store(folder: Path, entry: Path, write: Callable[[Path], None], *, replace: bool = False) -> None:
+    """Store a cache entry atomically: ``write(staging)`` fills a hidden folder beside ``entry``, which is
+    then renamed to ``entry`` (readers see a whole entry or none; another process storing it first wins).
+    ``replace`` removes a stale ``entry`` first. Never raises: caching is an optimisation."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}-", dir=folder))
+        write(staging)
+        if replace:
+            shutil.rmtree(entry, ignore_errors=True)
+        try:
+            staging.rename(entry)
+        except OSError:
+            shutil.rmtree(staging, ignore_errors=True)
+        prune(folder)
+    except Exception:  # a full disk, a read-only cache, an unpicklable object: just not cached
+        pass

@@ -17,12 +17,10 @@ from __future__ import annotations
 import hashlib
 import os
 import pickle
-import shutil
 import sys
-import tempfile
 from pathlib import Path
 
-from pampipe.io.cache import cache_folder, prune, source_stamp
+from pampipe.io.cache import cache_folder, source_stamp, store
 
 PICKLE = "mission.pickle"
 #: Mission files larger than this [bytes] are not kept: their parse and plan, not start-up, set their time,
@@ -68,15 +66,11 @@ def keep_mission(path: Path, mission) -> None:
             return
         inputs = [(str(name), _file_digest(Path(name))) for name in dict.fromkeys(mission.input_files)]
         entry = _entry(folder, path)
-        folder.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{entry.name}-", dir=folder))
+    except Exception:  # caching is an optimisation, never a failure
+        return
+
+    def write(staging: Path) -> None:
         with open(staging / PICKLE, "wb") as handle:
             pickle.dump((inputs, mission), handle, protocol=pickle.HIGHEST_PROTOCOL)
-        shutil.rmtree(entry, ignore_errors=True)  # a stale entry: a file the mission read has changed
-        try:
-            staging.rename(entry)  # atomic: readers see a whole entry or none
-        except OSError:  # another process stored it first
-            shutil.rmtree(staging, ignore_errors=True)
-        prune(folder)
-    except Exception:  # caching is an optimisation, never a failure
-        pass
+
+    store(folder, entry, write, replace=True)  # replace: a file the mission read has changed
