@@ -25,6 +25,7 @@ import numpy as np
 from pampipe.experiment import ExperimentData, TestSpec, make_test_data
 from pampipe.io import yamlwrite
 from pampipe.io.pamfile import pam_document
+from pampipe.model.effects import LIBRARY
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 
@@ -181,3 +182,29 @@ def write_lab(folder: Path, pam: Pam, tests, *, fit=None) -> Path:
     yamlwrite.write(path, {"pam": pam_document(pam, with_moduli=False), "tests": entries,
                            **({"fit": fit} if fit else {})})
     return path
+
+
+def refit_with_effect(geometry, test, theta0, effect: str | None) -> tuple[float, np.ndarray]:
+    """Least squares of the degree-1 moduli θ (MPa), and of ``effect``'s parameters when given, through
+    Muscle (scipy, row by row: independent of identify and diagnose), on the measured rows off the turning
+    points of the pressure (there the direction is 0 and a band is undetermined).
+
+    Returns (the RMSE [N], the effect's fitted parameters in their display scale).
+    """
+    from scipy.optimize import least_squares
+
+    live = (test.force > 0) & (test.pressure_leg != 0)
+    params = LIBRARY[effect].parameters if effect else ()
+
+    def residual(z):
+        effects = {effect: {p.name: z[8 + i] * p.scale for i, p in enumerate(params)}} if effect else None
+        m = Muscle(geometry, z[:8] * 1e6, 1e6, effects=effects)
+        model = m.axial_force(test.pressure, test.length, leg=test.leg, pressure_leg=test.pressure_leg)
+        return np.asarray(model, float)[live] - test.force[live]
+
+    z0 = np.concatenate([theta0, [p.null / p.scale for p in params]])
+    lower = np.concatenate([np.full(8, -60.0), [p.lower / p.scale for p in params]])
+    upper = np.concatenate([np.full(8, 60.0), [p.upper / p.scale for p in params]])
+    fit = least_squares(residual, np.clip(z0, lower + 1e-9, upper - 1e-9), bounds=(lower, upper),
+                        x_scale="jac")
+    return float(np.sqrt(np.mean(fit.fun**2))), fit.x[8:]

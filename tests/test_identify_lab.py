@@ -16,7 +16,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import least_squares
 
 from pampipe.cli import main
 from pampipe.identification import FitOptions, identify
@@ -36,6 +35,7 @@ from tests.lab_data import (
     off_by,
     radial,
     radial_steps,
+    refit_with_effect,
     stepped,
     truth,
 )
@@ -261,29 +261,6 @@ def test_radial_tests_with_30_readings_have_no_levels_and_still_fit(radial_pam, 
 
 
 # ------------------------------------------------------------------------------------- hysteresis
-def _refit(muscle_truth, data, name, theta0):
-    """Least squares over (θ, the effect's parameters) through Muscle with the effect on: an
-    independent refit (scipy, row by row), not diagnose's. Rows at a turning point of the pressure
-    have no direction (0): the band is undetermined there, so every candidate is judged without them."""
-    test = data.tests[0]
-    effect = LIBRARY[name]
-    params = effect.parameters
-    live = (test.force > 0) & (test.pressure_leg != 0)  # measured rows off the turning points
-
-    def residual(z):
-        values = {p.name: z[8 + i] * p.scale for i, p in enumerate(params)}
-        m = Muscle(muscle_truth.geometry, z[:8] * 1e6, 1e6, effects={name: values})
-        model = m.axial_force(test.pressure, test.length, leg=test.leg, pressure_leg=test.pressure_leg)
-        return np.asarray(model, float)[live] - test.force[live]
-
-    z0 = np.concatenate([theta0, [p.null / p.scale for p in params]])
-    lower = np.concatenate([np.full(8, -60.0), [p.lower / p.scale for p in params]])
-    upper = np.concatenate([np.full(8, 60.0), [p.upper / p.scale for p in params]])
-    fit = least_squares(residual, np.clip(z0, lower + 1e-9, upper - 1e-9), bounds=(lower, upper),
-                        x_scale="jac")
-    return float(np.sqrt(np.mean(fit.fun**2))), fit.x[8:]
-
-
 def test_pressure_hysteresis_is_the_effect_that_explains_hidden_hysteresis(radial_pam, muscle):
     """Isometric ramps with a hidden band F = F_ax − sgn(Ṗ)(h₀ + h₁P), h₀ = 6 N, h₁ = 10 N/MPa
     (venting 2(h₀ + h₁P) = 12-24 N above filling): the baseline fit leaves it in the residual; of every
@@ -296,8 +273,8 @@ def test_pressure_hysteresis_is_the_effect_that_explains_hidden_hysteresis(radia
     baseline = identify(data, FitOptions(degree=1))
     assert _rmse_measured(baseline, data) > 5 * SIGMA  # the band is in the residual
     theta0 = baseline.x[:8]
-    scores = {name: _refit(muscle, data, name, theta0) for name, effect in LIBRARY.items()
-              if "axial" in effect.tests}
+    scores = {name: refit_with_effect(muscle.geometry, data.tests[0], theta0, name)
+              for name, effect in LIBRARY.items() if "axial" in effect.tests}
     best = min(scores, key=lambda name: scores[name][0])
     assert best == "pressure_hysteresis"
     rmse, (h0, h1) = scores[best]

@@ -22,14 +22,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from scipy.optimize import least_squares
 
 from pampipe.errors import InputError
 from pampipe.identification import FitOptions, identify, multistart, seeds
 from pampipe.identification.options import parse_fit_options
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
-from pampipe.model.effects import LIBRARY
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from tests import lab_data as lab
@@ -136,27 +134,6 @@ def test_a_bad_direction_mapping_is_an_input_error(radial_pam, tmp_path, cli, ma
     assert out.returncode == 2 and "Traceback" not in out.stderr and key in out.stderr
 
 
-def _hysteresis_refit(pam, test, theta0, with_band: bool):
-    """Least squares through Muscle (scipy, row by row; independent of identify and diagnose) of the
-    moduli, with or without the pressure_hysteresis band, on the measured rows off the turning points."""
-    live = (test.force > 0) & (test.pressure_leg != 0)
-    params = LIBRARY["pressure_hysteresis"].parameters if with_band else ()
-
-    def residual(z):
-        effects = {"pressure_hysteresis": {p.name: z[8 + i] * p.scale for i, p in enumerate(params)}} \
-            if with_band else None
-        m = Muscle(pam.geometry, z[:8] * 1e6, 1e6, effects=effects)
-        model = m.axial_force(test.pressure, test.length, leg=test.leg, pressure_leg=test.pressure_leg)
-        return np.asarray(model, float)[live] - test.force[live]
-
-    z0 = np.concatenate([theta0, [p.null / p.scale for p in params]])
-    lower = np.concatenate([np.full(8, -60.0), [p.lower / p.scale for p in params]])
-    upper = np.concatenate([np.full(8, 60.0), [p.upper / p.scale for p in params]])
-    fit = least_squares(residual, np.clip(z0, lower + 1e-9, upper - 1e-9), bounds=(lower, upper),
-                        x_scale="jac")
-    return float(np.sqrt(np.mean(fit.fun ** 2))), fit.x[8:]
-
-
 def test_with_the_mapping_the_pressure_hysteresis_is_found(radial_pam, tmp_path):
     """Ramps with a hidden band F = F_ax − sgn(Ṗ)(h₀ + h₁P), h₀ = 6 N, h₁ = 10 N/MPa, state coded 1/2,
     rows shuffled: read through the mapping, the band fits the data to about the noise (σ = 1 N plus
@@ -167,12 +144,12 @@ def test_with_the_mapping_the_pressure_hysteresis_is_found(radial_pam, tmp_path)
     path = lab.write_lab(tmp_path, radial_pam, [(lab.axial("ramps"), cols, {"direction": mapping})])
     test = load_experiment_data(load_experiment(path)).tests[0]
     theta0 = np.array([1.5, 0, 0, 0, 4.4, -1.6, 0, 0])
-    baseline, _ = _hysteresis_refit(radial_pam, test, theta0, False)
-    banded, (h0, h1) = _hysteresis_refit(radial_pam, test, theta0, True)
+    baseline, _ = lab.refit_with_effect(radial_pam.geometry, test, theta0, None)
+    banded, (h0, h1) = lab.refit_with_effect(radial_pam.geometry, test, theta0, "pressure_hysteresis")
     assert baseline > 5.0 and banded < 1.3
     assert h0 == pytest.approx(6.0, abs=0.6) and h1 == pytest.approx(10.0, abs=2.0)
     misread = replace(test, pressure_leg=np.ones_like(test.pressure_leg))
-    assert _hysteresis_refit(radial_pam, misread, theta0, True)[0] > 5.0
+    assert lab.refit_with_effect(radial_pam.geometry, misread, theta0, "pressure_hysteresis")[0] > 5.0
 
 
 # ------------------------------------------------------------------------------- no silent bad fit
