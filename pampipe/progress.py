@@ -60,10 +60,12 @@ def count(what: str, done: int, total: int) -> None:
 
 
 def note(text: str) -> None:
-    """A line describing the step now under way."""
+    """A line describing the step now under way (its quantities in the display units of --units)."""
     stream = _state["stream"]
     if stream is None:
         return
+    from pampipe.display import localize
+
     _end_line()
-    stream.write(text + "\n")
+    stream.write(localize(text) + "\n")
     stream.flush()

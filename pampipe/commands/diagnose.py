@@ -184,9 +184,10 @@ def report(result) -> str:
                      f"{sep['max_difference_N']:.3g} N, {sep['ratio']:.3g}x the noise floor)")
         decision.append(text)
     if verdict.probes_removed > 0:
+        force, k = scaled("N")  # sums of squared residuals, in the display unit of force squared
         decision.append(f"  on the tests that held the residual, the library removes "
-                        f"{verdict.library_removed:.4g} N^2 and generic probes "
-                        f"{verdict.probes_removed:.4g} N^2")
+                        f"{verdict.library_removed * k**2:.4g} {force}^2 and generic probes "
+                        f"{verdict.probes_removed * k**2:.4g} {force}^2")
     parts.append("\n".join(decision))
     parts.append("RMSE per test, before and after:\n" + table(
         ["test", "before [N]", "after [N]", "floor [N]", "after/floor", "at noise after"],

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 from pathlib import Path
 
 from pampipe.api import export_mission, load_mission
@@ -13,6 +12,7 @@ from pampipe.commands.plan import probability
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_set, check_not_input
+from pampipe.progress import note
 from pampipe.report import table
 
 NAME = "export"
@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
     export = export_mission(mission, sketch_name=sketch, confidence=args.confidence,
-                            progress=lambda text: print(text, file=sys.stderr, flush=True))
+                            progress=note)  # quiet under --json and --quiet
     atomic_write_set(folder, export.files)  # the old set or the new one, never a mix
     emit(args, export.to_dict(), _report(export, folder))
     return 0

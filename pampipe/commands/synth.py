@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.commands.common import add_output_options, emit, integer_type, quantity_type
+from pampipe.commands.common import add_output_options, add_units_option, emit, integer_type, quantity_type
 from pampipe.errors import InputError
 from pampipe.io import bundled
 from pampipe.io.config import load_pam
@@ -67,6 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true",
                         help="replace existing experiment and data files (never the --pam input)")
     add_output_options(parser, plots=False)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
