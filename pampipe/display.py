@@ -72,13 +72,22 @@ _current = {"units": PRESETS["metric"]}
 
 def units_for(name: str) -> Units:
     """The display units of a --units value: a preset, or a pressure unit with metric lengths and forces."""
+    if not isinstance(name, str):
+        name = repr(name)
     if name in PRESETS:
         return PRESETS[name]
     if name in PRESSURES:
         return replace(PRESETS["metric"], pressure=name)
     from pampipe.errors import InputError
 
-    raise InputError(f"--units: {name!r} is not one of {', '.join(CHOICES)}.")
+    raise InputError(f"units: {name!r} is not one of {', '.join(CHOICES)}.")
+
+
+def set_units(name: str) -> None:
+    """Show results in ``name`` from now on, in this process (the Python API: ``str(result)``,
+    ``result.to_text()``, ``result.plot()``): a preset (si, metric, us) or a pressure unit. A command
+    line run keeps its own --units (metric by default); JSON, ``to_dict()`` and ``to_frame()`` stay SI."""
+    _current["units"] = units_for(name)
 
 
 def current() -> Units:

@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.report, experiment.input_files, option="--report")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
-    text = report(result) if result.slip is None else report(result) + "\n" + result.slip.report()
+    text = result_text(result)
     document = result.as_document()
     emit(args, document, text)
     from pampipe.plots.diagnose import plot_diagnosis
@@ -122,6 +122,11 @@ def _percent(share: float) -> str:
 
 def _span(low: float, high: float, scale: float, digits: int) -> str:
     return f"{low * scale:.{digits}f}-{high * scale:.{digits}f}"
+
+
+def result_text(result) -> str:
+    """The report of `diagnose` (``str(result)``), with the slip tests' when there are any."""
+    return report(result) if result.slip is None else report(result) + "\n" + result.slip.report()
 
 
 def report(result) -> str:

@@ -73,15 +73,20 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _report(export, folder: Path) -> str:
-    law = export.law
-    rows = [(s.name, s.diameter * 1e3, s.reason.name.lower(), len(s.steps), s.cycle_time)
-            for s in export.sections]
-    lines = [f"wrote {', '.join(str(folder / n) for n in sorted(export.files))}",
-             f"pampipe_required_pressure: {law.function.n_instructions()} operations; anchoring needs "
-             f"{law.narrowest * 1e3:.4g} mm < D < {law.widest * 1e3:.4g} mm; "
-             f"supply {law.supply_pressure / 1e3:.4g} kPa",
-             table(["section", "D [mm]", "reason", "gait steps", "cycle [s]"], rows)]
+    lines = [f"wrote {', '.join(str(folder / n) for n in sorted(export.files))}", result_text(export)]
     if export.sketch != f"{folder.resolve().name}.ino":
         lines.append(f"to open the sketch in the Arduino IDE, put the three files in a folder named "
                      f"{export.sketch.removesuffix('.ino')}")
+    return "\n".join(lines)
+
+
+def result_text(export) -> str:
+    """The law and the gait table of an export (``str(export)``; the command adds where it wrote them)."""
+    law = export.law
+    rows = [(s.name, s.diameter * 1e3, s.reason.name.lower(), len(s.steps), s.cycle_time)
+            for s in export.sections]
+    lines = [f"pampipe_required_pressure: {law.function.n_instructions()} operations; anchoring needs "
+             f"{law.narrowest * 1e3:.4g} mm < D < {law.widest * 1e3:.4g} mm; "
+             f"supply {law.supply_pressure / 1e3:.4g} kPa",
+             table(["section", "D [mm]", "reason", "gait steps", "cycle [s]"], rows)]
     return "\n".join(lines)

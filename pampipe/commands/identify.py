@@ -117,6 +117,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def result_text(result) -> str:
+    """The report of `identify` (``str(result)``), headed by the experiment file."""
+    return full_report(result, str(getattr(result, "experiment_source", "experiment")))
+
+
 def full_report(result, source: str) -> str:
     """The moduli report (when the moduli were fitted) and the slip report (when there are slip tests)."""
     from pampipe.commands.slip_text import slip_report
