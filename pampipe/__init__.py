@@ -14,8 +14,8 @@ __version__ = "0.1.0"
 
 _API = ("simulate", "identify", "plan", "gait", "diagnose", "design_inventory", "export_mission", "load_pam",
         "load_mission", "load_experiment", "load_inventory", "extension", "save_pam", "route", "synth",
-        "example")
-__all__ = [*_API, "Muscle", "set_units", "__version__"]
+        "example", "set_units")
+__all__ = [*_API, "Muscle", "__version__"]
 
 
 def __getattr__(name: str):
@@ -23,10 +23,6 @@ def __getattr__(name: str):
         from pampipe import api
 
         return getattr(api, name)
-    if name == "set_units":
-        from pampipe.display import set_units
-
-        return set_units
     if name == "Muscle":
         from pampipe.model.muscle import Muscle
 

@@ -470,6 +470,15 @@ def _command_text(result: CommandResult) -> str:
     return result.render()
 
 
+def set_units(name: str) -> None:
+    """Show results in ``name`` from now on, in this process: ``str(result)``, ``result.to_text()`` and
+    ``result.plot()``; a preset (``"si"``, ``"metric"``, ``"us"``) or a pressure unit (``"psi"``). A
+    command line run keeps its own --units; ``to_dict()`` and ``to_frame()`` stay SI."""
+    from pampipe import display
+
+    display.set_units(name)
+
+
 def _command(name: str, argv: list[str], options: Mapping) -> CommandResult:
     """Run command ``name`` with ``argv`` and keyword ``options`` converted as its own parser converts
     them (unit strings to SI, paths), without printing."""

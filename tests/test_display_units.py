@@ -174,3 +174,34 @@ def test_a_reason_that_ends_the_run_is_in_the_users_units_and_the_json_error_sta
     last = us.stderr.splitlines()[-1]
     assert "psi" in last and "lbf" in last and not METRIC.search(last)
     assert json.loads(us.stdout) == json.loads(metric.stdout)  # the error document keeps SI-metric
+
+
+def test_api_text_in_the_users_units_and_its_data_in_si(cli, tmp_path):
+    """str(result) and result.to_text(units=) give the command's report in the chosen units;
+    pampipe.set_units() sets the default for the process, not for a command line run; to_dict() is SI."""
+    import pampipe
+    from pampipe.errors import InputError
+
+    plan = pampipe.plan(MISSION)
+    document = plan.to_dict()
+    metric, us = str(plan), plan.to_text(units="us")
+    assert _metric_lines(metric) and _metric_lines(us) == []
+    segment = document["sections"][0]["segments"][0]
+    row = next(line for line in us.splitlines() if line.split()[:2] == ["riser", "PAM1"])
+    assert float(row.split()[2]) == pytest.approx(segment["pressure_Pa"] / PSI, rel=1e-3)
+    synth = pampipe.synth(tmp_path / "synth", force=True)
+    try:
+        pampipe.set_units("us")
+        assert str(plan) == us and plan.to_text(units="metric") == metric
+        assert plan.to_dict() == document  # the data stay SI
+        assert re.search(r"\d lbf\b", str(synth)) and _metric_lines(str(synth)) == []
+        simulated = str(pampipe.simulate(PROBLEMS / "pams" / "paper-radial-pam.yaml", pipe_diameter="3 in"))
+        assert "in a 3 in pipe" in simulated and "[psi]" in simulated and _metric_lines(simulated) == []
+        run = cli("plan", MISSION)
+        assert run.returncode == 0 and "[kPa]" in run.stdout  # the command line keeps its --units
+        assert str(plan) == us  # and the process default is back after the run
+    finally:
+        pampipe.set_units("metric")
+    assert str(plan) == metric and re.search(r"\d N\b", str(synth))
+    with pytest.raises(InputError, match="imperial"):
+        pampipe.set_units("imperial")

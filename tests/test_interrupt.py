@@ -1,4 +1,5 @@
-"""An interrupted run exits 128 + the signal (SIGINT 130, SIGTERM 143) with one line and leaves no output file (issues 7, 14)."""
+"""An interrupted run exits 128 + the signal (SIGINT 130, SIGTERM 143) with one line and leaves no output
+file (issues 7, 14, 26)."""
 
 from __future__ import annotations
 

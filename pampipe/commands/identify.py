@@ -25,7 +25,7 @@ from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
 from pampipe.model.uncertainty import SCALED_UNITS
-from pampipe.progress import note
+from pampipe.progress import deferred, note
 from pampipe.report import table
 
 NAME = "identify"
@@ -89,7 +89,9 @@ def run(args: argparse.Namespace) -> int:
         note(f"pampipe identify: {text}")
 
     data = load_experiment_data(experiment, progress=progress)
-    result = identify(data, options, progress=progress if data.points >= 100_000 else None)
+    with deferred() as later:  # below 10⁵ rows a step is noted only when it takes more than a second
+        result = identify(data, options, progress=progress if data.points >= 100_000 else
+                          lambda text: later(f"pampipe identify: {text}"))
     document = result.as_document()
     document["experiment"] = str(experiment.source)
     if args.output is not None:
