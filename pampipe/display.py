@@ -9,9 +9,11 @@ display context converts it late, at the two places all text passes through:
   followed by a metric unit (``12.5 kPa``, ``48 mm``, ``3.2 m``, ``120 N``) is converted the same way,
   to as many significant digits as it was written with (at least 3).
 
-Presets: ``si`` (Pa, m, N), ``metric`` (kPa, mm and m, N: the default, today's text unchanged) and
-``us`` (psi, in, ft and mi, lbf). A single pressure unit (``psi``, ``bar``, ``kPa``, ``MPa``, ``Pa``)
-changes pressures only. JSON is never converted.
+Presets: ``si`` (Pa, m, N), ``metric`` (kPa, mm and m, N, kg: the default, today's text unchanged) and
+``us`` (psi, in, ft and mi, lbf, lb). A single pressure unit (``psi``, ``bar``, ``kPa``, ``MPa``, ``Pa``)
+changes pressures only. Per-metre units take the short length (``N/m`` -> ``lbf/in``, ``1/m`` -> ``1/in``).
+JSON is never converted. The command line sets the units for its run (:func:`shown_in`); the Python API's
+default is :func:`set_units`.
 """
 
 from __future__ import annotations
@@ -72,11 +74,9 @@ _current = {"units": PRESETS["metric"]}
 
 def units_for(name: str) -> Units:
     """The display units of a --units value: a preset, or a pressure unit with metric lengths and forces."""
-    if not isinstance(name, str):
-        name = repr(name)
-    if name in PRESETS:
+    if isinstance(name, str) and name in PRESETS:
         return PRESETS[name]
-    if name in PRESSURES:
+    if isinstance(name, str) and name in PRESSURES:
         return replace(PRESETS["metric"], pressure=name)
     from pampipe.errors import InputError
 
