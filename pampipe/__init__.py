@@ -14,7 +14,7 @@ __version__ = "0.1.0"
 
 _API = ("simulate", "identify", "plan", "gait", "diagnose", "design_inventory", "export_mission", "load_pam",
         "load_mission", "load_experiment", "load_inventory", "extension", "save_pam", "route", "synth",
-        "example")
+        "example", "set_units")
 __all__ = [*_API, "Muscle", "__version__"]
 
 

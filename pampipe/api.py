@@ -19,7 +19,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from pampipe.results import notebook
@@ -294,6 +294,7 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
                           pipe_diameters=[diameters] if isinstance(diameters, float) else diameters or ())
     result = run(data, options, progress=progress if data.points >= 100_000 else None)
     object.__setattr__(result, "experiment_data", data)  # what result.plot() draws against
+    object.__setattr__(result, "experiment_source", spec.source)  # what str(result) is headed by
     return result
 
 
@@ -446,21 +447,36 @@ def example(name: str | None = None, out_dir: str | os.PathLike | None = None, *
     return _command("example", positional, {"force": force})
 
 
-@notebook(headline=("command",))
+@notebook(headline=("command",), text="pampipe.api:_command_text")
 @dataclass(frozen=True)
 class CommandResult:
     """The outcome of a command that writes files (route, synth, example): its ``--json`` document
-    (``to_dict()``) and its text report (``str()``)."""
+    (``to_dict()``) and its text report (``str()``, ``to_text(units)``; ``render()`` writes it)."""
 
     command: str
     document: dict
-    text: str
+    render: Callable[[], str] = field(repr=False, compare=False)
 
     def to_dict(self) -> dict:
         return {"command": self.command, **self.document}
 
-    def __str__(self) -> str:
-        return self.text
+    @property
+    def text(self) -> str:
+        """The text report in the units of :func:`pampipe.set_units`."""
+        return self.to_text()
+
+
+def _command_text(result: CommandResult) -> str:
+    return result.render()
+
+
+def set_units(name: str) -> None:
+    """Show results in ``name`` from now on, in this process: ``str(result)``, ``result.to_text()`` and
+    ``result.plot()``; a preset (``"si"``, ``"metric"``, ``"us"``) or a pressure unit (``"psi"``). A
+    command line run keeps its own --units; ``to_dict()`` and ``to_frame()`` stay SI."""
+    from pampipe import display
+
+    display.set_units(name)
 
 
 def _command(name: str, argv: list[str], options: Mapping) -> CommandResult:
@@ -520,7 +536,8 @@ def _objective(name: str, kind):
         raise InputError(f"objective: {name!r} is not one of {', '.join(k.value for k in kind)}.") from None
 
 
-@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot="pampipe.plots.gait:plot_report")
+@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot="pampipe.plots.gait:plot_report",
+          text="pampipe.commands.gait:result_text")
 @dataclass(frozen=True)
 class GaitReport:
     """The sequential gait and, if asked for, the time-optimal one; ``to_dict()`` is `gait --json`."""

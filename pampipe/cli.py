@@ -1,9 +1,9 @@
 """Command-line entry point: argument parsing and exit codes, no physics.
 
 Exit codes (docs/commands.md §1.3): 0 success, 2 bad input, 3 no solution (infeasible or solver
-failure, or an internal error, reported with a "please report" hint), 130 interrupted. No error
-prints a Python traceback unless ``--debug`` is given. Under ``--json`` an error that comes before
-the command's document prints ``{"error": {"code": …, "message": …}}`` on stdout instead.
+failure, or an internal error, reported with a "please report" hint), 130 interrupted (143 by
+SIGTERM). No error prints a Python traceback unless ``--debug`` is given. Under ``--json`` an error
+that comes before the command's document prints ``{"error": {"code": …, "message": …}}`` on stdout instead.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ from pampipe.io.files import forget_written, written
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
             "export")
-#: Exit code of an interrupted run (128 + SIGINT).
-INTERRUPTED = 130
+#: Exit codes of an interrupted run: 128 + SIGINT, 128 + SIGTERM.
+INTERRUPTED = (130, 143)
 #: Exit code of an unexpected internal error (a bug).
 INTERNAL = 3
 
@@ -68,7 +68,7 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
         prog="pampipe",
         description="Plan the inflation pressures of a pneumatic-muscle pipe-crawling robot.",
         epilog="Exit codes: 0 success, 2 bad input, 3 no solution (infeasible or solver failure), "
-               "130 interrupted.")
+               "130 interrupted (143 by SIGTERM).")
     parser.add_argument("--version", action="version", version=f"pampipe {__version__}")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an internal error")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -97,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
             code = _flushed(_run(argv))
     except StreamError:  # a stream closed before the run: said on the other one if it was open
         return StreamError.exit_code
-    if code == INTERRUPTED and program:
+    if code in INTERRUPTED and program:
         _end_now(code)
     return code
 
@@ -185,7 +185,7 @@ def _interrupted(args, argv, command: str) -> int:
         message = f"interrupted after writing {done}; no partial output was written."
     else:
         message = "interrupted; no partial output was written."
-    return _fail(args, argv, command, INTERRUPTED, None, message)
+    return _fail(args, argv, command, interrupts.exit_code(), None, message)
 
 
 def _fail(args, argv, command: str, code: int, kind: str | None, message: str, *,

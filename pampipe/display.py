@@ -9,9 +9,11 @@ display context converts it late, at the two places all text passes through:
   followed by a metric unit (``12.5 kPa``, ``48 mm``, ``3.2 m``, ``120 N``) is converted the same way,
   to as many significant digits as it was written with (at least 3).
 
-Presets: ``si`` (Pa, m, N), ``metric`` (kPa, mm and m, N: the default, today's text unchanged) and
-``us`` (psi, in, ft and mi, lbf). A single pressure unit (``psi``, ``bar``, ``kPa``, ``MPa``, ``Pa``)
-changes pressures only. JSON is never converted.
+Presets: ``si`` (Pa, m, N), ``metric`` (kPa, mm and m, N, kg: the default, today's text unchanged) and
+``us`` (psi, in, ft and mi, lbf, lb). A single pressure unit (``psi``, ``bar``, ``kPa``, ``MPa``, ``Pa``)
+changes pressures only. Per-metre units take the short length (``N/m`` -> ``lbf/in``, ``1/m`` -> ``1/in``).
+JSON is never converted. The command line sets the units for its run (:func:`shown_in`); the Python API's
+default is :func:`set_units`.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ class Units:
     distance: str = "m"
     far: str = "km"
     force: str = "N"
+    mass: str = "kg"
 
     def target(self, unit: str) -> str | None:
         """The display unit of metric/SI ``unit`` (None for a unit it does not convert)."""
@@ -50,32 +53,41 @@ class Units:
             return self.length
         if dimension == DIMENSIONS["force"]:
             return self.force
+        if dimension == DIMENSIONS["mass"]:
+            return self.mass
         return None
 
 
 PRESETS = {
     "si": Units(pressure="Pa", length="m", distance="m", force="N"),
     "metric": Units(),
-    "us": Units(pressure="psi", length="in", distance="ft", far="mi", force="lbf"),
+    "us": Units(pressure="psi", length="in", distance="ft", far="mi", force="lbf", mass="lb"),
 }
 PRESSURES = ("kPa", "psi", "bar", "MPa", "Pa")
 #: Every value of --units.
 CHOICES = (*PRESETS, *PRESSURES)
 #: Metric units that :func:`localize` converts in free text (after a number; also per a unit: mm/s).
-TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "km", "kN", "N")
+TEXT_UNITS = ("kPa", "MPa", "Pa", "mm", "m", "km", "kN", "N", "kg")
 
 _current = {"units": PRESETS["metric"]}
 
 
 def units_for(name: str) -> Units:
     """The display units of a --units value: a preset, or a pressure unit with metric lengths and forces."""
-    if name in PRESETS:
+    if isinstance(name, str) and name in PRESETS:
         return PRESETS[name]
-    if name in PRESSURES:
+    if isinstance(name, str) and name in PRESSURES:
         return replace(PRESETS["metric"], pressure=name)
     from pampipe.errors import InputError
 
-    raise InputError(f"--units: {name!r} is not one of {', '.join(CHOICES)}.")
+    raise InputError(f"units: {name!r} is not one of {', '.join(CHOICES)}.")
+
+
+def set_units(name: str) -> None:
+    """Show results in ``name`` from now on, in this process (the Python API: ``str(result)``,
+    ``result.to_text()``, ``result.plot()``): a preset (si, metric, us) or a pressure unit. A command
+    line run keeps its own --units (metric by default); JSON, ``to_dict()`` and ``to_frame()`` stay SI."""
+    _current["units"] = units_for(name)
 
 
 def current() -> Units:
@@ -99,22 +111,24 @@ def factor(source: str, target: str) -> float:
     return UNITS[source][0] / UNITS[target][0]
 
 
-_HEADER = re.compile(r"\[([A-Za-z]+)(?:/([A-Za-z]+))?\]")
+_HEADER = re.compile(r"\[([A-Za-z]+|1)(?:/([A-Za-z]+))?\]")  # [kPa], [N/m], [1/m]
 _NUMBER = re.compile(r"(?<![\w.])(-?)(\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)")
 _VALUE = r"(-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
 #: A number, or a range 'a - b', 'a -> b', 'a to b', 'a of b', then a space and a metric unit (names such
 #: as 'radial-3in-0N' are left alone).
 _IN_TEXT = re.compile(r"(?<![\w.-])(?:" + _VALUE + r"(\s*(?:->|-|–|to|of)\s*))?" + _VALUE + "( )("
-                      + "|".join(TEXT_UNITS) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
+                      + "|".join((*TEXT_UNITS, "1")) + r")(?:/([A-Za-z]+))?(?![\w/²³^])")
 
 
 def _convert(unit: str, per: str | None, units: Units) -> tuple[str, float] | None:
     """The display unit and factor of ``unit`` (or ``unit/per``), or None when nothing changes (metric
     shows the text as written, MPa included)."""
-    to = units.target(unit)
+    if unit == "1" and per is None:
+        return None
+    to = "1" if unit == "1" else units.target(unit)  # '1/m': a curvature
     if to is None or units == PRESETS["metric"]:
         return None
-    scale = factor(unit, to)
+    scale = 1.0 if unit == "1" else factor(unit, to)
     shown = to
     if per is not None:
         if per not in UNITS:
@@ -133,7 +147,7 @@ def scaled(unit: str) -> tuple[str, float]:
     """The display unit of metric ``unit`` (or 'a/b') and the factor to it, for numbers a caller formats
     itself (a table whose unit is in its title, a value with its interval)."""
     top, _, per = unit.partition("/")
-    if top not in TEXT_UNITS:
+    if top not in (*TEXT_UNITS, "1"):
         return unit, 1.0
     return _convert(top, per or None, current()) or (unit, 1.0)
 
@@ -142,7 +156,7 @@ def relabel(label: str) -> tuple[str, float] | None:
     """``label`` with its bracketed metric unit ('P [kPa]') replaced by the display unit, and the factor
     to it; None when the display units leave it as it is."""
     match = _HEADER.search(label)
-    if match is None or match.group(1) not in TEXT_UNITS:
+    if match is None or match.group(1) not in (*TEXT_UNITS, "1"):
         return None
     converted = _convert(match.group(1), match.group(2), current())
     if converted is None:

@@ -1,4 +1,5 @@
-"""Ctrl-C and SIGTERM, honoured even inside IPOPT (docs/commands.md §1.3: exit 130).
+"""Ctrl-C and SIGTERM, honoured even inside IPOPT (docs/commands.md §1.3: exit 130 for SIGINT, 143 for
+SIGTERM: 128 + the signal's number, as a shell reports a process the signal ended).
 
 CasADi polls Python's signals while IPOPT iterates; a KeyboardInterrupt raised there is swallowed,
 and IPOPT stops with ``User_Requested_Stop`` (or, if the signal lands between iterations, finishes).
@@ -12,10 +13,12 @@ import signal
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-_state = {"requested": False}
+_state = {"requested": False, "signal": signal.SIGINT}
 
 
 def _handler(signum, frame):
+    if not _state["requested"]:  # the first signal names the exit code
+        _state["signal"] = signum
     _state["requested"] = True
     raise KeyboardInterrupt
 
@@ -23,7 +26,7 @@ def _handler(signum, frame):
 @contextmanager
 def handled() -> Iterator[None]:
     """Install the SIGINT/SIGTERM handler for the duration of a command, then restore the old ones."""
-    _state["requested"] = False
+    _state.update(requested=False, signal=signal.SIGINT)
     previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
@@ -35,6 +38,12 @@ def handled() -> Iterator[None]:
 def requested() -> bool:
     """True once SIGINT or SIGTERM has arrived during the current command."""
     return _state["requested"]
+
+
+def exit_code() -> int:
+    """128 + the number of the signal that interrupted the command: 130 (SIGINT, also a KeyboardInterrupt
+    raised without a signal) or 143 (SIGTERM)."""
+    return 128 + int(_state["signal"])
 
 
 def check(stats: dict | None = None) -> None:

@@ -11,7 +11,9 @@ shows the numbers of ``--json``:
   (unit-suffixed: ``pressure_Pa``), the enclosing records' keys prefixed with their singular name
   (``section_name``); pandas is the optional extra ``pampipe[frames]``;
 * ``result.plot(ax=None)``: the command's main figure (the first one ``--plots`` writes), drawn
-  into ``ax`` when given, returned as a matplotlib Figure.
+  into ``ax`` when given, returned as a matplotlib Figure;
+* ``result.to_text(units=None)`` and ``str(result)``: the command's text report, in ``units`` (a
+  ``--units`` value), by default in the units of :func:`pampipe.set_units` (metric unless set).
 """
 
 from __future__ import annotations
@@ -27,12 +29,13 @@ REPR_LIMIT = 299  # characters of repr()
 HTML_ROWS = 40  # rows of the long table shown by _repr_html_
 
 
-def notebook(*, headline: tuple[str, ...] = (), plot: str | None = None):
-    """Class decorator: ``__repr__``, ``_repr_html_``, ``to_frame``, ``records`` and ``plot``.
+def notebook(*, headline: tuple[str, ...] = (), plot: str | None = None, text: str | None = None):
+    """Class decorator: ``__repr__``, ``_repr_html_``, ``to_frame``, ``records``, ``plot``, ``to_text``.
 
     ``headline``: the document's top-level keys shown first in the repr (others follow while they
     fit); ``plot``: ``"module:function"`` taking ``(result, folder)`` as the command's ``--plots``
-    does, whose first figure ``plot()`` returns.
+    does, whose first figure ``plot()`` returns; ``text``: ``"module:function"`` taking the result
+    and returning the command's text report (``to_text()`` and ``str()``).
     """
 
     def decorate(cls):
@@ -42,6 +45,9 @@ def notebook(*, headline: tuple[str, ...] = (), plot: str | None = None):
         cls.to_frame = lambda self: frame(records(document(self)))
         if plot is not None:
             cls.plot = lambda self, ax=None: main_figure(self, plot, ax)
+        if text is not None:
+            cls.to_text = lambda self, units=None: report_text(self, text, units)
+            cls.__str__ = lambda self: report_text(self, text, None)
         return cls
 
     return decorate
@@ -153,6 +159,19 @@ def frame(rows: list[dict]):
         raise ImportError("to_frame() needs pandas: install the optional extra with "
                           "`pip install pampipe[frames]` (or `pip install pandas`).") from None
     return pandas.DataFrame.from_records(rows)
+
+
+def report_text(result, target: str, units: str | None) -> str:
+    """The text that ``target`` (``"module:function"``) writes of ``result``, in ``units`` (a --units
+    value; None: those of :func:`pampipe.display.set_units`)."""
+    from contextlib import nullcontext
+
+    from pampipe import display
+
+    module, name = target.split(":")
+    build: Callable = getattr(importlib.import_module(module), name)
+    with nullcontext() if units is None else display.shown_in(units):
+        return display.localize(build(result))
 
 
 def main_figure(result, target: str, ax=None):

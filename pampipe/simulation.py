@@ -69,7 +69,7 @@ class Curves:
 
 
 @notebook(headline=("pam", "pipe_diameter_m", "axial_load_N", "anchoring_pressure_Pa"),
-          plot="pampipe.plots.simulate:plot_simulation")
+          plot="pampipe.plots.simulate:plot_simulation", text="pampipe.commands.simulate:result_text")
 @dataclass(frozen=True)
 class SimulateResult:
     """One muscle in one or more pipes and under one or more loads."""

@@ -16,15 +16,15 @@ PSI = LBF / INCH**2  # Pa
 FOOT = 12 * INCH
 MILE = 5280 * FOOT
 
-#: A metric unit after a number, or a metric unit in a table header: none may be left under --units us.
-METRIC = re.compile(r"kPa|MPa|\d Pa\b|\d mm\b|\[mm|mm\]|\[N\]|\[N/|\d N\b|mm/s|\d m\b|\[m\]|\d km\b")
-#: Lines that still print metric by design (reported in docs/commands.md): identify's least-squares sum
-#: in N^2 and its coefficient table in MPa (the model's own scaling).
-EXEMPT = ("N^2", "Coefficients [MPa", "(scaled: MPa")
+#: A metric unit after a number, in a table header or in a compound unit: none may be left under --units us.
+#: Names are left alone ('radial-76.2mm-0N', JSON keys such as 'pressure_Pa'), hence the digit-space and
+#: word-boundary guards.
+METRIC = re.compile(r"kPa|MPa|\d Pa\b|\[Pa\b|\d mm\b|\[mm|mm\]|\bmm/|\[N\]|\[N/|\d N\b|\bN/|\bN\^2|N²|\d m\b"
+                    r"|\[m\]|/m\]|\d km\b|\d cm\b|\bkg\b|\b1/m\b")
 
 
 def _metric_lines(text: str) -> list[str]:
-    return [line for line in text.splitlines() if METRIC.search(line) and not any(e in line for e in EXEMPT)]
+    return [line for line in text.splitlines() if METRIC.search(line)]
 
 
 def test_numbers_in_text_are_converted_with_their_precision():
@@ -74,35 +74,47 @@ COMMANDS = {
     "design": ["design", PROBLEMS / "inventories" / "riser.yaml", "--starts", "4"],
     "export": ["export", MISSION],
     "route": ["route", "ky4", "--from", "J-315", "--to", "J-897", "--max-bore", "4.5 in"],
+    "gait-optimal": ["gait", MISSION, "--optimal"],
     "identify": ["identify", PROBLEMS / "experiments" / "paper-protocol.yaml"],
-    "diagnose": pytest.param(["diagnose", PROBLEMS / "experiments" / "hidden-contact-stiffening.yaml"],
-                             marks=pytest.mark.slow),
+    "identify-slip": ["identify", PROBLEMS / "experiments" / "slip-3in.yaml"],
+    "synth": ["synth", "OUT", "--slip-pipe", "3 in", "--force-noise", "2 N"],
+    "diagnose": ["diagnose", PROBLEMS / "experiments" / "hidden-contact-stiffening.yaml"],
 }
 #: The units each command's text must show under --units us.
 SHOWS = {"route": ("in", "ft"), "simulate-extensile": ("psi", "in"), "design": ("psi", "in", "ft"),
-         "diagnose": ("psi", "lbf"), "export": ("psi", "in"), "plan-reasons": ("psi", "in", "lbf")}
+         "diagnose": ("psi", "lbf", "lbf^2"), "export": ("psi", "in"), "plan": ("psi", "in", "lbf", "lb"),
+         "plan-reasons": ("psi", "in", "lbf", "lb"), "plan-bends": ("psi", "in", "1/in"),
+         "synth": ("psi", "lbf"), "identify": ("psi", "in", "lbf", "lbf^2"),
+         "identify-slip": ("psi", "in", "lbf", "lbf/s")}
 
 
 @pytest.mark.parametrize("name", COMMANDS)
 def test_us_units_everywhere_and_the_json_unchanged(cli, tmp_path, name):
-    args = COMMANDS[name]
-    args = args.values[0] if hasattr(args, "values") else args
-    out, written = {}, {}
+    """Every command that prints a quantity, on bundled problems: its text (stdout and stderr, progress lines
+    included) under --units us holds no metric unit and shows the US ones; the same text under metric
+    holds metric units (so the check can fail); the JSON and the files written are the same."""
+    args = [tmp_path / "synth" if a == "OUT" else a for a in COMMANDS[name]]
     extra = (["-o", tmp_path / "mission.yaml", "--force"] if name == "route" else
-             ["-o", tmp_path / "c", "--force"] if name == "export" else [])
-    for units in ("metric", "us"):
-        out[units] = cli(*args, *extra, "--units", units, "--json", "--reproducible")
-        assert out[units].returncode in (0, 3), out[units].stderr
-        written[units] = {p.name: p.read_text() for p in sorted(tmp_path.rglob("*")) if p.is_file()}
-    metric, us = out["metric"], out["us"]
-    assert metric.returncode == us.returncode
-    assert metric.stdout == us.stdout  # the JSON stays SI
+             ["-o", tmp_path / "c", "--force"] if name == "export" else
+             ["--force"] if name == "synth" else [])
+    out, written = {}, {}
+    for units, json in (("metric", "--json"), ("us", "--json"), ("us", None)):
+        key = f"{units} {json}"
+        out[key] = cli(*args, *extra, "--units", units, *([json] if json else []), "--reproducible")
+        assert out[key].returncode in (0, 3), out[key].stderr
+        written[key] = {p.name: p.read_text() for p in sorted(tmp_path.rglob("*")) if p.is_file()}
+    metric, us, text = out["metric --json"], out["us --json"], out["us None"]
+    assert metric.returncode == us.returncode == text.returncode
     assert metric.stdout.startswith("{")
-    assert written["metric"] == written["us"]  # and so do the mission file and the robot's C
+    if name != "gait-optimal":  # a second optimal gait in one process starts warm: its solver block differs
+        assert metric.stdout == us.stdout  # the JSON stays SI
+    assert written["metric --json"] == written["us --json"]  # and so do the mission file and the robot's C
     assert _metric_lines(metric.stderr), "the check must see the metric text it forbids under us"
     assert _metric_lines(us.stderr) == []
+    assert _metric_lines(text.stdout + text.stderr) == []  # the text report, progress lines and warnings
     for unit in SHOWS.get(name, ("psi", "in", "lbf")):
-        assert re.search(rf"\[{unit}\]|\d {unit}\b", us.stderr), unit
+        assert re.search(rf"\[{re.escape(unit)}\]|\d {re.escape(unit)}\b|{re.escape(unit)}\)|per {unit}",
+                         text.stdout + text.stderr), unit
 
 
 def test_plan_numbers_in_us_units_match_the_json(cli):
@@ -162,3 +174,34 @@ def test_a_reason_that_ends_the_run_is_in_the_users_units_and_the_json_error_sta
     last = us.stderr.splitlines()[-1]
     assert "psi" in last and "lbf" in last and not METRIC.search(last)
     assert json.loads(us.stdout) == json.loads(metric.stdout)  # the error document keeps SI-metric
+
+
+def test_api_text_in_the_users_units_and_its_data_in_si(cli, tmp_path):
+    """str(result) and result.to_text(units=) give the command's report in the chosen units;
+    pampipe.set_units() sets the default for the process, not for a command line run; to_dict() is SI."""
+    import pampipe
+    from pampipe.errors import InputError
+
+    plan = pampipe.plan(MISSION)
+    document = plan.to_dict()
+    metric, us = str(plan), plan.to_text(units="us")
+    assert _metric_lines(metric) and _metric_lines(us) == []
+    segment = document["sections"][0]["segments"][0]
+    row = next(line for line in us.splitlines() if line.split()[:2] == ["riser", "PAM1"])
+    assert float(row.split()[2]) == pytest.approx(segment["pressure_Pa"] / PSI, rel=1e-3)
+    synth = pampipe.synth(tmp_path / "synth", force=True)
+    try:
+        pampipe.set_units("us")
+        assert str(plan) == us and plan.to_text(units="metric") == metric
+        assert plan.to_dict() == document  # the data stay SI
+        assert re.search(r"\d lbf\b", str(synth)) and _metric_lines(str(synth)) == []
+        simulated = str(pampipe.simulate(PROBLEMS / "pams" / "paper-radial-pam.yaml", pipe_diameter="3 in"))
+        assert "in a 3 in pipe" in simulated and "[psi]" in simulated and _metric_lines(simulated) == []
+        run = cli("plan", MISSION)
+        assert run.returncode == 0 and "[kPa]" in run.stdout  # the command line keeps its --units
+        assert str(plan) == us  # and the process default is back after the run
+    finally:
+        pampipe.set_units("metric")
+    assert str(plan) == metric and re.search(r"\d N\b", str(synth))
+    with pytest.raises(InputError, match="imperial"):
+        pampipe.set_units("imperial")

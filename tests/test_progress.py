@@ -36,6 +36,27 @@ def test_live_bar_on_a_terminal_rewrites_one_line():
     assert "a step\n" in text and text.endswith("] 4/4 starts\n")
 
 
+def test_a_deferred_step_is_noted_only_when_its_wait_runs_out():
+    """identify's steps below 10⁵ rows: a line only for a step still running after a second. The waits
+    are joined, not timed: 0 s runs out at once, an hour never within the test."""
+    stream = io.StringIO()
+    with progress.shown(stream=stream):
+        with progress.deferred(after=0.0) as later:
+            later("a slow step")
+            later.timer.join()
+        with progress.deferred(after=3600.0) as later:
+            later("a step the next one ends")
+            first = later.timer
+            later("a step the block ends")
+            second = later.timer
+        first.join()
+        second.join()  # cancelled: both end at once, and say nothing
+    with progress.deferred(after=0.0) as later:  # not shown (a notebook, --json): no wait at all
+        later("unseen")
+        assert later.timer is None
+    assert stream.getvalue() == "a slow step\n"
+
+
 def test_silent_unless_shown_and_when_disabled():
     stream = io.StringIO()
     progress.count("starts", 1, 2)  # no reporter: nothing happens, nothing fails

@@ -69,7 +69,8 @@ def add_units_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--units", choices=CHOICES, default="metric",
                         help="units of the tables, warnings, reasons and plots: si (Pa, m, N), metric (kPa, "
                              "mm, N; default), us (psi, in, lbf), or one pressure unit (kPa, psi, bar, MPa, "
-                             "Pa) for pressures only; the JSON stays SI")
+                             "Pa) for pressures only; the JSON stays SI. Options take values in any unit "
+                             "('6.6 lb', '4.5 in')")
 
 
 def add_report_option(parser: argparse.ArgumentParser) -> None:

@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.report, experiment.input_files, option="--report")
     data = load_experiment_data(experiment, progress=lambda text: say_err(args, text))
     result = diagnose(data, effects=args.effect, folds=args.folds, progress=lambda text: say_err(args, text))
-    text = report(result) if result.slip is None else report(result) + "\n" + result.slip.report()
+    text = result_text(result)
     document = result.as_document()
     emit(args, document, text)
     from pampipe.plots.diagnose import plot_diagnosis
@@ -124,6 +124,11 @@ def _span(low: float, high: float, scale: float, digits: int) -> str:
     return f"{low * scale:.{digits}f}-{high * scale:.{digits}f}"
 
 
+def result_text(result) -> str:
+    """The report of `diagnose` (``str(result)``), with the slip tests' when there are any."""
+    return report(result) if result.slip is None else report(result) + "\n" + result.slip.report()
+
+
 def report(result) -> str:
     """The human-readable report: noise floors and checks, the steps, the verdict, before/after."""
     base, chosen = result.baseline, result.chosen
@@ -184,9 +189,10 @@ def report(result) -> str:
                      f"{sep['max_difference_N']:.3g} N, {sep['ratio']:.3g}x the noise floor)")
         decision.append(text)
     if verdict.probes_removed > 0:
+        force, k = scaled("N")  # sums of squared residuals, in the display unit of force squared
         decision.append(f"  on the tests that held the residual, the library removes "
-                        f"{verdict.library_removed:.4g} N^2 and generic probes "
-                        f"{verdict.probes_removed:.4g} N^2")
+                        f"{verdict.library_removed * k**2:.4g} {force}^2 and generic probes "
+                        f"{verdict.probes_removed * k**2:.4g} {force}^2")
     parts.append("\n".join(decision))
     parts.append("RMSE per test, before and after:\n" + table(
         ["test", "before [N]", "after [N]", "floor [N]", "after/floor", "at noise after"],

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, emit
@@ -22,12 +23,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    emit(args, *compute(args))
+    document, render = compute(args)
+    emit(args, document, render())
     return 0
 
 
-def compute(args: argparse.Namespace) -> tuple[dict, str]:
-    """(the JSON document, the text report) of the command; files are written here."""
+def compute(args: argparse.Namespace) -> tuple[dict, Callable[[], str]]:
+    """(the JSON document, what writes the text report in the display units) of the command; files are
+    written here."""
     from pampipe.errors import InputError
     from pampipe.io.config import load_experiment, load_mission
     from pampipe.io.inventory import load_inventory
@@ -35,7 +38,7 @@ def compute(args: argparse.Namespace) -> tuple[dict, str]:
     if args.name is None:
         listing = bundled.catalogue()
         text = "\n".join(f"{kind}: {', '.join(names)}" for kind, names in listing.items())
-        return {"examples": listing}, text + "\ncopy one with: pampipe example NAME DIR"
+        return {"examples": listing}, lambda: text + "\ncopy one with: pampipe example NAME DIR"
     if args.out_dir is None:
         raise InputError(f"example {args.name}: give the folder to copy into, e.g. "
                          f"`pampipe example {args.name} my-{args.name}`.")
@@ -54,4 +57,4 @@ def compute(args: argparse.Namespace) -> tuple[dict, str]:
     commands = {"missions": "plan", "experiments": "identify", "pams": "simulate", "inventories": "design"}
     hint = f"pampipe {commands[kind]} {main}" + (" --pipe-diameter '3 in'" if kind == "pams" else "")
     return ({"example": args.name, "kind": kind, "files": [str(p) for p in written]},
-            "\n".join(f"wrote {p}" for p in written) + f"\ntry: {hint}")
+            lambda: "\n".join(f"wrote {p}" for p in written) + f"\ntry: {hint}")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 from pathlib import Path
 
 from pampipe.api import export_mission, load_mission
@@ -13,6 +12,7 @@ from pampipe.commands.plan import probability
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_set, check_not_input
+from pampipe.progress import note
 from pampipe.report import table
 
 NAME = "export"
@@ -66,22 +66,27 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
     export = export_mission(mission, sketch_name=sketch, confidence=args.confidence,
-                            progress=lambda text: print(text, file=sys.stderr, flush=True))
+                            progress=note)  # quiet under --json and --quiet
     atomic_write_set(folder, export.files)  # the old set or the new one, never a mix
     emit(args, export.to_dict(), _report(export, folder))
     return 0
 
 
 def _report(export, folder: Path) -> str:
-    law = export.law
-    rows = [(s.name, s.diameter * 1e3, s.reason.name.lower(), len(s.steps), s.cycle_time)
-            for s in export.sections]
-    lines = [f"wrote {', '.join(str(folder / n) for n in sorted(export.files))}",
-             f"pampipe_required_pressure: {law.function.n_instructions()} operations; anchoring needs "
-             f"{law.narrowest * 1e3:.4g} mm < D < {law.widest * 1e3:.4g} mm; "
-             f"supply {law.supply_pressure / 1e3:.4g} kPa",
-             table(["section", "D [mm]", "reason", "gait steps", "cycle [s]"], rows)]
+    lines = [f"wrote {', '.join(str(folder / n) for n in sorted(export.files))}", result_text(export)]
     if export.sketch != f"{folder.resolve().name}.ino":
         lines.append(f"to open the sketch in the Arduino IDE, put the three files in a folder named "
                      f"{export.sketch.removesuffix('.ino')}")
+    return "\n".join(lines)
+
+
+def result_text(export) -> str:
+    """The law and the gait table of an export (``str(export)``; the command adds where it wrote them)."""
+    law = export.law
+    rows = [(s.name, s.diameter * 1e3, s.reason.name.lower(), len(s.steps), s.cycle_time)
+            for s in export.sections]
+    lines = [f"pampipe_required_pressure: {law.function.n_instructions()} operations; anchoring needs "
+             f"{law.narrowest * 1e3:.4g} mm < D < {law.widest * 1e3:.4g} mm; "
+             f"supply {law.supply_pressure / 1e3:.4g} kPa",
+             table(["section", "D [mm]", "reason", "gait steps", "cycle [s]"], rows)]
     return "\n".join(lines)

@@ -31,6 +31,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     report = api.gait(args.mission, section=args.section, optimal=args.optimal,
                       progress=note)
+    emit(args, report.to_dict(), result_text(report))
+    if args.plots:
+        from pampipe.plots.gait import plot_gait
+
+        for result in report.results:
+            for path in plot_gait(result, args.plots):
+                say(args, f"wrote {path}")
+    return 0
+
+
+def result_text(report) -> str:
+    """The report of `gait` (``str(report)``): the needs, the schedules, the speed gain and the bends."""
     sequential, best = report.sequential, report.optimal
     text = [_header(sequential), _schedule_text(sequential)]
     if best is not None:
@@ -44,14 +56,12 @@ def run(args: argparse.Namespace) -> int:
                     f"{b['extra_steps']} steering steps add {b['extra_time_s']:.3g} s to the "
                     f"{b['walking_time_s']:.4g} s the route takes at this section's speed "
                     f"({100 * b['extra_share']:.2g} %)")
-    emit(args, report.to_dict(), "\n\n".join(text))
-    if args.plots:
-        from pampipe.plots.gait import plot_gait
+    return "\n\n".join(text)
 
-        for result in report.results:
-            for path in plot_gait(result, args.plots):
-                say(args, f"wrote {path}")
-    return 0
+
+def section_text(result: GaitResult) -> str:
+    """One gait (``str(result)``): the section's needs and the schedule."""
+    return _header(result) + "\n\n" + _schedule_text(result)
 
 
 def _header(result: GaitResult) -> str:

@@ -24,7 +24,8 @@ from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
-from pampipe.progress import note
+from pampipe.model.uncertainty import SCALED_UNITS
+from pampipe.progress import deferred, note
 from pampipe.report import table
 
 NAME = "identify"
@@ -88,7 +89,9 @@ def run(args: argparse.Namespace) -> int:
         note(f"pampipe identify: {text}")
 
     data = load_experiment_data(experiment, progress=progress)
-    result = identify(data, options, progress=progress if data.points >= 100_000 else None)
+    with deferred() as later:  # below 10⁵ rows a step is noted only when it takes more than a second
+        result = identify(data, options, progress=progress if data.points >= 100_000 else
+                          lambda text: later(f"pampipe identify: {text}"))
     document = result.as_document()
     document["experiment"] = str(experiment.source)
     if args.output is not None:
@@ -114,6 +117,11 @@ def run(args: argparse.Namespace) -> int:
             for path in plot_slip(data.slip, result.slip, args.plots):
                 say(args, f"wrote {path}")
     return 0
+
+
+def result_text(result) -> str:
+    """The report of `identify` (``str(result)``), headed by the experiment file."""
+    return full_report(result, str(getattr(result, "experiment_source", "experiment")))
 
 
 def full_report(result, source: str) -> str:
@@ -173,15 +181,17 @@ def report(result, source: str) -> str:
                         else "fitted as max(0, F)"))
     total = f"sum of RMSE over (test, pressure): {result.sum_rmse:.4g} N   " if result.sum_rmse is not None \
         else ""
-    parts.append(f"\n{total}least squares: {result.sse!r} N^2 (RMSE {result.rmse:.4g} N)   "
-                 f"residual sigma {u.sigma:.4g} N")
+    force, to_force = scaled("N")
+    parts.append(f"\n{total}least squares: {result.sse * to_force**2!r} {force}^2 (RMSE {result.rmse:.4g} "
+                 f"N)   residual sigma {u.sigma:.4g} N")
     parts.append(_quality(result))
     parts.append(_geometry(result))
     coeff = []
     for i, name in enumerate(result.names):
-        interval = (f"[{u.lower[i]:.4g}, {u.upper[i]:.4g}]" if u.determined[i] else "not identifiable")
-        coeff.append((name, result.x[i], interval, "yes" if u.at_bound[i] else ""))
-    parts.append("\nCoefficients [MPa; geometry in deg, mm] with 95 % intervals\n"
+        shown, k = _entry(name)
+        interval = f"[{u.lower[i] * k:.4g}, {u.upper[i] * k:.4g}]" if u.determined[i] else "not identifiable"
+        coeff.append((shown, result.x[i] * k, interval, "yes" if u.at_bound[i] else ""))
+    parts.append(f"\nCoefficients [{_scaling()}] with 95 % intervals\n"
                  + table(["coefficient", "value", "95 % interval", "at bound"], coeff))
     parts.append(f"identifiable parameter combinations: {u.rank} of {len(result.names)} (listed in --json); "
                  "what that means for the forces:")
@@ -279,17 +289,46 @@ def _written(result) -> str:
                  "on nothing until the named test or a prior (fit.prior) fixes them:")
     rows = []
     for k, d in enumerate(w.undetermined, 1):
-        top = sorted(zip(w.names, d.vector, strict=True), key=lambda item: -abs(item[1]))[:3]
+        vector, width = _shown_direction(w.names, d.vector, d.scale)
+        top = sorted(zip(w.names, vector, strict=True), key=lambda item: -abs(item[1]))[:3]
         force = {key: v for key, v in d.moves.items() if key.startswith("radial_force_N@")}
         worst = max(force, key=lambda key: abs(force[key]), default=None)
         anchoring = worst and d.moves.get(worst.replace("radial_force_N", "anchoring_pressure_Pa"))
-        rows.append((k, ", ".join(f"{n} {v:+.2f}" for n, v in top), d.scale,
+        rows.append((k, ", ".join(f"{n} {v:+.2f}" for n, v in top), width,
                      "-" if worst is None else f"{float(worst.split('@')[1][:-1]) * 1e3:.4g} mm",
                      "-" if worst is None else f"{abs(force[worst]):.4g}",
                      "-" if anchoring is None else f"{abs(anchoring) / 1e3:.4g}", d.test))
-    lines.append(table(["#", "mostly (scaled: MPa, deg, mm)", "width left open", "bore", "moves F_r [N]",
+    lines.append(table(["#", f"mostly (scaled: {_scaling(', ')})", "width left open", "bore", "moves F_r [N]",
                         "moves anchoring [kPa]", "test that would determine it"], rows))
     return "\n".join(lines)
+
+
+def _entry(name: str) -> tuple[str, float]:
+    """A decision-vector entry (MPa; geometry in deg or mm, named ``..._deg``, ``..._mm``) as the report
+    shows it: its name (a length's suffix in the display unit) and the factor to the display units."""
+    if name.endswith("_deg"):
+        return name, 1.0
+    if name.endswith("_mm"):
+        unit, k = scaled("mm")
+        return name.removesuffix("_mm") + f"_{unit}", k
+    return name, scaled("MPa")[1]
+
+
+def _scaling(between: str = "; geometry in ") -> str:
+    """The units of the decision vector as shown: 'MPa; geometry in deg, mm' (metric)."""
+    return f"{scaled('MPa')[0]}{between}deg, {scaled('mm')[0]}"
+
+
+def _shown_direction(names, vector, width: float) -> tuple[list[float], float]:
+    """An undetermined direction in the display units' scaling: the step ``width`` x ``vector`` (in
+    scaled units: 1 MPa, 1 deg, 1 mm per entry) in display units, as its unit vector and its length."""
+    factors = [scaled("deg" if n == "braid_angle" else "mm" if n in SCALED_UNITS and n != "moduli"
+                      else "MPa")[1] for n in names]
+    if all(f == 1.0 for f in factors):
+        return list(vector), width
+    step = [width * v * f for v, f in zip(vector, factors, strict=True)]
+    length = math.sqrt(sum(s * s for s in step))
+    return [s / length for s in step], length
 
 
 def _drucker(result) -> str:

@@ -24,6 +24,13 @@ def pressure_scale(unit: str) -> float:
     return to_si(f"1 {unit}", "pressure")
 
 
+def result_text(plan) -> str:
+    """The warnings and the plan report, as `plan` prints them (``str(plan)``)."""
+    from pampipe.display import current
+
+    return "".join(f"warning: {w}\n" for w in plan.warnings) + plan_text(plan, unit=current().pressure)
+
+
 def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
     """The whole report: header, route, sections as parsed, plan, coverage, payload and verdict."""
     scale = pressure_scale(unit)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
 
 from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type
@@ -59,12 +60,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    emit(args, *compute(args))
+    document, render = compute(args)
+    emit(args, document, render())
     return 0
 
 
-def compute(args: argparse.Namespace) -> tuple[dict, str]:
-    """(the JSON document, the text report) of the command; files are written here."""
+def compute(args: argparse.Namespace) -> tuple[dict, Callable[[], str]]:
+    """(the JSON document, what writes the text report in the display units) of the command; files are
+    written here."""
     from pampipe.io.routes import turn_angles
     from pampipe.network import load_network, route_sections
 
@@ -100,7 +103,7 @@ def compute(args: argparse.Namespace) -> tuple[dict, str]:
                 "output": None if args.output is None else str(args.output),
                 "incline_clipped": sections.name[sections.clipped].tolist(),
                 "sections": sections.as_document()}
-    return document, _text(net, args, sections, template)
+    return document, lambda: _text(net, args, sections, template)  # tables in the units shown then
 
 
 def _friction(given: float | None, mission) -> float:

@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
         return _extension(args)
     result = api.simulate(args.pam, pipe_diameter=args.pipe_diameter, axial_load=args.axial_load or [0.0],
                           pressure=args.pressure, paper_literal=args.paper_literal)
-    emit(args, result.to_dict(), _text(result.pam, result.cases))
+    emit(args, result.to_dict(), result_text(result))
     if args.plots:
         from pampipe.plots.simulate import plot_simulation
 
@@ -61,6 +61,11 @@ def _extension(args: argparse.Namespace) -> int:
 
         say(args, f"wrote {plot_extension(result, args.plots)}")
     return 0
+
+
+def result_text(result) -> str:
+    """The report of `simulate` (``str(result)``)."""
+    return _text(result.pam, result.cases)
 
 
 def _text(name: str, cases) -> str:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+from pampipe.display import scaled
 from pampipe.report import table
 
 
@@ -47,8 +48,25 @@ def trend_lines(trends) -> str:
     """One line per residual trend test."""
     if not trends:
         return "slip residual trends: too few slipped trials (or no spread) to test"
-    return "\n".join(f"slip residual vs {t.against}: slope {t.slope:.3g}, p = {t.p_value:.2g} over "
+    return "\n".join(f"slip residual vs {_against(t)}, p = {t.p_value:.2g} over "
                      f"{t.trials} trials: {'TREND' if t.significant else 'no trend'}" for t in trends)
+
+
+#: SI unit suffix of a trend's variable -> (its metric unit, that unit in SI).
+TREND_UNITS = {"_Pa": ("kPa", 1e3), "_N_per_s": ("N/s", 1.0)}
+
+
+def _against(trend) -> str:
+    """'pressure_Pa: slope 3.79e-09' (metric), or the slope per the display unit ('pressure_Pa: slope
+    2.6e-05 per psi') when --units changes the variable's unit."""
+    suffix = next((s for s in TREND_UNITS if trend.against.endswith(s)), None)
+    if suffix is None:
+        return f"{trend.against}: slope {trend.slope:.3g}"
+    metric, size = TREND_UNITS[suffix]
+    unit, k = scaled(metric)
+    if k == 1.0:
+        return f"{trend.against}: slope {trend.slope:.3g}"
+    return f"{trend.against.removesuffix(suffix)}: slope {trend.slope * size / k:.3g} per {unit}"
 
 
 def _value(e) -> str:

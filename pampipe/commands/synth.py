@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from pampipe.commands.common import add_output_options, emit, integer_type, quantity_type
+from pampipe.commands.common import add_output_options, add_units_option, emit, integer_type, quantity_type
 from pampipe.errors import InputError
 from pampipe.io import bundled
 from pampipe.io.config import load_pam
@@ -67,15 +68,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--force", action="store_true",
                         help="replace existing experiment and data files (never the --pam input)")
     add_output_options(parser, plots=False)
+    add_units_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
-    emit(args, *compute(args))
+    document, render = compute(args)
+    emit(args, document, render())
     return 0
 
 
-def compute(args: argparse.Namespace) -> tuple[dict, str]:
-    """(the JSON document, the text report) of the command; files are written here."""
+def compute(args: argparse.Namespace) -> tuple[dict, Callable[[], str]]:
+    """(the JSON document, what writes the text report in the display units) of the command; files are
+    written here."""
     protocol = Protocol(cycles=args.cycles, points_per_leg=args.points_per_leg,
                         radial_points=args.radial_points, force_noise=args.force_noise,
                         pressure_noise=args.pressure_noise)
@@ -112,9 +116,9 @@ def compute(args: argparse.Namespace) -> tuple[dict, str]:
         document["slip"] = {"friction": slip.friction, "load_coupling": slip.load_coupling,
                             "scatter": slip.scatter, "stick_slip": slip.stick_slip,
                             "pipe_diameters_m": list(slip.pipes)}
-    return document, (f"wrote {target} (seed {args.seed}, force noise {args.force_noise:g} N, "
-                      f"pressure noise {args.pressure_noise / 1e3:g} kPa); fit it with\n"
-                      f"  pampipe identify {target} -o fitted-pam.yaml")
+    return document, lambda: (f"wrote {target} (seed {args.seed}, force noise {args.force_noise:g} N, "
+                              f"pressure noise {args.pressure_noise / 1e3:g} kPa); fit it with\n"
+                              f"  pampipe identify {target} -o fitted-pam.yaml")
 
 
 def _slip_protocol(args) -> SlipProtocol | None:

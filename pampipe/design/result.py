@@ -51,7 +51,8 @@ def starts_document(run: MultiStart) -> dict:
                       "iterations": r.iterations, "wall_time_s": r.wall_time} for r in run.results]}
 
 
-@notebook(headline=("feasible", "objective", "binding"), plot="pampipe.plots.design:plot_design")
+@notebook(headline=("feasible", "objective", "binding"), plot="pampipe.plots.design:plot_design",
+          text="pampipe.commands.design:report")
 @dataclass(frozen=True)
 class DesignResult:
     """The design of an inventory: one or K muscles, or the binding constraint where none exists.

@@ -93,7 +93,8 @@ def summarize(model, base_bic: float, data, cells, refitter) -> Summary:
                    model.bic - base_bic, tests, model.cv_rmse, fit.iterations, fit.wall_time, fit.status)
 
 
-@notebook(headline=("verdict", "reason"), plot="pampipe.plots.diagnose:plot_diagnosis")
+@notebook(headline=("verdict", "reason"), plot="pampipe.plots.diagnose:plot_diagnosis",
+          text="pampipe.commands.diagnose:result_text")
 @dataclass(frozen=True)
 class DiagnoseResult:
     source: Path

@@ -41,7 +41,7 @@ class Provenance:
     casadi: str = field(default_factory=lambda: ca.__version__)
 
 
-@notebook(headline=())
+@notebook(headline=(), text="pampipe.commands.export:result_text")
 @dataclass(frozen=True)
 class Export:
     """The exported files (name → text) and what they contain."""

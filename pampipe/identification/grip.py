@@ -19,7 +19,8 @@ from pampipe.results import notebook
 from pampipe.slip import SlipResult, fit_slip
 
 
-@notebook(headline=("success", "status"), plot="pampipe.plots.slip:plot_grip")
+@notebook(headline=("success", "status"), plot="pampipe.plots.slip:plot_grip",
+          text="pampipe.commands.identify:result_text")
 @dataclass(frozen=True)
 class GripResult:
     """The outcome of `identify` on slip tests only: the stated muscle and :class:`SlipResult`."""

@@ -99,7 +99,8 @@ class Calibration:
         return doc
 
 
-@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.plots.identify:plot_result")
+@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.plots.identify:plot_result",
+          text="pampipe.commands.identify:result_text")
 @dataclass(frozen=True)
 class IdentifyResult:
     """The outcome of :func:`pampipe.identification.identify`.

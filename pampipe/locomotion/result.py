@@ -37,7 +37,8 @@ class StepState:
     slip_margins: dict[str, float]  # holding capacity / required hold of each anchor (≥ SF)
 
 
-@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"), plot="pampipe.plots.gait:plot_gait")
+@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"), plot="pampipe.plots.gait:plot_gait",
+          text="pampipe.commands.gait:section_text")
 @dataclass(frozen=True)
 class GaitResult:
     """One simulated gait cycle in one section: steps, timing, speed, and the dense trajectory."""

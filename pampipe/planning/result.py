@@ -156,7 +156,7 @@ class PlanArrays:
 
 
 @notebook(headline=("mission", "feasible", "payload_kg", "supply_pressure_Pa", "safety_factor"),
-          plot="pampipe.plots.plan:plot_plan")
+          plot="pampipe.plots.plan:plot_plan", text="pampipe.commands.plan_text:result_text")
 @dataclass(frozen=True)
 class MissionPlan:
     """The anchoring pressures of a whole mission; ``feasible`` only if every section is.
