@@ -66,6 +66,17 @@ def test_transition_times_agree_with_quadpack(radial_pam, b, m, n):
     assert got == pytest.approx(want, rel=1e-12)
 
 
+def test_transition_times_far_from_the_contact_corner(radial_pam):
+    """The demo chamber's shape, touching at 300 Pa, filled from 0 Pa to 600 kPa and vented back to 1 Pa: the
+    span is 2000 times the corner's pressure, so the panels must keep doubling all the way."""
+    demo = Chamber.of_muscle(Muscle.from_pam(radial_pam), 0.0762)
+    chamber = Chamber(demo.anchored_volume, demo.rest_volume, 300.0, demo.shape)
+    valve, gas, supply = Valve(), Gas(), 689e3
+    got = transition_times(chamber, [0.0, 600e3], [600e3, 1.0], supply=supply, valve=valve, gas=gas)
+    want = [_quadpack(chamber, p, t, supply, valve, gas) for p, t in ((0.0, 600e3), (600e3, 1.0))]
+    assert got == pytest.approx(want, rel=1e-12)
+
+
 @pytest.mark.parametrize("index", [1.0, 1.4])
 def test_rigid_chamber_choked_venting_matches_closed_form(index):
     """Venting while p_atm/p ≤ b is choked, ṁ = C ρ₀ p √(T₀/T), so V ṗ = −n R T C ρ₀ √(T₀/T) p and

@@ -231,7 +231,7 @@ def _cuts(start, target, anchoring, *, supply: float, valve: Valve, gas: Gas) ->
     lo, hi = np.minimum(start, target), np.maximum(start, target)
     fill = target > start
     choke = np.where(fill, b * (supply + atm) - atm, atm / b - atm)
-    around = CONTACT_SMOOTHING * np.concatenate([[0.0], _STEPS[:12], -_STEPS[:12]])
+    around = CONTACT_SMOOTHING * np.concatenate([[0.0], _STEPS[:32], -_STEPS[:32]])  # to 10⁷ P_a
     contact = anchoring[:, None] * (1 + around[None, :])
     ends = np.where(fill[:, None], supply - (supply - hi)[:, None] * _STEPS[None, :],
                     lo[:, None] * _STEPS[None, :])

@@ -73,6 +73,9 @@ def sequential_table(mission, plan, options: GaitOptions, sections) -> Sequentia
     Raises InputError when the vented pressure is not below a contact pressure, as `gait` does.
     """
     sections = np.asarray(sections, dtype=int)
+    if sections.size == 0:
+        return SequentialTable(sections, np.zeros((0, len(PHASES))), np.zeros((0, len(PHASES) + 1, 3)),
+                               np.zeros(0), np.zeros(0))
     a = plan.arrays
     contact, target = a.anchoring_pressure[sections], a.pressure[sections]
     vented = options.vented_pressure
