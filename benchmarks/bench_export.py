@@ -9,17 +9,27 @@ payload), in the same run:
    and :meth:`Muscle.least_holding_pressure` on whole arrays (what `plan` does), checks included;
 3. the CasADi SX function the C is generated from, mapped over the sections (CasADi's virtual machine).
 
-Also: the time to generate the export (law and C text; the gait table simulates each section and is
-timed apart). On the chip itself see tests/test_export_avr.py (cycles on the ATmega2560).
-Usage: python benchmarks/bench_export.py [--sections N]
+Also: the time to generate the export (law and C text; the gait table is timed apart). On the chip
+itself see tests/test_export_avr.py (cycles on the ATmega2560).
+
+Scale (issue 27): `pampipe plan` and `pampipe export` of the demo robot on ``--distinct`` sections whose
+bore, incline and friction all differ (so every section has its own gait and its own chamber fits), each
+command a fresh process with one BLAS thread, CPU time (user + system of the child), median of
+``--repeat`` alternating runs after one warm-up run of each (the on-disk caches warm). Goal: export CPU
+within 3 s of plan CPU at 2000 sections.
+Usage: python benchmarks/bench_export.py [--sections N] [--distinct N] [--repeat R]
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
+import resource
 import shutil
+import statistics
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -33,7 +43,9 @@ from pampipe.io.config import load_mission
 from pampipe.model import slip
 from pampipe.planning.problem import mission_muscles
 
-MISSION = Path(__file__).resolve().parent.parent / "problems" / "missions" / "vertical-climb-3in.yaml"
+ROOT = Path(__file__).resolve().parent.parent
+MISSION = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
+THREADS = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 HARNESS = r"""
 #define _POSIX_C_SOURCE 199309L
@@ -80,6 +92,47 @@ def numpy_baseline(mission, muscles, rows: np.ndarray) -> np.ndarray:
     return np.stack(out, axis=1)
 
 
+def distinct_mission(folder: Path, count: int) -> Path:
+    """The demo robot on ``count`` sections, each with its own bore (76-90 mm), incline (±89°) and friction
+    (0.2-0.8), spread by irrational steps so that no two sections share a value."""
+    head = MISSION.read_text().split("route:")[0].replace("../pams", str(ROOT / "problems" / "pams"))
+    lines = [f"  - {{name: s{i}, length: {1 + i % 7} m, "
+             f"inner_diameter: {76.0 + 14.0 * (i * 0.618034 % 1.0):.4f} mm, "
+             f"incline: {-89.0 + 178.0 * (i * 0.414214 % 1.0):.4f} deg, "
+             f"friction: {0.2 + 0.6 * (i * 0.732051 % 1.0):.4f}}}\n" for i in range(count)]
+    path = folder / f"distinct-{count}.yaml"
+    path.write_text(head + "route:\n" + "".join(lines), encoding="utf-8")
+    return path
+
+
+def child_cpu(args: list[str]) -> float:
+    """CPU time [s] (user + system) of ``python -m pampipe ARGS`` as a fresh process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    done = subprocess.run([sys.executable, "-m", "pampipe", *args], capture_output=True, cwd=ROOT,
+                          env={**os.environ, **THREADS})
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode:
+        raise RuntimeError(f"pampipe {args[0]} failed: {done.stderr.decode()[-2000:]}")
+    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+
+
+def scale(count: int, repeat: int) -> None:
+    """Plan against export CPU on ``count`` all-distinct sections (see the module docstring)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        mission = distinct_mission(Path(tmp), count)
+        commands = {"plan": ["plan", str(mission)],
+                    "export": ["export", str(mission), "-o", str(Path(tmp) / "firmware"), "--force"]}
+        times: dict[str, list[float]] = {name: [] for name in commands}
+        for run in range(repeat + 1):
+            for name, args in commands.items():
+                cpu = child_cpu(args)
+                if run:  # the first run of each warms the caches
+                    times[name].append(cpu)
+    plan, export = (statistics.median(times[name]) for name in commands)
+    print(f"{count} all-distinct sections (median of {repeat}, CPU of the whole process):")
+    print(f"  plan CPU {plan:.2f} s; export CPU {export:.2f} s; export - plan CPU {export - plan:.2f} s")
+
+
 def best(fn, repeat: int = 5) -> float:
     times = []
     for _ in range(repeat):
@@ -92,7 +145,10 @@ def best(fn, repeat: int = 5) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sections", type=int, default=200_000)
+    parser.add_argument("--distinct", type=int, default=2000, help="sections of the scale case (2000)")
+    parser.add_argument("--repeat", type=int, default=3, help="runs of the scale case; the median (3)")
     args = parser.parse_args()
+    scale(args.distinct, args.repeat)
     n = args.sections
     compiler = shutil.which("gcc") or shutil.which("cc")
     mission = load_mission(MISSION)

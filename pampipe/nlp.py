@@ -24,8 +24,12 @@ from pampipe.errors import SolverError
 from pampipe.io.cache import CACHE_VARIABLE, cache_folder, prune, source_digest, store  # noqa: F401 (re-exported)
 
 #: IPOPT options every pampipe NLP starts from (quiet; bounds are not relaxed, so a solution
-#: never leaves the physical box it was given).
-IPOPT_DEFAULTS = {"print_level": 0, "sb": "yes", "bound_relax_factor": 0.0, "mu_strategy": "adaptive"}
+#: never leaves the physical box it was given; a NaN or infinity in a constraint Jacobian or the
+#: Hessian at any iterate stops the solve with Invalid_Number_Detected, IPOPT's
+#: ``check_derivatives_for_naninf``: CasADi already reports a non-finite derivative as a failed
+#: evaluation, this also covers a derivative function that returns one without failing).
+IPOPT_DEFAULTS = {"print_level": 0, "sb": "yes", "bound_relax_factor": 0.0, "mu_strategy": "adaptive",
+                  "check_derivatives_for_naninf": "yes"}
 
 #: IPOPT return statuses, in words (the ones a user can meet).
 IPOPT_STATUS = {

@@ -1,20 +1,20 @@
 """The gait schedule of every route section, as `pampipe gait` computes it, for a constant C table.
 
 Each crossable section gets the seven steps of the sequential gait (docs/physics.md §8.1, §8.5) from
-:func:`pampipe.locomotion.sequential_gait`: the valve action of each segment during the transition into the
-step (+1 fill from the supply, −1 vent, 0 closed; the sign of the gait's valve command), the anchored
-segments, the transition's duration and the pressures at the end of the step.
+:func:`pampipe.locomotion.table.sequential_table`, which computes every section at once: the valve action of
+each segment during the transition into the step (+1 fill from the supply, −1 vent, 0 closed; the sign of
+the gait's valve command), the anchored segments, the transition's duration and the pressures at the end
+of the step.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
-from pampipe.errors import InfeasibleError
 from pampipe.export.law import Law, Reason
-from pampipe.locomotion import gait_options, sequential_gait
+from pampipe.locomotion import gait_options
+from pampipe.locomotion.schedule import ANCHORS, STEPS
+from pampipe.locomotion.table import VALVES, sequential_table
 from pampipe.planning import plan_mission
 
 
@@ -55,36 +55,40 @@ PROGRESS_FROM = 100
 def section_gaits(mission, law: Law, *, progress=None) -> tuple[SectionGait, ...]:
     """The gait table of every section of ``mission`` (sections the law refuses have no steps).
 
-    The mission is planned once and every section's gait reads that plan, so the work is linear in
-    sections; sections whose segments need the same (same bore, load, friction) share one gait.
-    ``progress(text)`` hears every tenth of a route of :data:`PROGRESS_FROM` sections or more.
+    The mission is planned once; the law's reason of each section is read one by one, then the gaits of
+    all crossable sections are computed together (:func:`~pampipe.locomotion.table.sequential_table`),
+    so the work is linear in sections and vectorised. ``progress(text)`` hears every tenth of a route of
+    :data:`PROGRESS_FROM` sections or more.
     """
     options = gait_options(mission.gait, source=mission.source)
     plan = plan_mission(mission)
-    cache: dict = {}
-    out = []
     count = len(mission.route)
     step = max(1, count // 10)
+    reasons = []
     for index, section in enumerate(mission.route):
         if progress is not None and count >= PROGRESS_FROM and index and index % step == 0:
             progress(f"gait table: {index} of {count} sections ...")
         reason, _ = law.evaluate(section.diameter, section.incline, section.friction, mission.payload)
-        result = None
-        if reason == Reason.OK:
-            try:
-                result = sequential_gait(mission, index, options=options, mission_plan=plan, cache=cache)
-            except InfeasibleError:  # the closed form and the plan's bisection split at the supply
-                reason = Reason.ABOVE_SUPPLY
+        if reason == Reason.OK and index in plan.arrays.reasons:
+            reason = Reason.ABOVE_SUPPLY  # the closed form and the plan's bisection split at the supply
+        reasons.append(reason)
+    crossable = [index for index, reason in enumerate(reasons) if reason == Reason.OK]
+    if progress is not None and count >= PROGRESS_FROM:
+        progress(f"gait table: the gaits of {len(crossable)} crossable sections ...")
+    table = sequential_table(mission, plan, options, crossable)
+    row = {index: k for k, index in enumerate(crossable)}
+    names = [segment.name for segment in mission.segments]
+    out = []
+    for index, (section, reason) in enumerate(zip(mission.route, reasons, strict=True)):
         fields = (section.name, section.diameter, section.incline, section.friction, section.length, reason)
-        if result is None:
+        if index not in row:
             out.append(SectionGait(*fields, 0.0, 0.0, ()))
             continue
-        names = result.names
-        steps = []
-        for k, state in enumerate(result.steps):
-            valves = (0,) * len(names) if k == 0 else tuple(
-                int(v) for v in np.sign(result.plan.commands[k - 1, 0]))
-            steps.append(GaitStep(state.step, valves, tuple(n in state.anchored for n in names),
-                                  state.duration, tuple(state.pressures[n] for n in names)))
-        out.append(SectionGait(*fields, result.cycle_time, result.stride, tuple(steps)))
+        k = row[index]
+        steps = tuple(GaitStep(STEPS[j], tuple(int(v) for v in (VALVES[j - 1] if j else [0] * len(names))),
+                               tuple(n in ANCHORS[j] for n in range(len(names))),
+                               0.0 if j == 0 else float(table.durations[k, j - 1]),
+                               tuple(float(v) for v in table.pressures[k, j]))
+                      for j in range(len(STEPS)))
+        out.append(SectionGait(*fields, float(table.cycle_time[k]), float(table.stride[k]), steps))
     return tuple(out)

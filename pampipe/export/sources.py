@@ -329,10 +329,17 @@ def sketch(law: Law, gaits: tuple[SectionGait, ...], provenance, name: str) -> s
            "it opens the valve of every segment the table names until the segment's pressure sensor reads",
            "the table's pressure, or the table's duration plus 50 % has passed, and then closes it.",
            "",
+           "It refuses to compile (#error) against a pampipe_plan.h of another export, as",
+           "pampipe_plan.c does.",
+           "",
            "Wiring (change it to yours): fill valves on pins 22, 24, 26, vent valves on 23, 25, 27",
            "(HIGH = open), pressure sensors with 0.5-4.5 V over 0-1 MPa gauge on A0, A1, A2."]
     return f"""{_block(top)}
 #include "pampipe_plan.h"
+
+#if !defined(PAMPIPE_MISSION_HASH) || PAMPIPE_MISSION_HASH != {HASH_MARK}
+#error "pampipe_plan.h comes from another export than this sketch: export the mission again"
+#endif
 
 static const uint8_t FILL_PIN[PAMPIPE_SEGMENTS] = {{22, 24, 26}};
 static const uint8_t VENT_PIN[PAMPIPE_SEGMENTS] = {{23, 25, 27}};

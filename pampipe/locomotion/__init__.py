@@ -22,26 +22,20 @@ __all__ = ["GaitOptions", "GaitResult", "gait_options", "optimal_gait", "sequent
 
 
 def sequential_gait(mission: Mission, section: str | int | None = None, *,
-                    options: GaitOptions | None = None, samples: int = 100, mission_plan=None,
-                    cache: dict | None = None) -> GaitResult:
+                    options: GaitOptions | None = None, samples: int = 100, mission_plan=None) -> GaitResult:
     """The sequential schedule in ``section`` (a name or a route index; default: the first), simulated
     ``samples`` per step.
 
-    For the gait of many sections: ``mission_plan`` is ``plan_mission(mission)`` when already computed,
-    and ``cache`` a dict that keeps each gait by the segments' needs, which many sections share.
+    ``mission_plan`` is ``plan_mission(mission)`` when already computed. The step table of many sections
+    at once, without simulation: :func:`pampipe.locomotion.table.sequential_table`.
     """
     options = options or gait_options(mission.gait, source=mission.source)
     index = section if isinstance(section, int) else find_section(mission, section)
     needs = section_needs(mission, index, options, plan=mission_plan)
     name = mission.route[index].name
-    if cache is not None and (needs, samples) in cache:
-        return replace(cache[needs, samples], section=name)
     plan = sequential_plan(needs, supply=mission.supply_pressure, options=options)
-    result = evaluate(name, "sequential", needs, plan, supply=mission.supply_pressure, options=options,
-                      samples=samples)
-    if cache is not None:
-        cache[needs, samples] = result
-    return result
+    return evaluate(name, "sequential", needs, plan, supply=mission.supply_pressure, options=options,
+                    samples=samples)
 
 
 def optimal_gait(mission: Mission, section: str | None = None, *, options: GaitOptions | None = None,

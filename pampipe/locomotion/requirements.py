@@ -54,6 +54,14 @@ def _chamber(muscle: Muscle, diameter: float) -> Chamber:
     return Chamber.of_muscle(muscle, diameter)
 
 
+def vented_error(mission: Mission, options: GaitOptions, segment: int, section: int,
+                 contact: float) -> InputError:
+    """The error of a vented pressure not below the contact pressure of ``segment`` in ``section``."""
+    return InputError(f"{mission.source}: gait.vented_pressure: {options.vented_pressure:.6g} Pa must be "
+                      f"below the contact pressure of {mission.segments[segment].name} ({contact:.6g} Pa) "
+                      f"in section {mission.route[section].name!r}.")
+
+
 def find_section(mission: Mission, name: str | None) -> int:
     """Index of the route section called ``name`` (default: the first)."""
     if name is None:
@@ -82,9 +90,7 @@ def section_needs(mission: Mission, index: int, options: GaitOptions, *, plan=No
         d = float(a.diameter[index, i])  # the plan's bore: the worst of the section's range
         contact, required = float(a.anchoring_pressure[index, i]), float(a.pressure[index, i])
         if options.vented_pressure >= contact:
-            raise InputError(f"{mission.source}: gait.vented_pressure: {options.vented_pressure:.6g} Pa "
-                             f"must be below the contact pressure of {segment.name} "
-                             f"({contact:.6g} Pa) in section {section.name!r}.")
+            raise vented_error(mission, options, i, index, contact)
         needs.append(MuscleNeed(segment.name, muscle, d, contact, required, required,
                                 float(a.required_hold[index, i]), section.friction, mission.kappa,
                                 mission.safety_factor, _chamber(muscle, d),
