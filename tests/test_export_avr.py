@@ -1,4 +1,6 @@
-"""`pampipe export` on the robot's chip: the ATmega2560 of an Arduino Mega (slow; needs Debian packages).
+"""`pampipe export` on the robot's chip: the ATmega2560 of an Arduino Mega.
+
+The tools come from Debian's packages, which .ci/run installs in CI:
 
 * avr-gcc + simavr (``apt-get install gcc-avr avr-libc simavr``): the exported C is built for the
   ATmega2560 in float, one call runs in the simulator at 16 MHz, and the answer is compared with
@@ -25,8 +27,6 @@ from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
 from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
-
-pytestmark = pytest.mark.slow
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 AVR_FLAGS = ["-mmcu=atmega2560", "-Os", "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror",
