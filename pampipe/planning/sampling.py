@@ -1,0 +1,312 @@
+"""The sampled holding law of a confidence plan, per class of alike sections, in chunks (docs/physics.md §15).
+
+A **class** is the set of sections that state the same bores (range, and each segment's worst bore in it),
+bore sd, incline, friction and friction sd: they carry the same load and, since the muscle draws are the
+route's and the bore and friction draws are keyed by their statement (:func:`sources.keyed_normal`), the
+same draws. One evaluation over the n draws serves every section of a class, so a route of 10⁵ sections
+of a few hundred kinds costs a few hundred evaluations.
+
+Classes are sampled in **chunks** of at most :func:`chunk_classes` classes (a memory budget,
+:data:`MEMORY_BUDGET`), each chunk a task of :func:`pampipe.parallel.run_all`. A task is plain numbers
+and the seed; the worker draws the route's muscle draws itself from the seed (:func:`sources.draw_muscles`,
+once per process), so serial, local processes and a Dask cluster give bit-identical results.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+import pickle
+from dataclasses import dataclass
+
+import numpy as np
+
+from pampipe.model.muscle import Muscle, Structure
+from pampipe.model.pam import Geometry
+from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
+
+LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
+#: Memory a chunk may use for its draws × classes arrays [B].
+MEMORY_BUDGET = 256 << 20
+#: Bytes one draw of one class costs at the peak of a chunk (all temporaries of the three bores of a
+#: range, the sorted copies and the parameter columns; measured with ``bench_confidence.py``).
+BYTES_PER_DRAW = 1200
+#: Draws × classes evaluated per vectorised call of :func:`draw_values`.
+BATCH = 1 << 16
+#: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
+MOVES = 1e3
+
+
+def draw_values(structure: Structure, p: np.ndarray, d, w, kappa, mu, sf: float, e, pressure: float):
+    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N]) for columns of parameter vectors ``p`` (size, N) and
+    arrays (N,) of bore D [m], load W [N], κ, μ and model error ``e`` [N] (a shift of F_ax at the anchored
+    length), at ``pressure`` P [Pa] for W_max.
+
+    One :class:`Muscle` whose fields are the N columns, so the closed forms the plan uses
+    (:meth:`Muscle.closed_form_pressure`, inf where it does not hold) run vectorised over every draw: the
+    numpy path of the one model (:mod:`pampipe.model.ops`).
+    """
+    n = structure.n_theta
+    geometry = Geometry(p[0], p[1], p[2], p[3], structure.wall)
+    muscle = Muscle(geometry, p[5:5 + n], p[4], contact=p[5 + n:5 + 2 * n] if structure.contact else None)
+    with np.errstate(all="ignore"):
+        c = muscle.affine_coefficients(d)
+        c = dataclasses.replace(c, at_zero=c.at_zero + e)
+        least = muscle.closed_form_pressure(d, w, kappa=kappa, friction=mu, safety_factor=sf, anchored=c)
+        touch = -c.at_zero / c.slope
+        stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
+        grip = mu * math.pi * c.amplification * stiffening
+        largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
+    return [np.asarray(v, dtype=float) * np.ones(np.shape(d)) for v in (least, touch, largest)]
+
+
+def upper_quantile(values: np.ndarray, level: float, axis: int = 0, *, ordered: bool = False) -> np.ndarray:
+    """Least x with a share ≥ level of ``values`` ≤ x (the empirical, inverted-CDF quantile);
+    ``ordered``: ``values`` are already sorted along ``axis``."""
+    n = values.shape[axis]
+    k = max(math.ceil(level * n - 1e-9) - 1, 0)
+    return np.take(values if ordered else np.sort(values, axis=axis), k, axis=axis)
+
+
+def lower_quantile(values: np.ndarray, level: float, axis: int = 0) -> np.ndarray:
+    """Largest x with a share ≥ level of ``values`` ≥ x."""
+    n = values.shape[axis]
+    k = min(math.floor((1 - level) * n + 1e-9), n - 1)
+    return np.take(np.sort(values, axis=axis), k, axis=axis)
+
+
+@dataclass(frozen=True)
+class Classes:
+    """The classes of alike sections: one row each, (C,) or (C, segments) arrays, SI."""
+
+    low: np.ndarray  # smallest bore of the range [m]
+    high: np.ndarray  # largest bore of the range [m]
+    worst: np.ndarray  # (C, segments) each segment's worst bore of the range [m]
+    valid: np.ndarray  # (C, segments) bool
+    bore_sd: np.ndarray  # [m]
+    mu: np.ndarray
+    mu_sd: np.ndarray
+    incline: np.ndarray  # [rad]
+
+    def __len__(self) -> int:
+        return self.low.size
+
+    def part(self, rows: slice) -> Classes:
+        return Classes(*(getattr(self, f.name)[rows] for f in dataclasses.fields(self)))
+
+
+def section_classes(route, elements) -> tuple[Classes, np.ndarray]:
+    """(the classes, the class of each section (S,))."""
+    valid = np.asarray(elements.valid, dtype=bool)
+    m = valid.shape[1]
+    columns = [route.diameter_low, route.diameter_high, elements.diameter, valid, route.diameter_sd,
+               route.friction, route.friction_sd, route.incline]
+    table = np.column_stack(columns).astype(float)
+    rows, inverse = np.unique(table, axis=0, return_inverse=True)
+    classes = Classes(rows[:, 0], rows[:, 1], rows[:, 2:2 + m], rows[:, 2 + m:2 + 2 * m] > 0.5,
+                      *(rows[:, 2 + 2 * m + k] for k in range(4)))
+    return classes, np.asarray(inverse).reshape(-1)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What every chunk shares: the muscles' sources, the seed, the mission's constants (SI)."""
+
+    structures: tuple[Structure, ...]
+    uncertainties: tuple[MuscleUncertainty, ...]
+    samples: int
+    seed: int
+    level: float
+    active: tuple[str, ...]  # sources with a spread, in sources.SOURCES order
+    kappa: float
+    kappa_sd: float
+    safety_factor: float
+    total_mass: float  # [kg] robot and payload
+    masses: tuple[float, ...]  # [kg] per segment
+    tether_drag: float  # [N]
+    payload: float  # [kg]
+    supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
+
+    @property
+    def key(self) -> str:
+        """Digest of what the muscle draws depend on (the cache key of :func:`muscle_draws`)."""
+        what = (self.uncertainties, self.samples, self.seed, self.kappa_sd)
+        return hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
+
+
+_DRAWS: dict[str, MuscleDraws] = {}
+
+
+def muscle_draws(problem: Problem) -> MuscleDraws:
+    """The route's muscle draws, drawn once per process (and problem) from the seed."""
+    key = problem.key
+    if key not in _DRAWS:
+        _DRAWS.clear()
+        _DRAWS[key] = draw_muscles(list(problem.uncertainties), problem.samples, problem.seed,
+                                   problem.kappa_sd)
+    return _DRAWS[key]
+
+
+def chunk_classes(samples: int, budget: int = MEMORY_BUDGET) -> int:
+    """Classes per chunk so that a chunk's draws × classes arrays stay within ``budget`` bytes."""
+    return max(1, budget // (BYTES_PER_DRAW * samples))
+
+
+@dataclass(frozen=True)
+class ChunkResult:
+    """One chunk's sampled plan, (C, segments) arrays (placeholders where an element is not valid)."""
+
+    pressure: np.ndarray
+    holding: np.ndarray
+    contact: np.ndarray
+    levels: dict[str, np.ndarray]
+    band: np.ndarray  # (C, segments, 2)
+    certain: np.ndarray
+    shifts: dict[str, np.ndarray]
+    low_shifts: dict[str, np.ndarray]
+    payload: np.ndarray | None
+    undetermined: np.ndarray  # (C, 3): segment, index in its ``unresolved``, ΔP [Pa]; segment −1: none
+
+
+def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
+    """The sampled plan of one chunk of classes (a picklable task for :func:`pampipe.parallel.run_all`)."""
+    problem, classes = task
+    draws = muscle_draws(problem)
+    n, count, m = problem.samples, len(classes), len(problem.structures)
+    bore = np.zeros((n, count))
+    friction = np.zeros((n, count))
+    for c in range(count):
+        if classes.bore_sd[c] > 0:
+            statement = (classes.low[c], classes.high[c], classes.bore_sd[c])
+            bore[:, c] = keyed_normal(problem.seed, "bore", statement, n) * classes.bore_sd[c]
+        if classes.mu_sd[c] > 0:
+            statement = (classes.mu[c], classes.mu_sd[c])
+            friction[:, c] = keyed_normal(problem.seed, "friction", statement, n) * classes.mu_sd[c]
+    shape = (count, m)
+    out = ChunkResult(np.full(shape, np.inf), np.zeros(shape), np.zeros(shape),
+                      {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}, np.full((*shape, 2), np.inf),
+                      np.full(shape, np.nan), {k: np.full(shape, np.nan) for k in problem.active},
+                      {k: np.full(shape, np.nan) for k in problem.active},
+                      None if problem.supply is None else np.full(shape, -np.inf),
+                      np.tile([-1.0, -1.0, 0.0], (count, 1)))
+    half = 1.959964 * math.sqrt(n * problem.level * (1 - problem.level))
+    ranks = [max(math.floor(n * problem.level - half) - 1, 0),
+             min(math.ceil(n * problem.level + half) - 1, n - 1)]
+    for i in range(m):
+        rows = np.flatnonzero(classes.valid[:, i])
+        if rows.size == 0:
+            continue
+        ev = Evaluator(problem, draws, classes, i, rows, bore[:, rows], friction[:, rows])
+        supply = None if problem.supply is None else problem.supply[i]
+        least, touch, held = ev.evaluate(problem.active, supply)
+        ordered = np.sort(least, axis=0)
+        planned = upper_quantile(ordered, problem.level, ordered=True)
+        out.pressure[rows, i] = planned
+        out.holding[rows, i] = np.mean(least <= planned, axis=0)
+        out.contact[rows, i] = np.mean(touch <= planned, axis=0)
+        out.band[rows, i] = ordered[ranks].T
+        for key, level in zip(out.levels, LEVELS, strict=True):
+            out.levels[key][rows, i] = upper_quantile(ordered, level, ordered=True)
+        del ordered, least, touch
+        if held is not None:
+            out.payload[rows, i] = lower_quantile(held, problem.level)
+        certain = ev.evaluate(())[0][0]
+        out.certain[rows, i] = certain
+        for name in problem.active:
+            alone = np.sort(ev.evaluate((name,))[0], axis=0)
+            out.shifts[name][rows, i] = upper_quantile(alone, problem.level, ordered=True) - certain
+            out.low_shifts[name][rows, i] = upper_quantile(alone, 1 - problem.level, ordered=True) - certain
+        for k, direction in enumerate(problem.uncertainties[i].unresolved):
+            moved = ev.moves(direction)
+            new = (np.abs(moved) > MOVES) & (out.undetermined[rows, 0] < 0)
+            out.undetermined[rows[new]] = np.column_stack([np.full(new.sum(), i), np.full(new.sum(), k),
+                                                           moved[new]])
+    return out
+
+
+class Evaluator:
+    """P*, first contact and W_max of segment i over draws × classes, for any subset of the sources."""
+
+    def __init__(self, problem: Problem, draws: MuscleDraws, classes: Classes, i: int, rows: np.ndarray,
+                 bore: np.ndarray, friction: np.ndarray):
+        self.problem, self.draws, self.i = problem, draws, i
+        self.structure = problem.structures[i]
+        self.nominal = problem.uncertainties[i].nominal
+        self.bore, self.friction = bore, friction  # (n, rows) deviations
+        self.bores = [classes.low[rows], classes.worst[rows, i], classes.high[rows]]
+        if np.array_equal(self.bores[0], self.bores[2]):  # no tolerance range: one bore (3× fewer calls)
+            self.bores = self.bores[2:]
+        self.mu = classes.mu[rows]
+        incline = classes.incline[rows]
+        self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
+
+    def inputs(self, sources, nominal=None) -> tuple:
+        """(p (n, size), δ (n, C), μ (n, C), κ (n,), e (n,)) with only ``sources`` drawn around ``nominal``
+        (default: the muscle's parameter vector); one draw (n = 1) when no source is drawn."""
+        d, i = self.draws, self.i
+        n = d.n if sources else 1
+        nominal = self.nominal if nominal is None else nominal
+        p = np.broadcast_to(nominal, (n, nominal.size)).copy()
+        for key in ("moduli", "geometry", "prior"):
+            if key in sources:
+                p += d.params[key][i]
+        zero = np.zeros((n, self.mu.size))
+        bore = self.bore if "bore" in sources else zero
+        mu = self.mu + (self.friction if "friction" in sources else zero)
+        kappa = np.maximum(self.problem.kappa + (d.kappa if "kappa" in sources else 0.0), 0.0)
+        error = d.model_error[i] if "model_error" in sources else np.zeros(n)
+        return p, bore, mu, kappa * np.ones(n), error
+
+    def evaluate(self, sources, pressure=None, *, nominal=None):
+        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg])."""
+        pr = self.problem
+        p, bore, mu, kappa, error = self.inputs(sources, nominal)
+        load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
+        n, count = mu.shape
+        columns = n * count
+
+        def flat(a):
+            return np.broadcast_to(a, (n, count)).reshape(-1)
+
+        at = 0.0 if pressure is None else float(pressure)
+        least = held = touch = None
+        for bore_nominal in self.bores:
+            values = _call(self.structure, columns, p, count, flat(bore_nominal + bore), flat(load),
+                           flat(kappa[:, None]), flat(mu), pr.safety_factor, flat(error[:, None]), at)
+            least = values[0] if least is None else np.maximum(least, values[0])  # NaN stays NaN
+            held = values[2] if held is None else np.minimum(held, values[2])
+            touch = values[1]  # the largest bore is the last
+        least = np.where(np.isnan(least), np.inf, least).reshape(n, count)
+        touch = touch.reshape(n, count)
+        payload = None
+        if pressure is not None:
+            held = held.reshape(n, count)
+            per_kg = STANDARD_GRAVITY * (self.rise + mu * self.run)
+            payload = pr.payload + (held - load) / np.where(per_kg > 0, per_kg, np.nan)
+            payload = np.where((held >= 0) & (touch <= pressure) & (mu > 0) & np.isfinite(payload),
+                               payload, -np.inf)
+        return least, touch, payload
+
+    def moves(self, direction) -> np.ndarray:
+        """Change of the certain P* [Pa] per class across ± the width the data leave open along
+        ``direction`` (inf where P* stops existing on either side)."""
+        step = direction.scale * direction.step
+        out = [self.evaluate((), nominal=self.nominal + sign * step)[0][0] for sign in (1.0, -1.0)]
+        with np.errstate(invalid="ignore"):
+            delta = out[0] - out[1]
+        return np.where(np.isfinite(delta), delta, np.inf)
+
+
+def _call(structure, columns: int, p: np.ndarray, count: int, *args):
+    """:func:`draw_values` over ``columns`` = draws × ``count`` columns (column k·count + c is draw k of
+    class c), in batches of at most :data:`BATCH` columns (bounded memory)."""
+    out = [np.empty(columns) for _ in range(3)]
+    for start in range(0, columns, BATCH):
+        part = slice(start, min(start + BATCH, columns))
+        cut = [a[part] if np.ndim(a) == 1 and a.size == columns else a for a in args]
+        params = p[np.arange(part.start, part.stop) // count].T
+        for k, v in enumerate(draw_values(structure, params, *cut)):
+            out[k][part] = v
+    return out
