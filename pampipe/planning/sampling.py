@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.model.muscle import Muscle, Structure
+from pampipe.model.muscle import Anchored, Muscle, Structure
 from pampipe.model.pam import Geometry
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
@@ -33,33 +33,43 @@ MEMORY_BUDGET = 256 << 20
 #: Bytes one draw of one class costs at the peak of a chunk (all temporaries of the three bores of a
 #: range, the sorted copies and the parameter columns; measured with ``bench_confidence.py``).
 BYTES_PER_DRAW = 1200
-#: Draws × classes evaluated per vectorised call of :func:`draw_values`.
+#: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
 BATCH = 1 << 16
 #: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
 MOVES = 1e3
 
 
-def draw_values(structure: Structure, p: np.ndarray, d, w, kappa, mu, sf: float, e, pressure: float):
-    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N]) for columns of parameter vectors ``p`` (size, N) and
-    arrays (N,) of bore D [m], load W [N], κ, μ and model error ``e`` [N] (a shift of F_ax at the anchored
-    length), at ``pressure`` P [Pa] for W_max.
-
-    One :class:`Muscle` whose fields are the N columns, so the closed forms the plan uses
-    (:meth:`Muscle.closed_form_pressure`, inf where it does not hold) run vectorised over every draw: the
-    numpy path of the one model (:mod:`pampipe.model.ops`).
-    """
+def _muscle(structure: Structure, p: np.ndarray) -> Muscle:
+    """One :class:`Muscle` whose fields are the columns of ``p`` (size, ...): the numpy path of the one
+    model (:mod:`pampipe.model.ops`), vectorised over every column."""
     n = structure.n_theta
     geometry = Geometry(p[0], p[1], p[2], p[3], structure.wall)
-    muscle = Muscle(geometry, p[5:5 + n], p[4], contact=p[5 + n:5 + 2 * n] if structure.contact else None)
+    return Muscle(geometry, p[5:5 + n], p[4], contact=p[5 + n:5 + 2 * n] if structure.contact else None)
+
+
+def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
+    """The muscle's coefficients F₀, F₁, A, C₀, C₁ at the anchored length in bore ``d`` [m] (the costly,
+    load-free part of the law), for columns ``p`` (size, N) and ``d`` (N,)."""
     with np.errstate(all="ignore"):
-        c = muscle.affine_coefficients(d)
+        return _muscle(structure, p).affine_coefficients(d)
+
+
+def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
+                pressure: float):
+    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N]) from the coefficients ``c`` (:func:`anchored_at`): the
+    closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where it does not hold), with F₀
+    shifted by the model error ``e`` [N]; every argument broadcasts against ``c``'s fields (``p`` (size,
+    ...) too)."""
+    muscle = _muscle(structure, p)
+    with np.errstate(all="ignore"):
         c = dataclasses.replace(c, at_zero=c.at_zero + e)
-        least = muscle.closed_form_pressure(d, w, kappa=kappa, friction=mu, safety_factor=sf, anchored=c)
+        least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf, anchored=c)
         touch = -c.at_zero / c.slope
         stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
         grip = mu * math.pi * c.amplification * stiffening
         largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
-    return [np.asarray(v, dtype=float) * np.ones(np.shape(d)) for v in (least, touch, largest)]
+    shape = np.broadcast_shapes(*(np.shape(v) for v in (least, touch, largest)))
+    return [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in (least, touch, largest)]
 
 
 def upper_quantile(values: np.ndarray, level: float, axis: int = 0, *, ordered: bool = False) -> np.ndarray:
@@ -239,55 +249,75 @@ class Evaluator:
         if np.array_equal(self.bores[0], self.bores[2]):  # no tolerance range: one bore (3× fewer calls)
             self.bores = self.bores[2:]
         self.mu = classes.mu[rows]
+        self.statement = (classes.low[rows], classes.high[rows], classes.bore_sd[rows])  # keys the bore draw
         incline = classes.incline[rows]
         self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
 
     def inputs(self, sources, nominal=None) -> tuple:
-        """(p (n, size), δ (n, C), μ (n, C), κ (n,), e (n,)) with only ``sources`` drawn around ``nominal``
-        (default: the muscle's parameter vector); one draw (n = 1) when no source is drawn."""
-        d, i = self.draws, self.i
-        n = d.n if sources else 1
+        """(p (R, size), δ (R, C), μ (R, C), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
+        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not."""
+        d, i, n = self.draws, self.i, self.draws.n
         nominal = self.nominal if nominal is None else nominal
-        p = np.broadcast_to(nominal, (n, nominal.size)).copy()
-        for key in ("moduli", "geometry", "prior"):
-            if key in sources:
-                p += d.params[key][i]
-        zero = np.zeros((n, self.mu.size))
-        bore = self.bore if "bore" in sources else zero
-        mu = self.mu + (self.friction if "friction" in sources else zero)
-        kappa = np.maximum(self.problem.kappa + (d.kappa if "kappa" in sources else 0.0), 0.0)
-        error = d.model_error[i] if "model_error" in sources else np.zeros(n)
-        return p, bore, mu, kappa * np.ones(n), error
+        drawn = [key for key in ("moduli", "geometry", "prior") if key in sources]
+        p = np.broadcast_to(nominal, (n if drawn else 1, nominal.size)).copy()
+        for key in drawn:
+            p += d.params[key][i]
+        bore = self.bore if "bore" in sources else np.zeros((1, self.mu.size))
+        mu = self.mu + (self.friction if "friction" in sources else 0.0) * np.ones((1, 1))
+        kappa = np.maximum(self.problem.kappa + (d.kappa if "kappa" in sources else np.zeros(1)), 0.0)
+        error = d.model_error[i] if "model_error" in sources else np.zeros(1)
+        return p, bore, mu, kappa, error
 
     def evaluate(self, sources, pressure=None, *, nominal=None):
-        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg])."""
+        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]).
+
+        The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
+        once per draw and distinct drawn bore of the chunk (classes sharing a bore statement share its
+        draws), then the load-dependent closed form runs over draws × classes by broadcasting."""
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal)
         load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
-        n, count = mu.shape
-        columns = n * count
-
-        def flat(a):
-            return np.broadcast_to(a, (n, count)).reshape(-1)
-
         at = 0.0 if pressure is None else float(pressure)
+        columns = p.T[:, :, None]  # (size, n or 1, 1)
         least = held = touch = None
         for bore_nominal in self.bores:
-            values = _call(self.structure, columns, p, count, flat(bore_nominal + bore), flat(load),
-                           flat(kappa[:, None]), flat(mu), pr.safety_factor, flat(error[:, None]), at)
+            bores, group = np.unique(np.stack([bore_nominal, *self.statement]), axis=1, return_inverse=True)
+            group = np.asarray(group).reshape(-1)
+            first = np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
+            drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
+            c = self._anchored(p, drawn)
+            c = Anchored(*(np.asarray(getattr(c, f.name))[:, group] if np.ndim(getattr(c, f.name)) else
+                           getattr(c, f.name) for f in dataclasses.fields(c)))
+            values = holding_law(self.structure, columns, c, load, kappa[:, None], mu, pr.safety_factor,
+                                 error[:, None], at)
             least = values[0] if least is None else np.maximum(least, values[0])  # NaN stays NaN
             held = values[2] if held is None else np.minimum(held, values[2])
             touch = values[1]  # the largest bore is the last
-        least = np.where(np.isnan(least), np.inf, least).reshape(n, count)
-        touch = touch.reshape(n, count)
+        shape = np.broadcast_shapes(least.shape, mu.shape, (p.shape[0], 1))
+        least = np.broadcast_to(np.where(np.isnan(least), np.inf, least), shape)
+        touch = np.broadcast_to(touch, shape)
         payload = None
         if pressure is not None:
-            held = held.reshape(n, count)
             per_kg = STANDARD_GRAVITY * (self.rise + mu * self.run)
             payload = pr.payload + (held - load) / np.where(per_kg > 0, per_kg, np.nan)
             payload = np.where((held >= 0) & (touch <= pressure) & (mu > 0) & np.isfinite(payload),
                                payload, -np.inf)
+            payload = np.broadcast_to(payload, shape)
         return least, touch, payload
+
+    def _anchored(self, p: np.ndarray, d: np.ndarray) -> Anchored:
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1, G): (R, G) fields, in
+        batches of at most :data:`BATCH` columns (bounded memory)."""
+        rows = max(p.shape[0], d.shape[0])
+        groups = d.shape[1]
+        d = np.broadcast_to(d, (rows, groups)).reshape(-1)
+        parts = []
+        for start in range(0, rows * groups, BATCH):
+            k = np.arange(start, min(start + BATCH, rows * groups))
+            params = p[np.minimum(k // groups, p.shape[0] - 1)].T
+            parts.append(anchored_at(self.structure, params, d[k]))
+        return Anchored(*(np.concatenate([np.broadcast_to(getattr(c, f.name), (c_size(c),)) for c in parts])
+                          .reshape(rows, groups) for f in dataclasses.fields(Anchored)))
 
     def moves(self, direction) -> np.ndarray:
         """Change of the certain P* [Pa] per class across ± the width the data leave open along
@@ -299,14 +329,6 @@ class Evaluator:
         return np.where(np.isfinite(delta), delta, np.inf)
 
 
-def _call(structure, columns: int, p: np.ndarray, count: int, *args):
-    """:func:`draw_values` over ``columns`` = draws × ``count`` columns (column k·count + c is draw k of
-    class c), in batches of at most :data:`BATCH` columns (bounded memory)."""
-    out = [np.empty(columns) for _ in range(3)]
-    for start in range(0, columns, BATCH):
-        part = slice(start, min(start + BATCH, columns))
-        cut = [a[part] if np.ndim(a) == 1 and a.size == columns else a for a in args]
-        params = p[np.arange(part.start, part.stop) // count].T
-        for k, v in enumerate(draw_values(structure, params, *cut)):
-            out[k][part] = v
-    return out
+def c_size(c: Anchored) -> int:
+    """Columns of a batch of coefficients (the length of its array fields)."""
+    return max(np.size(getattr(c, f.name)) for f in dataclasses.fields(c))
