@@ -31,6 +31,7 @@ from pampipe.parallel import executor, run_all
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.sampling import (
     MEMORY_BUDGET,
+    Classes,
     Problem,
     chunk_classes,
     sample_chunk,
@@ -124,18 +125,9 @@ def check_uncertainty(mission, uncertainties) -> None:
             "'friction: {value: 0.3, sd: 0.05}' or 'inner_diameter: {value: 3 in, sd: 0.5 mm}'.")
 
 
-def plan_confidence(mission, muscles, elements, confidence: float, *, samples: int = DEFAULT_SAMPLES,
-                    seed: int = DEFAULT_SEED, prior=None, with_payload: bool = False,
-                    workers: int | None = None, scheduler: str | None = None,
-                    budget: int = MEMORY_BUDGET) -> Confidence:
-    """The sampled plan of every valid element at confidence C (see the module docstring).
-
-    ``prior`` is a :class:`~pampipe.model.pam.Pam` whose uncertainty (and moduli) serve as the prior along
-    undetermined directions; ``with_payload`` adds the payload held with probability C at each segment's
-    pressure limit (the supply, or its PAM's lower ``max_pressure``). The classes of alike sections are
-    sampled in chunks of at most ``budget`` bytes, on ``workers`` local processes or the Dask
-    ``scheduler`` (:mod:`pampipe.parallel`), with the same result on each.
-    """
+def sampling_problem(mission, muscles, elements, confidence: float, *, samples: int, seed: int, prior=None,
+                     with_payload: bool = False) -> tuple[Problem, Classes, np.ndarray]:
+    """(what every chunk shares, the classes of alike sections, the class of each section), checked."""
     z_value(confidence)
     if not (isinstance(samples, int) and samples >= 100):
         raise InputError(f"--samples: {samples!r} must be a whole number of at least 100 draws.")
@@ -158,6 +150,24 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
                       float(mission.payload),
                       tuple(float(x) for x in pressure_limits(mission)) if with_payload else None)
     classes, inverse = section_classes(route, elements)
+    return problem, classes, inverse
+
+
+def plan_confidence(mission, muscles, elements, confidence: float, *, samples: int = DEFAULT_SAMPLES,
+                    seed: int = DEFAULT_SEED, prior=None, with_payload: bool = False,
+                    workers: int | None = None, scheduler: str | None = None,
+                    budget: int = MEMORY_BUDGET) -> Confidence:
+    """The sampled plan of every valid element at confidence C (see the module docstring).
+
+    ``prior`` is a :class:`~pampipe.model.pam.Pam` whose uncertainty (and moduli) serve as the prior along
+    undetermined directions; ``with_payload`` adds the payload held with probability C at each segment's
+    pressure limit (the supply, or its PAM's lower ``max_pressure``). The classes of alike sections are
+    sampled in chunks of at most ``budget`` bytes, on ``workers`` local processes or the Dask
+    ``scheduler`` (:mod:`pampipe.parallel`), with the same result on each.
+    """
+    problem, classes, inverse = sampling_problem(mission, muscles, elements, confidence, samples=samples,
+                                                 seed=seed, prior=prior, with_payload=with_payload)
+    uncertainties = problem.uncertainties
     size = chunk_classes(samples, budget)
     tasks = [(problem, classes.part(slice(start, start + size))) for start in range(0, len(classes), size)]
     with executor(workers=workers, scheduler=scheduler) as pool:
