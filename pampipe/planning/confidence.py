@@ -21,6 +21,7 @@ source at a time (the others at their nominal values): the pressure each adds.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -36,6 +37,7 @@ from pampipe.planning.sampling import (
     chunk_classes,
     sample_chunk,
     section_classes,
+    segment_twins,
 )
 from pampipe.planning.sources import (
     SOURCE_WORDS,
@@ -139,7 +141,8 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
     check_uncertainty(mission, uncertainties)
     route = mission.route
     kappa_sd = float(getattr(mission, "kappa_sd", 0.0))
-    active = muscle_sources(draw_muscles(uncertainties, samples, seed, kappa_sd))
+    draws = draw_muscles(uncertainties, samples, seed, kappa_sd)
+    active = muscle_sources(draws)
     active += [name for name, sd in (("bore", route.diameter_sd), ("friction", route.friction_sd))
                if np.any(np.asarray(sd) > 0)]
     problem = Problem(tuple(m.structure for m in muscles), tuple(uncertainties), samples, seed, confidence,
@@ -149,8 +152,9 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
                       tuple(float(seg.mass) for seg in mission.segments), float(mission.tether_drag),
                       float(mission.payload),
                       tuple(float(x) for x in pressure_limits(mission)) if with_payload else None)
+    twins = segment_twins(problem, draws, np.asarray(elements.diameter), np.asarray(elements.valid))
     classes, inverse = section_classes(route, elements)
-    return problem, classes, inverse
+    return dataclasses.replace(problem, twins=twins), classes, inverse
 
 
 def plan_confidence(mission, muscles, elements, confidence: float, *, samples: int = DEFAULT_SAMPLES,

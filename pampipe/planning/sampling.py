@@ -35,6 +35,8 @@ MEMORY_BUDGET = 256 << 20
 BYTES_PER_DRAW = 1200
 #: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
 BATCH = 1 << 16
+#: The coefficients of :class:`Anchored` the closed forms use (after ``length``, which they do not).
+USED = ("amplification", "at_zero", "slope", "contact_at_zero", "contact_slope")
 #: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
 MOVES = 1e3
 
@@ -55,21 +57,25 @@ def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
 
 
 def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
-                pressure: float):
-    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N]) from the coefficients ``c`` (:func:`anchored_at`): the
-    closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where it does not hold), with F₀
-    shifted by the model error ``e`` [N]; every argument broadcasts against ``c``'s fields (``p`` (size,
-    ...) too)."""
+                pressure: float | None = None):
+    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N] or None without ``pressure``) from the coefficients ``c``
+    (:func:`anchored_at`): the closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where
+    it does not hold), with F₀ shifted by the model error ``e`` [N]; every argument broadcasts against
+    ``c``'s fields (``p`` (size, ...) too)."""
     muscle = _muscle(structure, p)
+    largest = None
     with np.errstate(all="ignore"):
         c = dataclasses.replace(c, at_zero=c.at_zero + e)
         least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf, anchored=c)
         touch = -c.at_zero / c.slope
-        stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
-        grip = mu * math.pi * c.amplification * stiffening
-        largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
-    shape = np.broadcast_shapes(*(np.shape(v) for v in (least, touch, largest)))
-    return [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in (least, touch, largest)]
+        if pressure is not None:
+            stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
+            grip = mu * math.pi * c.amplification * stiffening
+            largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
+    values = [v for v in (least, touch, largest) if v is not None]
+    shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+    out = [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values]
+    return out if largest is not None else [*out, None]
 
 
 def upper_quantile(values: np.ndarray, level: float, axis: int = 0, *, ordered: bool = False) -> np.ndarray:
@@ -138,6 +144,7 @@ class Problem:
     tether_drag: float  # [N]
     payload: float  # [kg]
     supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
+    twins: tuple[int, ...] = ()  # per segment, the first with the same inputs and draws (segment_twins)
 
     @property
     def key(self) -> str:
@@ -206,7 +213,9 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
              min(math.ceil(n * problem.level + half) - 1, n - 1)]
     for i in range(m):
         rows = np.flatnonzero(classes.valid[:, i])
-        if rows.size == 0:
+        twin = problem.twins[i] if problem.twins else i
+        if rows.size == 0 or twin != i:  # a twin's draws and inputs are the same: so is its plan
+            _copy(out, twin, i)
             continue
         ev = Evaluator(problem, draws, classes, i, rows, bore[:, rows], friction[:, rows])
         supply = None if problem.supply is None else problem.supply[i]
@@ -234,6 +243,33 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
             out.undetermined[rows[new]] = np.column_stack([np.full(new.sum(), i), np.full(new.sum(), k),
                                                            moved[new]])
     return out
+
+
+def _copy(out: ChunkResult, j: int, i: int) -> None:
+    """Segment j's sampled plan as segment i's (in place; not the undetermined flags, which name j)."""
+    for a in (out.pressure, out.holding, out.contact, out.band, out.certain, out.payload,
+              *out.levels.values(), *out.shifts.values(), *out.low_shifts.values()):
+        if a is not None:
+            a[:, i] = a[:, j]
+
+
+def segment_twins(problem: Problem, draws: MuscleDraws, worst: np.ndarray, valid: np.ndarray) -> tuple:
+    """For each segment i, the first segment j ≤ i with the same muscle, mass, pressure limit, worst bores
+    (``worst``, ``valid``: (S, segments)) and the same draws of every source: its plan is i's."""
+    out = []
+    for i in range(len(problem.structures)):
+        out.append(next(j for j in range(i + 1) if j == i or _alike(problem, draws, worst, valid, i, j)))
+    return tuple(out)
+
+
+def _alike(problem: Problem, draws: MuscleDraws, worst, valid, i: int, j: int) -> bool:
+    ui, uj = problem.uncertainties[i], problem.uncertainties[j]
+    same = (problem.structures[i] == problem.structures[j] and problem.masses[i] == problem.masses[j]
+            and (problem.supply is None or problem.supply[i] == problem.supply[j])
+            and ui.fit_key == uj.fit_key and not ui.unresolved and not uj.unresolved
+            and np.array_equal(ui.nominal, uj.nominal) and np.array_equal(worst[:, i], worst[:, j])
+            and np.array_equal(valid[:, i], valid[:, j]))
+    return same and all(np.array_equal(d[i], d[j]) for d in (*draws.params.values(), draws.model_error))
 
 
 class Evaluator:
@@ -277,7 +313,6 @@ class Evaluator:
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal)
         load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
-        at = 0.0 if pressure is None else float(pressure)
         columns = p.T[:, :, None]  # (size, n or 1, 1)
         least = held = touch = None
         for bore_nominal in self.bores:
@@ -286,12 +321,13 @@ class Evaluator:
             first = np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
             drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
             c = self._anchored(p, drawn)
-            c = Anchored(*(np.asarray(getattr(c, f.name))[:, group] if np.ndim(getattr(c, f.name)) else
-                           getattr(c, f.name) for f in dataclasses.fields(c)))
+            c = Anchored(None, *(getattr(c, name)[:, group] if np.ndim(getattr(c, name)) else getattr(c, name)
+                                 for name in USED))  # per class; the anchored length is not used
             values = holding_law(self.structure, columns, c, load, kappa[:, None], mu, pr.safety_factor,
-                                 error[:, None], at)
+                                 error[:, None], pressure)
             least = values[0] if least is None else np.maximum(least, values[0])  # NaN stays NaN
-            held = values[2] if held is None else np.minimum(held, values[2])
+            if pressure is not None:
+                held = values[2] if held is None else np.minimum(held, values[2])
             touch = values[1]  # the largest bore is the last
         shape = np.broadcast_shapes(least.shape, mu.shape, (p.shape[0], 1))
         least = np.broadcast_to(np.where(np.isnan(least), np.inf, least), shape)
@@ -315,9 +351,9 @@ class Evaluator:
         for start in range(0, rows * groups, BATCH):
             k = np.arange(start, min(start + BATCH, rows * groups))
             params = p[np.minimum(k // groups, p.shape[0] - 1)].T
-            parts.append(anchored_at(self.structure, params, d[k]))
-        return Anchored(*(np.concatenate([np.broadcast_to(getattr(c, f.name), (c_size(c),)) for c in parts])
-                          .reshape(rows, groups) for f in dataclasses.fields(Anchored)))
+            parts.append((anchored_at(self.structure, params, d[k]), k.size))
+        return Anchored(None, *(_joined([(getattr(c, name), size) for c, size in parts], (rows, groups))
+                                for name in USED))
 
     def moves(self, direction) -> np.ndarray:
         """Change of the certain P* [Pa] per class across ± the width the data leave open along
@@ -329,6 +365,10 @@ class Evaluator:
         return np.where(np.isfinite(delta), delta, np.inf)
 
 
-def c_size(c: Anchored) -> int:
-    """Columns of a batch of coefficients (the length of its array fields)."""
-    return max(np.size(getattr(c, f.name)) for f in dataclasses.fields(c))
+def _joined(parts: list, shape: tuple[int, int]):
+    """One coefficient of the batches ((value, columns) each) as a ``shape`` array, or a number where it
+    is one number in every batch (C₀, C₁ = 0 without contact increments)."""
+    values = [v for v, _ in parts]
+    if all(np.ndim(v) == 0 for v in values) and len({float(v) for v in values}) == 1:
+        return float(values[0])
+    return np.concatenate([np.broadcast_to(v, (size,)) for v, size in parts]).reshape(shape)
