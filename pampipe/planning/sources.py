@@ -27,6 +27,7 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -221,12 +222,20 @@ _TAGS = {"bore": 1, "friction": 2, "kappa": 3}
 
 
 def keyed_normal(seed: int, tag: str, statement, n: int) -> np.ndarray:
-    """(n,) standard normal draws of the stream keyed by ``seed``, the source ``tag`` and the numbers of
-    the ``statement`` it is drawn for (a bore's range and sd, a friction's value and sd): every section
-    that states the same bore (friction) gets the same draw, in whichever chunk or process it is sampled."""
+    """(n,) standard normal draws (read-only) of the stream keyed by ``seed``, the source ``tag`` and the
+    numbers of the ``statement`` it is drawn for (a bore's range and sd, a friction's value and sd): every
+    section that states the same bore (friction) gets the same draw, in whichever chunk or process it is
+    sampled. The last few streams are kept (a route states few bores and frictions)."""
+    return _keyed(seed, tag, tuple(float(x) for x in statement), n)
+
+
+@functools.lru_cache(maxsize=64)
+def _keyed(seed: int, tag: str, statement: tuple[float, ...], n: int) -> np.ndarray:
     words = np.asarray(statement, dtype="<f8").view("<u4").tolist()
     sequence = np.random.SeedSequence(seed, spawn_key=(_TAGS[tag], *words))
-    return np.random.default_rng(sequence).standard_normal(n)
+    out = np.random.default_rng(sequence).standard_normal(n)
+    out.flags.writeable = False
+    return out
 
 
 def muscle_sources(draws: MuscleDraws) -> list[str]:
