@@ -47,6 +47,7 @@ examples:
   pampipe plan MISSION.yaml --max-payload --json -o plan.json --plots plots/ --units psi
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95 --max-payload
+  pampipe plan MISSION.yaml --confidence 0.95 --samples 10000 --workers 2
   pampipe plan problems/missions/ky4-route.yaml --plots plots/
 
 A section may end with a bend (bend: {angle: 90 deg, radius: 1.5 D}); network routes take theirs from the

@@ -175,7 +175,7 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     size = chunk_classes(samples, budget)
     tasks = [(problem, classes.part(slice(start, start + size))) for start in range(0, len(classes), size)]
     with executor(workers=workers, scheduler=scheduler) as pool:
-        parts = run_all(sample_chunk, tasks, pool, what="confidence chunks")
+        parts = run_all(sample_chunk, tasks, pool, what="confidence chunks" if len(tasks) > 1 else None)
 
     def joined(get):
         return np.concatenate([get(r) for r in parts])[inverse]
