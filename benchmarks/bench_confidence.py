@@ -50,6 +50,8 @@ def main() -> None:
             path = write_mission(Path(tmp), sections, robot=ROBOT, friction_sd=0.03, distinct=distinct)
             mission = str(path)
             kinds = sections if distinct else min(sections, 180)
+            if distinct:
+                print("every section its own kind:")
             for name, extra in (("serial", []), ("--workers 2", ["--workers", "2"])):
                 command = [sys.executable, "-m", "pampipe", "plan", mission, "--confidence", "0.95",
                            "--samples", str(args.samples), "--quiet", *extra]
