@@ -159,11 +159,12 @@ _DRAWS: dict[str, MuscleDraws] = {}
 def muscle_draws(problem: Problem) -> MuscleDraws:
     """The route's muscle draws, drawn once per process (and problem) from the seed."""
     key = problem.key
-    if key not in _DRAWS:
+    draws = _DRAWS.get(key)  # one lookup: a Dask worker may run chunks in several threads
+    if draws is None:
+        draws = draw_muscles(list(problem.uncertainties), problem.samples, problem.seed, problem.kappa_sd)
         _DRAWS.clear()
-        _DRAWS[key] = draw_muscles(list(problem.uncertainties), problem.samples, problem.seed,
-                                   problem.kappa_sd)
-    return _DRAWS[key]
+        _DRAWS[key] = draws
+    return draws
 
 
 def chunk_classes(samples: int, budget: int = MEMORY_BUDGET) -> int:
