@@ -29,10 +29,11 @@ from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscle
 
 LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
 #: Memory a chunk may use for its draws × classes arrays [B].
-MEMORY_BUDGET = 256 << 20
-#: Bytes one draw of one class costs at the peak of a chunk (all temporaries of the three bores of a
-#: range, the sorted copies and the parameter columns; measured with ``bench_confidence.py``).
-BYTES_PER_DRAW = 1200
+MEMORY_BUDGET = 64 << 20
+#: Bytes one draw of one class costs at the peak of a chunk (the temporaries of the closed form over a
+#: range's bores, the sorted copies): the peak resident memory grew by 137–167 B per draw and class for
+#: chunks of 21 and 180 classes at 10⁴ draws (the riser robot, 180 kinds of section).
+BYTES_PER_DRAW = 200
 #: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
 BATCH = 1 << 16
 #: The coefficients of :class:`Anchored` the closed forms use (after ``length``, which they do not).
