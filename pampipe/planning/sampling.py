@@ -323,7 +323,8 @@ class Evaluator:
             first = np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
             drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
             c = self._anchored(p, drawn)
-            c = Anchored(None, *(getattr(c, name)[:, group] if np.ndim(getattr(c, name)) else getattr(c, name)
+            pick = group if bores.shape[1] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
+            c = Anchored(None, *(getattr(c, name)[:, pick] if np.ndim(getattr(c, name)) else getattr(c, name)
                                  for name in USED))  # per class; the anchored length is not used
             values = holding_law(self.structure, columns, c, load, kappa[:, None], mu, pr.safety_factor,
                                  error[:, None], pressure)
