@@ -79,12 +79,11 @@ def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, 
     return out if largest is not None else [*out, None]
 
 
-def upper_quantile(values: np.ndarray, level: float, axis: int = 0, *, ordered: bool = False) -> np.ndarray:
-    """Least x with a share ≥ level of ``values`` ≤ x (the empirical, inverted-CDF quantile);
-    ``ordered``: ``values`` are already sorted along ``axis``."""
-    n = values.shape[axis]
-    k = max(math.ceil(level * n - 1e-9) - 1, 0)
-    return np.take(values if ordered else np.sort(values, axis=axis), k, axis=axis)
+def upper_quantile(ordered: np.ndarray, level: float) -> np.ndarray:
+    """Least x with a share ≥ level of the values ≤ x (the empirical, inverted-CDF quantile), from the
+    values ``ordered`` (sorted along axis 0)."""
+    k = max(math.ceil(level * ordered.shape[0] - 1e-9) - 1, 0)
+    return ordered[k]
 
 
 def lower_quantile(values: np.ndarray, level: float, axis: int = 0) -> np.ndarray:
@@ -223,13 +222,13 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         supply = None if problem.supply is None else problem.supply[i]
         least, touch, held = ev.evaluate(problem.active, supply)
         ordered = np.sort(least, axis=0)
-        planned = upper_quantile(ordered, problem.level, ordered=True)
+        planned = upper_quantile(ordered, problem.level)
         out.pressure[rows, i] = planned
         out.holding[rows, i] = np.mean(least <= planned, axis=0)
         out.contact[rows, i] = np.mean(touch <= planned, axis=0)
         out.band[rows, i] = ordered[ranks].T
         for key, level in zip(out.levels, LEVELS, strict=True):
-            out.levels[key][rows, i] = upper_quantile(ordered, level, ordered=True)
+            out.levels[key][rows, i] = upper_quantile(ordered, level)
         del ordered, least, touch
         if held is not None:
             out.payload[rows, i] = lower_quantile(held, problem.level)
@@ -237,8 +236,8 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         out.certain[rows, i] = certain
         for name in problem.active:
             alone = np.sort(ev.evaluate((name,))[0], axis=0)
-            out.shifts[name][rows, i] = upper_quantile(alone, problem.level, ordered=True) - certain
-            out.low_shifts[name][rows, i] = upper_quantile(alone, 1 - problem.level, ordered=True) - certain
+            out.shifts[name][rows, i] = upper_quantile(alone, problem.level) - certain
+            out.low_shifts[name][rows, i] = upper_quantile(alone, 1 - problem.level) - certain
         for k, direction in enumerate(problem.uncertainties[i].unresolved):
             moved = ev.moves(direction)
             new = (np.abs(moved) > MOVES) & (out.undetermined[rows, 0] < 0)
