@@ -80,15 +80,21 @@ def command_after_wntr(*args: str, repeat: int) -> float:
     return min(runs)
 
 
-def write_mission(folder: Path, sections: int) -> Path:
-    """The demo robot on ``sections`` sections: varied lengths, bores (a fifth with a tolerance), inclines."""
-    head = DEMO.read_text().split("route:")[0].replace("../pams", str(ROOT / "problems" / "pams"))
-    path = folder / f"mission-{sections}.yaml"
+def write_mission(folder: Path, sections: int, *, robot: Path = DEMO, friction_sd: float = 0.0,
+                  distinct: bool = False) -> Path:
+    """``robot``'s mission (the demo's) on ``sections`` sections: varied lengths, bores (a fifth with a
+    tolerance), inclines (90 values, or a different one per section if ``distinct``), frictions (four
+    values, each with ``friction_sd`` if not 0)."""
+    head = robot.read_text().split("route:")[0].replace("../pams", str(ROOT / "problems" / "pams"))
+    path = folder / f"mission-{sections}{'-distinct' if distinct else ''}.yaml"
     with open(path, "w", encoding="utf-8") as handle:
         handle.write(head + "route:\n")
         for i in range(sections):
+            incline = f"{90 * i / sections - 45:.9g}" if distinct else f"{i % 90 - 45}"
+            mu = f"{0.2 + 0.05 * (i % 4):g}"
+            friction = f"{{value: {mu}, sd: {friction_sd:g}}}" if friction_sd else mu
             handle.write(f"  - {{name: s{i}, length: {1 + i % 7} m, inner_diameter: {BORES[i % 5]}, "
-                         f"incline: {i % 90 - 45} deg, friction: {0.2 + 0.05 * (i % 4):g}}}\n")
+                         f"incline: {incline} deg, friction: {friction}}}\n")
     return path
 
 

@@ -190,12 +190,13 @@ def extension(pam: Source, *, pressure=None, base=None):
 
 def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
          max_payload: bool = False, base=None, samples: int | None = None, seed: int | None = None,
-         prior=None):
+         prior=None, workers: int | None = None, scheduler: str | None = None):
     """The least anchoring pressure of every segment in every section (`pampipe plan`).
 
     With ``confidence`` C: ``samples`` draws seeded by ``seed`` (defaults of
     :mod:`pampipe.planning.confidence`), ``prior`` a PAM file (or :class:`~pampipe.model.pam.Pam`) whose
-    uncertainty serves as prior along undetermined directions.
+    uncertainty serves as prior along undetermined directions; the sampling runs on ``workers`` local
+    processes or the Dask ``scheduler`` address, with the same result.
     Returns a :class:`pampipe.planning.MissionPlan` (``to_dict()``: the JSON document).
     """
     from pampipe.errors import InputError
@@ -212,12 +213,14 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
     payload = _si(payload, "mass", "payload")
     if isinstance(payload, list):
         raise InputError("payload: give one mass, e.g. '3 kg', not a list.")
+    workers, scheduler = _where(workers, scheduler)
     started = time.perf_counter()
     prior = None if prior is None else load_pam(prior)
     result = plan_mission(load_mission(mission, base=base), payload=payload,
                           confidence=confidence, method=solver, with_max_payload=max_payload,
                           samples=DEFAULT_SAMPLES if samples is None else samples,
-                          seed=DEFAULT_SEED if seed is None else seed, prior=prior)
+                          seed=DEFAULT_SEED if seed is None else seed, prior=prior,
+                          workers=workers, scheduler=scheduler)
     return result.timed(time.perf_counter() - started)
 
 
@@ -378,16 +381,12 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
     import dataclasses
 
     from pampipe.design import solve_inventory
-    from pampipe.errors import InputError
     from pampipe.inventory import Objective
     from pampipe.parallel import executor
 
     starts, seed, sizes = _whole(starts, "starts", least=1), _whole(seed, "seed", least=0), _whole(
         sizes, "sizes", least=1)
-    workers = _whole(workers, "workers", least=1)
-    if scheduler is not None and not isinstance(scheduler, str):
-        raise InputError(f"scheduler: {show(scheduler)} is not allowed; give an address such as "
-                         "'tcp://host:8786'.")
+    workers, scheduler = _where(workers, scheduler)
     model = load_inventory(inventory, base=base)
     overrides = {"starts": starts, "seed": seed, "sizes": sizes,
                  "objective": None if objective is None else _objective(objective, Objective)}
@@ -395,6 +394,17 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
     model = dataclasses.replace(model, space=space)
     with executor(workers=workers, scheduler=scheduler) as pool:
         return solve_inventory(model, pool=pool)
+
+
+def _where(workers, scheduler) -> tuple[int | None, str | None]:
+    """Checked ``workers`` (a whole number ≥ 1) and ``scheduler`` (an address) for
+    :func:`pampipe.parallel.executor`."""
+    from pampipe.errors import InputError
+
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise InputError(f"scheduler: {show(scheduler)} is not allowed; give an address such as "
+                         "'tcp://host:8786'.")
+    return _whole(workers, "workers", least=1), scheduler
 
 
 def save_pam(pam, path, *, force: bool = False, comments: Sequence[str] = ()) -> Path:

@@ -99,9 +99,9 @@ def _stop(pool: ProcessPoolExecutor) -> None:
     pool.shutdown(wait=True)
 
 
-def run_all(fn: Callable, tasks: Iterable, pool: Executor, *, what: str = "tasks") -> list:
+def run_all(fn: Callable, tasks: Iterable, pool: Executor, *, what: str | None = "tasks") -> list:
     """[fn(task) for task in tasks] computed on ``pool``, in task order (the first error is raised);
-    each finished task is counted in :mod:`pampipe.progress` as one of ``what``.
+    each finished task is counted in :mod:`pampipe.progress` as one of ``what`` (None: not counted).
 
     A worker process that dies (killed, out of memory) is a :class:`SolverError` (exit 3).
     """
@@ -110,7 +110,8 @@ def run_all(fn: Callable, tasks: Iterable, pool: Executor, *, what: str = "tasks
         results = []
         for task in tasks:
             results.append(fn(task))
-            progress.count(what, len(results), len(tasks))
+            if what:
+                progress.count(what, len(results), len(tasks))
         return results
     try:
         futures: Sequence[Future] = [pool.submit(fn, task) for task in tasks]
@@ -120,7 +121,8 @@ def run_all(fn: Callable, tasks: Iterable, pool: Executor, *, what: str = "tasks
             for future in finished:
                 future.result()  # the first error, at once
             done += len(finished)
-            progress.count(what, done, len(futures))
+            if what:
+                progress.count(what, done, len(futures))
         return [f.result() for f in futures]
     except BrokenExecutor as exc:
         raise SolverError(f"a worker process stopped before finishing its task ({exc}); run again, or "

@@ -73,6 +73,14 @@ def add_units_option(parser: argparse.ArgumentParser) -> None:
                              "('6.6 lb', '4.5 in')")
 
 
+def add_parallel_options(parser: argparse.ArgumentParser, what: str) -> None:
+    """--workers N and --scheduler ADDRESS: where ``what`` runs (:func:`pampipe.parallel.executor`); the
+    result is the same on each."""
+    parser.add_argument("--workers", type=int, metavar="N", help=f"run {what} on N local processes")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help=f"run {what} on the Dask cluster at ADDRESS (pip install pampipe[dask])")
+
+
 def add_report_option(parser: argparse.ArgumentParser) -> None:
     """--report FILE.html: the self-contained HTML report (:mod:`pampipe.html_report`)."""
     parser.add_argument("--report", type=Path, metavar="FILE.html",

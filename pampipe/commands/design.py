@@ -8,7 +8,7 @@ import math
 from collections import defaultdict
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, add_units_option, emit, say
+from pampipe.commands.common import add_output_options, add_parallel_options, add_units_option, emit, say
 from pampipe.errors import InfeasibleError
 from pampipe.io.files import check_not_input
 from pampipe.io.inventory import load_inventory
@@ -43,9 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="inventory file: material PAM, robot, supply, pipes, design bounds")
     parser.add_argument("-o", "--output", type=Path, metavar="PAM_OUT.yaml",
                         help="write the designed PAM file(s): the geometry and the material's moduli")
-    parser.add_argument("--workers", type=int, metavar="N", help="run the starts on N local processes")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="run the starts on the Dask cluster at ADDRESS (pip install pampipe[dask])")
+    add_parallel_options(parser, "the starts")
     parser.add_argument("--starts", type=int, metavar="N",
                         help="Latin-hypercube starts (overrides design.starts)")
     parser.add_argument("--seed", type=int, metavar="S", help="seed of the starts (overrides design.seed)")

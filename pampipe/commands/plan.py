@@ -8,6 +8,7 @@ from pathlib import Path
 
 from pampipe.commands.common import (
     add_output_options,
+    add_parallel_options,
     add_report_option,
     add_units_option,
     emit,
@@ -46,6 +47,7 @@ examples:
   pampipe plan MISSION.yaml --max-payload --json -o plan.json --plots plots/ --units psi
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95
   pampipe plan problems/missions/riser-uncertain-friction.yaml --confidence 0.95 --max-payload
+  pampipe plan MISSION.yaml --confidence 0.95 --samples 10000 --workers 2
   pampipe plan problems/missions/ky4-route.yaml --plots plots/
 
 A section may end with a bend (bend: {angle: 90 deg, radius: 1.5 D}); network routes take theirs from the
@@ -83,6 +85,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "probability's Monte Carlo error is about sqrt(C(1-C)/N), 0.34 %% at C = 0.95)")
     parser.add_argument("--seed", type=int, default=None, metavar="S",
                         help="seed of the draws (default 22): the same seed gives the same plan")
+    add_parallel_options(parser, "the --confidence sampling (in chunks of alike sections; the same plan)")
     parser.add_argument("--prior-from", type=Path, default=None, metavar="PAM.yaml",
                         help="with --confidence: a PAM file whose moduli and uncertainty serve as the prior "
                              "along the directions the muscle's own fit leaves undetermined (otherwise "
@@ -131,13 +134,15 @@ def run(args: argparse.Namespace) -> int:
     mission = api.load_mission(args.mission)
     if args.output is not None:
         check_output(args.output, mission.input_files, option="-o")
-    if args.confidence is None and (args.prior_from or args.samples or args.seed is not None):
-        raise InputError("--samples, --seed and --prior-from only apply with --confidence C.")
+    if args.confidence is None and (args.prior_from or args.samples or args.seed is not None
+                                    or args.workers is not None or args.scheduler is not None):
+        raise InputError("--samples, --seed, --prior-from, --workers and --scheduler only apply with "
+                         "--confidence C.")
     if args.report is not None:
         check_output(args.report, mission.input_files, option="--report")
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload, samples=args.samples, seed=args.seed,
-                    prior=args.prior_from)
+                    prior=args.prior_from, workers=args.workers, scheduler=args.scheduler)
     # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan
     document = plan.to_dict() if args.json or args.output is not None or args.report is not None else None
     from pampipe.display import current, localize

@@ -25,12 +25,14 @@ CHECK_TOLERANCE = 1e-6
 
 def plan_mission(mission, *, payload: float | None = None, confidence: float | None = None,
                  method: str = "kkt", check: bool = True, with_max_payload: bool = False,
-                 samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED, prior=None) -> MissionPlan:
+                 samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED, prior=None,
+                 workers: int | None = None, scheduler: str | None = None) -> MissionPlan:
     """Plan ``mission`` (a :class:`pampipe.mission.Mission`); ``payload`` [kg] overrides its payload.
 
     ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C, from ``samples``
     seeded draws (``seed``) of every uncertain input (:mod:`pampipe.planning.confidence`); ``prior`` is a
-    :class:`~pampipe.model.pam.Pam` whose uncertainty serves as prior along undetermined directions.
+    :class:`~pampipe.model.pam.Pam` whose uncertainty serves as prior along undetermined directions;
+    ``workers``/``scheduler``: where the sampling runs (:mod:`pampipe.parallel`; the same result).
     ``check`` compares the NLP's pressures with a bisection on the model (:mod:`pampipe.planning.checks`)
     and raises :class:`SolverError` beyond a relative 1e-6.
     """
@@ -52,7 +54,8 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     if confidence is not None:
         nominal = solution.pressure
         sampled = plan_confidence(mission, muscles, elements, confidence, samples=samples, seed=seed,
-                                  prior=prior, with_payload=with_max_payload)
+                                  prior=prior, with_payload=with_max_payload, workers=workers,
+                                  scheduler=scheduler)
         pressure = np.where(elements.valid, sampled.pressure, nominal)
         solution = dataclasses.replace(solution, pressure=pressure,
                                        slip_active=solution.slip_active | (pressure > nominal))

@@ -14,7 +14,9 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
   PAM's ``model_error`` (the residual spread beyond the noise); per segment.
 * ``bore``: a shift δ ~ N(0, sd²) [m] of the bore of each section (its ``sd``); the tolerance range is
   not drawn: the plan holds over all of it (the pipe takes every bore of its range along its length).
-* ``friction``: μ ~ N(μ̂, sd²) per section; a draw with μ ≤ 0 cannot hold.
+  One draw per bore statement (range and sd): :func:`keyed_normal`.
+* ``friction``: μ ~ N(μ̂, sd²), one draw per friction statement (μ̂, sd), i.e. per wall material: a
+  measured μ is one unknown number for every pipe of that wall; a draw with μ ≤ 0 cannot hold.
 * ``kappa``: κ ~ N(κ̂, sd²) clipped at 0 (``Mission.kappa_sd``), one draw for the mission.
 * ``prior``: along each ``undetermined`` direction v of a fit (a unit vector in scaled coordinates q,
   one unit = 1 MPa, 1 deg or 1 mm: :mod:`pampipe.model.uncertainty`), q = q̂ + t·v with t from the prior
@@ -25,7 +27,8 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import functools
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -78,17 +81,15 @@ class MuscleUncertainty:
 
 
 @dataclass(frozen=True)
-class Draws:
-    """n seeded draws of every source, as deviations; ``params[k][i]`` is source k's (n, size) block of
-    segment i's parameter vector."""
+class MuscleDraws:
+    """n seeded draws of the sources the whole route shares, as deviations: ``params[k][i]`` is source
+    k's (n, size) block of segment i's parameter vector, ``model_error[i]`` its (n,) shift [N], ``kappa``
+    the (n,) deviation of κ. The per-section sources (bore, friction) are drawn by :func:`keyed_normal`."""
 
     n: int
     params: dict[str, list[np.ndarray]]  # "moduli", "geometry", "prior"
     model_error: list[np.ndarray]  # per segment (n,) [N]
-    bore: np.ndarray  # (n, S) [m]
-    friction: np.ndarray  # (n, S)
     kappa: np.ndarray  # (n,)
-    active: tuple[str, ...] = field(default=())  # sources with a non-zero spread
 
 
 def _names_index(names, structure, where: str) -> list[int]:
@@ -196,10 +197,10 @@ def _gaussian(rng, cov: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
-def draw(mission, muscles: list[MuscleUncertainty], n: int, seed: int) -> Draws:
-    """``n`` joint draws of every source, seeded: equal seeds give equal draws."""
+def draw_muscles(muscles: list[MuscleUncertainty], n: int, seed: int, kappa_sd: float) -> MuscleDraws:
+    """``n`` joint draws of the muscles' sources (one stream seeded by ``seed``, in segment order) and of κ
+    (its own keyed stream): equal seeds give equal draws, in any process."""
     rng = np.random.default_rng(seed)
-    route = mission.route
     fits, params = {}, {"moduli": [], "geometry": [], "prior": []}
     errors = []
     for m in muscles:
@@ -212,14 +213,33 @@ def draw(mission, muscles: list[MuscleUncertainty], n: int, seed: int) -> Draws:
             prior += np.outer(shift + sd * rng.standard_normal(n), d.step)
         params["prior"].append(prior)
         errors.append(rng.standard_normal(n) * m.model_error)
-    sections = len(route)
-    bore = rng.standard_normal((n, sections)) * np.asarray(route.diameter_sd, dtype=float)
-    friction = rng.standard_normal((n, sections)) * np.asarray(route.friction_sd, dtype=float)
-    kappa = rng.standard_normal(n) * float(getattr(mission, "kappa_sd", 0.0))
-    active = [k for k in ("moduli", "geometry", "prior") if any(np.any(b) for b in params[k])]
-    active += ["model_error"] if any(np.any(e) for e in errors) else []
-    for name, value in (("bore", bore), ("friction", friction), ("kappa", kappa)):
-        if np.any(value):
-            active.append(name)
-    order = tuple(s for s in SOURCES if s in active)
-    return Draws(n, params, errors, bore, friction, kappa, order)
+    kappa = keyed_normal(seed, "kappa", (), n) * kappa_sd if kappa_sd > 0 else np.zeros(n)
+    return MuscleDraws(n, params, errors, kappa)
+
+
+#: Stream tags of the keyed draws (a stream is the seed, a tag and the statement's numbers).
+_TAGS = {"bore": 1, "friction": 2, "kappa": 3}
+
+
+def keyed_normal(seed: int, tag: str, statement, n: int) -> np.ndarray:
+    """(n,) standard normal draws (read-only) of the stream keyed by ``seed``, the source ``tag`` and the
+    numbers of the ``statement`` it is drawn for (a bore's range and sd, a friction's value and sd): every
+    section that states the same bore (friction) gets the same draw, in whichever chunk or process it is
+    sampled. The last few streams are kept (a route states few bores and frictions)."""
+    return _keyed(seed, tag, tuple(float(x) for x in statement), n)
+
+
+@functools.lru_cache(maxsize=64)
+def _keyed(seed: int, tag: str, statement: tuple[float, ...], n: int) -> np.ndarray:
+    words = np.asarray(statement, dtype="<f8").view("<u4").tolist()
+    sequence = np.random.SeedSequence(seed, spawn_key=(_TAGS[tag], *words))
+    out = np.random.default_rng(sequence).standard_normal(n)
+    out.flags.writeable = False
+    return out
+
+
+def muscle_sources(draws: MuscleDraws) -> list[str]:
+    """The muscle-wide sources with a non-zero spread, in :data:`SOURCES` order."""
+    active = [k for k in ("moduli", "geometry", "prior") if any(np.any(b) for b in draws.params[k])]
+    active += ["model_error"] if any(np.any(e) for e in draws.model_error) else []
+    return active + (["kappa"] if np.any(draws.kappa) else [])

@@ -1,0 +1,376 @@
+"""The sampled holding law of a confidence plan, per class of alike sections, in chunks (docs/physics.md §15).
+
+A **class** is the set of sections that state the same bores (range, and each segment's worst bore in it),
+bore sd, incline, friction and friction sd: they carry the same load and, since the muscle draws are the
+route's and the bore and friction draws are keyed by their statement (:func:`sources.keyed_normal`), the
+same draws. One evaluation over the n draws serves every section of a class, so a route of 10⁵ sections
+of a few hundred kinds costs a few hundred evaluations.
+
+Classes are sampled in **chunks** of at most :func:`chunk_classes` classes (a memory budget,
+:data:`MEMORY_BUDGET`), each chunk a task of :func:`pampipe.parallel.run_all`. A task is plain numbers
+and the seed; the worker draws the route's muscle draws itself from the seed (:func:`sources.draw_muscles`,
+once per process), so serial, local processes and a Dask cluster give bit-identical results.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+import pickle
+from dataclasses import dataclass
+
+import numpy as np
+
+from pampipe.model.muscle import Anchored, Muscle, Structure
+from pampipe.model.pam import Geometry
+from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
+
+LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
+#: Memory a chunk may use for its draws × classes arrays [B].
+MEMORY_BUDGET = 64 << 20
+#: Bytes one draw of one class costs at the peak of a chunk (the temporaries of the closed form over a
+#: range's bores, the sorted copies): the peak resident memory grew by 137–167 B per draw and class for
+#: chunks of 21 and 180 classes at 10⁴ draws (the riser robot, 180 kinds of section).
+BYTES_PER_DRAW = 200
+#: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
+BATCH = 1 << 16
+#: The coefficients of :class:`Anchored` the closed forms use (after ``length``, which they do not).
+USED = ("amplification", "at_zero", "slope", "contact_at_zero", "contact_slope")
+#: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
+MOVES = 1e3
+
+
+def _muscle(structure: Structure, p: np.ndarray) -> Muscle:
+    """One :class:`Muscle` whose fields are the columns of ``p`` (size, ...): the numpy path of the one
+    model (:mod:`pampipe.model.ops`), vectorised over every column."""
+    n = structure.n_theta
+    geometry = Geometry(p[0], p[1], p[2], p[3], structure.wall)
+    return Muscle(geometry, p[5:5 + n], p[4], contact=p[5 + n:5 + 2 * n] if structure.contact else None)
+
+
+def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
+    """The muscle's coefficients F₀, F₁, A, C₀, C₁ at the anchored length in bore ``d`` [m] (the costly,
+    load-free part of the law), for columns ``p`` (size, N) and ``d`` (N,)."""
+    with np.errstate(all="ignore"):
+        return _muscle(structure, p).affine_coefficients(d)
+
+
+def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
+                pressure: float | None = None):
+    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N] or None without ``pressure``) from the coefficients ``c``
+    (:func:`anchored_at`): the closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where
+    it does not hold), with F₀ shifted by the model error ``e`` [N]; every argument broadcasts against
+    ``c``'s fields (``p`` (size, ...) too)."""
+    muscle = _muscle(structure, p)
+    largest = None
+    with np.errstate(all="ignore"):
+        c = dataclasses.replace(c, at_zero=c.at_zero + e)
+        least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf, anchored=c)
+        touch = -c.at_zero / c.slope
+        if pressure is not None:
+            stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
+            grip = mu * math.pi * c.amplification * stiffening
+            largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
+    values = [v for v in (least, touch, largest) if v is not None]
+    shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+    out = [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values]
+    return out if largest is not None else [*out, None]
+
+
+def upper_quantile(ordered: np.ndarray, level: float) -> np.ndarray:
+    """Least x with a share ≥ level of the values ≤ x (the empirical, inverted-CDF quantile), from the
+    values ``ordered`` (sorted along axis 0)."""
+    k = max(math.ceil(level * ordered.shape[0] - 1e-9) - 1, 0)
+    return ordered[k]
+
+
+def lower_quantile(values: np.ndarray, level: float, axis: int = 0) -> np.ndarray:
+    """Largest x with a share ≥ level of ``values`` ≥ x."""
+    n = values.shape[axis]
+    k = min(math.floor((1 - level) * n + 1e-9), n - 1)
+    return np.take(np.sort(values, axis=axis), k, axis=axis)
+
+
+@dataclass(frozen=True)
+class Classes:
+    """The classes of alike sections: one row each, (C,) or (C, segments) arrays, SI."""
+
+    low: np.ndarray  # smallest bore of the range [m]
+    high: np.ndarray  # largest bore of the range [m]
+    worst: np.ndarray  # (C, segments) each segment's worst bore of the range [m]
+    valid: np.ndarray  # (C, segments) bool
+    bore_sd: np.ndarray  # [m]
+    mu: np.ndarray
+    mu_sd: np.ndarray
+    incline: np.ndarray  # [rad]
+
+    def __len__(self) -> int:
+        return self.low.size
+
+    def part(self, rows: slice) -> Classes:
+        return Classes(*(getattr(self, f.name)[rows] for f in dataclasses.fields(self)))
+
+
+def section_classes(route, elements) -> tuple[Classes, np.ndarray]:
+    """(the classes, the class of each section (S,))."""
+    valid = np.asarray(elements.valid, dtype=bool)
+    m = valid.shape[1]
+    columns = [route.diameter_low, route.diameter_high, elements.diameter, valid, route.diameter_sd,
+               route.friction, route.friction_sd, route.incline]
+    table = np.column_stack(columns).astype(float)
+    rows, inverse = np.unique(table, axis=0, return_inverse=True)
+    classes = Classes(rows[:, 0], rows[:, 1], rows[:, 2:2 + m], rows[:, 2 + m:2 + 2 * m] > 0.5,
+                      *(rows[:, 2 + 2 * m + k] for k in range(4)))
+    return classes, np.asarray(inverse).reshape(-1)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What every chunk shares: the muscles' sources, the seed, the mission's constants (SI)."""
+
+    structures: tuple[Structure, ...]
+    uncertainties: tuple[MuscleUncertainty, ...]
+    samples: int
+    seed: int
+    level: float
+    active: tuple[str, ...]  # sources with a spread, in sources.SOURCES order
+    kappa: float
+    kappa_sd: float
+    safety_factor: float
+    total_mass: float  # [kg] robot and payload
+    masses: tuple[float, ...]  # [kg] per segment
+    tether_drag: float  # [N]
+    payload: float  # [kg]
+    supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
+    twins: tuple[int, ...] = ()  # per segment, the first with the same inputs and draws (segment_twins)
+
+    @property
+    def key(self) -> str:
+        """Digest of what the muscle draws depend on (the cache key of :func:`muscle_draws`)."""
+        what = (self.uncertainties, self.samples, self.seed, self.kappa_sd)
+        return hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
+
+
+_DRAWS: dict[str, MuscleDraws] = {}
+
+
+def muscle_draws(problem: Problem) -> MuscleDraws:
+    """The route's muscle draws, drawn once per process (and problem) from the seed."""
+    key = problem.key
+    draws = _DRAWS.get(key)  # one lookup: a Dask worker may run chunks in several threads
+    if draws is None:
+        draws = draw_muscles(list(problem.uncertainties), problem.samples, problem.seed, problem.kappa_sd)
+        _DRAWS.clear()
+        _DRAWS[key] = draws
+    return draws
+
+
+def chunk_classes(samples: int, budget: int = MEMORY_BUDGET) -> int:
+    """Classes per chunk so that a chunk's draws × classes arrays stay within ``budget`` bytes."""
+    return max(1, budget // (BYTES_PER_DRAW * samples))
+
+
+@dataclass(frozen=True)
+class ChunkResult:
+    """One chunk's sampled plan, (C, segments) arrays (placeholders where an element is not valid)."""
+
+    pressure: np.ndarray
+    holding: np.ndarray
+    contact: np.ndarray
+    levels: dict[str, np.ndarray]
+    band: np.ndarray  # (C, segments, 2)
+    certain: np.ndarray
+    shifts: dict[str, np.ndarray]
+    low_shifts: dict[str, np.ndarray]
+    payload: np.ndarray | None
+    undetermined: np.ndarray  # (C, 3): segment, index in its ``unresolved``, ΔP [Pa]; segment −1: none
+
+
+def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
+    """The sampled plan of one chunk of classes (a picklable task for :func:`pampipe.parallel.run_all`)."""
+    problem, classes = task
+    draws = muscle_draws(problem)
+    n, count, m = problem.samples, len(classes), len(problem.structures)
+    bore = np.zeros((n, count))
+    friction = np.zeros((n, count))
+    for c in range(count):
+        if classes.bore_sd[c] > 0:
+            statement = (classes.low[c], classes.high[c], classes.bore_sd[c])
+            bore[:, c] = keyed_normal(problem.seed, "bore", statement, n) * classes.bore_sd[c]
+        if classes.mu_sd[c] > 0:
+            statement = (classes.mu[c], classes.mu_sd[c])
+            friction[:, c] = keyed_normal(problem.seed, "friction", statement, n) * classes.mu_sd[c]
+    shape = (count, m)
+    out = ChunkResult(np.full(shape, np.inf), np.zeros(shape), np.zeros(shape),
+                      {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}, np.full((*shape, 2), np.inf),
+                      np.full(shape, np.nan), {k: np.full(shape, np.nan) for k in problem.active},
+                      {k: np.full(shape, np.nan) for k in problem.active},
+                      None if problem.supply is None else np.full(shape, -np.inf),
+                      np.tile([-1.0, -1.0, 0.0], (count, 1)))
+    half = 1.959964 * math.sqrt(n * problem.level * (1 - problem.level))
+    ranks = [max(math.floor(n * problem.level - half) - 1, 0),
+             min(math.ceil(n * problem.level + half) - 1, n - 1)]
+    for i in range(m):
+        rows = np.flatnonzero(classes.valid[:, i])
+        twin = problem.twins[i] if problem.twins else i
+        if rows.size == 0 or twin != i:  # a twin's draws and inputs are the same: so is its plan
+            _copy(out, twin, i)
+            continue
+        ev = Evaluator(problem, draws, classes, i, rows, bore[:, rows], friction[:, rows])
+        supply = None if problem.supply is None else problem.supply[i]
+        least, touch, held = ev.evaluate(problem.active, supply)
+        ordered = np.sort(least, axis=0)
+        planned = upper_quantile(ordered, problem.level)
+        out.pressure[rows, i] = planned
+        out.holding[rows, i] = np.mean(least <= planned, axis=0)
+        out.contact[rows, i] = np.mean(touch <= planned, axis=0)
+        out.band[rows, i] = ordered[ranks].T
+        for key, level in zip(out.levels, LEVELS, strict=True):
+            out.levels[key][rows, i] = upper_quantile(ordered, level)
+        del ordered, least, touch
+        if held is not None:
+            out.payload[rows, i] = lower_quantile(held, problem.level)
+        certain = ev.evaluate(())[0][0]
+        out.certain[rows, i] = certain
+        for name in problem.active:
+            alone = np.sort(ev.evaluate((name,))[0], axis=0)
+            out.shifts[name][rows, i] = upper_quantile(alone, problem.level) - certain
+            out.low_shifts[name][rows, i] = upper_quantile(alone, 1 - problem.level) - certain
+        for k, direction in enumerate(problem.uncertainties[i].unresolved):
+            moved = ev.moves(direction)
+            new = (np.abs(moved) > MOVES) & (out.undetermined[rows, 0] < 0)
+            out.undetermined[rows[new]] = np.column_stack([np.full(new.sum(), i), np.full(new.sum(), k),
+                                                           moved[new]])
+    return out
+
+
+def _copy(out: ChunkResult, j: int, i: int) -> None:
+    """Segment j's sampled plan as segment i's (in place; not the undetermined flags, which name j)."""
+    for a in (out.pressure, out.holding, out.contact, out.band, out.certain, out.payload,
+              *out.levels.values(), *out.shifts.values(), *out.low_shifts.values()):
+        if a is not None:
+            a[:, i] = a[:, j]
+
+
+def segment_twins(problem: Problem, draws: MuscleDraws, worst: np.ndarray, valid: np.ndarray) -> tuple:
+    """For each segment i, the first segment j ≤ i with the same muscle, mass, pressure limit, worst bores
+    (``worst``, ``valid``: (S, segments)) and the same draws of every source: its plan is i's."""
+    out = []
+    for i in range(len(problem.structures)):
+        out.append(next(j for j in range(i + 1) if j == i or _alike(problem, draws, worst, valid, i, j)))
+    return tuple(out)
+
+
+def _alike(problem: Problem, draws: MuscleDraws, worst, valid, i: int, j: int) -> bool:
+    ui, uj = problem.uncertainties[i], problem.uncertainties[j]
+    same = (problem.structures[i] == problem.structures[j] and problem.masses[i] == problem.masses[j]
+            and (problem.supply is None or problem.supply[i] == problem.supply[j])
+            and ui.fit_key == uj.fit_key and not ui.unresolved and not uj.unresolved
+            and np.array_equal(ui.nominal, uj.nominal) and np.array_equal(worst[:, i], worst[:, j])
+            and np.array_equal(valid[:, i], valid[:, j]))
+    return same and all(np.array_equal(d[i], d[j]) for d in (*draws.params.values(), draws.model_error))
+
+
+class Evaluator:
+    """P*, first contact and W_max of segment i over draws × classes, for any subset of the sources."""
+
+    def __init__(self, problem: Problem, draws: MuscleDraws, classes: Classes, i: int, rows: np.ndarray,
+                 bore: np.ndarray, friction: np.ndarray):
+        self.problem, self.draws, self.i = problem, draws, i
+        self.structure = problem.structures[i]
+        self.nominal = problem.uncertainties[i].nominal
+        self.bore, self.friction = bore, friction  # (n, rows) deviations
+        self.bores = [classes.low[rows], classes.worst[rows, i], classes.high[rows]]
+        if np.array_equal(self.bores[0], self.bores[2]):  # no tolerance range: one bore (3× fewer calls)
+            self.bores = self.bores[2:]
+        self.mu = classes.mu[rows]
+        self.statement = (classes.low[rows], classes.high[rows], classes.bore_sd[rows])  # keys the bore draw
+        incline = classes.incline[rows]
+        self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
+
+    def inputs(self, sources, nominal=None) -> tuple:
+        """(p (R, size), δ (R, C), μ (R, C), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
+        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not."""
+        d, i, n = self.draws, self.i, self.draws.n
+        nominal = self.nominal if nominal is None else nominal
+        drawn = [key for key in ("moduli", "geometry", "prior") if key in sources]
+        p = np.broadcast_to(nominal, (n if drawn else 1, nominal.size)).copy()
+        for key in drawn:
+            p += d.params[key][i]
+        bore = self.bore if "bore" in sources else np.zeros((1, self.mu.size))
+        mu = self.mu + (self.friction if "friction" in sources else 0.0) * np.ones((1, 1))
+        kappa = np.maximum(self.problem.kappa + (d.kappa if "kappa" in sources else np.zeros(1)), 0.0)
+        error = d.model_error[i] if "model_error" in sources else np.zeros(1)
+        return p, bore, mu, kappa, error
+
+    def evaluate(self, sources, pressure=None, *, nominal=None):
+        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]).
+
+        The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
+        once per draw and distinct drawn bore of the chunk (classes sharing a bore statement share its
+        draws), then the load-dependent closed form runs over draws × classes by broadcasting."""
+        pr = self.problem
+        p, bore, mu, kappa, error = self.inputs(sources, nominal)
+        load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
+        columns = p.T[:, :, None]  # (size, n or 1, 1)
+        least = held = touch = None
+        for bore_nominal in self.bores:
+            bores, group = np.unique(np.stack([bore_nominal, *self.statement]), axis=1, return_inverse=True)
+            group = np.asarray(group).reshape(-1)
+            first = np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
+            drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
+            c = self._anchored(p, drawn)
+            pick = group if bores.shape[1] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
+            c = Anchored(None, *(getattr(c, name)[:, pick] if np.ndim(getattr(c, name)) else getattr(c, name)
+                                 for name in USED))  # per class; the anchored length is not used
+            values = holding_law(self.structure, columns, c, load, kappa[:, None], mu, pr.safety_factor,
+                                 error[:, None], pressure)
+            least = values[0] if least is None else np.maximum(least, values[0])  # NaN stays NaN
+            if pressure is not None:
+                held = values[2] if held is None else np.minimum(held, values[2])
+            touch = values[1]  # the largest bore is the last
+        shape = np.broadcast_shapes(least.shape, mu.shape, (p.shape[0], 1))
+        least = np.broadcast_to(np.where(np.isnan(least), np.inf, least), shape)
+        touch = np.broadcast_to(touch, shape)
+        payload = None
+        if pressure is not None:
+            per_kg = STANDARD_GRAVITY * (self.rise + mu * self.run)
+            payload = pr.payload + (held - load) / np.where(per_kg > 0, per_kg, np.nan)
+            payload = np.where((held >= 0) & (touch <= pressure) & (mu > 0) & np.isfinite(payload),
+                               payload, -np.inf)
+            payload = np.broadcast_to(payload, shape)
+        return least, touch, payload
+
+    def _anchored(self, p: np.ndarray, d: np.ndarray) -> Anchored:
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1, G): (R, G) fields, in
+        batches of at most :data:`BATCH` columns (bounded memory)."""
+        rows = max(p.shape[0], d.shape[0])
+        groups = d.shape[1]
+        d = np.broadcast_to(d, (rows, groups)).reshape(-1)
+        parts = []
+        for start in range(0, rows * groups, BATCH):
+            k = np.arange(start, min(start + BATCH, rows * groups))
+            params = p[np.minimum(k // groups, p.shape[0] - 1)].T
+            parts.append((anchored_at(self.structure, params, d[k]), k.size))
+        return Anchored(None, *(_joined([(getattr(c, name), size) for c, size in parts], (rows, groups))
+                                for name in USED))
+
+    def moves(self, direction) -> np.ndarray:
+        """Change of the certain P* [Pa] per class across ± the width the data leave open along
+        ``direction`` (inf where P* stops existing on either side)."""
+        step = direction.scale * direction.step
+        out = [self.evaluate((), nominal=self.nominal + sign * step)[0][0] for sign in (1.0, -1.0)]
+        with np.errstate(invalid="ignore"):
+            delta = out[0] - out[1]
+        return np.where(np.isfinite(delta), delta, np.inf)
+
+
+def _joined(parts: list, shape: tuple[int, int]):
+    """One coefficient of the batches ((value, columns) each) as a ``shape`` array, or a number where it
+    is one number in every batch (C₀, C₁ = 0 without contact increments)."""
+    values = [v for v, _ in parts]
+    if all(np.ndim(v) == 0 for v in values) and len({float(v) for v in values}) == 1:
+        return float(values[0])
+    return np.concatenate([np.broadcast_to(v, (size,)) for v, size in parts]).reshape(shape)
