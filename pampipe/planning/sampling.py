@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pampipe.heap import retain_freed_memory
 from pampipe.model.muscle import Anchored, Muscle, Structure
 from pampipe.model.pam import Geometry
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
@@ -191,6 +192,7 @@ class ChunkResult:
 def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
     """The sampled plan of one chunk of classes (a picklable task for :func:`pampipe.parallel.run_all`)."""
     problem, classes = task
+    retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.heap)
     draws = muscle_draws(problem)
     n, count, m = problem.samples, len(classes), len(problem.structures)
     bore = np.zeros((n, count))
