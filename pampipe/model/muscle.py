@@ -83,6 +83,10 @@ class SymbolicMuscle:
         return muscle.parameter_vector()
 
 
+#: Where :meth:`Muscle.free_length` evaluates inside its bracket at each step (31 interior points).
+_SECTIONS = np.arange(1, 32) / 32.0
+
+
 class Muscle:
     """One PAM: geometry, moduli, contact increments and effects, and the physics asked of it.
 
@@ -281,10 +285,15 @@ class Muscle:
             raise SolverError(f"no free length between L0 and B/sqrt(3) at {bad:.6g} Pa: the moduli never "
                               "balance the pressure force", status="no_root")
         high, low = lengths[np.maximum(first - 1, 0)], lengths[first]  # high: still moving; low: past
-        for _ in range(iterations):
-            mid = 0.5 * (high + low)
-            moving = sign * (self.axial_force(pressure, mid) - axial_load) >= 0
-            high, low, before = np.where(moving, mid, high), np.where(moving, low, mid), (high, low)
+        rows = np.arange(pressure.size)
+        for _ in range(iterations):  # 31 points a step: the bracket shrinks 32×, 5 bisections in one evaluation
+            points = high[:, None] + (low - high)[:, None] * _SECTIONS[None, :]
+            moving = sign * (self.axial_force(pressure[:, None], points) - axial_load) >= 0
+            stop = np.argmin(moving, axis=1)  # the first point past the root (0 where none is)
+            past = ~moving[rows, stop]
+            before = high, low
+            low = np.where(past, points[rows, stop], low)
+            high = np.where(past, np.where(stop > 0, points[rows, stop - 1], high), points[:, -1])
             if np.array_equal(high, before[0]) and np.array_equal(low, before[1]):
                 break  # every bracket is a fixed point (adjacent or equal floats): more steps change nothing
         return np.where(found, 0.5 * (high + low), np.where(blocked, g.initial_length, g.shortest_length))
