@@ -263,8 +263,8 @@ class Muscle:
         """L_free(P) [m]: the root of F_ax(P, L) = F_a nearest L₀ toward B/√3 (docs/physics.md §7, §14.4).
 
         A contractile braid scans down from L₀ through (B/√3, L₀], an extensile one (α₀ > 54.74°) up
-        from L₀ through [L₀, B/√3): the first sign change is bracketed, then bisected. Where the pressure
-        cannot move the muscle from L₀ (F_ax(P, L₀) ≤ F_a contractile, ≥ F_a extensile) L_free = L₀.
+        from L₀ through [L₀, B/√3): the first sign change is bracketed, then narrowed 32× per step (31
+        points) to adjacent floats, as bisection would end. Where the pressure cannot move the muscle from L₀ (F_ax(P, L₀) ≤ F_a contractile, ≥ F_a extensile) L_free = L₀.
         Where the moduli never balance the pressure force (a pressure beyond the braid's limit),
         SolverError, or with ``braid_limit`` the braid's limit B/√3, where the braid locks. Numeric
         inputs only.
@@ -286,7 +286,7 @@ class Muscle:
                               "balance the pressure force", status="no_root")
         high, low = lengths[np.maximum(first - 1, 0)], lengths[first]  # high: still moving; low: past
         rows = np.arange(pressure.size)
-        for _ in range(iterations):  # 31 points a step: the bracket shrinks 32×, 5 bisections in one evaluation
+        for _ in range(iterations):  # 31 points a step: the bracket shrinks 32× (5 bisections) per evaluation
             points = high[:, None] + (low - high)[:, None] * _SECTIONS[None, :]
             moving = sign * (self.axial_force(pressure[:, None], points) - axial_load) >= 0
             stop = np.argmin(moving, axis=1)  # the first point past the root (0 where none is)
