@@ -264,7 +264,8 @@ class Muscle:
 
         A contractile braid scans down from L₀ through (B/√3, L₀], an extensile one (α₀ > 54.74°) up
         from L₀ through [L₀, B/√3): the first sign change is bracketed, then narrowed 32× per step (31
-        points) to adjacent floats, as bisection would end. Where the pressure cannot move the muscle from L₀ (F_ax(P, L₀) ≤ F_a contractile, ≥ F_a extensile) L_free = L₀.
+        points) to adjacent floats, as bisection would end. Where the pressure cannot move the muscle
+        from L₀ (F_ax(P, L₀) ≤ F_a contractile, ≥ F_a extensile) L_free = L₀.
         Where the moduli never balance the pressure force (a pressure beyond the braid's limit),
         SolverError, or with ``braid_limit`` the braid's limit B/√3, where the braid locks. Numeric
         inputs only.
