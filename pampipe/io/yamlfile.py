@@ -73,6 +73,7 @@ _OUTER = rf"{_NAME}: +(?:\{{ *{_PAIR}(?:, *{_PAIR})* *\}}|{_PLAIN})"
 #: A block list entry holding one flow mapping of plain pairs (values may be such mappings) on one line.
 _FLOW_LINE = re.compile(rf"^( *- )\{{ *({_OUTER}(?:, *{_OUTER})*) *\}}(?: +#[^\n]*)?$", re.M)
 _FLOW_PAIR = re.compile(rf"({_NAME}): +(?:\{{([^{{}}]*)\}}|([^,{{}}]*))(?:,|$)")
+_PLAIN_PAIR = re.compile(rf" *({_NAME}): +([^,]*?) *(?:,|$)")
 #: What the parser reads in place of a flow line's mapping (see the module's docstring).
 _FLOW = "__pampipe_flow_line__"
 
@@ -142,17 +143,17 @@ def _document(text: str):
 
 
 def _flow_lines(text: str) -> tuple[dict, str]:
-    """({(line, column): (mapping, nodes)}, ``text`` with those mappings replaced by :data:`_FLOW`)
+    """({(line, column): (mapping, nodes, depth)}, ``text`` with those mappings replaced by :data:`_FLOW`)
     for each line ``- {key: value, ...}`` of plain names and values without a repeated key."""
-    flows: dict[tuple[int, int], tuple[dict, int]] = {}
-    resolved: dict[str, object] = {}  # plain scalar -> its value (route lines repeat their units)
+    flows: dict[tuple[int, int], tuple[dict, int, int]] = {}
+    resolved = _Resolved()  # route lines repeat their keys and units
     pieces, done, line = [], 0, 0
     for match in _FLOW_LINE.finditer(text):
         mapping, nodes = _flow_mapping(match.group(2), resolved)
         if mapping is None:
             continue
         line += text.count("\n", done, match.start())
-        flows[line, len(match.group(1))] = mapping, nodes
+        flows[line, len(match.group(1))] = mapping, nodes, 1 + ("{" in match.group(2))  # depth
         pieces += (text[done:match.end(1)], _FLOW)
         done = match.end()
     if not flows:
@@ -161,36 +162,35 @@ def _flow_lines(text: str) -> tuple[dict, str]:
     return flows, "".join(pieces)
 
 
-def _flow_mapping(body: str, resolved: dict) -> tuple[dict | None, int]:
+def _flow_mapping(body: str, resolved: _Resolved) -> tuple[dict | None, int]:
     """(mapping, nodes) of ``key: value, ...`` (values plain or ``{key: value, ...}``, as
-    :data:`_FLOW_LINE` checked); None for a repeated key. ``resolved`` caches :func:`_resolve`."""
-    if "{" in body:
-        pairs = [(key, inner if inner else plain) for key, inner, plain in _FLOW_PAIR.findall(body)]
-    else:  # no nested mapping: the commas and the first colons split it
-        pairs = [item.split(":", 1) for item in body.split(",")]
+    :data:`_FLOW_LINE` checked); None for a repeated key."""
+    if "{" not in body:  # plain values only
+        pairs = _PLAIN_PAIR.findall(body)
+        mapping = {resolved[key]: resolved[value] for key, value in pairs}
+        return (mapping, 1 + 2 * len(pairs)) if len(mapping) == len(pairs) else (None, 0)
     mapping: dict = {}
     nodes = 1
-    for key, value in pairs:
-        key = _cached(key.strip(), resolved)
+    for key, inner, plain in _FLOW_PAIR.findall(body):
+        key = resolved[key]
         if key in mapping:
             return None, 0
-        if "{" in body and ":" in value:  # a nested mapping (a plain value holds no colon)
-            value, size = _flow_mapping(value, resolved)
+        if inner:
+            value, size = _flow_mapping(inner, resolved)
             if value is None:
                 return None, 0
         else:
-            value, size = _cached(value.strip(), resolved), 1
+            value, size = resolved[plain.rstrip()], 1
         mapping[key] = value
         nodes += 1 + size
     return mapping, nodes
 
 
-def _cached(plain: str, resolved: dict):
-    """:func:`_resolve` of a plain scalar, remembered in ``resolved``."""
-    try:
-        return resolved[plain]
-    except KeyError:
-        value = resolved[plain] = _resolve(plain, None)
+class _Resolved(dict):
+    """Plain scalar → its value (:func:`_resolve`), computed at the first lookup."""
+
+    def __missing__(self, plain: str):
+        value = self[plain] = _resolve(plain, None)
         return value
 
 
@@ -221,7 +221,7 @@ class _Builder:
 
     def __init__(self, parser, flows: dict | None = None) -> None:
         self.parser = parser
-        self.flows = flows or {}  # (line, column) -> (mapping, nodes) read by _flow_lines
+        self.flows = flows or {}  # (line, column) -> (mapping, nodes, depth) read by _flow_lines
         self.replaced = 0
         self.anchors: dict[str, tuple[object, int]] = {}
         self.open_anchors: set[str] = set()
@@ -291,8 +291,7 @@ class _Builder:
     def flow(self, event, stack: list[_Frame]) -> tuple[dict, int]:
         """The mapping that :func:`_flow_lines` read for this placeholder, which must be a list entry."""
         mark = event.start_mark
-        mapping, nodes = self.flows.get((mark.line, mark.column), (None, 0))
-        depth = 1 + any(isinstance(value, dict) for value in mapping.values()) if mapping else 0
+        mapping, nodes, depth = self.flows.get((mark.line, mark.column), (None, 0, 0))
         if mapping is None or not stack or stack[-1].seen is not None or len(stack) + depth > MAX_DEPTH:
             raise _Error("not a flow line read in place", mark)  # the caller parses without flow lines
         self.replaced += 1
