@@ -32,7 +32,7 @@ from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
-from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment
+from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment, without
 from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
@@ -111,7 +111,7 @@ def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[
             continue
         model = predict(Pam(pam.name, pam.geometry, pam.moduli), test)
         below = model < -HINGE_TOLERANCE * max(float(np.max(np.abs(test.force))), 1e-300)
-        rows = np.setdiff1d(np.flatnonzero((test.force > 0) & below), hinge.get(index, ()))
+        rows = np.flatnonzero(without((test.force > 0) & below, hinge.get(index, ())))
         if rows.size:
             out[index] = rows
     return out
