@@ -18,7 +18,7 @@ from pampipe.commands.common import (
     write_json,
 )
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.io.files import check_output
+from pampipe.io.files import Streamed, check_output
 from pampipe.units import to_si
 
 NAME = "plan"
@@ -152,7 +152,9 @@ def run(args: argparse.Namespace) -> int:
     text = plan_text(plan, unit=unit, all_sections=args.all_sections)
     indent = None if large else 2
     if document is None and wanted:
-        emit_streamed(args, plan.streamed_document, text)
+        emit_streamed(args, lambda: plan.as_document(  # the big lists as the sections are encoded
+            sections=Streamed(plan.section_documents()),
+            reducers=Streamed(r.as_document() for r in plan.reducers)), text)
     else:
         emit(args, document, text, indent=indent)
         if args.output is not None:

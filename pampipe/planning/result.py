@@ -261,16 +261,9 @@ class MissionPlan:
                     segment.update(self.uncertainty.element_document(s, i))
             yield doc
 
-    def streamed_document(self) -> dict:
-        """The document with its sections and reducers as :class:`~pampipe.io.files.Streamed` lists, for
-        :func:`~pampipe.io.files.json_chunks`: the same JSON without the whole document in memory."""
-        from pampipe.io.files import Streamed
-
-        return self.as_document(sections=Streamed(self.section_documents()),
-                                reducers=Streamed(r.as_document() for r in self.reducers))
-
     def as_document(self, *, sections=None, reducers=None) -> dict:
-        """The document; ``sections`` and ``reducers`` in place of the built lists (streamed_document)."""
+        """The document; ``sections`` and ``reducers`` in place of the built lists (the `plan` command
+        passes lazy ones, from :meth:`section_documents`, to stream a large document)."""
         doc = {"feasible": self.feasible, "sections": list(self.section_documents()) if sections is None
                else sections,
                "mission": self.mission, "supply_pressure_Pa": self.supply_pressure,
