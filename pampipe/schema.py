@@ -18,6 +18,8 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict
 from pampipe.errors import InputError
 from pampipe.units import show, to_si
 
+#: Distinct quantity strings remembered per schema field (a route of 10⁶ distinct lengths is not kept).
+MAX_CONVERTED = 10_000
 #: Problems listed in one message; the rest are counted.
 MAX_PROBLEMS = 10
 
@@ -32,8 +34,17 @@ def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None
              lt: float | None = None, le: float | None = None, unit: str = ""):
     """A schema field holding a ``dimension`` quantity, converted to SI and range-checked."""
 
+    converted: dict[str, float] = {}  # quantity string -> SI value: a route repeats its "3 in"
+
     def convert(value: Any) -> float:
-        return to_si(value, dimension)
+        if type(value) is not str:
+            return to_si(value, dimension)
+        number = converted.get(value)
+        if number is None:
+            number = to_si(value, dimension)
+            if len(converted) < MAX_CONVERTED:
+                converted[value] = number
+        return number
 
     def check(value: float) -> float:
         suffix = f" {unit}" if unit else ""

@@ -68,7 +68,7 @@ def to_si(value: object, dimension: str, *, where: str | None = None) -> float:
         if found == DIMENSIONS["dimensionless"] and dimension == "angle" and value.strip():
             raise InputError(f"{prefix}{show(value)}: {_angle_hint(value, number)}") from None
         _check_dimension(value, found, dimension, prefix)
-    elif _is_pint(value):
+    elif type(value) is not float and _is_pint(value):  # a float, the common case, is not asked
         number, found = _from_pint(value, prefix)
         _check_dimension(f"{value:~}", found, dimension, prefix)
     elif (number := real_number(value, where=where)) is not None:
@@ -90,6 +90,8 @@ def real_number(value: object, *, where: str | None = None) -> float | None:
     reals and :class:`decimal.Decimal`; not bool, str or complex. A value beyond the float range
     raises InputError (named by ``where``); NaN and ±inf come back as they are.
     """
+    if type(value) is float:  # the common case first
+        return value
     import numbers
     from decimal import Decimal
 

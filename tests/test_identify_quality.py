@@ -430,3 +430,15 @@ def test_a_calibration_range_the_tests_leave_empty_is_an_input_error(radial_pam,
     with pytest.raises(InputError) as error:
         identify(data, FitOptions(degree=1, calibrate=("braid_angle", "initial_length")))
     assert "16.7 deg" in str(error.value) and "13.4 deg" in str(error.value)
+
+
+def test_row_groups_number_paths_as_a_unique_of_the_rows():
+    """The mixed-radix key (issue 25) numbers the distinct rows as np.unique(axis=0) does, also where the
+    ranges are too wide for one int64 key."""
+    from pampipe.identification.quality import _row_groups
+
+    rng = np.random.default_rng(3)
+    for size, bound in ((1, 5), (50, 3), (20_000, 40), (500, 2**40)):
+        columns = [rng.integers(-bound, bound, size) for _ in range(3)]
+        expected = np.unique(np.column_stack(columns), axis=0, return_inverse=True)[1].ravel()
+        assert np.array_equal(_row_groups(columns), expected)

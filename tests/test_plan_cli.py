@@ -192,3 +192,30 @@ def test_a_large_mission_writes_the_same_json_on_one_line(cli, tmp_path, monkeyp
     assert indented.stdout.count("\n") > 50 and compact.stdout.count("\n") == 1
     assert json.loads(compact.stdout) == json.loads(indented.stdout)
     assert (tmp_path / "plan.json").read_text() == compact.stdout
+
+
+@pytest.mark.parametrize(("mission", "options"), [
+    ("ky4-route.yaml", ()),  # many sections and reducers, an infeasible section (exit 3)
+    ("riser-uncertain-friction.yaml", ("--confidence", "0.9", "--samples", "200", "--max-payload")),
+])
+def test_a_streamed_document_is_the_built_one_byte_for_byte(cli, tmp_path, monkeypatch, mission, options):
+    """Above COMPACT_SECTIONS the document is written section by section, in chunks (issue 25): the same
+    bytes as the whole document encoded at once, on stdout and in -o."""
+    from pampipe import api
+    from pampipe.commands import plan as plan_command
+    from pampipe.io import files
+    from pampipe.planning.result import MissionPlan
+
+    args = dict(zip(options[::2], options[1::2], strict=False))
+    confidence, samples = float(args.get("--confidence", 0)) or None, int(args.get("--samples", 0)) or None
+    plan = api.plan(api.load_mission(MISSIONS / mission), confidence=confidence, samples=samples,
+                    max_payload="--max-payload" in options)
+    built = files.to_json(plan.to_dict(), timings=False, indent=None)
+    monkeypatch.setattr(plan_command, "COMPACT_SECTIONS", 0)
+    monkeypatch.setattr(files, "STREAM_CHUNK", 2)  # several chunks, the last one maybe short
+    monkeypatch.setattr(MissionPlan, "to_dict", lambda self: pytest.fail("the document was built whole"))
+    out = cli("plan", MISSIONS / mission, *options, "--json", "--reproducible")
+    assert out.stdout == built, out.stderr
+    written = cli("plan", MISSIONS / mission, *options, "--reproducible", "-o", tmp_path / "plan.json")
+    assert out.returncode == written.returncode
+    assert (tmp_path / "plan.json").read_text() == built

@@ -59,6 +59,9 @@ def test_safe_text_escapes_what_a_terminal_would_obey():
         "a\\x1b[2Jb\\u202ec\\u2066d\\x07\\x0d\\x00\\u200b")
     plain = "PAM1 → 3 in, 90°\n\tok  Steigleitung-éè ↑"
     assert safe_text(plain) == plain
+    ascii_text = "".join(map(chr, range(128)))  # an ASCII text takes a shorter scan: the same escapes
+    expected = "".join(c if c in "\n\t" or " " <= c <= "~" else f"\\x{ord(c):02x}" for c in ascii_text)
+    assert safe_text(ascii_text) == expected
 
 
 def test_a_hostile_section_name_reaches_the_terminal_escaped(tmp_path, capsys):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from unittest import mock
+
 import pytest
 import yaml
 
@@ -105,3 +107,89 @@ def test_error_messages_are_short():
 def test_agrees_with_pyyaml_on_plain_documents():
     text = "name: x\nlist: [1, 2.5, 'three', {k: v}]\nnested: {a: {b: [true, null]}}\n"
     assert loads(text) == yaml.safe_load(text)
+
+
+# One-line flow mappings in a block list ("- {name: s1, length: 2 m}") are read without the parser's events
+# (yamlfile._flow_lines); the reference is the same text parsed event by event (_without_flow_lines).
+FLOW_ROUTE = """\
+route:   # a comment
+  - {name: s0, length: 1 m, inner_diameter: 3 in, incline: -45 deg, friction: 0.2}
+  - {name: s1,  length: 2.5 m , inner_diameter: {nps: 3, schedule: 40, tolerance: 1 %}}   # a comment
+  - {name: 010, n: 0o10, x: 1e3, y: -.inf, z: yes, w: null, v: 1_000, u: 3  in, t: a/b, s: .5}
+  - {name: True, ok: null, no: Null}
+  -   {name: spaced}
+  - {name: 'quoted', a: 1}
+nested:
+  - - {a: 1}
+"""
+
+
+def _outcome(text: str, *, flow_lines: bool = True):
+    """The document of ``text``, or the message it is refused with; without flow lines: event by event."""
+    reader = yamlfile._flow_lines if flow_lines else lambda text: ({}, text)
+    with mock.patch.object(yamlfile, "_flow_lines", reader):
+        try:
+            return loads(text, source="f.yaml")
+        except InputError as exc:
+            return str(exc)
+
+
+def test_flow_lines_read_as_the_parser_reads_them():
+    flows, _ = yamlfile._flow_lines(FLOW_ROUTE)
+    assert len(flows) == 4  # not the spaced, quoted or nested-list entries
+    doc = loads(FLOW_ROUTE)
+    assert doc == _outcome(FLOW_ROUTE, flow_lines=False)
+    route = doc["route"]
+    assert route[0] == {"name": "s0", "length": "1 m", "inner_diameter": "3 in", "incline": "-45 deg",
+                        "friction": 0.2}
+    assert route[1] == {"name": "s1", "length": "2.5 m", "inner_diameter": {"nps": 3, "schedule": 40,
+                                                                          "tolerance": "1 %"}}
+    assert route[2] == {"name": 10, "n": 8, "x": 1000.0, "y": float("-inf"), "z": "yes", "w": None,
+                        "v": "1_000", "u": "3  in", "t": "a/b", "s": 0.5}  # YAML 1.2 core
+    assert route[3] == {"name": True, "ok": None, "no": None}
+    reference = _outcome(FLOW_ROUTE, flow_lines=False)["route"]
+    assert [list(entry) for entry in route] == [list(entry) for entry in reference]  # the keys' order
+
+
+@pytest.mark.parametrize("text", [
+    "notes: |\n  - {a: b}\n  - {c: d}\nx: 1\n",  # inside a block scalar: text, not a list
+    "notes: >\n  - {a: b}\n",
+    "a: 'quoted\n  - {a: b}\n  end'\n",  # inside a quoted scalar
+    "a: plain text\n  - {a: b}\n",  # a continuation line of a plain scalar
+    "- &x {a: 1}\n- *x\n",  # anchors are the parser's
+])
+def test_flow_lines_elsewhere_keep_their_meaning(text):
+    assert _outcome(text) == _outcome(text, flow_lines=False)
+
+
+@pytest.mark.parametrize(("text", "fragment"), [
+    ("route:\n  - {a: 1}\n  - {a: 1, a: 2}\n", "line 3, column 12: duplicate key 'a'"),
+    ("route:\n  - {a: 1}\n  - {b: 2}\nroute: 3\n", "line 4, column 1: duplicate key 'route'"),
+    ("route:\n  - {a: 1}\n  - {b: 2}\n x: [\n", "line 4"),
+    ("x: - {a: 1}\n", "line 1"),
+    ("- {a: " + "1" * 2000 + "}\n", "line 1, column 7: an integer of 2000 digits"),
+])
+def test_flow_lines_keep_the_parsers_errors(text, fragment):
+    message = _outcome(text)
+    assert fragment in message, message
+    assert message == _outcome(text, flow_lines=False)
+
+
+def test_flow_lines_count_toward_the_bounds():
+    deep = "a:\n" + "".join("  " * i + "-\n" for i in range(1, 99)) + "  " * 99 + "- {b: {c: 1}}\n"
+    with pytest.raises(InputError, match="nested deeper than 100 levels"):
+        loads(deep)
+    laughs = "a0: &a0\n" + "".join(f"  - {{k{i}: 1, j{i}: {{x: 1, y: 2}}}}\n" for i in range(10)) + "".join(
+        f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 10) + "]\n" for i in range(1, 6))
+    with pytest.raises(InputError, match="alias bomb"):
+        loads(laughs)
+    flows, marked = yamlfile._flow_lines(laughs)
+    assert flows  # the shortcut itself counts the nodes its lines add
+    with pytest.raises(yamlfile._Error, match="alias bomb"):
+        yamlfile._Builder(yamlfile._Parser(marked), flows).document()
+
+
+def test_pure_python_parser_reads_flow_lines_alike(monkeypatch):
+    expected = loads(FLOW_ROUTE)
+    monkeypatch.setattr(yamlfile, "_Parser", yamlfile._PyParser)
+    assert loads(FLOW_ROUTE) == expected

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from pampipe.errors import InputError
-from pampipe.io.files import atomic_write_text, to_json
+from pampipe.io.files import atomic_write, atomic_write_text, json_chunks, to_json
 from pampipe.units import to_si
 
 
@@ -134,6 +134,36 @@ def emit(args: argparse.Namespace, document: dict | None, text: str, *, indent: 
         args.document_printed = True  # a later error adds no second JSON document
     else:
         print(text, flush=True)
+
+
+def emit_streamed(args: argparse.Namespace, document, text: str) -> None:
+    """:func:`emit` and :func:`write_json` (``-o``) of a large document written as it is produced
+    (:func:`pampipe.io.files.json_chunks`), on one line; ``document()`` gives it with its
+    :class:`~pampipe.io.files.Streamed` lists. -o is written first (atomically), then copied to stdout."""
+    from pampipe.display import localize
+
+    timings = not args.reproducible
+    if args.output is not None:
+        atomic_write(args.output, lambda tmp: _write_chunks(tmp, json_chunks(document(), timings=timings)))
+    if not getattr(args, "json", False):
+        print(localize(text), flush=True)
+        return
+    print(localize(text), file=sys.stderr, flush=True)
+    args.document_printed = True  # from here on an error adds no second JSON document
+    if args.output is not None:
+        with open(args.output, encoding="utf-8") as written:
+            while chunk := written.read(1 << 20):
+                sys.stdout.write(chunk)
+    else:
+        for chunk in json_chunks(document(), timings=timings):
+            sys.stdout.write(chunk)
+    sys.stdout.flush()
+
+
+def _write_chunks(path: Path, chunks) -> None:
+    with open(path, "w", encoding="utf-8") as handle:
+        for chunk in chunks:
+            handle.write(chunk)
 
 
 def write_json(path: Path, document: dict, args: argparse.Namespace, *, indent: int | None = 2) -> None:

@@ -12,13 +12,14 @@ from pampipe.commands.common import (
     add_report_option,
     add_units_option,
     emit,
+    emit_streamed,
     quantity_type,
     say,
     write_html_report,
     write_json,
 )
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.io.files import check_output
+from pampipe.io.files import Streamed, check_output
 from pampipe.units import to_si
 
 NAME = "plan"
@@ -143,18 +144,27 @@ def run(args: argparse.Namespace) -> int:
     plan = api.plan(mission, payload=args.payload, confidence=args.confidence, solver=args.solver,
                     max_payload=args.max_payload, samples=args.samples, seed=args.seed,
                     prior=args.prior_from, workers=args.workers, scheduler=args.scheduler)
-    # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan
-    document = plan.to_dict() if args.json or args.output is not None or args.report is not None else None
+    # the JSON document only when asked for: at 10⁵ sections building it costs more than the plan;
+    # above COMPACT_SECTIONS it is streamed (one line, written section by section) unless --report needs it
+    large = len(plan.arrays.route) > COMPACT_SECTIONS
+    wanted = args.json or args.output is not None or args.report is not None
+    document = plan.to_dict() if wanted and not (large and args.report is None) else None
     from pampipe.display import current, localize
 
     unit = current().pressure
     for warning in plan.warnings:
         print(f"warning: {localize(warning)}", file=sys.stderr, flush=True)
     text = plan_text(plan, unit=unit, all_sections=args.all_sections)
-    indent = None if len(plan.arrays.route) > COMPACT_SECTIONS else 2
-    emit(args, document, text, indent=indent)
+    indent = None if large else 2
+    if document is None and wanted:
+        emit_streamed(args, lambda: plan.as_document(  # the big lists as the sections are encoded
+            sections=Streamed(plan.section_documents()),
+            reducers=Streamed(r.as_document() for r in plan.reducers)), text)
+    else:
+        emit(args, document, text, indent=indent)
+        if args.output is not None:
+            write_json(args.output, document, args, indent=indent)
     if args.output is not None:
-        write_json(args.output, document, args, indent=indent)
         say(args, f"wrote {args.output}")
     from pampipe.plots.plan import plot_plan
 

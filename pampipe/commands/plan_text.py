@@ -57,10 +57,7 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
     if plan.bends:
         parts += [_bend_table(plan, unit, scale, all_sections)]
     if plan.reducers:
-        parts += ["reducers: " + "; ".join(
-            f"after {r.after_section!r} {r.before * 1e3:.4g} -> {r.after * 1e3:.4g} mm: "
-            f"{'passes' if r.passable else 'does NOT pass'} (a rigid segment passes if it fits the smaller "
-            "bore)" for r in plan.reducers)]
+        parts += ["reducers: " + _reducers_text(plan.reducers)]
     if plan.coverage is not None:
         parts.append(_coverage_text(plan.coverage, "the network" if origin.whole else "the route"))
     if plan.max_payload is not None:
@@ -256,3 +253,19 @@ def _limited(reasons: list[str]) -> list[str]:
     if len(reasons) <= SHOWN:
         return reasons
     return [*reasons[:SHOWN], f"... and {len(reasons) - SHOWN} more (--json lists every reason)"]
+
+
+def _reducers_text(reducers) -> str:
+    """'after NAME D1 -> D2 mm: passes (...)' per reducer; each change of bore is worded once (a long route
+    repeats a few)."""
+    worded: dict[tuple[float, float, bool], str] = {}
+    parts = []
+    for r in reducers:
+        key = (r.before, r.after, r.passable)
+        change = worded.get(key)
+        if change is None:
+            verdict = "passes" if r.passable else "does NOT pass"
+            change = worded[key] = (f" {r.before * 1e3:.4g} -> {r.after * 1e3:.4g} mm: {verdict} (a rigid "
+                                    "segment passes if it fits the smaller bore)")
+        parts.append(f"after {r.after_section!r}{change}")
+    return "; ".join(parts)

@@ -32,7 +32,7 @@ from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
-from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment
+from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment, without
 from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
@@ -56,10 +56,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         return identify_grip(data, options)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
-    result, warm, wall_time, iterations, builds = None, None, 0.0, 0, []
+    result, warm, wall_time, iterations, builds, finish = None, None, 0.0, 0, [], None
     for round_ in range(HINGE_ROUNDS):
         try:
-            result = _fit(data, options, say, hinge, warm)
+            result, finish_round = _fit(data, options, say, hinge, warm)
         except SolverError as error:
             if round_ == 0:
                 raise
@@ -67,6 +67,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
                     f"max(0, F) failed ({error}); the fit reported scores them by the negative model force.")
             result = replace(result, warnings=(*result.warnings, note))  # the previous round's fit
             break
+        finish = finish_round
         wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
         builds.append((result.solver.build_time, result.solver.origin))
         more = {} if options.calibrate else _negative_rows(data, result, hinge)
@@ -81,6 +82,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         note = (f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
                 "predict a negative force and are scored by it (the slack hinge did not settle).")
         result = replace(result, warnings=(*result.warnings, note))
+    model_error, joint = finish()  # once, for the fit reported (not in every round of the hinge)
+    result = replace(result, model_error=model_error, parameter_uncertainty=joint)
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     slip = None
     if data.slip:
@@ -108,14 +111,16 @@ def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[
             continue
         model = predict(Pam(pam.name, pam.geometry, pam.moduli), test)
         below = model < -HINGE_TOLERANCE * max(float(np.max(np.abs(test.force))), 1e-300)
-        rows = np.setdiff1d(np.flatnonzero((test.force > 0) & below), hinge.get(index, ()))
+        rows = np.flatnonzero(without((test.force > 0) & below, hinge.get(index, ())))
         if rows.size:
             out[index] = rows
     return out
 
 
-def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> IdentifyResult:
-    """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution) if given."""
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm):
+    """(IdentifyResult, finish): one fit with the ``hinge`` rows in cells, from ``warm`` (a previous
+    solution) if given; ``finish()`` gives its (model error, written joint uncertainty), which the
+    result leaves out (None) because only the fit reported needs them."""
     stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
@@ -227,14 +232,18 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
     prior_hessian = problem.prior_hessian(structure, values, x.size)
     data_only = None if prior == "none" else analyse(x, hessian - prior_hessian, sse_model, points_fit, lbx,
                                                      ubx, names)
-    model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
-                                        slack=options.slack, half_range=0.5 * (ubx - lbx),
-                                        constraints=_constraints(structure, grid, x, lbx, ubx,
-                                                                 uncertainty.at_bound))
-    top = max(float(t.pressure.max()) for t in data.tests)
-    joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
-                                          model_error.value, lambda xv: muscles_at(xv)[0],
-                                          written.bores(data, options, geometry), top, data_only)
+
+    def finish():
+        model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
+                                            slack=options.slack, half_range=0.5 * (ubx - lbx),
+                                            constraints=_constraints(structure, grid, x, lbx, ubx,
+                                                                     uncertainty.at_bound))
+        top = max(float(t.pressure.max()) for t in data.tests)
+        joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
+                                              model_error.value, lambda xv: muscles_at(xv)[0],
+                                              written.bores(data, options, geometry), top, data_only)
+        return model_error, joint
+
     fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
     warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
                          data, predictions)
@@ -248,8 +257,8 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm) -> Identif
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
         warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
         calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
-        excluded_rows=stats.excluded, parameter_uncertainty=joint, model_error=model_error,
-        quality=fit_quality)
+        excluded_rows=stats.excluded, parameter_uncertainty=None, model_error=None,
+        quality=fit_quality), finish
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.

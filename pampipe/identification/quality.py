@@ -177,11 +177,23 @@ def _paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rows = np.flatnonzero(live)
     if not rows.size:
         return rows, np.zeros(0, dtype=np.int64)
-    table = np.column_stack([np.asarray(k, dtype=np.int64)[rows] for k in keys])
-    _, group = np.unique(table, axis=0, return_inverse=True)
-    group = group.ravel()
+    group = _row_groups([np.asarray(k, dtype=np.int64)[rows] for k in keys])
     order = np.lexsort((_coordinate(test)[rows], group))
     return rows[order], group[order]
+
+
+def _row_groups(columns: list[np.ndarray]) -> np.ndarray:
+    """The index of each row's distinct (c₀, c₁, c₂) in lexicographic order, as ``np.unique(axis=0)``
+    numbers them: from one mixed-radix int64 key (a 1-D unique, 10× faster) where the ranges allow."""
+    key, spans = np.zeros(columns[0].size, dtype=np.int64), 1
+    for column in columns:
+        low, span = int(column.min()), int(column.max()) - int(column.min()) + 1
+        spans *= span
+        if spans >= 2**62:
+            _, group = np.unique(np.column_stack(columns), axis=0, return_inverse=True)
+            return group.ravel()
+        key = key * span + (column - low)
+    return np.unique(key, return_inverse=True)[1].ravel()
 
 
 def warnings(quality: Quality, calibration, calibrate: tuple[str, ...]) -> list[str]:

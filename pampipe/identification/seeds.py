@@ -25,7 +25,6 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from pampipe.model import forces
 from pampipe.model.pam import Geometry
@@ -160,6 +159,8 @@ def _refine(geometry: Geometry, ell, s, w, alpha, rest, rest_range) -> tuple[flo
     lower = [math.radians(1)] + ([rest_range[0]] if free_rest else [])
     upper = [math.radians(54)] + ([rest_range[1]] if free_rest else [])
     start = np.clip(start, np.array(lower) + 1e-9, np.array(upper) - 1e-9)
+    from scipy.optimize import least_squares  # here: importing it costs a plain identify 0.3 s
+
     fit = least_squares(residual, start, bounds=(lower, upper), max_nfev=100,
                         x_scale=[0.01] + ([0.01 * rest] if free_rest else []))
     if np.any(np.abs(fit.fun) >= 1e6):

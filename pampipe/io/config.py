@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import numpy as np
 from pydantic import AfterValidator, Field, field_validator, model_validator
 
+from pampipe.collector import paused
 from pampipe.errors import InputError
 from pampipe.io.routes import elbow_radius, listed_route, network_route
 from pampipe.io.yamlfile import load_mapping
@@ -551,7 +552,11 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
-    path = Path(path)
+    with paused():  # a long route is millions of acyclic objects (pampipe.collector)
+        return _load_mission(Path(path), raw)
+
+
+def _load_mission(path: Path, raw: dict | None) -> Mission:
     schema = _validate(path, MissionSchema, load_mapping(path, what="mission file") if raw is None else raw)
     segments = tuple(Segment(s.name, _resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
                              _relative(path, s.pam) if isinstance(s.pam, str) else None)

@@ -203,6 +203,39 @@ def to_json(document: dict, *, timings: bool = True, indent: int | None = 2) -> 
     return json.dumps(cleaned, sort_keys=True, indent=indent, allow_nan=False) + "\n"
 
 
+class Streamed:
+    """A top-level list of a JSON document that :func:`json_chunks` writes item by item from ``items``
+    (an iterable of documents), so that the whole list is never held at once."""
+
+    def __init__(self, items: Iterable) -> None:
+        self.items = items
+
+
+#: Items of a :class:`Streamed` list encoded per chunk of :func:`json_chunks`.
+STREAM_CHUNK = 1000
+
+
+def json_chunks(document: dict, *, timings: bool = True):
+    """The text of ``to_json(document, indent=None)`` in pieces, each :class:`Streamed` value of
+    ``document`` encoded :data:`STREAM_CHUNK` items at a time: the same bytes, without the whole
+    document in memory. A NaN or inf raises SolverError when its item is reached."""
+    streamed = {key: value for key, value in document.items() if isinstance(value, Streamed)}
+    marks = {key: f"\0streamed {key}" for key in streamed}
+    head = json.dumps(_clean({**document, **marks}, timings=timings), sort_keys=True, allow_nan=False)
+    for key in sorted(streamed):  # json.dumps wrote the keys sorted: the marks come in this order
+        before, head = head.split(json.dumps(marks[key]), 1)
+        yield before + "["
+        batch: list[str] = []
+        separator = ""  # before the next batch: none before the first
+        for i, item in enumerate(streamed[key].items):
+            batch.append(json.dumps(_clean(item, (((), key), i), timings), sort_keys=True, allow_nan=False))
+            if len(batch) == STREAM_CHUNK:
+                yield separator + ", ".join(batch)
+                batch, separator = [], ", "
+        yield (separator + ", ".join(batch) if batch else "") + "]"
+    yield head + "\n"
+
+
 # ------------------------------------------------------------------------------ a set of files at once
 #: Hidden siblings ``.NAME.pampipe-PID-XXXX`` hold a set being written; those of dead processes are removed.
 _SET_MARK = ".pampipe-"

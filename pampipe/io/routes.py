@@ -127,10 +127,13 @@ def _bore(path: Path, value, where: str, cache: dict) -> BoreSpec:
 
 def _key(value):
     """A hashable key of a bore value (None if it has none: such values are not cached)."""
+    kind = type(value)
+    if kind is str or kind is float or kind is int:  # the common cases first
+        return kind, value
     if isinstance(value, bool):
         return None
     if isinstance(value, str | int | float):
-        return type(value), value
+        return kind, value
     if isinstance(value, dict) and all(isinstance(v, str | int | float) for v in value.values()):
         return tuple(sorted((str(k), type(v), v) for k, v in value.items()))
     return None

@@ -27,6 +27,9 @@ UNSAFE = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u00ad\u0600-\u0605\u061c\u06dd
                     "\ud800-\udfff\U000110bd\U000110cd\U0001bca0-\U0001bca3\U0001d173-\U0001d17a"
                     "\U000e0001\U000e0020-\U000e007f]")
 
+#: The characters of :data:`UNSAFE` that are ASCII: an ASCII text (most reports) is scanned for these alone.
+UNSAFE_ASCII = re.compile("[\x00-\x08\x0b-\x1f\x7f]")
+
 
 def _escape(match: re.Match) -> str:
     code = ord(match.group())
@@ -35,7 +38,7 @@ def _escape(match: re.Match) -> str:
 
 def safe_text(text: str) -> str:
     """``text`` with every character of :data:`UNSAFE` escaped (``\\x1b[2J`` shows as text)."""
-    return UNSAFE.sub(_escape, text)
+    return (UNSAFE_ASCII if text.isascii() else UNSAFE).sub(_escape, text)
 
 
 class GuardedStream:

@@ -11,6 +11,13 @@
 
 The document is built in one pass over libyaml's events (PyYAML's C parser when present): no node
 graph, no recursion, so a deep file cannot exhaust the stack.
+
+Long routes are lines like ``- {name: s1, length: 2 m, inner_diameter: {nps: 3, schedule: 40}}``: a
+list entry holding one flow mapping of plain names and values on one line. Such lines are read by
+:func:`_flow_lines` (a regular expression and the same 1.2-core resolution), and the parser sees one
+plain placeholder scalar instead of their 12 events; the document is the same. The shortcut is kept
+only if every such line came back as a list entry at its place; otherwise, or on any error, the file
+is parsed again without it, so messages and line/column marks are those of the parser.
 """
 
 from __future__ import annotations
@@ -58,6 +65,19 @@ _CORE = "tag:yaml.org,2002:"
 MAX_INT_DIGITS = 1000
 
 
+#: A plain scalar in flow context made of names, numbers and units: no indicator, no ': ', no ' #'.
+_PLAIN = r"(?:[A-Za-z0-9_.+/]|-(?=[A-Za-z0-9_.]))[A-Za-z0-9_.+/%\- ]*"
+_NAME = r"[A-Za-z_][A-Za-z0-9_]*"
+_PAIR = rf"{_NAME}: +{_PLAIN}"
+_OUTER = rf"{_NAME}: +(?:\{{ *{_PAIR}(?:, *{_PAIR})* *\}}|{_PLAIN})"
+#: A block list entry holding one flow mapping of plain pairs (values may be such mappings) on one line.
+_FLOW_LINE = re.compile(rf"^( *- )\{{ *({_OUTER}(?:, *{_OUTER})*) *\}}(?: +#[^\n]*)?$", re.M)
+_FLOW_PAIR = re.compile(rf"({_NAME}): +(?:\{{([^{{}}]*)\}}|([^,{{}}]*))(?:,|$)")
+_PLAIN_PAIR = re.compile(rf" *({_NAME}): +([^,]*?) *(?:,|$)")
+#: What the parser reads in place of a flow line's mapping (see the module's docstring).
+_FLOW = "__pampipe_flow_line__"
+
+
 class _Error(Exception):
     """A problem at a place in the file: (message, mark)."""
 
@@ -93,7 +113,7 @@ def load_mapping(path: Path, *, what: str = "YAML file") -> dict:
 def loads(text: str, *, source: str = "<text>"):
     """The one document in ``text`` as Python objects (YAML 1.2 core); errors raise InputError."""
     try:
-        return _Builder(_Parser(text)).document()
+        return _document(text)
     except _Error as exc:
         raise InputError(f"{source}:{_where(exc.mark)}: {exc}") from None
     except yaml.MarkedYAMLError as exc:
@@ -103,6 +123,75 @@ def loads(text: str, *, source: str = "<text>"):
     except yaml.YAMLError as exc:
         raise InputError(f"{source}: invalid YAML (the YAML parser says: {str(exc)[:200]}); "
                          f"{_ALLOWED}.") from None
+
+
+def _document(text: str):
+    """The document of ``text``, its one-line flow-mapping list entries read by :func:`_flow_lines`."""
+    try:
+        flows, marked = _flow_lines(text)
+    except _Error:  # an integer too long: the parse below says where
+        flows = {}
+    if flows:
+        try:
+            builder = _Builder(_Parser(marked), flows)
+            document = builder.document()
+            if builder.replaced == len(flows):
+                return document
+        except (_Error, yaml.YAMLError):
+            pass  # parsed again below, for the parser's own message
+    return _Builder(_Parser(text)).document()
+
+
+def _flow_lines(text: str) -> tuple[dict, str]:
+    """({(line, column): (mapping, nodes, depth)}, ``text`` with those mappings replaced by :data:`_FLOW`)
+    for each line ``- {key: value, ...}`` of plain names and values without a repeated key."""
+    flows: dict[tuple[int, int], tuple[dict, int, int]] = {}
+    resolved = _Resolved()  # route lines repeat their keys and units
+    pieces, done, line = [], 0, 0
+    for match in _FLOW_LINE.finditer(text):
+        mapping, nodes = _flow_mapping(match.group(2), resolved)
+        if mapping is None:
+            continue
+        line += text.count("\n", done, match.start())
+        flows[line, len(match.group(1))] = mapping, nodes, 1 + ("{" in match.group(2))  # depth
+        pieces += (text[done:match.end(1)], _FLOW)
+        done = match.end()
+    if not flows:
+        return flows, text
+    pieces.append(text[done:])
+    return flows, "".join(pieces)
+
+
+def _flow_mapping(body: str, resolved: _Resolved) -> tuple[dict | None, int]:
+    """(mapping, nodes) of ``key: value, ...`` (values plain or ``{key: value, ...}``, as
+    :data:`_FLOW_LINE` checked); None for a repeated key."""
+    if "{" not in body:  # plain values only
+        pairs = _PLAIN_PAIR.findall(body)
+        mapping = {resolved[key]: resolved[value] for key, value in pairs}
+        return (mapping, 1 + 2 * len(pairs)) if len(mapping) == len(pairs) else (None, 0)
+    mapping: dict = {}
+    nodes = 1
+    for key, inner, plain in _FLOW_PAIR.findall(body):
+        key = resolved[key]
+        if key in mapping:
+            return None, 0
+        if inner:
+            value, size = _flow_mapping(inner, resolved)
+            if value is None:
+                return None, 0
+        else:
+            value, size = resolved[plain.rstrip()], 1
+        mapping[key] = value
+        nodes += 1 + size
+    return mapping, nodes
+
+
+class _Resolved(dict):
+    """Plain scalar → its value (:func:`_resolve`), computed at the first lookup."""
+
+    def __missing__(self, plain: str):
+        value = self[plain] = _resolve(plain, None)
+        return value
 
 
 def _where(mark) -> str:
@@ -130,8 +219,10 @@ class _Frame:
 class _Builder:
     """Python objects from parser events, with the 1.2-core schema and the bounds above."""
 
-    def __init__(self, parser) -> None:
+    def __init__(self, parser, flows: dict | None = None) -> None:
         self.parser = parser
+        self.flows = flows or {}  # (line, column) -> (mapping, nodes, depth) read by _flow_lines
+        self.replaced = 0
         self.anchors: dict[str, tuple[object, int]] = {}
         self.open_anchors: set[str] = set()
         self.written = 0  # nodes written in the file
@@ -149,8 +240,11 @@ class _Builder:
             event = events.get_event()
             kind = type(event)
             if kind is yaml.ScalarEvent:
-                value, size = self.scalar(event), 1
-                self.written += 1
+                if event.value == _FLOW and event.tag is None and event.implicit[0]:
+                    value, size = self.flow(event, stack)
+                else:
+                    value, size = self.scalar(event), 1
+                self.written += size
                 if event.anchor is not None:
                     self.anchors[event.anchor] = (value, 1)
             elif kind is yaml.MappingStartEvent or kind is yaml.SequenceStartEvent:
@@ -193,6 +287,15 @@ class _Builder:
                 result = value
                 continue
             self.add(stack[-1], value, size, event)
+
+    def flow(self, event, stack: list[_Frame]) -> tuple[dict, int]:
+        """The mapping that :func:`_flow_lines` read for this placeholder, which must be a list entry."""
+        mark = event.start_mark
+        mapping, nodes, depth = self.flows.get((mark.line, mark.column), (None, 0, 0))
+        if mapping is None or not stack or stack[-1].seen is not None or len(stack) + depth > MAX_DEPTH:
+            raise _Error("not a flow line read in place", mark)  # the caller parses without flow lines
+        self.replaced += 1
+        return mapping, nodes
 
     def add(self, frame: _Frame, value, size: int, event) -> None:
         frame.size += size

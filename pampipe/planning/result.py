@@ -211,6 +211,13 @@ class MissionPlan:
     @cached_property
     def sections(self) -> tuple[SectionPlan, ...]:
         """One SectionPlan per route section, in travel order."""
+        return tuple(self._section_plans())
+
+    def _section_plans(self):
+        """The SectionPlans one at a time, built from the columns."""
+        if "sections" in self.__dict__:  # built before
+            yield from self.sections
+            return
         a, r = self.arrays, self.arrays.route
         columns = [x.tolist() for x in (a.pressure, a.anchoring_pressure, a.required_hold, a.holding_capacity,
                                         a.radial_force, a.contact_pressure, a.loaded_anchoring_pressure,
@@ -223,7 +230,6 @@ class MissionPlan:
                               r.diameter_high.tolist(), r.diameter_sd.tolist(), a.complete.tolist(),
                               strict=True)
         networks = _network_columns(r)
-        out = []
         for s, (name, length, d, incline, mu, mu_sd, low, high, sd, complete) in enumerate(section_columns):
             reason = a.reasons.get(s)
             segments = ()
@@ -237,10 +243,8 @@ class MissionPlan:
                                 worst_diameter=worst[i], largest_bore_anchoring_pressure=touch[i],
                                 contact_cost_bore=c_d[i], contact_cost_angle=c_a[i])
                     for i, seg in enumerate(a.segment_names))
-            out.append(SectionPlan(name, reason is None, reason, segments, length, d, incline, mu,
-                                   (low, high), sd, r.section_label(s), mu_sd,
-                                   None if networks is None else networks[s]))
-        return tuple(out)
+            yield SectionPlan(name, reason is None, reason, segments, length, d, incline, mu, (low, high), sd,
+                              r.section_label(s), mu_sd, None if networks is None else networks[s])
 
     @property
     def reasons(self) -> list[str]:
@@ -248,8 +252,20 @@ class MissionPlan:
         return ([f"{self.arrays.route.name[s]}: {r}" for s, r in sorted(self.arrays.reasons.items())]
                 + [b.reason() for b in self.bends if not b.passable])
 
-    def as_document(self) -> dict:
-        doc = {"feasible": self.feasible, "sections": [s.as_document() for s in self.sections],
+    def section_documents(self):
+        """The documents of the sections one at a time (their uncertainty entries included)."""
+        for s, section in enumerate(self._section_plans()):
+            doc = section.as_document()
+            if self.uncertainty is not None:
+                for i, segment in enumerate(doc["segments"]):
+                    segment.update(self.uncertainty.element_document(s, i))
+            yield doc
+
+    def as_document(self, *, sections=None, reducers=None) -> dict:
+        """The document; ``sections`` and ``reducers`` in place of the built lists (the `plan` command
+        passes lazy ones, from :meth:`section_documents`, to stream a large document)."""
+        doc = {"feasible": self.feasible, "sections": list(self.section_documents()) if sections is None
+               else sections,
                "mission": self.mission, "supply_pressure_Pa": self.supply_pressure,
                "safety_factor": self.safety_factor, "load_path": self.load_path, "load_coupling": self.kappa,
                "payload_kg": self.payload, "confidence": self.confidence, "warnings": list(self.warnings),
@@ -257,16 +273,13 @@ class MissionPlan:
                           "wall_time_s": self.wall_time}}
         if self.uncertainty is not None:
             doc["confidence"] = self.uncertainty.as_document()
-            for s, section in enumerate(doc["sections"]):
-                for i, segment in enumerate(section["segments"]):
-                    segment.update(self.uncertainty.element_document(s, i))
         if self.max_payload is not None:
             doc["max_payload"] = self.max_payload.as_document()
             if self.uncertainty is not None:
                 doc["max_payload"]["confidence"] = self.confidence
         doc["bends"] = [b.as_document() for b in self.bends]
         doc["bends_extra_time_s"] = float(sum(b.steps.extra_time for b in self.bends if b.steps is not None))
-        doc["reducers"] = [r.as_document() for r in self.reducers]
+        doc["reducers"] = [r.as_document() for r in self.reducers] if reducers is None else reducers
         origin = self.arrays.route.origin
         if origin is not None:
             net = origin.network

@@ -16,7 +16,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import log_ndtr
 
 #: χ²₁ quantile of a 95 % profile-likelihood interval.
 CHI2_95 = 3.841458820694124
@@ -69,6 +68,8 @@ class Likelihood:
             z = (self.load - predicted) / sigma
             jacobian = 0.0
         exact = -0.5 * z**2 - math.log(math.sqrt(2 * math.pi)) - log_sigma - jacobian
+        from scipy.special import log_ndtr  # here: importing scipy.special costs every identify 0.2 s
+
         survival = log_ndtr(-z)
         return float(np.sum(np.where(self.censored, survival, exact)))
 
