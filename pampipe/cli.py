@@ -14,6 +14,7 @@ import importlib
 import json
 import re
 import sys
+import warnings
 
 from pampipe import __version__, display, interrupts, progress
 from pampipe.errors import InputError, PampipeError, StreamError
@@ -91,6 +92,10 @@ def main(argv: list[str] | None = None) -> int:
     """Run one command; return its exit code (run as the program, an interrupted run ends at once)."""
     program = argv is None
     argv = sys.argv[1:] if program else list(argv)
+    # numpy's floating-point warnings ("invalid value encountered in sqrt") are for developers: every
+    # result is checked for NaN/inf where it matters and a user is told in pampipe's words (tests see them)
+    warnings.filterwarnings("ignore", category=RuntimeWarning,
+                            message=r"(invalid value|divide by zero|overflow|underflow) encountered")
     forget_written()
     try:
         with streams.guarded(), interrupts.handled():

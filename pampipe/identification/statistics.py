@@ -244,8 +244,9 @@ def _leg_average(test: TestData, rows, geometry, degree, pref, bins):
 
 def radial_coefficients(pipe_diameter, axial_load, geometry, degree, pref):
     """(A·φ₀, A·φ₁, A·area·P_ref, A·F_a) of u(x) = c₀ + c₁x at the pipe (N/MPa, N)."""
-    length = braid.length_at_diameter(pipe_diameter, geometry)
-    amp = float(braid.amplification_factor(pipe_diameter, geometry))
+    with np.errstate(invalid="ignore"):  # NaN: a calibrated geometry that misses the pipe (refused later)
+        length = braid.length_at_diameter(pipe_diameter, geometry)
+        amp = float(braid.amplification_factor(pipe_diameter, geometry))
     off0, row0 = forces.axial_force_regressors(0.0, length, geometry, degree, pref)
     off1, row1 = forces.axial_force_regressors(pref, length, geometry, degree, pref)
     phi0 = np.array([float(v) for v in row0]) * MPA

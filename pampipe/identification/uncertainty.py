@@ -83,7 +83,7 @@ def identifiable(lam: np.ndarray, weights: np.ndarray, half_range, sigma: float)
     |weights_i|·half_range."""
     lam = np.clip(np.asarray(lam, float), 0, None)
     allowed = np.abs(weights) @ np.asarray(half_range, float)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # σ is NaN with no residual degree of freedom
         std = np.where(lam > 0, sigma / np.sqrt(lam), np.inf)
     return (lam > 1e-14 * max(lam.max(initial=0.0), 1e-300)) & (Z95 * std < IDENTIFIABLE * allowed)
 
