@@ -15,8 +15,11 @@ The command-line interface is a thin layer over these functions.
 
 from __future__ import annotations
 
+import copy
+import hashlib
 import math
 import os
+import pickle
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -231,7 +234,9 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
     The optimal gait is solved warm, from the last solution of the same structure (muscles' model
     structures, grid, valve) found by this process (:data:`_GAIT_WARM_STARTS`): the built OCP is reused
     and IPOPT starts at that optimum with its multipliers; another structure starts cold from the
-    sequential schedule. ``result.optimal.solver["warm_start"]`` says which.
+    sequential schedule. ``result.optimal.solver["warm_start"]`` says which. The sequential
+    schedule (the plan's thresholds and its simulation) is reused when the same mission, section and
+    options come again, keyed by their whole content (:func:`_content_key`), never by identity.
     """
     from pampipe.errors import InputError
     from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
@@ -242,7 +247,11 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
         raise InputError(f"section: {show(section)} is not allowed; give a section's name.")
     model = load_mission(mission, base=base)
     options = gait_options(model.gait, source=model.source)
-    sequential = sequential_gait(model, section, options=options)
+    content = _content_key(model, section, options)
+    sequential = _GAIT_SEQUENTIAL.get(content)
+    if sequential is None:
+        sequential = sequential_gait(model, section, options=options)
+    _keep(_GAIT_SEQUENTIAL, content, sequential)
     best = None
     if optimal:
         if progress is not None:
@@ -250,10 +259,8 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
         key = problem_key(sequential.needs, options)
         best = optimal_gait(model, section, options=options, baseline=sequential,
                             warm_start=_GAIT_WARM_STARTS.get(key))
-        _GAIT_WARM_STARTS.pop(key, None)
-        _GAIT_WARM_STARTS[key] = best.warm_start
-        while len(_GAIT_WARM_STARTS) > WARM_STARTS_KEPT:  # the least recently solved structure goes
-            _GAIT_WARM_STARTS.pop(next(iter(_GAIT_WARM_STARTS)))
+        _keep(_GAIT_WARM_STARTS, key, best.warm_start)
+    sequential = copy.deepcopy(sequential, {id(sequential.needs): sequential.needs})  # the kept one stays
     bends = None
     if model.route.bend_angle is not None:
         from pampipe.bends.gait import route_time
@@ -264,10 +271,27 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
     return GaitReport(sequential, best, bends)
 
 
-#: Structures whose last optimal-gait solution :func:`gait` keeps to start the next solve from.
+#: Structures whose last optimal-gait solution :func:`gait` keeps to start the next solve from (and
+#: inputs whose sequential schedule it keeps).
 WARM_STARTS_KEPT = 8
 #: problem key (:func:`pampipe.locomotion.optimal.problem_key`) → its last WarmStart, oldest first.
 _GAIT_WARM_STARTS: dict = {}
+#: :func:`_content_key` of (mission, section, options) → its sequential GaitResult, oldest first.
+_GAIT_SEQUENTIAL: dict = {}
+
+
+def _content_key(*values) -> bytes:
+    """A digest of the pickled ``values``: equal bytes rebuild equal objects, so a hit is never stale
+    (equal content pickled differently is only a miss)."""
+    return hashlib.blake2b(pickle.dumps(values, protocol=pickle.HIGHEST_PROTOCOL)).digest()
+
+
+def _keep(store: dict, key, value) -> None:
+    """Store ``value`` as the most recent entry; the least recent beyond :data:`WARM_STARTS_KEPT` goes."""
+    store.pop(key, None)
+    store[key] = value
+    while len(store) > WARM_STARTS_KEPT:
+        store.pop(next(iter(store)))
 
 
 def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import dataclasses
 
+import numpy as np
 import pytest
 
 from pampipe.io.config import load_mission
-from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
+from pampipe.locomotion import gait_options, optimal_gait, pneumatics, schedule, sequential_gait
 from pampipe.locomotion.optimal import _problem
 from pampipe.locomotion.schedule import ANCHORS
 from tests.conftest import PROBLEMS
@@ -119,3 +120,25 @@ def test_problem_is_built_once_and_warm_started(demo_gaits):
     assert cold.cycle_time == pytest.approx(best.cycle_time, rel=1e-5)
     assert best.cycle_time <= seq.cycle_time * (1 + 1e-9)
     assert best.hold_margin.min() >= best.needs[0].safety_factor * (1 - HOLD_TOLERANCE)
+
+
+def test_lengths_from_the_interpolant_equal_the_exact_free_length(demo_gaits, monkeypatch):
+    """The kept interpolant of L_free on [0, P_a] gives the exact roots to 1e-13·L0 at every sample of the
+    sequential cycle; with no interpolant within tolerance the lengths are the exact roots themselves."""
+    seq = demo_gaits["riser"][0]
+    pressures = seq.trajectory.pressures
+    size = schedule.lengths(seq.needs, pressures)
+    for i, need in enumerate(seq.needs):
+        free = np.maximum(pressures[:, i], 0.0) < need.contact_pressure
+        assert free.sum() > 100 and schedule.free_length_on(need.muscle, need.contact_pressure) is not None
+        exact = np.maximum(need.muscle.free_length(np.maximum(pressures[free, i], 0.0)), need.anchored_length)
+        assert np.max(np.abs(size[free, i] - exact)) <= 1e-13 * need.rest_length
+        assert np.all(size[~free, i] == need.anchored_length)
+    monkeypatch.setattr(schedule, "_CURVES", {})
+    monkeypatch.setattr(pneumatics, "FREE_LENGTH_TOLERANCE", -1.0)  # no interpolant passes: exact roots
+    assert schedule.free_length_on(seq.needs[0].muscle, seq.needs[0].contact_pressure) is None
+    i = 0
+    free = np.maximum(pressures[:, i], 0.0) < seq.needs[i].contact_pressure
+    exact = np.maximum(seq.needs[i].muscle.free_length(np.maximum(pressures[free, i], 0.0)),
+                       seq.needs[i].anchored_length)
+    assert np.array_equal(schedule.lengths(seq.needs, pressures)[free, i], exact)

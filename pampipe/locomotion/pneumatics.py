@@ -133,13 +133,20 @@ def free_lengths(muscle, pressures) -> np.ndarray:
     moving = sign * muscle.axial_force(flat, rest) > 0  # as free_length: else it stays at L₀
     out = np.full(flat.shape, rest)
     if np.any(moving):
-        domain = [float(flat[moving].min()), float(flat[moving].max())]
-        curve = np.polynomial.Chebyshev.interpolate(muscle.free_length, FREE_LENGTH_DEGREE, domain=domain)
-        nodes = np.cos(np.pi * (np.arange(FREE_LENGTH_DEGREE) + 1.0) / (FREE_LENGTH_DEGREE + 1))
-        between = domain[0] + 0.5 * (domain[1] - domain[0]) * (nodes + 1.0)
-        good = np.max(np.abs(curve(between) - muscle.free_length(between))) <= FREE_LENGTH_TOLERANCE * rest
-        out[moving] = curve(flat[moving]) if good else muscle.free_length(flat[moving])
+        curve = free_length_curve(muscle, float(flat[moving].min()), float(flat[moving].max()))
+        out[moving] = muscle.free_length(flat[moving]) if curve is None else curve(flat[moving])
     return out.reshape(pressures.shape)
+
+
+def free_length_curve(muscle, low: float, high: float):
+    """The Chebyshev interpolant of degree :data:`FREE_LENGTH_DEGREE` of L_free(P) on [low, high] [Pa],
+    or None where it errs by more than :data:`FREE_LENGTH_TOLERANCE`·L₀ against the exact root half-way
+    between its points (a curve that is not smooth there)."""
+    curve = np.polynomial.Chebyshev.interpolate(muscle.free_length, FREE_LENGTH_DEGREE, domain=[low, high])
+    nodes = np.cos(np.pi * (np.arange(FREE_LENGTH_DEGREE) + 1.0) / (FREE_LENGTH_DEGREE + 1))
+    between = low + 0.5 * (high - low) * (nodes + 1.0)
+    error = np.max(np.abs(curve(between) - muscle.free_length(between)))
+    return curve if error <= FREE_LENGTH_TOLERANCE * muscle.geometry.initial_length else None
 
 
 def chambers_of_muscle(muscle, diameters) -> Chamber:

@@ -8,7 +8,6 @@ P_a = −F_ax(0, L_p)/∂_P F_ax, no slip while μπF_r(P, D_p, κW) ≥ SF·W.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -48,10 +47,21 @@ class MuscleNeed:
         return capacity / max(self.safety_factor * self.load, 1e-9)
 
 
-@lru_cache(maxsize=64)
 def _chamber(muscle: Muscle, diameter: float) -> Chamber:
-    """:meth:`Chamber.of_muscle`, once per muscle object and bore: a route repeats its bores."""
-    return Chamber.of_muscle(muscle, diameter)
+    """:meth:`Chamber.of_muscle`, once per muscle and bore: a route repeats its bores, and every plan
+    builds its muscles anew, so the key is the muscle's content (structure and parameter vector)."""
+    key = (muscle.structure, muscle.parameter_vector().tobytes(), diameter)
+    chamber = _CHAMBERS.pop(key, None)
+    if chamber is None:
+        chamber = Chamber.of_muscle(muscle, diameter)
+    _CHAMBERS[key] = chamber  # the most recent last; the least recent beyond 64 goes
+    if len(_CHAMBERS) > 64:
+        _CHAMBERS.pop(next(iter(_CHAMBERS)))
+    return chamber
+
+
+#: (structure, parameter bytes, bore) → Chamber, least recently used first.
+_CHAMBERS: dict = {}
 
 
 def vented_error(mission: Mission, options: GaitOptions, segment: int, section: int,

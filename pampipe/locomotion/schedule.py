@@ -24,7 +24,7 @@ import numpy as np
 
 from pampipe.errors import SolverError
 from pampipe.locomotion.options import GaitOptions
-from pampipe.locomotion.pneumatics import transition_time
+from pampipe.locomotion.pneumatics import free_length_curve, transition_time
 from pampipe.locomotion.requirements import MuscleNeed
 
 STEPS = ("I", "II", "III", "IV", "V", "VI", "VII")
@@ -95,7 +95,8 @@ class ControlPlan:
 def lengths(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> np.ndarray:
     """Segment lengths [m], (n, 3): L(D_p) once touching the wall, L_free(P) below.
 
-    L_free is evaluated once per distinct pressure below contact (a closed valve repeats it).
+    L_free is evaluated once per distinct pressure below contact (a closed valve repeats it), by the
+    muscle's checked interpolant on [0, P_a] (:func:`free_length_on`) where it has one.
     """
     out = np.empty_like(pressures, dtype=float)
     for i, need in enumerate(needs):
@@ -104,8 +105,26 @@ def lengths(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> np.ndarray:
         distinct, where = np.unique(column[free], return_inverse=True)
         out[:, i] = need.anchored_length
         if distinct.size:
-            out[free, i] = np.maximum(need.muscle.free_length(distinct)[where], need.anchored_length)
+            curve = free_length_on(need.muscle, need.contact_pressure)
+            free_length = need.muscle.free_length(distinct) if curve is None else curve(distinct)
+            out[free, i] = np.maximum(free_length[where], need.anchored_length)
     return out
+
+
+def free_length_on(muscle, contact: float):
+    """L_free(P) on [0, P_a] as :func:`~pampipe.locomotion.pneumatics.free_length_curve` (None where no
+    interpolant is within its tolerance, e.g. a muscle that stays at L₀ up to some pressure), once per
+    muscle content (structure, parameter vector) and P_a [Pa]: a gait evaluates the same muscles again."""
+    key = (muscle.structure, muscle.parameter_vector().tobytes(), contact)
+    if key not in _CURVES:
+        _CURVES[key] = free_length_curve(muscle, 0.0, contact) if contact > 0 else None
+        if len(_CURVES) > 64:
+            _CURVES.pop(next(iter(_CURVES)))  # the oldest goes
+    return _CURVES[key]
+
+
+#: (structure, parameter bytes, P_a) → interpolant of L_free(P) on [0, P_a] or None, oldest first.
+_CURVES: dict = {}
 
 
 def positions(needs: tuple[MuscleNeed, ...], pressures: np.ndarray,
