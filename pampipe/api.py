@@ -248,10 +248,11 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
     model = load_mission(mission, base=base)
     options = gait_options(model.gait, source=model.source)
     content = _content_key(model, section, options)
-    sequential = _GAIT_SEQUENTIAL.get(content)
+    sequential = None if content is None else _GAIT_SEQUENTIAL.get(content)
     if sequential is None:
         sequential = sequential_gait(model, section, options=options)
-    _keep(_GAIT_SEQUENTIAL, content, sequential)
+    if content is not None:
+        _keep(_GAIT_SEQUENTIAL, content, sequential)
     best = None
     if optimal:
         if progress is not None:
@@ -280,10 +281,14 @@ _GAIT_WARM_STARTS: dict = {}
 _GAIT_SEQUENTIAL: dict = {}
 
 
-def _content_key(*values) -> bytes:
+def _content_key(*values) -> bytes | None:
     """A digest of the pickled ``values``: equal bytes rebuild equal objects, so a hit is never stale
-    (equal content pickled differently is only a miss)."""
-    return hashlib.blake2b(pickle.dumps(values, protocol=pickle.HIGHEST_PROTOCOL)).digest()
+    (equal content pickled differently is only a miss). None where they do not pickle (a mission built in
+    Python around an object pickle refuses): nothing is then reused."""
+    try:
+        return hashlib.blake2b(pickle.dumps(values, protocol=pickle.HIGHEST_PROTOCOL)).digest()
+    except (pickle.PicklingError, TypeError, AttributeError):
+        return None
 
 
 def _keep(store: dict, key, value) -> None:

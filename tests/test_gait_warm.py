@@ -76,3 +76,11 @@ def test_warm_calls_on_changing_inputs_equal_cold_solves_of_each(monkeypatch):
         assert warm.optimal.cycle_time == pytest.approx(best.cycle_time, rel=1e-6)
         np.testing.assert_allclose(durations(warm), [s.duration for s in best.steps], rtol=1e-6, atol=1e-9)
         warm.sequential.trajectory.pressures[:] = -1.0  # a caller's edit never reaches the kept schedule
+
+
+def test_content_that_does_not_pickle_is_never_reused():
+    """A mission holding an object pickle refuses gets no key (so no reuse), not a crash."""
+    from pampipe.api import _content_key
+
+    assert _content_key(lambda: 0) is None
+    assert _content_key({"a": 1}) == _content_key({"a": 1}) != _content_key({"a": 2})
