@@ -57,9 +57,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
     result, warm, wall_time, iterations, builds, finish = None, None, 0.0, 0, [], None
+    radial: list = []  # the radial bins of the first round: the hinge moves axial rows only
     for round_ in range(HINGE_ROUNDS):
         try:
-            result, finish_round = _fit(data, options, say, hinge, warm)
+            result, finish_round = _fit(data, options, say, hinge, warm, radial)
         except SolverError as error:
             if round_ == 0:
                 raise
@@ -117,16 +118,19 @@ def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[
     return out
 
 
-def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm):
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, radial: list):
     """(IdentifyResult, finish): one fit with the ``hinge`` rows in cells, from ``warm`` (a previous
     solution) if given; ``finish()`` gives its (model error, written joint uncertainty), which the
-    result leaves out (None) because only the fit reported needs them."""
+    result leaves out (None) because only the fit reported needs them. ``radial``: [the radial bins
+    of an earlier round], or [] (then filled with this round's)."""
     stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
     stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
                               average_legs=options.average_legs, average_bins=options.average_bins,
-                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge)
+                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge,
+                              radial=radial[0] if radial else None)
+    radial[:] = [stats.radial]
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta

@@ -98,8 +98,10 @@ def sample_rows(data, slack: str, *, limit: int | None = SAMPLE) -> RowSample:
             used = used[~test.slack]
         if used.size == 0:
             continue
-        size = used.size if limit is None else min(used.size, limit)
-        pick = used[np.unique(np.linspace(0, used.size - 1, size).astype(np.int64))]
+        if limit is None or used.size <= limit:  # every row (linspace(0, n − 1, n) is 0, 1, …, n − 1)
+            pick = used
+        else:
+            pick = used[np.unique(np.linspace(0, used.size - 1, limit).astype(np.int64))]
         parts.append((np.full(pick.size, t), pick, test.pressure[pick], test.force[pick],
                       np.full(pick.size, used.size / pick.size)))
     return RowSample(*(np.concatenate([p[k] for p in parts]) for k in range(5)))

@@ -105,7 +105,8 @@ class Statistics:
 
 def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: float = MPA,
                       average_legs: bool = False, average_bins: int = 30, slack: str = "unilateral",
-                      calibrate: bool = False, hinge: dict[int, np.ndarray] | None = None) -> Statistics:
+                      calibrate: bool = False, hinge: dict[int, np.ndarray] | None = None,
+                      radial: tuple[RadialStats, ...] | None = None) -> Statistics:
     """Sufficient statistics of every test (one pass over the rows, chunked).
 
     Axial rows: measured rows (force > 0) go to the exact QR groups, slack rows (force ≤ 0) to
@@ -117,13 +118,16 @@ def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: 
     BLAS runs single-threaded here: the QR blocks are tall and thin (17 columns), where
     OpenBLAS threads only add overhead, and on a busy machine they oversubscribe the cores
     (measured 10× slower with the default thread count at load 6 on 2 cores).
+
+    ``radial``: the radial bins of an earlier reduction of the same data and options (a refit of
+    the hinge moves axial rows only, so its radial bins are the same numbers).
     """
     with threadpool_limits(limits=1, user_api="blas"):
         return _reduce(data, degree, reference_pressure, average_legs, average_bins, slack, calibrate,
-                       hinge or {})
+                       hinge or {}, radial)
 
 
-def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hinge) -> Statistics:
+def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hinge, radial) -> Statistics:
     geometry = data.pam.geometry
     pipes = tuple(sorted({t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}))
     axial = [(i, t) for i, t in enumerate(data.tests) if t.kind == "axial"]
@@ -131,7 +135,8 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hi
     def used(test):
         return np.flatnonzero(test.force > 0) if slack == "exclude" else np.arange(test.points)
 
-    groups = tuple((i, int(lev)) for i, t in axial for lev in np.unique(t.level[used(t)]))
+    groups = tuple((i, int(lev)) for i, t in axial
+                   for lev in np.flatnonzero(np.bincount(t.level[used(t)], minlength=t.level_pressure.size)))
     qr = None
     if axial and not calibrate:
         found = {}
@@ -156,8 +161,9 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hi
     remap = {g: k for k, g in enumerate(groups)}
     cells = Cells(cells.moments, np.array([remap[cells.groups[c]] for c in cells.group], dtype=np.int64),
                   groups) if cells.count else None
-    radial = tuple(_radial(index, test, geometry, degree, pref, pipes.index(test.spec.pipe_diameter))
-                   for index, test in enumerate(data.tests) if test.kind == "radial")
+    if radial is None:
+        radial = tuple(_radial(index, test, geometry, degree, pref, pipes.index(test.spec.pipe_diameter))
+                       for index, test in enumerate(data.tests) if test.kind == "radial")
     slack_rows = tuple(int(np.sum(t.force <= 0)) if t.kind == "axial" else 0 for t in data.tests)
     excluded = sum(slack_rows) if slack == "exclude" else 0
     return Statistics(qr, radial, pipes, degree, pref, data.points - excluded, cells, groups, slack_rows,
@@ -214,7 +220,7 @@ def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, 
         block = _augmented(test.pressure[chunk], test.length[chunk], test.force[chunk], geometry, degree,
                            pref)
         level = test.level[chunk]
-        for lev in np.unique(level):
+        for lev in np.flatnonzero(np.bincount(level, minlength=levels)):
             mine = level == lev
             r_aug[lev] = _qr_r(np.vstack([r_aug[lev], block[mine]]), p + 1)
             count[lev] += int(mine.sum())
