@@ -32,7 +32,7 @@ from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
-from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment, without
+from pampipe.identification.statistics import Memo, Statistics, drucker_rows, reduce_experiment, without
 from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
@@ -57,10 +57,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
     result, warm, wall_time, iterations, builds, finish = None, None, 0.0, 0, [], None
-    radial: list = []  # the radial bins of the first round: the hinge moves axial rows only
+    memo = Memo()  # what the hinge's refits reuse of the first reduction
     for round_ in range(HINGE_ROUNDS):
         try:
-            result, finish_round = _fit(data, options, say, hinge, warm, radial)
+            result, finish_round = _fit(data, options, say, hinge, warm, memo)
         except SolverError as error:
             if round_ == 0:
                 raise
@@ -118,19 +118,18 @@ def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[
     return out
 
 
-def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, radial: list):
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo):
     """(IdentifyResult, finish): one fit with the ``hinge`` rows in cells, from ``warm`` (a previous
     solution) if given; ``finish()`` gives its (model error, written joint uncertainty), which the
-    result leaves out (None) because only the fit reported needs them. ``radial``: [the radial bins
-    of an earlier round], or [] (then filled with this round's)."""
+    result leaves out (None) because only the fit reported needs them. ``memo``: what the rounds of
+    the hinge share of the reduction (:class:`~pampipe.identification.statistics.Memo`)."""
     stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
     stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
                               average_legs=options.average_legs, average_bins=options.average_bins,
                               slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge,
-                              radial=radial[0] if radial else None)
-    radial[:] = [stats.radial]
+                              memo=memo)
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta
