@@ -241,7 +241,8 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
         model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
                                             slack=options.slack, half_range=0.5 * (ubx - lbx),
                                             constraints=_constraints(structure, grid, x, lbx, ubx,
-                                                                     uncertainty.at_bound))
+                                                                     uncertainty.at_bound),
+                                            model=unclipped)
         top = max(float(t.pressure.max()) for t in data.tests)
         joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                               model_error.value, lambda xv: muscles_at(xv)[0],

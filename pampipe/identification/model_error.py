@@ -107,6 +107,17 @@ def sample_rows(data, slack: str, *, limit: int | None = SAMPLE) -> RowSample:
     return RowSample(*(np.concatenate([p[k] for p in parts]) for k in range(5)))
 
 
+def _scored(test, model: np.ndarray, slack: str) -> tuple[np.ndarray, np.ndarray]:
+    """(residual [N], measured force [N]) of the fitted rows of one test, as :func:`row_forces` scores
+    them, from ``model``: the model force of every row before the hinge."""
+    used = ~test.slack if slack == "exclude" and test.kind == "axial" else np.ones(test.points, dtype=bool)
+    force = test.force[used]
+    model = model[used]
+    if test.kind == "axial" and slack == "unilateral":
+        model = np.where(test.slack[used], np.maximum(model, 0.0), model)
+    return model - force, force
+
+
 def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
     """Model force [N] at every sampled row for ``muscles`` = (muscle, {pipe: muscle})."""
     main, pipes = muscles
@@ -129,12 +140,18 @@ def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
     return out
 
 
-def estimate(data, x, prior_hessian, muscles_at, *, slack: str, half_range, constraints=None) -> ModelError:
-    """Model error of the fit ``x`` (module docstring); ``muscles_at(x)`` is (muscle, {pipe: muscle})."""
-    every = sample_rows(data, slack, limit=None)
-    residual = row_forces(data, every, muscles_at(x), slack) - every.force
-    floors = [noise_floor(residual[every.test == t], every.force[every.test == t])
-              for t in range(len(data.tests))]
+def estimate(data, x, prior_hessian, muscles_at, *, slack: str, half_range, constraints=None,
+             model: dict[str, np.ndarray] | None = None) -> ModelError:
+    """Model error of the fit ``x`` (module docstring); ``muscles_at(x)`` is (muscle, {pipe: muscle}).
+    ``model``: test name → the model force of ``x`` at every row [N] (before the hinge max(0, F)), if
+    already evaluated; else it is evaluated here."""
+    if model is None:
+        every = sample_rows(data, slack, limit=None)
+        residual = row_forces(data, every, muscles_at(x), slack) - every.force
+        floors = [noise_floor(residual[every.test == t], every.force[every.test == t])
+                  for t in range(len(data.tests))]
+    else:
+        floors = [noise_floor(*_scored(test, model[test.name], slack)) for test in data.tests]
     pooled = [(s, n) for s, n in floors if n > 0 and np.isfinite(s)]
     sigma_n = float(np.sqrt(sum(n * s**2 for s, n in pooled) / sum(n for _, n in pooled))) if pooled else 0.0
 

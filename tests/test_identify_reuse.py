@@ -1,4 +1,6 @@
-"""The hinge's refits reuse the first reduction (statistics.Memo): the numbers of a fresh one, bit for bit."""
+"""What identify computes once and reuses gives the numbers of computing it again, bit for bit: the
+hinge's refits reuse the first reduction (statistics.Memo); the model error's noise floor uses the model
+forces the per-test scoring evaluated."""
 
 from __future__ import annotations
 
@@ -6,8 +8,11 @@ import numpy as np
 import pytest
 
 from pampipe.experiment import ExperimentData, make_test_data
-from pampipe.identification import statistics
+from pampipe.identification import FitOptions, identify, model_error, statistics
+from pampipe.identification import fit as fitting
 from pampipe.identification.statistics import Memo, reduce_experiment
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
 from pampipe.model.pam import Pam
 from pampipe.synthetic import Protocol, generate
 from tests.conftest import PROBLEMS
@@ -57,3 +62,22 @@ def test_a_refit_with_hinged_rows_equals_a_fresh_reduction(data, monkeypatch, wh
     assert not np.array_equal(first.axial.r, again.axial.r)  # the hinged rows left the QR groups
     assert full == measured.size
     assert reused < 300 + 256 if where == "late" else reused == measured.size - rows.size
+
+
+@pytest.mark.parametrize(("mode", "slack"), [("shared", "unilateral"), ("contact_increment", "exclude")])
+def test_the_noise_floor_from_the_scored_model_equals_the_row_by_row_one(monkeypatch, mode, slack):
+    """The model error (σ_n from every row, then the cross-validated excess) is the same whether the
+    every-row model comes from the per-test scoring or is evaluated again row by row."""
+    data = load_experiment_data(load_experiment(PROBLEMS / "experiments" / "paper-protocol.yaml"))
+    pairs = []
+    original = model_error.estimate
+
+    def both(*args, model, **kwargs):
+        assert model is not None  # the fit hands over its every-row model
+        pairs.append((original(*args, model=model, **kwargs), original(*args, model=None, **kwargs)))
+        return pairs[-1][0]
+
+    monkeypatch.setattr(fitting.model_errors, "estimate", both)
+    result = identify(data, FitOptions(mode=mode, slack=slack))
+    assert len(pairs) == 1 and pairs[0][0] == pairs[0][1]
+    assert result.model_error == pairs[0][1] and pairs[0][1].noise_floor > 0
