@@ -191,9 +191,10 @@ def regressors(pressure, length, geometry, degree, pref=MPA):
 
 
 def _augmented(pressure, length, force, geometry, degree, pref) -> np.ndarray:
-    """[Φ | y] (rows × (p + 1)) with y = F − offset: one pass, written into one array."""
+    """[Φ | y] (rows × (p + 1)) with y = F − offset: one pass, written into one array, column-major
+    (the layout LAPACK's QR reads: numpy copies a row-major block first, at the cost of the QR itself)."""
     offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, pref)
-    block = np.empty((np.size(length), len(row) + 1))
+    block = np.empty((np.size(length), len(row) + 1), order="F")
     for j, column in enumerate(row):
         np.multiply(column, MPA, out=block[:, j])
     np.subtract(force, offset, out=block[:, -1])
@@ -242,10 +243,13 @@ def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, 
         block = _augmented(test.pressure[chunk], test.length[chunk], test.force[chunk], geometry, degree,
                            pref)
         level = test.level[chunk]
-        for lev in np.flatnonzero(np.bincount(level, minlength=levels)):
-            mine = level == lev
-            r_aug[lev] = _qr_r(np.vstack([r_aug[lev], block[mine]]), p + 1)
-            count[lev] += int(mine.sum())
+        present = np.flatnonzero(np.bincount(level, minlength=levels))
+        for lev in present:
+            mine = block if present.size == 1 else block[level == lev]
+            stacked = np.empty((p + 1 + mine.shape[0], p + 1), order="F")  # [R; the level's rows]
+            stacked[:p + 1], stacked[p + 1:] = r_aug[lev], mine
+            r_aug[lev] = _qr_r(stacked, p + 1)
+            count[lev] += mine.shape[0]
         kept.append((r_aug.copy(), count.copy()))
     for lev in np.flatnonzero(count):
         yield ((index, lev), test.level_pressure[lev], count[lev], r_aug[lev, :p, :p], r_aug[lev, :p, p],
