@@ -73,8 +73,9 @@ def noise_floor(residual: np.ndarray, measured: np.ndarray) -> tuple[float, int]
     if r.size < 5:
         return float("nan"), 0
     d2 = r[2:] - 2 * r[1:-1] + r[:-2]
-    robust = float(np.median(np.abs(d2 - np.median(d2)))) / 0.6745
-    kept = d2[np.abs(d2 - np.median(d2)) <= TRIM * robust] if robust > 0 else d2
+    spread = np.abs(d2 - np.median(d2))
+    robust = float(np.median(spread)) / 0.6745
+    kept = d2[spread <= TRIM * robust] if robust > 0 else d2
     return float(np.sqrt(np.mean(kept**2) / 6.0)), int(r.size)
 
 
