@@ -354,9 +354,9 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
     pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
     geometry = data.pam.geometry
-    tested = np.concatenate([t.pressure for t in data.tests])
-    p_max = max(float(tested.max()), 1.0)
-    pressures = np.linspace(max(0.0, float(tested.min())), p_max, options.grid_pressures)
+    p_max = max(max(float(t.pressure.max()) for t in data.tests), 1.0)
+    p_min = min(float(t.pressure.min()) for t in data.tests)
+    pressures = np.linspace(max(0.0, p_min), p_max, options.grid_pressures)
     pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
     low = min([geometry.initial_length, *pipe_lengths,
                *(float(t.length.min()) for t in data.tests if t.kind == "axial")])
