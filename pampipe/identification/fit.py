@@ -82,11 +82,10 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     else:
         notes.append(f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
                      "predict a negative force and are scored by it (the slack hinge did not settle).")
-    model_error, joint, fit_quality = finish()  # once, for the fit reported (not in every round of the hinge)
-    warnings = (*result.warnings, *quality.warnings(fit_quality, result.calibration, options.calibrate),
-                *notes)
+    model_error, joint, fit_quality, predictions, warnings = finish()  # once, for the fit reported
+    warnings = (*warnings, *quality.warnings(fit_quality, result.calibration, options.calibrate), *notes)
     result = replace(result, model_error=model_error, parameter_uncertainty=joint, quality=fit_quality,
-                     warnings=warnings)
+                     predictions=predictions, warnings=warnings)
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     slip = None
     if data.slip:
@@ -120,8 +119,9 @@ def _negative_rows(data: ExperimentData, axial_model: dict[int, np.ndarray], hin
 def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo):
     """(IdentifyResult, finish, axial model): one fit with the ``hinge`` rows in cells, from ``warm``
     (a previous solution) if given; ``finish()`` gives its (model error, written joint uncertainty,
-    fit quality), which the result leaves out (None; and the quality's warnings) because only the fit
-    reported needs them; the axial model: test index → F_ax of every row [N], before the hinge.
+    fit quality, predictions the data determine, warnings), which the result leaves out (None, no
+    warnings) because only the fit reported needs them (not every round of the hinge); the axial
+    model: test index → F_ax of every row [N], before the hinge.
     ``memo``: what the rounds of the hinge share of the reduction
     (:class:`~pampipe.identification.statistics.Memo`)."""
     stated = data.pam.geometry
@@ -228,7 +228,6 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
         _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
                      geo.blocked_force(data, stated) if options.calibrate else blocked),
         blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
-    predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
 
     def muscles_at(xv):
         return problem.muscles_of(structure, stats, stated, xv)
@@ -247,10 +246,12 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
         joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                               model_error.value, lambda xv: muscles_at(xv)[0],
                                               written.bores(data, options, geometry), top, data_only)
-        return model_error, joint, quality.assess(data, models, names, uncertainty.at_bound)
+        predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
+        warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
+                             data, predictions)
+        return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound), predictions,
+                tuple(warnings))
 
-    warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
-                         data, predictions)
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
@@ -258,8 +259,8 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
                           float(solution["f"]), nlp.origin),
         uncertainty=uncertainty, drucker_minimum=minimum,
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
-        warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
-        calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
+        warnings=(), provenance=_provenance(data, structure, nlp), geometry=geometry,
+        calibration=calibration, predictions=None, slack_rows=stats.slack_rows,
         excluded_rows=stats.excluded, parameter_uncertainty=None, model_error=None,
         quality=None), finish, {i: unclipped[t.name] for i, t in enumerate(data.tests) if t.kind == "axial"}
 
