@@ -47,7 +47,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="bench-identify-floor-") as tmp:
         tmp = Path(tmp)
         env = {**os.environ, **THREADS, "PAMPIPE_NLP_CACHE": str(tmp / "cache")}
-        print(f"{'rows':>9} {'load':>5} {'pampipe s':>10} {'floor s':>8} {'peer s':>8} {'pampipe/floor':>13} "
+        print(f"{'rows':>9} {'load':>5} {'pampipe s':>10} {'floor s':>8} {'peer s':>8} {'pampipe÷floor':>13} "
               f"{'peer/pampipe':>12}   (CPU, median of {args.repeat} whole processes, one BLAS thread)")
         for scale in args.scales:
             experiment, job, rows = paper_protocol(pam, scale, tmp / f"scale{scale}")
