@@ -2,8 +2,10 @@
 
 The floor (``floor_identify.py``): pandas' C reader, one fused reduction of the normal equations per test,
 bvls on the 16 moduli: what any identify of these files pays at least. The peer
-(``baseline_identify.py``, ``lsmr``): scipy's least_squares (trf) with the analytic Jacobian, the
-stronger peer at 3·10⁵ rows and above (``bench_identify.py`` runs both of its subproblem solvers). Data:
+(``baseline_identify.py``): scipy's least_squares (trf) with the analytic Jacobian and its ``exact``
+(SVD) subproblem solver (``--peer-solver lsmr`` for the other): at 3·10⁵ rows exact took 6.0 s CPU and
+stopped 2.4·10⁻⁵ (relative SSE) above pampipe's constrained optimum, lsmr 6.3 s and 1.2·10⁻³ above it
+(its inner iterations stop early on these ill-conditioned regressors), so exact is the stronger. Data:
 the paper protocol of ``bench_identify.py`` (demo moduli, 2 N noise) at ≈ 2988·scale rows. Each
 command runs as a fresh process with one BLAS thread, alternating; CPU time (user + system, from
 ``getrusage`` of the children) and wall time are the medians of ``--repeat`` runs; pampipe's NLP cache
@@ -12,6 +14,7 @@ floor and peer ÷ pampipe (goals, issue 25: ≤ 1.1× the floor at 3·10⁵–3�
 peer at 3·10⁶).
 
     .venv/bin/python benchmarks/bench_identify_floor.py [--scales 100 1000] [--repeat 3] [--no-peer]
+        [--peer-solver exact|lsmr]
 """
 
 from __future__ import annotations
@@ -35,7 +38,9 @@ def main() -> None:
     parser.add_argument("--scales", type=int, nargs="+", default=[100, 1000],
                         help="multiples of ≈ 2988 rows (default 100 1000: 3·10⁵ and 3·10⁶)")
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--no-peer", action="store_true", help="skip least_squares (9 s a run at 3·10⁶)")
+    parser.add_argument("--no-peer", action="store_true", help="skip least_squares (minutes at 3·10⁶)")
+    parser.add_argument("--peer-solver", choices=("exact", "lsmr"), default="exact",
+                        help="least_squares' trust-region subproblem solver (default exact: the stronger)")
     args = parser.parse_args()
     pam = load_pam(ROOT / "problems" / "pams" / "paper-radial-pam.yaml")
     here = Path(__file__).resolve().parent
@@ -49,7 +54,8 @@ def main() -> None:
             commands = {"pampipe": [sys.executable, "-m", "pampipe", "identify", str(experiment), "--json"],
                         "floor": [sys.executable, str(here / "floor_identify.py"), str(job)]}
             if not args.no_peer:
-                commands["peer"] = [sys.executable, str(here / "baseline_identify.py"), str(job), "lsmr"]
+                commands["peer"] = [sys.executable, str(here / "baseline_identify.py"), str(job),
+                                    args.peer_solver]
             measured(commands["pampipe"], env)  # fills the NLP cache
             cpu: dict[str, list[float]] = {name: [] for name in commands}
             for _ in range(args.repeat):

@@ -29,10 +29,10 @@ from pampipe.identification import model_error as model_errors
 from pampipe.identification.grip import identify_grip
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
-from pampipe.identification.predict import evaluate_tests, predict
+from pampipe.identification.predict import evaluate_tests
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
-from pampipe.identification.statistics import Statistics, drucker_rows, reduce_experiment, without
+from pampipe.identification.statistics import Memo, Statistics, drucker_rows, reduce_experiment, without
 from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
@@ -56,21 +56,22 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         return identify_grip(data, options)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
-    result, warm, wall_time, iterations, builds, finish = None, None, 0.0, 0, [], None
+    result, warm, wall_time, iterations, builds, finish, notes = None, None, 0.0, 0, [], None, []
+    memo = Memo()  # what the hinge's refits reuse of the first reduction
     for round_ in range(HINGE_ROUNDS):
         try:
-            result, finish_round = _fit(data, options, say, hinge, warm)
+            result, finish_round, axial_model = _fit(data, options, say, hinge, warm, memo)
         except SolverError as error:
             if round_ == 0:
                 raise
-            note = (f"the refit that scores {sum(r.size for r in hinge.values())} measured row(s) by "
-                    f"max(0, F) failed ({error}); the fit reported scores them by the negative model force.")
-            result = replace(result, warnings=(*result.warnings, note))  # the previous round's fit
+            notes.append(f"the refit that scores {sum(r.size for r in hinge.values())} measured row(s) by "
+                         f"max(0, F) failed ({error}); the fit reported scores them by the negative model "
+                         "force.")  # the previous round's fit is reported
             break
         finish = finish_round
         wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
         builds.append((result.solver.build_time, result.solver.origin))
-        more = {} if options.calibrate else _negative_rows(data, result, hinge)
+        more = {} if options.calibrate else _negative_rows(data, axial_model, hinge)
         if not more:
             break
         say(f"{sum(r.size for r in more.values())} measured row(s) where the model predicts no tension: "
@@ -79,11 +80,12 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
                  for i in set(hinge) | set(more)}
         warm = result.x
     else:
-        note = (f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
-                "predict a negative force and are scored by it (the slack hinge did not settle).")
-        result = replace(result, warnings=(*result.warnings, note))
-    model_error, joint = finish()  # once, for the fit reported (not in every round of the hinge)
-    result = replace(result, model_error=model_error, parameter_uncertainty=joint)
+        notes.append(f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
+                     "predict a negative force and are scored by it (the slack hinge did not settle).")
+    model_error, joint, fit_quality, predictions, warnings = finish()  # once, for the fit reported
+    warnings = (*warnings, *quality.warnings(fit_quality, result.calibration, options.calibrate), *notes)
+    result = replace(result, model_error=model_error, parameter_uncertainty=joint, quality=fit_quality,
+                     predictions=predictions, warnings=warnings)
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     slip = None
     if data.slip:
@@ -100,16 +102,13 @@ HINGE_ROUNDS = 4
 HINGE_TOLERANCE = 1e-6
 
 
-def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[int, np.ndarray]:
-    """Measured axial rows (force > 0), not yet hinged, where the fitted model predicts a tension
-    below zero by more than :data:`HINGE_TOLERANCE` of the test's largest force (at F ≈ 0 the hinge
-    changes nothing)."""
-    pam = result.fitted_pam(data.pam)
+def _negative_rows(data: ExperimentData, axial_model: dict[int, np.ndarray], hinge) -> dict[int, np.ndarray]:
+    """Measured axial rows (force > 0), not yet hinged, where the fitted model (``axial_model``: test
+    index → F_ax of every row [N], before the hinge) predicts a tension below zero by more than
+    :data:`HINGE_TOLERANCE` of the test's largest force (at F ≈ 0 the hinge changes nothing)."""
     out = {}
-    for index, test in enumerate(data.tests):
-        if test.kind != "axial":
-            continue
-        model = predict(Pam(pam.name, pam.geometry, pam.moduli), test)
+    for index, model in axial_model.items():
+        test = data.tests[index]
         below = model < -HINGE_TOLERANCE * max(float(np.max(np.abs(test.force))), 1e-300)
         rows = np.flatnonzero(without((test.force > 0) & below, hinge.get(index, ())))
         if rows.size:
@@ -117,16 +116,21 @@ def _negative_rows(data: ExperimentData, result: IdentifyResult, hinge) -> dict[
     return out
 
 
-def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm):
-    """(IdentifyResult, finish): one fit with the ``hinge`` rows in cells, from ``warm`` (a previous
-    solution) if given; ``finish()`` gives its (model error, written joint uncertainty), which the
-    result leaves out (None) because only the fit reported needs them."""
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo):
+    """(IdentifyResult, finish, axial model): one fit with the ``hinge`` rows in cells, from ``warm``
+    (a previous solution) if given; ``finish()`` gives its (model error, written joint uncertainty,
+    fit quality, predictions the data determine, warnings), which the result leaves out (None, no
+    warnings) because only the fit reported needs them (not every round of the hinge); the axial
+    model: test index → F_ax of every row [N], before the hinge.
+    ``memo``: what the rounds of the hinge share of the reduction
+    (:class:`~pampipe.identification.statistics.Memo`)."""
     stated = data.pam.geometry
     started = time.perf_counter()
     say(f"reducing {data.points:,} rows to sufficient statistics")
     stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
                               average_legs=options.average_legs, average_bins=options.average_bins,
-                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge)
+                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge,
+                              memo=memo)
     reduce_time = time.perf_counter() - started
 
     n = stats.n_theta
@@ -216,15 +220,14 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm):
     sse_model = float(nlp.sse(x, p))
     hessian = np.asarray(nlp.hessian(x, p), dtype=float)
     uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
-    tests, sse, sum_rmse, models = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
-                                                  slack=options.slack)
+    tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
+                                                             slack=options.slack)
     minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
     blocked = geo.blocked_force(data, geometry)
     calibration = replace(
         _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
                      geo.blocked_force(data, stated) if options.calibrate else blocked),
         blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
-    predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
 
     def muscles_at(xv):
         return problem.muscles_of(structure, stats, stated, xv)
@@ -237,17 +240,18 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm):
         model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
                                             slack=options.slack, half_range=0.5 * (ubx - lbx),
                                             constraints=_constraints(structure, grid, x, lbx, ubx,
-                                                                     uncertainty.at_bound))
+                                                                     uncertainty.at_bound),
+                                            model=unclipped)
         top = max(float(t.pressure.max()) for t in data.tests)
         joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                               model_error.value, lambda xv: muscles_at(xv)[0],
                                               written.bores(data, options, geometry), top, data_only)
-        return model_error, joint
+        predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
+        warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
+                             data, predictions)
+        return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound), predictions,
+                tuple(warnings))
 
-    fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
-    warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
-                         data, predictions)
-    warnings += quality.warnings(fit_quality, calibration, options.calibrate)
     return IdentifyResult(
         success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
         names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
@@ -255,10 +259,10 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm):
                           float(solution["f"]), nlp.origin),
         uncertainty=uncertainty, drucker_minimum=minimum,
         drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
-        warnings=tuple(warnings), provenance=_provenance(data, structure, nlp), geometry=geometry,
-        calibration=calibration, predictions=predictions, slack_rows=stats.slack_rows,
+        warnings=(), provenance=_provenance(data, structure, nlp), geometry=geometry,
+        calibration=calibration, predictions=None, slack_rows=stats.slack_rows,
         excluded_rows=stats.excluded, parameter_uncertainty=None, model_error=None,
-        quality=fit_quality), finish
+        quality=None), finish, {i: unclipped[t.name] for i, t in enumerate(data.tests) if t.kind == "axial"}
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.
@@ -351,9 +355,9 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
     pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
     geometry = data.pam.geometry
-    tested = np.concatenate([t.pressure for t in data.tests])
-    p_max = max(float(tested.max()), 1.0)
-    pressures = np.linspace(max(0.0, float(tested.min())), p_max, options.grid_pressures)
+    p_max = max(max(float(t.pressure.max()) for t in data.tests), 1.0)
+    p_min = min(float(t.pressure.min()) for t in data.tests)
+    pressures = np.linspace(max(0.0, p_min), p_max, options.grid_pressures)
     pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
     low = min([geometry.initial_length, *pipe_lengths,
                *(float(t.length.min()) for t in data.tests if t.kind == "axial")])

@@ -73,8 +73,9 @@ def noise_floor(residual: np.ndarray, measured: np.ndarray) -> tuple[float, int]
     if r.size < 5:
         return float("nan"), 0
     d2 = r[2:] - 2 * r[1:-1] + r[:-2]
-    robust = float(np.median(np.abs(d2 - np.median(d2)))) / 0.6745
-    kept = d2[np.abs(d2 - np.median(d2)) <= TRIM * robust] if robust > 0 else d2
+    spread = np.abs(d2 - np.median(d2))
+    robust = float(np.median(spread)) / 0.6745
+    kept = d2[spread <= TRIM * robust] if robust > 0 else d2
     return float(np.sqrt(np.mean(kept**2) / 6.0)), int(r.size)
 
 
@@ -98,11 +99,24 @@ def sample_rows(data, slack: str, *, limit: int | None = SAMPLE) -> RowSample:
             used = used[~test.slack]
         if used.size == 0:
             continue
-        size = used.size if limit is None else min(used.size, limit)
-        pick = used[np.unique(np.linspace(0, used.size - 1, size).astype(np.int64))]
+        if limit is None or used.size <= limit:  # every row (linspace(0, n − 1, n) is 0, 1, …, n − 1)
+            pick = used
+        else:
+            pick = used[np.unique(np.linspace(0, used.size - 1, limit).astype(np.int64))]
         parts.append((np.full(pick.size, t), pick, test.pressure[pick], test.force[pick],
                       np.full(pick.size, used.size / pick.size)))
     return RowSample(*(np.concatenate([p[k] for p in parts]) for k in range(5)))
+
+
+def _scored(test, model: np.ndarray, slack: str) -> tuple[np.ndarray, np.ndarray]:
+    """(residual [N], measured force [N]) of the fitted rows of one test, as :func:`row_forces` scores
+    them, from ``model``: the model force of every row before the hinge."""
+    used = ~test.slack if slack == "exclude" and test.kind == "axial" else np.ones(test.points, dtype=bool)
+    force = test.force[used]
+    model = model[used]
+    if test.kind == "axial" and slack == "unilateral":
+        model = np.where(test.slack[used], np.maximum(model, 0.0), model)
+    return model - force, force
 
 
 def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
@@ -127,12 +141,18 @@ def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
     return out
 
 
-def estimate(data, x, prior_hessian, muscles_at, *, slack: str, half_range, constraints=None) -> ModelError:
-    """Model error of the fit ``x`` (module docstring); ``muscles_at(x)`` is (muscle, {pipe: muscle})."""
-    every = sample_rows(data, slack, limit=None)
-    residual = row_forces(data, every, muscles_at(x), slack) - every.force
-    floors = [noise_floor(residual[every.test == t], every.force[every.test == t])
-              for t in range(len(data.tests))]
+def estimate(data, x, prior_hessian, muscles_at, *, slack: str, half_range, constraints=None,
+             model: dict[str, np.ndarray] | None = None) -> ModelError:
+    """Model error of the fit ``x`` (module docstring); ``muscles_at(x)`` is (muscle, {pipe: muscle}).
+    ``model``: test name → the model force of ``x`` at every row [N] (before the hinge max(0, F)), if
+    already evaluated; else it is evaluated here."""
+    if model is None:
+        every = sample_rows(data, slack, limit=None)
+        residual = row_forces(data, every, muscles_at(x), slack) - every.force
+        floors = [noise_floor(residual[every.test == t], every.force[every.test == t])
+                  for t in range(len(data.tests))]
+    else:
+        floors = [noise_floor(*_scored(test, model[test.name], slack)) for test in data.tests]
     pooled = [(s, n) for s, n in floors if n > 0 and np.isfinite(s)]
     sigma_n = float(np.sqrt(sum(n * s**2 for s, n in pooled) / sum(n for _, n in pooled))) if pooled else 0.0
 

@@ -40,15 +40,15 @@ def residuals(pam: Pam, test: TestData) -> np.ndarray:
 
 
 def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "unilateral"
-             ) -> tuple[TestFit, float, np.ndarray]:
+             ) -> tuple[TestFit, float, np.ndarray, np.ndarray]:
     """(fit quality of one test, its sum of squared residuals [N²], the model force of every row [N]
-    as scored).
+    as scored, and before the hinge).
 
     An axial test's rows are predicted as max(0, F): a muscle cannot push (the slack hinge,
     docs/physics.md §6.2); its slack rows (force ≤ 0) are scored so (``unilateral``) or left out
     (``exclude``). The per-level table is kept only for tests with pressure levels.
     """
-    model = predict(pam, test)
+    unclipped = model = predict(pam, test)
     used = np.ones(test.points, dtype=bool)
     slack_rows = test.slack if test.kind == "axial" else np.zeros(test.points, dtype=bool)
     if test.kind == "axial":
@@ -66,22 +66,24 @@ def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "un
     total = float(squared.sum())
     fit = TestFit(test.name, test.kind, n_used, float(np.sqrt(total / max(n_used, 1))), tuple(levels), block,
                   test.protocol, int(slack_rows.sum()), test.points - n_used)
-    return fit, total, model
+    return fit, total, model, unclipped
 
 
 def evaluate_tests(data: ExperimentData, geometry, moduli: Moduli, pipe_moduli: dict[float, Moduli],
                    blocks: dict, *, slack: str = "unilateral"
-                   ) -> tuple[tuple[TestFit, ...], float, float | None, dict[str, np.ndarray]]:
+                   ) -> tuple[tuple[TestFit, ...], float, float | None, dict[str, np.ndarray],
+                              dict[str, np.ndarray]]:
     """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N] or None when some
-    test has no pressure levels, {test name: model force of every row as scored [N]})."""
+    test has no pressure levels, {test name: model force of every row as scored [N]}, the same
+    before the hinge max(0, F) of the axial tests)."""
     names = {id(m): name for name, m in blocks.items()}
-    fits, sse, models = [], 0.0, {}
+    fits, sse, models, unclipped = [], 0.0, {}, {}
     for test in data.tests:
         used = moduli if test.kind == "axial" else pipe_moduli.get(test.spec.pipe_diameter, moduli)
-        fit, total, models[test.name] = test_fit(Pam(data.pam.name, geometry, used), test,
-                                                 block=names.get(id(used), "theta"), slack=slack)
+        fit, total, models[test.name], unclipped[test.name] = test_fit(
+            Pam(data.pam.name, geometry, used), test, block=names.get(id(used), "theta"), slack=slack)
         fits.append(fit)
         sse += total
     sum_rmse = float(sum(level.rmse for fit in fits for level in fit.levels)) \
         if all(t.has_levels for t in data.tests) else None
-    return tuple(fits), sse, sum_rmse, models
+    return tuple(fits), sse, sum_rmse, models, unclipped

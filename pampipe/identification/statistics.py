@@ -23,7 +23,7 @@ C with C·θ ≥ 0 (MPa), one per direction and grid point, or one per point in 
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from threadpoolctl import threadpool_limits
@@ -105,7 +105,8 @@ class Statistics:
 
 def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: float = MPA,
                       average_legs: bool = False, average_bins: int = 30, slack: str = "unilateral",
-                      calibrate: bool = False, hinge: dict[int, np.ndarray] | None = None) -> Statistics:
+                      calibrate: bool = False, hinge: dict[int, np.ndarray] | None = None,
+                      memo: Memo | None = None) -> Statistics:
     """Sufficient statistics of every test (one pass over the rows, chunked).
 
     Axial rows: measured rows (force > 0) go to the exact QR groups, slack rows (force ≤ 0) to
@@ -117,13 +118,29 @@ def reduce_experiment(data: ExperimentData, *, degree: int, reference_pressure: 
     BLAS runs single-threaded here: the QR blocks are tall and thin (17 columns), where
     OpenBLAS threads only add overhead, and on a busy machine they oversubscribe the cores
     (measured 10× slower with the default thread count at load 6 on 2 cores).
+
+    ``memo``: shared by the reductions of one data set with one set of options that differ only in
+    ``hinge`` (the refits of the slack hinge, which moves a few axial rows): each reuses what an
+    earlier one computed of the same rows in the same order, so the numbers are the same.
     """
+    memo = memo if memo is not None else Memo()
     with threadpool_limits(limits=1, user_api="blas"):
         return _reduce(data, degree, reference_pressure, average_legs, average_bins, slack, calibrate,
-                       hinge or {})
+                       hinge or {}, memo)
 
 
-def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hinge) -> Statistics:
+@dataclass
+class Memo:
+    """What a reduction leaves for the next one of the same data (see :func:`reduce_experiment`):
+    the radial bins (the hinge moves axial rows only) and, per axial test, the rows its QR groups
+    reduced and the TSQR state (R of every level, row counts) after each chunk of :data:`CHUNK` rows.
+    A later reduction restarts from the state after the last chunk whose rows are unchanged."""
+
+    radial: tuple[RadialStats, ...] | None = None
+    chunks: dict[int, tuple[np.ndarray, list[tuple[np.ndarray, np.ndarray]]]] = field(default_factory=dict)
+
+
+def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hinge, memo) -> Statistics:
     geometry = data.pam.geometry
     pipes = tuple(sorted({t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}))
     axial = [(i, t) for i, t in enumerate(data.tests) if t.kind == "axial"]
@@ -131,14 +148,15 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hi
     def used(test):
         return np.flatnonzero(test.force > 0) if slack == "exclude" else np.arange(test.points)
 
-    groups = tuple((i, int(lev)) for i, t in axial for lev in np.unique(t.level[used(t)]))
+    groups = tuple((i, int(lev)) for i, t in axial
+                   for lev in np.flatnonzero(np.bincount(t.level[used(t)], minlength=t.level_pressure.size)))
     qr = None
     if axial and not calibrate:
         found = {}
         for index, test in axial:
             measured = np.flatnonzero(without(test.force > 0, hinge.get(index, ())))
             for item in _axial_groups(index, test, measured, geometry, degree, pref, average_legs,
-                                      average_bins):
+                                      average_bins, memo):
                 found[item[0]] = item[1:]
         p = 4 * (degree + 1)
         empty = (0.0, 0, np.zeros((p, p)), np.zeros(p), 0.0)
@@ -156,8 +174,10 @@ def _reduce(data, degree, pref, average_legs, average_bins, slack, calibrate, hi
     remap = {g: k for k, g in enumerate(groups)}
     cells = Cells(cells.moments, np.array([remap[cells.groups[c]] for c in cells.group], dtype=np.int64),
                   groups) if cells.count else None
-    radial = tuple(_radial(index, test, geometry, degree, pref, pipes.index(test.spec.pipe_diameter))
-                   for index, test in enumerate(data.tests) if test.kind == "radial")
+    if memo.radial is None:
+        memo.radial = tuple(_radial(index, test, geometry, degree, pref, pipes.index(test.spec.pipe_diameter))
+                            for index, test in enumerate(data.tests) if test.kind == "radial")
+    radial = memo.radial
     slack_rows = tuple(int(np.sum(t.force <= 0)) if t.kind == "axial" else 0 for t in data.tests)
     excluded = sum(slack_rows) if slack == "exclude" else 0
     return Statistics(qr, radial, pipes, degree, pref, data.points - excluded, cells, groups, slack_rows,
@@ -171,9 +191,10 @@ def regressors(pressure, length, geometry, degree, pref=MPA):
 
 
 def _augmented(pressure, length, force, geometry, degree, pref) -> np.ndarray:
-    """[Φ | y] (rows × (p + 1)) with y = F − offset: one pass, written into one array."""
+    """[Φ | y] (rows × (p + 1)) with y = F − offset: one pass, written into one array, column-major
+    (the layout LAPACK's QR reads: numpy copies a row-major block first, at the cost of the QR itself)."""
     offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, pref)
-    block = np.empty((np.size(length), len(row) + 1))
+    block = np.empty((np.size(length), len(row) + 1), order="F")
     for j, column in enumerate(row):
         np.multiply(column, MPA, out=block[:, j])
     np.subtract(force, offset, out=block[:, -1])
@@ -188,11 +209,12 @@ def _qr_r(block: np.ndarray, width: int) -> np.ndarray:
     return out
 
 
-def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, bins):
+def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, bins, memo: Memo):
     """((test, level), level pressure, rows, R, z, rest) of every level with rows among ``rows``.
 
     One pass over the rows in chunks: the regressors of a chunk are computed once and each level's
-    R is updated by a QR of [R; its rows of the chunk] (TSQR).
+    R is updated by a QR of [R; its rows of the chunk] (TSQR). The chunks that ``memo`` holds for
+    the same rows are not computed again.
     """
     p = 4 * (degree + 1)
     levels = test.level_pressure.size
@@ -209,15 +231,26 @@ def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, 
         return
     r_aug = np.zeros((levels, p + 1, p + 1))
     count = np.zeros(levels, dtype=np.int64)
-    for start in range(0, rows.size, CHUNK):
+    before, states = memo.chunks.get(index, (np.zeros(0, dtype=np.int64), []))
+    common = min(before.size, rows.size)
+    differ = np.flatnonzero(before[:common] != rows[:common])
+    kept = states[:(differ[0] if differ.size else common) // CHUNK]  # the chunks whose rows are unchanged
+    if kept:
+        r_aug, count = (a.copy() for a in kept[-1])
+    memo.chunks[index] = (rows, kept)
+    for start in range(len(kept) * CHUNK, rows.size, CHUNK):
         chunk = rows[start:start + CHUNK]
         block = _augmented(test.pressure[chunk], test.length[chunk], test.force[chunk], geometry, degree,
                            pref)
         level = test.level[chunk]
-        for lev in np.unique(level):
-            mine = level == lev
-            r_aug[lev] = _qr_r(np.vstack([r_aug[lev], block[mine]]), p + 1)
-            count[lev] += int(mine.sum())
+        present = np.flatnonzero(np.bincount(level, minlength=levels))
+        for lev in present:
+            mine = block if present.size == 1 else block[level == lev]
+            stacked = np.empty((p + 1 + mine.shape[0], p + 1), order="F")  # [R; the level's rows]
+            stacked[:p + 1], stacked[p + 1:] = r_aug[lev], mine
+            r_aug[lev] = _qr_r(stacked, p + 1)
+            count[lev] += mine.shape[0]
+        kept.append((r_aug.copy(), count.copy()))
     for lev in np.flatnonzero(count):
         yield ((index, lev), test.level_pressure[lev], count[lev], r_aug[lev, :p, :p], r_aug[lev, :p, p],
                r_aug[lev, p, p] ** 2)

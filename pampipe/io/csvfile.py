@@ -214,8 +214,17 @@ def _read_open(path, blocks, required, progress, size, parse) -> dict[str, np.nd
             progress(f"reading {path.name}: {rows:,} rows")
     if rows == 0:
         raise InputError(f"{path}: the file has a header but no data rows.")
-    table = np.concatenate(chunks) if len(chunks) > 1 else chunks[0]
-    return {name: table[:, col] * factors[name] for name, col in names.items()}
+    return {name: _column(chunks, col, factors[name]) for name, col in names.items()}
+
+
+def _column(blocks: list[np.ndarray], col: int, factor: float) -> np.ndarray:
+    """Column ``col`` of the stacked blocks times ``factor`` (column by column: pandas' blocks are
+    column-major, so no row-major table of every column is built)."""
+    if len(blocks) == 1:
+        return blocks[0][:, col] * factor
+    out = np.concatenate([block[:, col] for block in blocks])
+    out *= factor
+    return out
 
 
 #: Separators other than the comma that spreadsheets write, by name.

@@ -1,0 +1,83 @@
+"""What identify computes once and reuses gives the numbers of computing it again, bit for bit: the
+hinge's refits reuse the first reduction (statistics.Memo); the model error's noise floor uses the model
+forces the per-test scoring evaluated."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pampipe.experiment import ExperimentData, make_test_data
+from pampipe.identification import FitOptions, identify, model_error, statistics
+from pampipe.identification import fit as fitting
+from pampipe.identification.statistics import Memo, reduce_experiment
+from pampipe.io.config import load_experiment
+from pampipe.io.csvfile import load_experiment_data
+from pampipe.model.pam import Pam
+from pampipe.synthetic import Protocol, generate
+from tests.conftest import PROBLEMS
+
+
+@pytest.fixture(scope="module")
+def data(radial_pam):
+    tests = [make_test_data(spec, cols) for spec, cols in
+             generate(radial_pam, Protocol(points_per_leg=60, radial_points=20), seed=3)]
+    pam = Pam(radial_pam.name, radial_pam.geometry)
+    return ExperimentData(PROBLEMS / "generated.yaml", pam, tuple(tests), {})
+
+
+def _same(a, b):
+    for name in ("r", "z", "rest", "points", "pressure", "test"):
+        assert np.array_equal(getattr(a.axial, name), getattr(b.axial, name)), name
+    assert np.array_equal(a.cells.moments, b.cells.moments)
+    for x, y in zip(a.radial, b.radial, strict=True):
+        assert np.array_equal(x.moments, y.moments)
+
+
+def _reduce(data, hinge, memo=None):
+    return reduce_experiment(data, degree=3, hinge=hinge, memo=memo)
+
+
+@pytest.mark.parametrize("where", ["late", "early"])
+def test_a_refit_with_hinged_rows_equals_a_fresh_reduction(data, monkeypatch, where):
+    """Chunks of 256 rows: rows hinged late keep most chunks from the memo, rows hinged in the
+    first chunk keep none; either way R, z, rest, cells and radial bins equal a reduction from scratch."""
+    monkeypatch.setattr(statistics, "CHUNK", 256)
+    axial = next(i for i, t in enumerate(data.tests) if t.kind == "axial")
+    measured = np.flatnonzero(data.tests[axial].force > 0)
+    assert measured.size > 8 * 256
+    rows = measured[[-300, -40]] if where == "late" else measured[[5, -40]]
+    computed = []
+    augmented = statistics._augmented
+    monkeypatch.setattr(statistics, "_augmented", lambda *a: computed.append(a[0].size) or augmented(*a))
+    memo = Memo()
+    first = _reduce(data, {}, memo)
+    full = sum(computed)
+    computed.clear()
+    again = _reduce(data, {axial: rows}, memo)
+    reused = sum(computed)
+    computed.clear()
+    fresh = _reduce(data, {axial: rows})
+    _same(again, fresh)
+    assert not np.array_equal(first.axial.r, again.axial.r)  # the hinged rows left the QR groups
+    assert full == measured.size
+    assert reused < 300 + 256 if where == "late" else reused == measured.size - rows.size
+
+
+@pytest.mark.parametrize(("mode", "slack"), [("shared", "unilateral"), ("contact_increment", "exclude")])
+def test_the_noise_floor_from_the_scored_model_equals_the_row_by_row_one(monkeypatch, mode, slack):
+    """The model error (σ_n from every row, then the cross-validated excess) is the same whether the
+    every-row model comes from the per-test scoring or is evaluated again row by row."""
+    data = load_experiment_data(load_experiment(PROBLEMS / "experiments" / "paper-protocol.yaml"))
+    pairs = []
+    original = model_error.estimate
+
+    def both(*args, model, **kwargs):
+        assert model is not None  # the fit hands over its every-row model
+        pairs.append((original(*args, model=model, **kwargs), original(*args, model=None, **kwargs)))
+        return pairs[-1][0]
+
+    monkeypatch.setattr(fitting.model_errors, "estimate", both)
+    result = identify(data, FitOptions(mode=mode, slack=slack))
+    assert len(pairs) == 1 and pairs[0][0] == pairs[0][1]
+    assert result.model_error == pairs[0][1] and pairs[0][1].noise_floor > 0
