@@ -55,30 +55,35 @@ def regressors(pressure, length, g, degree):
     return pressure * area, phi * MPA
 
 
+def test_rows(test: dict, g: dict, degree: int):
+    """(F [N], offset [N], Φ) of one test's rows, read with pandas' C reader: the model is offset + Φθ;
+    a radial test's rows are scaled by the amplification A = 2πN²D_p/L_p at its pipe, axial load taken off."""
+    frame = pd.read_csv(test["csv"], engine="c", dtype=np.float64)
+    pressure = frame["pressure [kPa]"].to_numpy() * 1e3
+    force = frame["force [N]"].to_numpy()
+    if test["kind"] == "axial":
+        offset, phi = regressors(pressure, frame["length [mm]"].to_numpy() * 1e-3, g, degree)
+        return force, offset, phi
+    dp = test["pipe_diameter"]
+    l0, alpha, d0 = g["initial_length"], g["braid_angle"], g["initial_diameter"]
+    b, n = l0 / np.cos(alpha), l0 * np.tan(alpha) / (np.pi * d0)
+    lp = np.sqrt(b * b - (n * np.pi * dp) ** 2)
+    offset, phi = regressors(pressure, np.full(pressure.size, lp), g, degree)
+    a = 2 * np.pi * n * n * dp / lp
+    return force, a * (offset - test["axial_load"]), a * phi
+
+
 def main() -> None:
     job = json.loads(open(sys.argv[1]).read())
     solver = sys.argv[2] if len(sys.argv) > 2 else "exact"  # trf's subproblem: "exact" (SVD) or "lsmr"
     g, degree = job["geometry"], job["degree"]
     offsets, phis, forces, amps = [], [], [], []
     for test in job["tests"]:
-        frame = pd.read_csv(test["csv"], engine="c", dtype=np.float64)
-        pressure = frame["pressure [kPa]"].to_numpy() * 1e3
-        force = frame["force [N]"].to_numpy()
-        if test["kind"] == "axial":
-            offset, phi = regressors(pressure, frame["length [mm]"].to_numpy() * 1e-3, g, degree)
-            amp, load = np.zeros(0), 0.0
-        else:
-            dp = test["pipe_diameter"]
-            l0, alpha, d0 = g["initial_length"], g["braid_angle"], g["initial_diameter"]
-            b, n = l0 / np.cos(alpha), l0 * np.tan(alpha) / (np.pi * d0)
-            lp = np.sqrt(b * b - (n * np.pi * dp) ** 2)
-            offset, phi = regressors(pressure, np.full(pressure.size, lp), g, degree)
-            a = 2 * np.pi * n * n * dp / lp
-            offset, phi, amp, load = a * (offset - test["axial_load"]), a * phi, np.ones(pressure.size), 0.0
-        offsets.append(offset - load)
+        force, offset, phi = test_rows(test, g, degree)
+        offsets.append(offset)
         phis.append(phi)
         forces.append(force)
-        amps.append(amp if amp.size else np.zeros(pressure.size))
+        amps.append(np.full(force.size, 1.0 if test["kind"] != "axial" else 0.0))
     offset, phi, force, radial = (np.concatenate(offsets), np.vstack(phis), np.concatenate(forces),
                                   np.concatenate(amps) > 0)
     hinged = radial | (force <= 0)  # slack axial rows read max(0, F), as pampipe's fit.slack: unilateral

@@ -18,8 +18,7 @@ import json
 import sys
 
 import numpy as np
-import pandas as pd
-from baseline_identify import regressors
+from baseline_identify import test_rows
 from scipy.optimize import lsq_linear
 
 
@@ -29,19 +28,7 @@ def main() -> None:
     k = 4 * (degree + 1)
     gram, rhs, yy, rows = np.zeros((k, k)), np.zeros(k), 0.0, 0
     for test in job["tests"]:
-        frame = pd.read_csv(test["csv"], engine="c", dtype=np.float64)
-        pressure = frame["pressure [kPa]"].to_numpy() * 1e3
-        force = frame["force [N]"].to_numpy()
-        if test["kind"] == "axial":
-            offset, phi = regressors(pressure, frame["length [mm]"].to_numpy() * 1e-3, g, degree)
-        else:
-            dp = test["pipe_diameter"]
-            l0, alpha, d0 = g["initial_length"], g["braid_angle"], g["initial_diameter"]
-            b, n = l0 / np.cos(alpha), l0 * np.tan(alpha) / (np.pi * d0)
-            lp = np.sqrt(b * b - (n * np.pi * dp) ** 2)
-            offset, phi = regressors(pressure, np.full(pressure.size, lp), g, degree)
-            a = 2 * np.pi * n * n * dp / lp
-            offset, phi = a * (offset - test["axial_load"]), a * phi
+        force, offset, phi = test_rows(test, g, degree)
         held = force > 0.01 * force.max()  # in tension / in contact (not noise about 0): the linear part
         phi, target = phi[held], (force - offset)[held]
         gram += phi.T @ phi
