@@ -107,3 +107,22 @@ def test_plot_format(kind, tmp_path):
     assert written == sorted(f"{name}.{kind}" for name in names)
     head = (tmp_path / f"radial_force.{kind}").read_bytes()[:5]
     assert head == (b"<?xml" if kind == "svg" else b"%PDF-")
+
+
+def test_a_figure_legend_is_shown_in_the_users_units():
+    """A legend of the whole figure (the Drucker map's, below the axes) is converted like the axes' own;
+    the control: the axis legend next to it."""
+    from matplotlib.figure import Figure
+
+    from pampipe.display import shown_in
+    from pampipe.plots.units import localize_figure
+
+    fig = Figure()
+    ax = fig.add_subplot()
+    ax.plot([0, 1], [0, 1], label="exact minimum 0.00263 MPa (axial)")
+    ax.legend()
+    fig.legend(loc="outside lower center")
+    with shown_in("us"):
+        localize_figure(fig)
+    texts = [t.get_text() for legend in (ax.get_legend(), *fig.legends) for t in legend.get_texts()]
+    assert texts == ["exact minimum 0.381 psi (axial)"] * 2, texts

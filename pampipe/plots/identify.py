@@ -162,7 +162,10 @@ def _drucker(drucker, result, folder: Path) -> Path:
     ax.margins(0.04)  # the minimum often lies on the box's edge: keep the star inside the frame
     ax.set(xlabel="length L [mm]", ylabel="gauge pressure P [kPa]",
            title=f"Drucker margin (exact minimum {low.value / 1e6:.3g} MPa: {verdict})")
-    fig.legend(fontsize=8, loc="outside lower center", ncols=2)
+    legend = fig.legend(fontsize=8, loc="outside lower center", ncols=2)
+    for handle, text in zip(legend.legend_handles, legend.get_texts(), strict=True):
+        if text.get_text() == "constraint grid":  # white on the map; white on the legend's white: grey there
+            handle.set_color("0.35")
     return save_figure(fig, folder, "drucker_margin.png")
 
 

@@ -35,6 +35,9 @@ def localize_figure(fig) -> None:
         legend = ax.get_legend()
         for text in [*ax.texts, *(legend.get_texts() if legend is not None else [])]:
             text.set_text(localize(text.get_text()))
+    for legend in fig.legends:  # a legend of the whole figure (below the axes)
+        for text in legend.get_texts():
+            text.set_text(localize(text.get_text()))
     if getattr(fig, "_suptitle", None) is not None:
         fig._suptitle.set_text(localize(fig._suptitle.get_text()))
 
