@@ -126,3 +126,22 @@ def test_a_figure_legend_is_shown_in_the_users_units():
         localize_figure(fig)
     texts = [t.get_text() for legend in (ax.get_legend(), *fig.legends) for t in legend.get_texts()]
     assert texts == ["exact minimum 0.381 psi (axial)"] * 2, texts
+
+
+def test_a_log_axis_gets_decades_of_the_users_unit():
+    """Under us, a log axis in N is ticked at 1, 10, 100 lbf (not at N decades relabelled 2.248, 22.48)."""
+    from matplotlib.figure import Figure
+
+    from pampipe.display import shown_in
+    from pampipe.plots.units import localize_figure
+
+    fig = Figure()
+    ax = fig.add_subplot()
+    ax.semilogy([0, 1], [5.0, 5000.0])
+    ax.set_ylabel("holding capacity [N]")
+    with shown_in("us"):
+        localize_figure(fig)
+    lbf = 4.4482216152605  # N
+    ticks = [t * (1 / lbf) for t in ax.yaxis.get_major_locator().tick_values(5.0, 5000.0)]
+    inside = [t for t in ticks if 5.0 / lbf <= t <= 5000.0 / lbf]
+    assert inside and all(abs(t - round(t)) < 1e-9 and str(round(t)).strip("0") == "1" for t in inside), ticks

@@ -7,7 +7,7 @@ ticks at round values of the display unit, labelled in it (1 psi = 6.895 kPa: a 
 
 from __future__ import annotations
 
-from matplotlib.ticker import FuncFormatter, MaxNLocator
+from matplotlib.ticker import FuncFormatter, LogLocator, MaxNLocator
 
 from pampipe.display import PRESETS, current, localize, relabel
 
@@ -17,6 +17,17 @@ class ScaledLocator(MaxNLocator):
 
     def __init__(self, scale: float):
         super().__init__(nbins="auto", steps=[1, 2, 2.5, 5, 10])
+        self.scale = scale
+
+    def tick_values(self, vmin, vmax):
+        return super().tick_values(vmin * self.scale, vmax * self.scale) / self.scale
+
+
+class ScaledLogLocator(LogLocator):
+    """Decades of the display unit (1, 10, 100 lbf), placed in the data's unit."""
+
+    def __init__(self, scale: float, subs=(1.0,)):
+        super().__init__(subs=subs)
         self.scale = scale
 
     def tick_values(self, vmin, vmax):
@@ -52,4 +63,7 @@ def _localize_axis(axis) -> None:
     axis.set_label_text(localize(label))
     if axis.get_scale() == "linear":
         axis.set_major_locator(ScaledLocator(scale))
+    elif axis.get_scale() == "log":
+        axis.set_major_locator(ScaledLogLocator(scale))
+        axis.set_minor_locator(ScaledLogLocator(scale, subs="auto"))
     axis.set_major_formatter(FuncFormatter(lambda value, _, k=scale: f"{value * k:.4g}"))
