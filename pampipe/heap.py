@@ -10,6 +10,7 @@ is unchanged: a freed block is reused, not added to.
 
 from __future__ import annotations
 
+import functools
 import sys
 
 #: mallopt parameters (glibc malloc.h): M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD.
@@ -18,16 +19,15 @@ _M_TRIM_THRESHOLD, _M_TOP_PAD, _M_MMAP_THRESHOLD = -1, -2, -3
 REUSED_BLOCK = 32 << 20
 #: Freed memory kept at the heap top before it is given back [B].
 KEPT = 256 << 20
+#: Extra memory asked for each time the heap grows [B].
+TOP_PAD = 16 << 20
 
-_done = {"retained": False}
 
-
+@functools.cache
 def retain_freed_memory() -> bool:
     """Ask glibc to reuse freed blocks up to :data:`REUSED_BLOCK` rather than unmap them (once per process).
 
     True where the request was taken; False on another C library or platform (nothing changes there)."""
-    if _done["retained"]:
-        return True
     if not sys.platform.startswith("linux"):
         return False
     import ctypes
@@ -37,7 +37,5 @@ def retain_freed_memory() -> bool:
     except (OSError, AttributeError):  # musl and others: no mallopt
         return False
     mallopt.argtypes = (ctypes.c_int, ctypes.c_int)
-    taken = all(mallopt(option, value) == 1 for option, value in (
-        (_M_MMAP_THRESHOLD, REUSED_BLOCK), (_M_TRIM_THRESHOLD, KEPT), (_M_TOP_PAD, 16 << 20)))
-    _done["retained"] = taken
-    return taken
+    return all(mallopt(option, value) == 1 for option, value in (
+        (_M_MMAP_THRESHOLD, REUSED_BLOCK), (_M_TRIM_THRESHOLD, KEPT), (_M_TOP_PAD, TOP_PAD)))
