@@ -149,8 +149,9 @@ def main(argv=None) -> int:
           f"3 in riser (untested bore), tolerance sd: L0 1 mm, D0 0.5 mm, braid angle 1 deg, wall 0.25 mm; "
           f"{time.perf_counter() - started:.0f} s")
     headers = ("data", "plan", "trials", "holds (± se)", "median P/P_true", "nominal plan holds")
-    widths = [max(len(str(x)) for x in col) for col in zip(headers, *summary(rows), strict=True)]
-    for line in (headers, *summary(rows)):
+    table = summary(rows)
+    widths = [max(len(str(x)) for x in col) for col in zip(headers, *table, strict=True)]
+    for line in (headers, *table):
         print("  ".join(str(x).rjust(w) for x, w in zip(line, widths, strict=True)))
     return 0
 

@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import resource
 import shutil
 import statistics
 import subprocess
@@ -35,6 +34,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from bench_big_mission import THREADS, measured
 
 from pampipe.export import Provenance, generate
 from pampipe.export.law import mission_law
@@ -45,7 +45,6 @@ from pampipe.planning.problem import mission_muscles
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSION = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
-THREADS = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 HARNESS = r"""
 #define _POSIX_C_SOURCE 199309L
@@ -105,17 +104,6 @@ def distinct_mission(folder: Path, count: int) -> Path:
     return path
 
 
-def child_cpu(args: list[str]) -> float:
-    """CPU time [s] (user + system) of ``python -m pampipe ARGS`` as a fresh process."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    done = subprocess.run([sys.executable, "-m", "pampipe", *args], capture_output=True, cwd=ROOT,
-                          env={**os.environ, **THREADS})
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if done.returncode:
-        raise RuntimeError(f"pampipe {args[0]} failed: {done.stderr.decode()[-2000:]}")
-    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
-
-
 def scale(count: int, repeat: int) -> None:
     """Plan against export CPU on ``count`` all-distinct sections (see the module docstring)."""
     with tempfile.TemporaryDirectory() as tmp:
@@ -125,7 +113,7 @@ def scale(count: int, repeat: int) -> None:
         times: dict[str, list[float]] = {name: [] for name in commands}
         for run in range(repeat + 1):
             for name, args in commands.items():
-                cpu = child_cpu(args)
+                cpu = measured([sys.executable, "-m", "pampipe", *args], {**os.environ, **THREADS})[0]
                 if run:  # the first run of each warms the caches
                     times[name].append(cpu)
     plan, export = (statistics.median(times[name]) for name in commands)

@@ -75,8 +75,6 @@ def run(args: argparse.Namespace) -> int:
                             f"with: {' + '.join(result.chosen.effects) or 'no effect'}."])
         say(args, f"wrote {args.output}")
     if args.plots:
-        from pampipe.plots.diagnose import plot_diagnosis
-
         for path in plot_diagnosis(result, args.plots):
             say(args, f"wrote {path}")
     return 0

@@ -9,8 +9,6 @@ from __future__ import annotations
 DPI = 150  # raster resolution of PNG plots; SVG and PDF are vector
 FONT_SIZE = 9  # tick labels and legends [pt]
 GRID_ALPHA = 0.3
-SUPPLY = "C3"  # the supply pressure line, and what exceeds it (infeasible)
-NEUTRAL = "grey"  # reference lines that are not results
 
 
 def apply(ax) -> None:
