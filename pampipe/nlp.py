@@ -21,7 +21,7 @@ import casadi as ca
 
 from pampipe import interrupts
 from pampipe.errors import SolverError
-from pampipe.io.cache import CACHE_VARIABLE, cache_folder, prune, source_digest, store  # noqa: F401 (re-exported)
+from pampipe.io.cache import CACHE_VARIABLE, cache_folder, source_digest, store  # noqa: F401 (CACHE_VARIABLE re-exported)
 
 #: IPOPT options every pampipe NLP starts from (quiet; bounds are not relaxed, so a solution
 #: never leaves the physical box it was given; a NaN or infinity in a constraint Jacobian or the

@@ -135,6 +135,8 @@ def full_report(result, source: str) -> str:
     if result.slip is None:
         return text
     return text + "\n" + slip_report(result.slip) + "".join(f"\nwarning: {w}" for w in result.slip.warnings)
+
+
 def _check_determined(result, source, output) -> None:
     """Refuse to write a PAM from a fit that determines nothing: no coefficient and no pipe's anchoring
     pressure (e.g. one row per test). Its moduli are any of a family that fits as well, and `simulate`

@@ -294,35 +294,6 @@ def _direction(d: UndeterminedSchema, names: tuple[str, ...], key: str) -> Undet
     return UndeterminedDirection(vector, scale, dict(d.moves), d.test)
 
 
-#: Relative tolerance of the covariance checks: rounding in a written file, not a mistake.
-COVARIANCE_TOLERANCE = 1e-9
-
-
-def check_covariance(cov: np.ndarray, *, where: str = "uncertainty.covariance") -> None:
-    """A covariance must be symmetric and positive semi-definite (to :data:`COVARIANCE_TOLERANCE`).
-
-    A negative variance, or correlations no data can give (|ρ| > 1), would make `plan --confidence`
-    plan the nominal pressure or less; zero variances (a direction the data do not move) are allowed.
-    """
-    cov = np.asarray(cov, dtype=float)
-    variance = np.diag(cov)
-    if np.any(variance < 0):
-        i = int(np.argmin(variance))
-        raise ValueError(f"{where}: the variance [{i}][{i}] = {variance[i]:.6g} is negative; a variance is "
-                         "a squared standard deviation, at least 0")
-    scale = np.sqrt(np.outer(variance, variance))
-    gap = np.abs(cov - cov.T) > COVARIANCE_TOLERANCE * np.maximum(scale, np.finfo(float).tiny)
-    if np.any(gap):
-        i, j = (int(k) for k in np.argwhere(gap)[0])
-        raise ValueError(f"{where}: not symmetric: [{i}][{j}] = {cov[i, j]:.6g} but [{j}][{i}] = "
-                         f"{cov[j, i]:.6g}")
-    lowest = float(np.linalg.eigvalsh(0.5 * (cov + cov.T))[0]) if cov.size else 0.0
-    if lowest < -COVARIANCE_TOLERANCE * max(float(np.max(variance, initial=0.0)), np.finfo(float).tiny):
-        raise ValueError(f"{where}: not positive semi-definite (its smallest eigenvalue is {lowest:.6g}): "
-                         "some combination of the moduli would have a negative variance, e.g. a "
-                         "correlation beyond ±1; write the covariance `pampipe identify` gives")
-
-
 #: Largest moduli coefficient accepted [Pa]: 1 TPa, far above any elastomer (latex ≈ 1 MPa) or fibre.
 MODULI_LIMIT = 1e12
 

@@ -35,6 +35,7 @@ from pampipe.planning.sampling import (
     Classes,
     Problem,
     chunk_classes,
+    drawn_muscles,
     sample_chunk,
     section_classes,
     segment_twins,
@@ -43,7 +44,6 @@ from pampipe.planning.sources import (
     SOURCE_WORDS,
     SOURCES,
     Direction,
-    draw_muscles,
     muscle_sources,
     muscle_uncertainty,
 )
@@ -141,7 +141,7 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
     check_uncertainty(mission, uncertainties)
     route = mission.route
     kappa_sd = float(getattr(mission, "kappa_sd", 0.0))
-    draws = draw_muscles(uncertainties, samples, seed, kappa_sd)
+    draws = drawn_muscles(tuple(uncertainties), samples, seed, kappa_sd)  # the chunks reuse them
     active = muscle_sources(draws)
     active += [name for name, sd in (("bore", route.diameter_sd), ("friction", route.friction_sd))
                if np.any(np.asarray(sd) > 0)]

@@ -147,25 +147,25 @@ class Problem:
     supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
     twins: tuple[int, ...] = ()  # per segment, the first with the same inputs and draws (segment_twins)
 
-    @property
-    def key(self) -> str:
-        """Digest of what the muscle draws depend on (the cache key of :func:`muscle_draws`)."""
-        what = (self.uncertainties, self.samples, self.seed, self.kappa_sd)
-        return hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
-
 
 _DRAWS: dict[str, MuscleDraws] = {}
 
 
-def muscle_draws(problem: Problem) -> MuscleDraws:
-    """The route's muscle draws, drawn once per process (and problem) from the seed."""
-    key = problem.key
+def drawn_muscles(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
+    """:func:`draw_muscles`, drawn once per process for the same arguments (the last kept)."""
+    what = (tuple(uncertainties), samples, seed, kappa_sd)
+    key = hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
     draws = _DRAWS.get(key)  # one lookup: a Dask worker may run chunks in several threads
     if draws is None:
-        draws = draw_muscles(list(problem.uncertainties), problem.samples, problem.seed, problem.kappa_sd)
+        draws = draw_muscles(list(uncertainties), samples, seed, kappa_sd)
         _DRAWS.clear()
         _DRAWS[key] = draws
     return draws
+
+
+def muscle_draws(problem: Problem) -> MuscleDraws:
+    """The route's muscle draws, drawn once per process (and problem) from the seed."""
+    return drawn_muscles(problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
 
 
 def chunk_classes(samples: int, budget: int = MEMORY_BUDGET) -> int:
