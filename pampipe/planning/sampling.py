@@ -80,18 +80,27 @@ def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, 
     return out if largest is not None else [*out, None]
 
 
-def upper_quantile(ordered: np.ndarray, level: float) -> np.ndarray:
-    """Least x with a share ≥ level of the values ≤ x (the empirical, inverted-CDF quantile), from the
-    values ``ordered`` (sorted along axis 0)."""
-    k = max(math.ceil(level * ordered.shape[0] - 1e-9) - 1, 0)
-    return ordered[k]
+def upper_rank(n: int, level: float) -> int:
+    """0-based rank among n sorted values of the least x with a share ≥ level of them ≤ x (the empirical,
+    inverted-CDF quantile)."""
+    return max(math.ceil(level * n - 1e-9) - 1, 0)
 
 
-def lower_quantile(values: np.ndarray, level: float, axis: int = 0) -> np.ndarray:
-    """Largest x with a share ≥ level of ``values`` ≥ x."""
-    n = values.shape[axis]
-    k = min(math.floor((1 - level) * n + 1e-9), n - 1)
-    return np.take(np.sort(values, axis=axis), k, axis=axis)
+def lower_rank(n: int, level: float) -> int:
+    """0-based rank among n sorted values of the largest x with a share ≥ level of them ≥ x."""
+    return min(math.floor((1 - level) * n + 1e-9), n - 1)
+
+
+def order_statistics(values: np.ndarray, ranks) -> np.ndarray:
+    """``np.sort(values, axis=0)[ranks]`` for ``values`` (n, C): (len(ranks), C), the same numbers without
+    the full sort. One single-kth partition per distinct rank, each of what lies above the previous one
+    (numpy's SIMD partition: half the sort's time at 10⁴ draws and a few ranks)."""
+    part = np.array(values.T, order="C")  # a copy, also of a broadcast (read-only) view
+    start = 0
+    for k in sorted(set(ranks)):
+        part[:, start:].partition(k - start, axis=1)
+        start = k + 1
+    return part[:, list(ranks)].T
 
 
 @dataclass(frozen=True)
@@ -212,8 +221,10 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
                       None if problem.supply is None else np.full(shape, -np.inf),
                       np.tile([-1.0, -1.0, 0.0], (count, 1)))
     half = 1.959964 * math.sqrt(n * problem.level * (1 - problem.level))
-    ranks = [max(math.floor(n * problem.level - half) - 1, 0),
-             min(math.ceil(n * problem.level + half) - 1, n - 1)]
+    band = [max(math.floor(n * problem.level - half) - 1, 0),
+            min(math.ceil(n * problem.level + half) - 1, n - 1)]
+    ranks = [upper_rank(n, problem.level), *band, *(upper_rank(n, level) for level in LEVELS)]
+    alone_ranks = [upper_rank(n, problem.level), upper_rank(n, 1 - problem.level)]
     for i in range(m):
         rows = np.flatnonzero(classes.valid[:, i])
         twin = problem.twins[i] if problem.twins else i
@@ -223,23 +234,22 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         ev = Evaluator(problem, draws, classes, i, rows, bore[:, rows], friction[:, rows])
         supply = None if problem.supply is None else problem.supply[i]
         least, touch, held = ev.evaluate(problem.active, supply)
-        ordered = np.sort(least, axis=0)
-        planned = upper_quantile(ordered, problem.level)
+        planned, *rest = order_statistics(least, ranks)
         out.pressure[rows, i] = planned
         out.holding[rows, i] = np.mean(least <= planned, axis=0)
         out.contact[rows, i] = np.mean(touch <= planned, axis=0)
-        out.band[rows, i] = ordered[ranks].T
-        for key, level in zip(out.levels, LEVELS, strict=True):
-            out.levels[key][rows, i] = upper_quantile(ordered, level)
-        del ordered, least, touch
+        out.band[rows, i] = np.stack(rest[:2], axis=1)
+        for key, value in zip(out.levels, rest[2:], strict=True):
+            out.levels[key][rows, i] = value
+        del least, touch
         if held is not None:
-            out.payload[rows, i] = lower_quantile(held, problem.level)
+            out.payload[rows, i] = order_statistics(held, [lower_rank(n, problem.level)])[0]
         certain = ev.evaluate(())[0][0]
         out.certain[rows, i] = certain
         for name in problem.active:
-            alone = np.sort(ev.evaluate((name,))[0], axis=0)
-            out.shifts[name][rows, i] = upper_quantile(alone, problem.level) - certain
-            out.low_shifts[name][rows, i] = upper_quantile(alone, 1 - problem.level) - certain
+            high, low = order_statistics(ev.evaluate((name,))[0], alone_ranks)
+            out.shifts[name][rows, i] = high - certain
+            out.low_shifts[name][rows, i] = low - certain
         for k, direction in enumerate(problem.uncertainties[i].unresolved):
             moved = ev.moves(direction)
             new = (np.abs(moved) > MOVES) & (out.undetermined[rows, 0] < 0)
