@@ -26,6 +26,7 @@ from pampipe.heap import retain_freed_memory
 from pampipe.model.muscle import Anchored, Muscle, Structure
 from pampipe.model.pam import Geometry
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.planning.memo import Memo
 from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
 
 LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
@@ -37,6 +38,8 @@ MEMORY_BUDGET = 64 << 20
 BYTES_PER_DRAW = 200
 #: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
 BATCH = 1 << 16
+#: Bytes of coefficients each process keeps across chunks (:data:`COEFFICIENTS`): 80 columns of 10⁴ draws.
+COEFFICIENTS_BUDGET = 32 << 20
 #: The coefficients of :class:`Anchored` the closed forms use (after ``length``, which they do not).
 USED = ("amplification", "at_zero", "slope", "contact_at_zero", "contact_slope")
 #: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
@@ -158,12 +161,19 @@ class Problem:
 
 
 _DRAWS: dict[str, MuscleDraws] = {}
+#: Per process, the coefficients of one muscle's draws in one drawn bore (:meth:`Evaluator.evaluate`).
+COEFFICIENTS = Memo(COEFFICIENTS_BUDGET)
+
+
+def draws_key(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> str:
+    """What names the route's draws: the muscles' sources, the draws, the seed (the bores' seed too)."""
+    what = (tuple(uncertainties), samples, seed, kappa_sd)
+    return hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
 
 
 def drawn_muscles(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
     """:func:`draw_muscles`, drawn once per process for the same arguments (the last kept)."""
-    what = (tuple(uncertainties), samples, seed, kappa_sd)
-    key = hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
+    key = draws_key(uncertainties, samples, seed, kappa_sd)
     draws = _DRAWS.get(key)  # one lookup: a Dask worker may run chunks in several threads
     if draws is None:
         draws = draw_muscles(list(uncertainties), samples, seed, kappa_sd)
@@ -291,6 +301,7 @@ class Evaluator:
     def __init__(self, problem: Problem, draws: MuscleDraws, classes: Classes, i: int, rows: np.ndarray,
                  bore: np.ndarray, friction: np.ndarray):
         self.problem, self.draws, self.i = problem, draws, i
+        self.key = draws_key(problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
         self.structure = problem.structures[i]
         self.nominal = problem.uncertainties[i].nominal
         self.bore, self.friction = bore, friction  # (n, rows) deviations
@@ -312,7 +323,7 @@ class Evaluator:
         for key in drawn:
             p += d.params[key][i]
         bore = self.bore if "bore" in sources else np.zeros((1, self.mu.size))
-        mu = self.mu + (self.friction if "friction" in sources else 0.0) * np.ones((1, 1))
+        mu = self.mu + (self.friction if "friction" in sources else np.zeros((1, 1)))
         kappa = np.maximum(self.problem.kappa + (d.kappa if "kappa" in sources else np.zeros(1)), 0.0)
         error = d.model_error[i] if "model_error" in sources else np.zeros(1)
         return p, bore, mu, kappa, error
@@ -321,19 +332,24 @@ class Evaluator:
         """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]).
 
         The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
-        once per draw and distinct drawn bore of the chunk (classes sharing a bore statement share its
-        draws), then the load-dependent closed form runs over draws × classes by broadcasting."""
+        once per draw and distinct drawn bore (classes sharing a bore statement share its draws) and kept
+        per process (:data:`COEFFICIENTS`: the next chunk in that bore reuses them), then the
+        load-dependent closed form runs over draws × classes by broadcasting."""
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal)
         load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
         columns = p.T[:, :, None]  # (size, n or 1, 1)
+        drawn_p = tuple(k for k in ("moduli", "geometry", "prior") if k in sources)
+        shared = None if nominal is not None else (self.key, self.i, self.structure, drawn_p,
+                                                   "bore" in sources)
         least = held = touch = None
         for bore_nominal in self.bores:
             bores, group = np.unique(np.stack([bore_nominal, *self.statement]), axis=1, return_inverse=True)
             group = np.asarray(group).reshape(-1)
             first = np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
             drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
-            c = self._anchored(p, drawn)
+            keys = None if shared is None else [(*shared, *bores[:, g].tolist()) for g in range(first.size)]
+            c = self._anchored(p, drawn, keys)
             pick = group if bores.shape[1] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
             c = Anchored(None, *(getattr(c, name)[:, pick] if np.ndim(getattr(c, name)) else getattr(c, name)
                                  for name in USED))  # per class; the anchored length is not used
@@ -355,19 +371,26 @@ class Evaluator:
             payload = np.broadcast_to(payload, shape)
         return least, touch, payload
 
-    def _anchored(self, p: np.ndarray, d: np.ndarray) -> Anchored:
-        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1, G): (R, G) fields, in
-        batches of at most :data:`BATCH` columns (bounded memory)."""
+    def _anchored(self, p: np.ndarray, d: np.ndarray, keys) -> Anchored:
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1, G): (R, G) fields, each
+        bore's kept in :data:`COEFFICIENTS` under its key in ``keys`` (None: computed, not kept)."""
+        columns = [self._column(p, d[:, g]) if keys is None else
+                   COEFFICIENTS.get(keys[g], lambda g=g: self._column(p, d[:, g])) for g in range(d.shape[1])]
         rows = max(p.shape[0], d.shape[0])
-        groups = d.shape[1]
-        d = np.broadcast_to(d, (rows, groups)).reshape(-1)
-        parts = []
-        for start in range(0, rows * groups, BATCH):
-            k = np.arange(start, min(start + BATCH, rows * groups))
-            params = p[np.minimum(k // groups, p.shape[0] - 1)].T
-            parts.append((anchored_at(self.structure, params, d[k]), k.size))
-        return Anchored(None, *(_joined([(getattr(c, name), size) for c, size in parts], (rows, groups))
-                                for name in USED))
+        joined = (_joined([getattr(c, name) for c in columns], [rows] * len(columns)) for name in USED)
+        return Anchored(None, *(v if np.ndim(v) == 0 else v.reshape(-1, rows).T for v in joined))
+
+    def _column(self, p: np.ndarray, d: np.ndarray) -> Anchored:
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1,): (R,) fields (or one
+        number), in batches of at most :data:`BATCH` columns (bounded memory)."""
+        rows = max(p.shape[0], d.shape[0])
+        d = np.broadcast_to(d, (rows,))
+        parts, sizes = [], []
+        for start in range(0, rows, BATCH):
+            k = np.arange(start, min(start + BATCH, rows))
+            parts.append(anchored_at(self.structure, p[np.minimum(k, p.shape[0] - 1)].T, d[k]))
+            sizes.append(k.size)
+        return Anchored(None, *(_joined([getattr(c, name) for c in parts], sizes) for name in USED))
 
     def moves(self, direction) -> np.ndarray:
         """Change of the certain P* [Pa] per class across ± the width the data leave open along
@@ -379,10 +402,9 @@ class Evaluator:
         return np.where(np.isfinite(delta), delta, np.inf)
 
 
-def _joined(parts: list, shape: tuple[int, int]):
-    """One coefficient of the batches ((value, columns) each) as a ``shape`` array, or a number where it
-    is one number in every batch (C₀, C₁ = 0 without contact increments)."""
-    values = [v for v, _ in parts]
+def _joined(values: list, sizes: list[int]):
+    """One coefficient of several parts (each a number or (size,) values): one number where it is the same
+    number in every part (C₀, C₁ = 0 without contact increments), else the parts' values end to end."""
     if all(np.ndim(v) == 0 for v in values) and len({float(v) for v in values}) == 1:
         return float(values[0])
-    return np.concatenate([np.broadcast_to(v, (size,)) for v, size in parts]).reshape(shape)
+    return np.concatenate([np.broadcast_to(v, (size,)) for v, size in zip(values, sizes, strict=True)])
