@@ -257,7 +257,7 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         certain = ev.evaluate(())[0][0]
         out.certain[rows, i] = certain
         for name in problem.active:
-            high, low = order_statistics(ev.evaluate((name,))[0], alone_ranks)
+            high, low = ev.alone(name, alone_ranks)
             out.shifts[name][rows, i] = high - certain
             out.low_shifts[name][rows, i] = low - certain
         for k, direction in enumerate(problem.uncertainties[i].unresolved):
@@ -312,10 +312,12 @@ class Evaluator:
         self.statement = (classes.low[rows], classes.high[rows], classes.bore_sd[rows])  # keys the bore draw
         incline = classes.incline[rows]
         self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
+        self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
 
-    def inputs(self, sources, nominal=None) -> tuple:
+    def inputs(self, sources, nominal=None, drawn_scalar=None) -> tuple:
         """(p (R, size), δ (R, C), μ (R, C), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
-        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not."""
+        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not.
+        ``drawn_scalar``: the values of the one drawn source κ or e (its deviations) instead of its draws."""
         d, i, n = self.draws, self.i, self.draws.n
         nominal = self.nominal if nominal is None else nominal
         drawn = [key for key in ("moduli", "geometry", "prior") if key in sources]
@@ -323,21 +325,62 @@ class Evaluator:
         for key in drawn:
             p += d.params[key][i]
         bore = self.bore if "bore" in sources else np.zeros((1, self.mu.size))
-        mu = self.mu + (self.friction if "friction" in sources else np.zeros((1, 1)))
-        kappa = np.maximum(self.problem.kappa + (d.kappa if "kappa" in sources else np.zeros(1)), 0.0)
-        error = d.model_error[i] if "model_error" in sources else np.zeros(1)
+        mu = self.friction_load("friction" in sources)[0]
+        kappa, error = d.kappa, d.model_error[i]
+        if drawn_scalar is not None:
+            kappa, error = drawn_scalar, drawn_scalar
+        kappa = np.maximum(self.problem.kappa + (kappa if "kappa" in sources else np.zeros(1)), 0.0)
+        error = error if "model_error" in sources else np.zeros(1)
         return p, bore, mu, kappa, error
 
-    def evaluate(self, sources, pressure=None, *, nominal=None):
-        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]).
+    def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(μ (n or 1, C), the anchor's load W(μ) [N] (n or 1, C)) with or without the friction draw, once
+        per evaluator (the full draw and friction alone share them)."""
+        if drawn not in self._loads:
+            pr = self.problem
+            mu = self.mu + (self.friction if drawn else np.zeros((1, 1)))
+            load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
+            self._loads[drawn] = mu, load
+        return self._loads[drawn]
+
+    def monotone(self, name: str) -> int:
+        """+1 (−1) where P* is non-decreasing (non-increasing) in the one drawn source ``name``, in floating
+        point too, else 0 (docs/physics.md §15, *Breakdown*). Without contact increments P* = (κW − F₀ − e)/F₁
+        + SF·W/(μπAF₁) at the nominal muscle, μ and bore: falling in e (F₁ > 0; else inf for every draw),
+        rising in κ = max(κ̂ + δ, 0) where W ≥ 0; each rounded step (product, difference, quotient by a
+        constant of fixed sign, max) keeps the order, and so do the floor at 0, the inf beyond 100 MPa and
+        the max over the range's bores. Contact increments make P* a sum of a rising and a falling term
+        (exact math rises, rounding need not): 0, as for every other source."""
+        if self.structure.contact or self.structure.effects:
+            return 0
+        if name == "model_error":
+            return -1
+        if name == "kappa" and np.all(self.friction_load(False)[1] >= 0):
+            return 1
+        return 0
+
+    def alone(self, name: str, ranks) -> np.ndarray:
+        """The order statistics ``ranks`` (R, C) of P* with only source ``name`` drawn. Where P* is monotone
+        in it (:meth:`monotone`), P* maps the source's order statistics onto its own: R evaluations, not n."""
+        sign = self.monotone(name)
+        if sign == 0:
+            return order_statistics(self.evaluate((name,))[0], ranks)
+        draws = self.draws.kappa if name == "kappa" else self.draws.model_error[self.i]
+        n = draws.size
+        at = order_statistics(draws[:, None], [k if sign > 0 else n - 1 - k for k in ranks])[:, 0]
+        return self.evaluate((name,), drawn_scalar=at)[0]
+
+    def evaluate(self, sources, pressure=None, *, nominal=None, drawn_scalar=None):
+        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]);
+        ``nominal``, ``drawn_scalar``: as :meth:`inputs` (then R rows, not n).
 
         The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
         once per draw and distinct drawn bore (classes sharing a bore statement share its draws) and kept
         per process (:data:`COEFFICIENTS`: the next chunk in that bore reuses them), then the
         load-dependent closed form runs over draws × classes by broadcasting."""
         pr = self.problem
-        p, bore, mu, kappa, error = self.inputs(sources, nominal)
-        load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
+        p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
+        load = self.friction_load("friction" in sources)[1]
         columns = p.T[:, :, None]  # (size, n or 1, 1)
         drawn_p = tuple(k for k in ("moduli", "geometry", "prior") if k in sources)
         shared = None if nominal is not None else (self.key, self.i, self.structure, drawn_p,
