@@ -94,16 +94,30 @@ def lower_rank(n: int, level: float) -> int:
     return min(math.floor((1 - level) * n + 1e-9), n - 1)
 
 
-def order_statistics(values: np.ndarray, ranks) -> np.ndarray:
+def order_statistics(values: np.ndarray, ranks, *, share: bool = False):
     """``np.sort(values, axis=0)[ranks]`` for ``values`` (n, C): (len(ranks), C), the same numbers without
     the full sort. One single-kth partition per distinct rank, each of what lies above the previous one
-    (numpy's SIMD partition: half the sort's time at 10⁴ draws and a few ranks)."""
+    (numpy's SIMD partition: half the sort's time at 10⁴ draws and a few ranks). With ``share``, also the
+    share of the values ≤ the first rank's statistic (C,): after the partitions no value below a rank
+    exceeds its statistic and none above is less, so only the ties above it are counted."""
     part = np.array(values.T, order="C")  # a copy, also of a broadcast (read-only) view
     start = 0
     for k in sorted(set(ranks)):
         part[:, start:].partition(k - start, axis=1)
         start = k + 1
-    return part[:, list(ranks)].T
+    out = part[:, list(ranks)].T
+    if not share:
+        return out
+    k = ranks[0]
+    return out, (k + 1 + np.count_nonzero(part[:, k + 1:] == out[0][:, None], axis=1)) / values.shape[0]
+
+
+def share_at_most(values: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """The share of ``values`` (n, C) ≤ ``limits`` (C,), per column; values the same in every column (a
+    broadcast (n, 1): every class of the chunk in one drawn bore) are sorted once and searched."""
+    if values.shape[1] > 1 and values.strides[1] == 0:
+        return np.searchsorted(np.sort(values[:, 0]), limits, side="right") / values.shape[0]
+    return np.mean(values <= limits, axis=0)
 
 
 @dataclass(frozen=True)
@@ -244,10 +258,9 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         ev = Evaluator(problem, draws, classes, i, rows, bore[:, rows], friction[:, rows])
         supply = None if problem.supply is None else problem.supply[i]
         least, touch, held = ev.evaluate(problem.active, supply)
-        planned, *rest = order_statistics(least, ranks)
+        (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True)
         out.pressure[rows, i] = planned
-        out.holding[rows, i] = np.mean(least <= planned, axis=0)
-        out.contact[rows, i] = np.mean(touch <= planned, axis=0)
+        out.contact[rows, i] = share_at_most(touch, planned)
         out.band[rows, i] = np.stack(rest[:2], axis=1)
         for key, value in zip(out.levels, rest[2:], strict=True):
             out.levels[key][rows, i] = value
@@ -398,12 +411,12 @@ class Evaluator:
                                  for name in USED))  # per class; the anchored length is not used
             values = holding_law(self.structure, columns, c, load, kappa[:, None], mu, pr.safety_factor,
                                  error[:, None], pressure)
-            least = values[0] if least is None else np.maximum(least, values[0])  # NaN stays NaN
+            least = values[0] if least is None else np.maximum(least, values[0])  # never NaN: inf instead
             if pressure is not None:
                 held = values[2] if held is None else np.minimum(held, values[2])
             touch = values[1]  # the largest bore is the last
         shape = np.broadcast_shapes(least.shape, mu.shape, (p.shape[0], 1))
-        least = np.broadcast_to(np.where(np.isnan(least), np.inf, least), shape)
+        least = np.broadcast_to(least, shape)
         touch = np.broadcast_to(touch, shape)
         payload = None
         if pressure is not None:
