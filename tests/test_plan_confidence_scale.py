@@ -20,7 +20,7 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 from pampipe.planning.confidence import plan_confidence, sampling_problem
 from pampipe.planning.problem import build_elements, mission_muscles
-from pampipe.planning.sampling import Evaluator, chunk_classes, muscle_draws
+from pampipe.planning.sampling import Evaluator, chunk_classes, muscle_draws, order_statistics, share_at_most
 from pampipe.planning.sources import keyed_normal
 from tests.conftest import PROBLEMS, ROOT
 
@@ -178,3 +178,22 @@ def test_draws_do_not_depend_on_the_route_around_a_section(tmp_path):
     mission = load_mission(route_mission(tmp_path, 60))
     part = _plan(dataclasses.replace(mission, route=mission.route[:9]))
     np.testing.assert_array_equal(part.pressure, whole.pressure[:9])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_order_statistics_and_shares_equal_the_sorted_values(seed):
+    """The partitions give the full sort's order statistics at any ranks, and the shares at most a limit
+    equal the direct count, with ties, inf and a column-constant (broadcast) array."""
+    rng = np.random.default_rng(seed)
+    n, c = int(rng.integers(100, 3000)), int(rng.integers(1, 40))
+    values = np.round(rng.normal(size=(n, c)), int(rng.integers(1, 4)))  # ties
+    values[rng.random((n, c)) < 0.05] = np.inf
+    ranks = [int(k) for k in rng.integers(0, n, 6)] + [0, n - 1]
+    expected = np.sort(values, axis=0)[ranks]
+    found, share = order_statistics(values, ranks, share=True)
+    np.testing.assert_array_equal(found, expected)
+    np.testing.assert_array_equal(share, np.mean(values <= expected[0], axis=0))
+    column = np.broadcast_to(values[:, :1], (n, c))
+    limits = np.concatenate([[np.inf], values[rng.integers(0, n, c - 1), 0]])
+    np.testing.assert_array_equal(share_at_most(column, limits), np.mean(column <= limits, axis=0))
+    np.testing.assert_array_equal(share_at_most(values, limits), np.mean(values <= limits, axis=0))
