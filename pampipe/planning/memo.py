@@ -1,10 +1,10 @@
 """A per-process memo of what the chunks of a confidence plan share (docs/physics.md §15, *Shared draws*).
 
-The muscle's coefficients at the anchored length depend on the draw and the bore only, not on the load:
-every chunk of classes in the same bore needs the same ones. A chunk is a task on any executor
-(:mod:`pampipe.parallel`), so they are kept per process, under a key that names everything they depend
-on (the draws' key, the segment, the sources, the bore statement); a process computes them once, whatever
-the chunks it runs and their order, and the numbers are those it would compute again.
+The muscle's parameter draws, and its coefficients at the anchored length, depend on the draw and the
+bore only, not on the load: every chunk of classes in the same bore needs the same ones. A chunk is a task
+on any executor (:mod:`pampipe.parallel`), so they are kept per process, under a key that names everything
+they depend on (the draws' key, the segment, the sources, the bore statement); a process computes them
+once, whatever the chunks it runs and their order, and the numbers are those it would compute again.
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ import numpy as np
 
 
 class Memo:
-    """Values by key, the oldest forgotten first beyond ``budget`` bytes of numpy arrays; thread-safe (a
-    Dask worker may run chunks in several threads)."""
+    """Values (numpy arrays, or objects holding some) by key, the oldest forgotten first beyond ``budget``
+    bytes of arrays; thread-safe (a Dask worker may run chunks in several threads)."""
 
     def __init__(self, budget: int):
         self.budget = budget
@@ -30,7 +30,8 @@ class Memo:
             if key in self._values:
                 return self._values[key]
         value = compute()
-        size = sum(v.nbytes for v in vars(value).values() if isinstance(v, np.ndarray))
+        parts = [value] if isinstance(value, np.ndarray) else vars(value).values()
+        size = sum(v.nbytes for v in parts if isinstance(v, np.ndarray))
         with self._lock:
             self._values[key], self._sizes[key] = value, size
             while sum(self._sizes.values()) > self.budget and len(self._values) > 1:

@@ -38,8 +38,8 @@ MEMORY_BUDGET = 64 << 20
 BYTES_PER_DRAW = 200
 #: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
 BATCH = 1 << 16
-#: Bytes of coefficients each process keeps across chunks (:data:`COEFFICIENTS`): 80 columns of 10⁴ draws.
-COEFFICIENTS_BUDGET = 32 << 20
+#: Bytes each process keeps across chunks (:data:`SHARED`): 80 coefficient columns of 10⁴ draws.
+SHARED_BUDGET = 32 << 20
 #: The coefficients of :class:`Anchored` the closed forms use (after ``length``, which they do not).
 USED = ("amplification", "at_zero", "slope", "contact_at_zero", "contact_slope")
 #: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
@@ -175,8 +175,8 @@ class Problem:
 
 
 _DRAWS: dict[str, MuscleDraws] = {}
-#: Per process, the coefficients of one muscle's draws in one drawn bore (:meth:`Evaluator.evaluate`).
-COEFFICIENTS = Memo(COEFFICIENTS_BUDGET)
+#: Per process, a segment's parameter draws and their coefficients in each drawn bore (:class:`Evaluator`).
+SHARED = Memo(SHARED_BUDGET)
 
 
 def draws_key(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> str:
@@ -255,7 +255,8 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         if rows.size == 0 or twin != i:  # a twin's draws and inputs are the same: so is its plan
             _copy(out, twin, i)
             continue
-        ev = Evaluator(problem, draws, classes, i, rows, bore[:, rows], friction[:, rows])
+        take = slice(None) if rows.size == count else rows  # every class: no copy
+        ev = Evaluator(problem, draws, classes, i, rows, bore[:, take], friction[:, take])
         supply = None if problem.supply is None else problem.supply[i]
         least, touch, held = ev.evaluate(problem.active, supply)
         (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True)
@@ -331,12 +332,12 @@ class Evaluator:
         """(p (R, size), δ (R, C), μ (R, C), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
         (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not.
         ``drawn_scalar``: the values of the one drawn source κ or e (its deviations) instead of its draws."""
-        d, i, n = self.draws, self.i, self.draws.n
-        nominal = self.nominal if nominal is None else nominal
-        drawn = [key for key in ("moduli", "geometry", "prior") if key in sources]
-        p = np.broadcast_to(nominal, (n if drawn else 1, nominal.size)).copy()
-        for key in drawn:
-            p += d.params[key][i]
+        d, i = self.draws, self.i
+        drawn = tuple(key for key in ("moduli", "geometry", "prior") if key in sources)
+        if nominal is None:  # the same in every chunk: kept per process
+            p = SHARED.get((self.key, i, drawn), lambda: self._parameters(self.nominal, drawn))
+        else:
+            p = self._parameters(nominal, drawn)
         bore = self.bore if "bore" in sources else np.zeros((1, self.mu.size))
         mu = self.friction_load("friction" in sources)[0]
         kappa, error = d.kappa, d.model_error[i]
@@ -345,6 +346,16 @@ class Evaluator:
         kappa = np.maximum(self.problem.kappa + (kappa if "kappa" in sources else np.zeros(1)), 0.0)
         error = error if "model_error" in sources else np.zeros(1)
         return p, bore, mu, kappa, error
+
+    def _parameters(self, nominal: np.ndarray, drawn: tuple[str, ...]) -> np.ndarray:
+        """The parameter vectors (n, size) with the ``drawn`` sources added to ``nominal`` ((1, size) with
+        none), read-only."""
+        d = self.draws
+        p = np.broadcast_to(nominal, (d.n if drawn else 1, nominal.size)).copy()
+        for key in drawn:
+            p += d.params[key][self.i]
+        p.flags.writeable = False
+        return p
 
     def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
         """(μ (n or 1, C), the anchor's load W(μ) [N] (n or 1, C)) with or without the friction draw, once
@@ -389,7 +400,7 @@ class Evaluator:
 
         The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
         once per draw and distinct drawn bore (classes sharing a bore statement share its draws) and kept
-        per process (:data:`COEFFICIENTS`: the next chunk in that bore reuses them), then the
+        per process (:data:`SHARED`: the next chunk in that bore reuses them), then the
         load-dependent closed form runs over draws × classes by broadcasting."""
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
@@ -429,9 +440,9 @@ class Evaluator:
 
     def _anchored(self, p: np.ndarray, d: np.ndarray, keys) -> Anchored:
         """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1, G): (R, G) fields, each
-        bore's kept in :data:`COEFFICIENTS` under its key in ``keys`` (None: computed, not kept)."""
+        bore's kept in :data:`SHARED` under its key in ``keys`` (None: computed, not kept)."""
         columns = [self._column(p, d[:, g]) if keys is None else
-                   COEFFICIENTS.get(keys[g], lambda g=g: self._column(p, d[:, g])) for g in range(d.shape[1])]
+                   SHARED.get(keys[g], lambda g=g: self._column(p, d[:, g])) for g in range(d.shape[1])]
         rows = max(p.shape[0], d.shape[0])
         joined = (_joined([getattr(c, name) for c in columns], [rows] * len(columns)) for name in USED)
         return Anchored(None, *(v if np.ndim(v) == 0 else v.reshape(-1, rows).T for v in joined))
