@@ -319,11 +319,17 @@ class Evaluator:
         self.structure = problem.structures[i]
         self.nominal = problem.uncertainties[i].nominal
         self.bore, self.friction = bore, friction  # (n, rows) deviations
-        self.bores = [classes.low[rows], classes.worst[rows, i], classes.high[rows]]
-        if np.array_equal(self.bores[0], self.bores[2]):  # no tolerance range: one bore (3× fewer calls)
-            self.bores = self.bores[2:]
+        low, worst, high = classes.low[rows], classes.worst[rows, i], classes.high[rows]
+        # each distinct bore of the ranges once, the largest last: one without a range, two where the worst
+        # bore is an end of its range (commonly the largest), three only where it lies inside
+        self.bores = [high]
+        if not (np.array_equal(worst, low) or np.array_equal(worst, high)):
+            self.bores.insert(0, worst)
+        if not np.array_equal(low, high):
+            self.bores.insert(0, low)
         self.mu = classes.mu[rows]
-        self.statement = (classes.low[rows], classes.high[rows], classes.bore_sd[rows])  # keys the bore draw
+        statement = (low, high, classes.bore_sd[rows])  # keys the bore draw
+        self.groups = [_groups(b, statement) for b in self.bores]
         incline = classes.incline[rows]
         self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
         self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
@@ -410,10 +416,7 @@ class Evaluator:
         shared = None if nominal is not None else (self.key, self.i, self.structure, drawn_p,
                                                    "bore" in sources)
         least = held = touch = None
-        for bore_nominal in self.bores:
-            bores, group = np.unique(np.stack([bore_nominal, *self.statement]), axis=1, return_inverse=True)
-            group = np.asarray(group).reshape(-1)
-            first = np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
+        for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
             drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
             keys = None if shared is None else [(*shared, *bores[:, g].tolist()) for g in range(first.size)]
             c = self._anchored(p, drawn, keys)
@@ -467,6 +470,14 @@ class Evaluator:
         with np.errstate(invalid="ignore"):
             delta = out[0] - out[1]
         return np.where(np.isfinite(delta), delta, np.inf)
+
+
+def _groups(bore: np.ndarray, statement: tuple) -> tuple:
+    """(the distinct (bore, its statement) columns (4, G), each class's group (C,), each group's first
+    class (G,)): classes of one group share the drawn bore and so its coefficients."""
+    bores, group = np.unique(np.stack([bore, *statement]), axis=1, return_inverse=True)
+    group = np.asarray(group).reshape(-1)
+    return bores, group, np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
 
 
 def _joined(values: list, sizes: list[int]):
