@@ -79,7 +79,7 @@ def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, 
             largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
     values = [v for v in (least, touch, largest) if v is not None]
     shape = np.broadcast_shapes(*(np.shape(v) for v in values))
-    out = [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values]
+    out = [v if np.shape(v) == shape else np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values]
     return out if largest is not None else [*out, None]
 
 
@@ -94,13 +94,16 @@ def lower_rank(n: int, level: float) -> int:
     return min(math.floor((1 - level) * n + 1e-9), n - 1)
 
 
-def order_statistics(values: np.ndarray, ranks, *, share: bool = False):
+def order_statistics(values: np.ndarray, ranks, *, share: bool = False, overwrite: bool = False):
     """``np.sort(values, axis=0)[ranks]`` for ``values`` (n, C): (len(ranks), C), the same numbers without
     the full sort. One single-kth partition per distinct rank, each of what lies above the previous one
     (numpy's SIMD partition: half the sort's time at 10⁴ draws and a few ranks). With ``share``, also the
     share of the values ≤ the first rank's statistic (C,): after the partitions no value below a rank
-    exceeds its statistic and none above is less, so only the ties above it are counted."""
-    part = np.array(values.T, order="C")  # a copy, also of a broadcast (read-only) view
+    exceeds its statistic and none above is less, so only the ties above it are counted. ``overwrite``:
+    ``values`` may be reordered in place where it allows (the evaluator's (n, C) are views of (C, n))."""
+    part = values.T
+    if not (overwrite and part.flags.c_contiguous and part.flags.writeable):
+        part = np.array(part, order="C")  # a copy, also of a broadcast (read-only) view
     start = 0
     for k in sorted(set(ranks)):
         part[:, start:].partition(k - start, axis=1)
@@ -228,15 +231,15 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
     retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.heap)
     draws = muscle_draws(problem)
     n, count, m = problem.samples, len(classes), len(problem.structures)
-    bore = np.zeros((n, count))
-    friction = np.zeros((n, count))
+    bore = np.zeros((count, n))  # a class's draws are a row; the evaluator takes (n, C) views
+    friction = np.zeros((count, n))
     for c in range(count):
         if classes.bore_sd[c] > 0:
             statement = (classes.low[c], classes.high[c], classes.bore_sd[c])
-            bore[:, c] = keyed_normal(problem.seed, "bore", statement, n) * classes.bore_sd[c]
+            bore[c] = keyed_normal(problem.seed, "bore", statement, n) * classes.bore_sd[c]
         if classes.mu_sd[c] > 0:
             statement = (classes.mu[c], classes.mu_sd[c])
-            friction[:, c] = keyed_normal(problem.seed, "friction", statement, n) * classes.mu_sd[c]
+            friction[c] = keyed_normal(problem.seed, "friction", statement, n) * classes.mu_sd[c]
     shape = (count, m)
     out = ChunkResult(np.full(shape, np.inf), np.zeros(shape), np.zeros(shape),
                       {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}, np.full((*shape, 2), np.inf),
@@ -256,10 +259,10 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
             _copy(out, twin, i)
             continue
         take = slice(None) if rows.size == count else rows  # every class: no copy
-        ev = Evaluator(problem, draws, classes, i, rows, bore[:, take], friction[:, take])
+        ev = Evaluator(problem, draws, classes, i, rows, bore[take].T, friction[take].T)
         supply = None if problem.supply is None else problem.supply[i]
         least, touch, held = ev.evaluate(problem.active, supply)
-        (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True)
+        (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True, overwrite=True)
         out.pressure[rows, i] = planned
         out.contact[rows, i] = share_at_most(touch, planned)
         out.band[rows, i] = np.stack(rest[:2], axis=1)
@@ -335,8 +338,9 @@ class Evaluator:
         self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
 
     def inputs(self, sources, nominal=None, drawn_scalar=None) -> tuple:
-        """(p (R, size), δ (R, C), μ (R, C), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
-        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not.
+        """(p (R, size), δ (C, R), μ (C, R), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
+        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not (the
+        evaluation runs over classes × draws: a class's draws are contiguous).
         ``drawn_scalar``: the values of the one drawn source κ or e (its deviations) instead of its draws."""
         d, i = self.draws, self.i
         drawn = tuple(key for key in ("moduli", "geometry", "prior") if key in sources)
@@ -344,7 +348,7 @@ class Evaluator:
             p = SHARED.get((self.key, i, drawn), lambda: self._parameters(self.nominal, drawn))
         else:
             p = self._parameters(nominal, drawn)
-        bore = self.bore if "bore" in sources else np.zeros((1, self.mu.size))
+        bore = self.bore.T if "bore" in sources else np.zeros((self.mu.size, 1))
         mu = self.friction_load("friction" in sources)[0]
         kappa, error = d.kappa, d.model_error[i]
         if drawn_scalar is not None:
@@ -364,12 +368,13 @@ class Evaluator:
         return p
 
     def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
-        """(μ (n or 1, C), the anchor's load W(μ) [N] (n or 1, C)) with or without the friction draw, once
+        """(μ (C, n or 1), the anchor's load W(μ) [N] (C, n or 1)) with or without the friction draw, once
         per evaluator (the full draw and friction alone share them)."""
         if drawn not in self._loads:
             pr = self.problem
-            mu = self.mu + (self.friction if drawn else np.zeros((1, 1)))
-            load = incline_load(pr.total_mass, pr.masses[self.i], self.rise, self.run, mu, pr.tether_drag)
+            mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))
+            load = incline_load(pr.total_mass, pr.masses[self.i], self.rise[:, None], self.run[:, None], mu,
+                                pr.tether_drag)
             self._loads[drawn] = mu, load
         return self._loads[drawn]
 
@@ -394,7 +399,7 @@ class Evaluator:
         in it (:meth:`monotone`), P* maps the source's order statistics onto its own: R evaluations, not n."""
         sign = self.monotone(name)
         if sign == 0:
-            return order_statistics(self.evaluate((name,))[0], ranks)
+            return order_statistics(self.evaluate((name,))[0], ranks, overwrite=True)
         draws = self.draws.kappa if name == "kappa" else self.draws.model_error[self.i]
         n = draws.size
         at = order_statistics(draws[:, None], [k if sign > 0 else n - 1 - k for k in ranks])[:, 0]
@@ -411,44 +416,44 @@ class Evaluator:
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
         load = self.friction_load("friction" in sources)[1]
-        columns = p.T[:, :, None]  # (size, n or 1, 1)
+        columns = p.T[:, None, :]  # (size, 1, n or 1)
         drawn_p = tuple(k for k in ("moduli", "geometry", "prior") if k in sources)
         shared = None if nominal is not None else (self.key, self.i, self.structure, drawn_p,
                                                    "bore" in sources)
         least = held = touch = None
         for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
-            drawn = bore_nominal[first] + bore[:, first]  # (n or 1, G)
+            drawn = bore_nominal[first][:, None] + bore[first]  # (G, n or 1)
             keys = None if shared is None else [(*shared, *bores[:, g].tolist()) for g in range(first.size)]
             c = self._anchored(p, drawn, keys)
             pick = group if bores.shape[1] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
-            c = Anchored(None, *(getattr(c, name)[:, pick] if np.ndim(getattr(c, name)) else getattr(c, name)
+            c = Anchored(None, *(getattr(c, name)[pick] if np.ndim(getattr(c, name)) else getattr(c, name)
                                  for name in USED))  # per class; the anchored length is not used
-            values = holding_law(self.structure, columns, c, load, kappa[:, None], mu, pr.safety_factor,
-                                 error[:, None], pressure)
+            values = holding_law(self.structure, columns, c, load, kappa[None, :], mu, pr.safety_factor,
+                                 error[None, :], pressure)
             least = values[0] if least is None else np.maximum(least, values[0])  # never NaN: inf instead
             if pressure is not None:
                 held = values[2] if held is None else np.minimum(held, values[2])
             touch = values[1]  # the largest bore is the last
-        shape = np.broadcast_shapes(least.shape, mu.shape, (p.shape[0], 1))
-        least = np.broadcast_to(least, shape)
+        shape = np.broadcast_shapes(least.shape, mu.shape, (1, p.shape[0]))
+        least = least if least.shape == shape else np.broadcast_to(least, shape)
         touch = np.broadcast_to(touch, shape)
         payload = None
         if pressure is not None:
-            per_kg = STANDARD_GRAVITY * (self.rise + mu * self.run)
+            per_kg = STANDARD_GRAVITY * (self.rise[:, None] + mu * self.run[:, None])
             payload = pr.payload + (held - load) / np.where(per_kg > 0, per_kg, np.nan)
             payload = np.where((held >= 0) & (touch <= pressure) & (mu > 0) & np.isfinite(payload),
                                payload, -np.inf)
-            payload = np.broadcast_to(payload, shape)
-        return least, touch, payload
+            payload = np.broadcast_to(payload, shape).T
+        return least.T, touch.T, payload
 
     def _anchored(self, p: np.ndarray, d: np.ndarray, keys) -> Anchored:
-        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1, G): (R, G) fields, each
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (G, n or 1): (G, R) fields, each
         bore's kept in :data:`SHARED` under its key in ``keys`` (None: computed, not kept)."""
-        columns = [self._column(p, d[:, g]) if keys is None else
-                   SHARED.get(keys[g], lambda g=g: self._column(p, d[:, g])) for g in range(d.shape[1])]
-        rows = max(p.shape[0], d.shape[0])
+        columns = [self._column(p, d[g]) if keys is None else
+                   SHARED.get(keys[g], lambda g=g: self._column(p, d[g])) for g in range(d.shape[0])]
+        rows = max(p.shape[0], d.shape[1])
         joined = (_joined([getattr(c, name) for c in columns], [rows] * len(columns)) for name in USED)
-        return Anchored(None, *(v if np.ndim(v) == 0 else v.reshape(-1, rows).T for v in joined))
+        return Anchored(None, *(v if np.ndim(v) == 0 else v.reshape(-1, rows) for v in joined))
 
     def _column(self, p: np.ndarray, d: np.ndarray) -> Anchored:
         """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1,): (R,) fields (or one
