@@ -412,7 +412,8 @@ class Evaluator:
         The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
         once per draw and distinct drawn bore (classes sharing a bore statement share its draws) and kept
         per process (:data:`SHARED`: the next chunk in that bore reuses them), then the
-        load-dependent closed form runs over draws × classes by broadcasting."""
+        load-dependent closed form runs over classes × draws by broadcasting (the arrays returned are
+        transposed views of those)."""
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
         load = self.friction_load("friction" in sources)[1]
