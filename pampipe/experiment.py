@@ -61,12 +61,18 @@ class Experiment:
     tests: tuple[TestSpec, ...]
     fit: dict[str, Any]
     pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
+    prior_file: Path | None = None  # the PAM file of its prior (fit.prior.pam), if any
 
     @property
     def input_files(self) -> list[Path]:
         """Every file the experiment reads: itself, its PAM file and its CSV files."""
         own = [self.source] + ([self.pam_file] if self.pam_file is not None else [])
         return own + [t.data for t in self.tests]
+
+    @property
+    def validated_files(self) -> list[Path]:
+        """The files its validation read: itself, its PAM file and its prior's (not the CSV data)."""
+        return [self.source, *(f for f in (self.pam_file, self.prior_file) if f is not None)]
 
 
 @dataclass(frozen=True)

@@ -16,11 +16,11 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import replace
-from importlib.metadata import PackageNotFoundError, version
 
 import casadi as ca
 import numpy as np
 
+from pampipe import __version__
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
 from pampipe.identification import drucker, envelope, exact, multistart, problem, quality, seeds, written
@@ -485,10 +485,6 @@ def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[st
 
 
 def _provenance(data, structure, nlp) -> dict:
-    try:
-        pampipe_version = version("pampipe")
-    except PackageNotFoundError:
-        pampipe_version = "unknown"
-    return {"pampipe": pampipe_version, "casadi": ca.__version__, "numpy": np.__version__,
+    return {"pampipe": __version__, "casadi": ca.__version__, "numpy": np.__version__,
             "experiment": str(data.source), "parameters": nlp.n_x, "constraints": nlp.n_g,
             "nlp_nodes": nlp.n_nodes}
