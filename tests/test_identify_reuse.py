@@ -81,3 +81,21 @@ def test_the_noise_floor_from_the_scored_model_equals_the_row_by_row_one(monkeyp
     result = identify(data, FitOptions(mode=mode, slack=slack))
     assert len(pairs) == 1 and pairs[0][0] == pairs[0][1]
     assert result.model_error == pairs[0][1] and pairs[0][1].noise_floor > 0
+
+
+def test_the_parameters_packed_once_evaluate_as_the_numpy_ones(data, monkeypatch):
+    """Layout.pack converts p to CasADi once per solve instead of at every call: the functions give the
+    numbers of the numpy p, bit for bit."""
+    from pampipe.identification import exact
+
+    seen = []
+    polish = exact.polish
+    monkeypatch.setattr(exact, "polish", lambda nlp, p, x, *rest: seen.append((nlp, p, x))
+                        or polish(nlp, p, x, *rest))
+    identify(data, FitOptions())
+    nlp, p, x = seen[-1]
+    plain = np.asarray(p, dtype=float).ravel()
+    assert plain.size == nlp.layout.size and not isinstance(p, np.ndarray)
+    for function in (nlp.sse, nlp.hessian, nlp.constraints, nlp.gradient):
+        for packed, unpacked in zip(function.call([x, p]), function.call([x, plain]), strict=True):
+            assert np.array_equal(np.asarray(packed), np.asarray(unpacked))
