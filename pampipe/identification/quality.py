@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.experiment import TestData
+from pampipe.protocol import group_order
 
 #: The fit is reported as above the noise when some test's RMSE exceeds this multiple of its floor.
 WARN_RATIO = 3.0
@@ -186,10 +187,9 @@ def _paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _path_order(x: np.ndarray, group: np.ndarray) -> np.ndarray:
     """``np.lexsort((x, group))`` (by group, then x; ties in recorded order) as two stable sorts, the one
-    by group (few values: uint16 where they fit) a radix sort: 1.5x faster at 1.8·10⁶ rows."""
+    by group a radix sort (:func:`~pampipe.protocol.group_order`): 1.5x faster at 1.8·10⁶ rows."""
     order = np.argsort(x, kind="stable")
-    key = group[order]
-    return order[np.argsort(key.astype(np.uint16) if key.max(initial=0) < 2**16 else key, kind="stable")]
+    return order[group_order(group[order])]
 
 
 def _row_groups(columns: list[np.ndarray]) -> np.ndarray:
