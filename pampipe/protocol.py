@@ -168,13 +168,25 @@ def rate_sign(x: np.ndarray) -> np.ndarray:
         if 2 * lag >= n:
             return signs
         delta = x[2 * lag:] - x[:-2 * lag]
-        if np.median(np.abs(delta)) > 6 * sigma:
+        if _median_above(np.abs(delta), 6 * sigma):
             break
         lag *= 2
     core = np.where(np.abs(delta) > 3 * np.sqrt(2) * sigma, np.sign(delta), 0).astype(np.int8)
     signs[lag:n - lag] = core
     signs[:lag], signs[n - lag:] = core[0], core[-1]
     return _drop_short_runs(signs, lag)
+
+
+def _median_above(values: np.ndarray, threshold: float) -> bool:
+    """``np.median(values) > threshold`` for values without NaN, by counting the values above: the
+    median (the middle value, or the mean of the two) is above when more than half are, not when fewer
+    than half are; only a tie between the two middle values needs the median itself."""
+    above, half = int(np.count_nonzero(values > threshold)), values.size // 2
+    if values.size % 2:
+        return above > half
+    if above != half:
+        return above > half
+    return bool(np.median(values) > threshold)
 
 
 def _fill(signs: np.ndarray) -> np.ndarray:
