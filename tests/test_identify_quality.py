@@ -392,6 +392,12 @@ def test_a_failed_hinge_refit_keeps_the_fit_and_says_so(radial_pam, muscle, monk
     result = identify(data, FitOptions(degree=1))
     assert len(calls) == 2
     assert any("the fit reported scores them by the negative model force" in w for w in result.warnings)
+    # the first fit's report, computed only once the refit failed, is the one a single round reports
+    monkeypatch.setattr(fit_module, "_fit", real)
+    monkeypatch.setattr(fit_module, "HINGE_ROUNDS", 1)
+    alone = identify(data, FitOptions(degree=1))
+    assert np.array_equal(result.x, alone.x) and result.sse == alone.sse and result.tests == alone.tests
+    assert repr(result.quality) == repr(alone.quality) and repr(result.model_error) == repr(alone.model_error)
 
 
 def test_a_catalogue_angle_with_a_pipe_it_cannot_reach_is_calibrated_not_refused(radial_pam, muscle, tmp_path,
