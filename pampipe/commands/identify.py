@@ -17,6 +17,7 @@ from pampipe.commands.common import (
 )
 from pampipe.display import column, scaled
 from pampipe.errors import InputError
+from pampipe.heap import retain_freed_memory
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
 from pampipe.identification.options import fit_options, parse_fit_options
@@ -88,6 +89,7 @@ def run(args: argparse.Namespace) -> int:
     def progress(text: str) -> None:
         note(f"pampipe identify: {text}")
 
+    retain_freed_memory()  # arrays of MBs per test, freed and made again: reuse them (pampipe.heap)
     data = load_experiment_data(experiment, progress=progress)
     with deferred() as later:  # below 10⁵ rows a step is noted only when it takes more than a second
         result = identify(data, options, progress=progress if data.points >= 100_000 else
