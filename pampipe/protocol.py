@@ -223,8 +223,9 @@ def _drop_short_runs(signs: np.ndarray, shortest: int) -> np.ndarray:
     return np.repeat(values, ends - starts)
 
 
-def _segments(groups: np.ndarray | None, order: np.ndarray | None, n: int):
-    """(rows in group-then-time order, bounds of each group in it)."""
+def segments(groups: np.ndarray | None, order: np.ndarray | None, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(rows in group-then-time order, bounds of each group in it) of ``n`` rows in ``groups`` (None:
+    one group), in time ``order`` (None: recorded order); what :func:`directions` and :func:`cycles` take."""
     order = np.arange(n) if order is None else order
     if groups is None:
         return order, np.array([0, n])
@@ -234,20 +235,20 @@ def _segments(groups: np.ndarray | None, order: np.ndarray | None, n: int):
     return rows, np.concatenate([[0], np.flatnonzero(np.diff(grouped[by_group])) + 1, [n]])
 
 
-def directions(x: np.ndarray, groups: np.ndarray | None, order: np.ndarray | None) -> np.ndarray:
-    """:func:`rate_sign` of ``x`` within each group, in time ``order`` (None: recorded order)."""
+def directions(x: np.ndarray, grouped: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """:func:`rate_sign` of ``x`` within each group of ``grouped`` (:func:`segments`), in time order."""
     out = np.zeros(x.size, dtype=np.int8)
-    rows, bounds = _segments(groups, order, x.size)
+    rows, bounds = grouped
     for a, b in itertools.pairwise(bounds):
         out[rows[a:b]] = rate_sign(x[rows[a:b]])
     return out
 
 
-def cycles(signs: np.ndarray, groups: np.ndarray, order: np.ndarray | None) -> np.ndarray:
-    """Cycle index per row: +1 at every switch from +1 to −1 within a group, in time order (a
-    turning point, direction 0, between + and − is one switch)."""
+def cycles(signs: np.ndarray, grouped: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Cycle index per row: +1 at every switch from +1 to −1 within a group of ``grouped``
+    (:func:`segments`), in time order (a turning point, direction 0, between + and − is one switch)."""
     out = np.zeros(signs.size, dtype=np.int64)
-    rows, bounds = _segments(groups, order, signs.size)
+    rows, bounds = grouped
     for a, b in itertools.pairwise(bounds):
         s = _fill(signs[rows[a:b]]).astype(np.int64)
         out[rows[a:b]] = np.cumsum(np.concatenate([[0], (np.diff(s) < 0).astype(np.int64)]))
