@@ -8,10 +8,10 @@ stopped 2.4·10⁻⁵ (relative SSE) above pampipe's constrained optimum, lsmr 6
 (its inner iterations stop early on these ill-conditioned regressors), so exact is the stronger. Data:
 the paper protocol of ``bench_identify.py`` (demo moduli, 2 N noise) at ≈ 2988·scale rows. Each
 command runs as a fresh process with one BLAS thread, alternating; CPU time (user + system, from
-``getrusage`` of the children) and wall time are the medians of ``--repeat`` runs; pampipe's NLP cache
-is warm (filled by a first run). Printed per size: the load average, the three CPU times, pampipe ÷
-floor and peer ÷ pampipe (goals, issue 25: ≤ 1.1× the floor at 3·10⁵–3·10⁶ rows, ≥ 5× faster than the
-peer at 3·10⁶).
+``getrusage`` of the children) and wall time are the medians of ``--repeat`` runs; pampipe's cache is
+warm (filled by a first run: the NLPs and the validated experiment, :mod:`pampipe.io.validated`).
+Printed per size: the load average, the three CPU times, pampipe ÷ floor and peer ÷ pampipe (goals,
+issue 25: ≤ 1.1× the floor at 3·10⁵–3·10⁶ rows, ≥ 5× faster than the peer at 3·10⁶).
 
     .venv/bin/python benchmarks/bench_identify_floor.py [--scales 100 1000] [--repeat 3] [--no-peer]
         [--peer-solver exact|lsmr]

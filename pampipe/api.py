@@ -120,20 +120,20 @@ def load_mission(mission: Source, *, base=None):
     """A :class:`~pampipe.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself.
 
     A file that loaded before and is unchanged, with every file it names, comes from the cache
-    (:mod:`pampipe.io.mission_cache`) without being parsed again."""
-    from pampipe.io.mission_cache import cached_mission, keep_mission
+    (:mod:`pampipe.io.validated`) without being parsed again."""
+    from pampipe.io.validated import cached, keep
     from pampipe.mission import Mission
 
     if isinstance(mission, Mission):
         return mission
     path, raw = _file(mission, "mission", base)
-    if raw is None and (kept := cached_mission(path)) is not None:
+    if raw is None and (kept := cached("mission", path)) is not None:
         return kept  # read before, unchanged: no YAML parse, no schema library
     from pampipe.io.config import load_mission as load
 
     loaded = load(path, raw=raw)
     if raw is None:
-        keep_mission(path, loaded)
+        keep("mission", path, loaded, loaded.input_files)
     return loaded
 
 

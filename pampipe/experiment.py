@@ -61,12 +61,18 @@ class Experiment:
     tests: tuple[TestSpec, ...]
     fit: dict[str, Any]
     pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
+    prior_file: Path | None = None  # the PAM file of its prior (fit.prior.pam), if any
 
     @property
     def input_files(self) -> list[Path]:
         """Every file the experiment reads: itself, its PAM file and its CSV files."""
         own = [self.source] + ([self.pam_file] if self.pam_file is not None else [])
         return own + [t.data for t in self.tests]
+
+    @property
+    def validated_files(self) -> list[Path]:
+        """The files its validation read: itself, its PAM file and its prior's (not the CSV data)."""
+        return [self.source, *(f for f in (self.pam_file, self.prior_file) if f is not None)]
 
 
 @dataclass(frozen=True)
@@ -262,15 +268,17 @@ def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:
             held = protocol.cluster_levels(length) or protocol.equal_count_bins(length)
     leg, pressure_leg = zeros, zeros
     given = direction_signs(spec, columns)
+    groups = {"isobaric": levels.index, "isometric": None if held is None else held.index}.get(kind)
+    grouped = protocol.segments(groups, order, n)  # the rows of each level (held length) in time order
     if kind == "isobaric":
-        leg = _given_or(given, lambda: protocol.directions(length, levels.index, order))
+        leg = _given_or(given, lambda: protocol.directions(length, grouped))
     elif kind == "isometric":
-        pressure_leg = _given_or(given, lambda: protocol.directions(pressure, held.index, order))
+        pressure_leg = _given_or(given, lambda: protocol.directions(pressure, grouped))
     elif kind == "mixed":
-        leg = _given_or(given, lambda: protocol.directions(length, None, order))
-        pressure_leg = protocol.directions(pressure, None, order)
+        leg = _given_or(given, lambda: protocol.directions(length, grouped))
+        pressure_leg = protocol.directions(pressure, grouped)
     else:
-        pressure_leg = _given_or(given, lambda: protocol.directions(pressure, None, order))
+        pressure_leg = _given_or(given, lambda: protocol.directions(pressure, grouped))
     swept = leg if kind in ("isobaric", "mixed") else pressure_leg
     if given is not None:
         source = "column"
@@ -278,8 +286,7 @@ def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:
         source = "time"
     else:
         source = "row order" if np.any(swept) else "unknown"
-    groups = {"isobaric": levels.index, "isometric": None if held is None else held.index}.get(kind)
-    cycle = protocol.cycles(swept, np.zeros(n, dtype=np.int64) if groups is None else groups, order)
+    cycle = protocol.cycles(swept, grouped)
     return TestData(spec, pressure, force, length, time, levels.index, levels.values, leg, cycle,
                     pressure_leg, levels.source, kind,
                     None if held is None else held.index, None if held is None else held.values, source)
@@ -348,5 +355,7 @@ def pressure_levels(pressure: np.ndarray, *, max_levels: int = protocol.MAX_LEVE
 def legs_and_cycles(length: np.ndarray, level: np.ndarray):
     """(leg, cycle) per row of an isobaric test in recorded order: the sign of dL/dt within each
     level (:func:`pampipe.protocol.rate_sign`) and the shortening-lengthening cycle count."""
-    leg = protocol.directions(np.asarray(length, dtype=float), level, None)
-    return leg, protocol.cycles(leg, level, None)
+    length = np.asarray(length, dtype=float)
+    grouped = protocol.segments(np.asarray(level), None, length.size)
+    leg = protocol.directions(length, grouped)
+    return leg, protocol.cycles(leg, grouped)

@@ -168,7 +168,7 @@ def rate_sign(x: np.ndarray) -> np.ndarray:
         if 2 * lag >= n:
             return signs
         delta = x[2 * lag:] - x[:-2 * lag]
-        if np.median(np.abs(delta)) > 6 * sigma:
+        if _median_above(np.abs(delta), 6 * sigma):
             break
         lag *= 2
     core = np.where(np.abs(delta) > 3 * np.sqrt(2) * sigma, np.sign(delta), 0).astype(np.int8)
@@ -177,13 +177,34 @@ def rate_sign(x: np.ndarray) -> np.ndarray:
     return _drop_short_runs(signs, lag)
 
 
+def _median_above(values: np.ndarray, threshold: float) -> bool:
+    """``np.median(values) > threshold`` for values without NaN, by counting the values above: the
+    median (the middle value, or the mean of the two) is above when more than half are, not when fewer
+    than half are; only a tie between the two middle values needs the median itself."""
+    above, half = int(np.count_nonzero(values > threshold)), values.size // 2
+    if values.size % 2:
+        return above > half
+    if above != half:
+        return above > half
+    return bool(np.median(values) > threshold)
+
+
 def _fill(signs: np.ndarray) -> np.ndarray:
     """Zeros take the previous nonzero sign (the first nonzero one at the start)."""
     nonzero = np.flatnonzero(signs)
     if nonzero.size == 0:
         return signs
-    at = np.maximum(np.searchsorted(nonzero, np.arange(signs.size), side="right") - 1, 0)
-    return signs[nonzero[at]]
+    last = np.where(signs != 0, np.arange(signs.size), -1)  # the last nonzero row up to each row: a
+    np.maximum.accumulate(last, out=last)  # running maximum, not a search per row
+    last[last < 0] = nonzero[0]
+    return signs[last]
+
+
+def group_order(groups: np.ndarray) -> np.ndarray:
+    """``np.argsort(groups, kind="stable")`` of non-negative group indices, as a radix sort (uint16)
+    where they fit: O(n), where the merge sort of int64 is O(n log n)."""
+    fits = groups.size and groups.min() >= 0 and groups.max() < 2**16
+    return np.argsort(groups.astype(np.uint16) if fits else groups, kind="stable")
 
 
 def _drop_short_runs(signs: np.ndarray, shortest: int) -> np.ndarray:
@@ -202,31 +223,32 @@ def _drop_short_runs(signs: np.ndarray, shortest: int) -> np.ndarray:
     return np.repeat(values, ends - starts)
 
 
-def _segments(groups: np.ndarray | None, order: np.ndarray | None, n: int):
-    """(rows in group-then-time order, bounds of each group in it)."""
+def segments(groups: np.ndarray | None, order: np.ndarray | None, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(rows in group-then-time order, bounds of each group in it) of ``n`` rows in ``groups`` (None:
+    one group), in time ``order`` (None: recorded order); what :func:`directions` and :func:`cycles` take."""
     order = np.arange(n) if order is None else order
     if groups is None:
         return order, np.array([0, n])
     grouped = groups[order]
-    by_group = np.argsort(grouped, kind="stable")
+    by_group = group_order(grouped)
     rows = order[by_group]
     return rows, np.concatenate([[0], np.flatnonzero(np.diff(grouped[by_group])) + 1, [n]])
 
 
-def directions(x: np.ndarray, groups: np.ndarray | None, order: np.ndarray | None) -> np.ndarray:
-    """:func:`rate_sign` of ``x`` within each group, in time ``order`` (None: recorded order)."""
+def directions(x: np.ndarray, grouped: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """:func:`rate_sign` of ``x`` within each group of ``grouped`` (:func:`segments`), in time order."""
     out = np.zeros(x.size, dtype=np.int8)
-    rows, bounds = _segments(groups, order, x.size)
+    rows, bounds = grouped
     for a, b in itertools.pairwise(bounds):
         out[rows[a:b]] = rate_sign(x[rows[a:b]])
     return out
 
 
-def cycles(signs: np.ndarray, groups: np.ndarray, order: np.ndarray | None) -> np.ndarray:
-    """Cycle index per row: +1 at every switch from +1 to −1 within a group, in time order (a
-    turning point, direction 0, between + and − is one switch)."""
+def cycles(signs: np.ndarray, grouped: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Cycle index per row: +1 at every switch from +1 to −1 within a group of ``grouped``
+    (:func:`segments`), in time order (a turning point, direction 0, between + and − is one switch)."""
     out = np.zeros(signs.size, dtype=np.int64)
-    rows, bounds = _segments(groups, order, signs.size)
+    rows, bounds = grouped
     for a, b in itertools.pairwise(bounds):
         s = _fill(signs[rows[a:b]]).astype(np.int64)
         out[rows[a:b]] = np.cumsum(np.concatenate([[0], (np.diff(s) < 0).astype(np.int64)]))

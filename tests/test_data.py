@@ -142,3 +142,32 @@ def test_the_fast_reader_still_names_the_bad_line(tmp_path, monkeypatch, text, e
     path = write(tmp_path, "pressure [kPa],length [mm],force [N]\n" + text)
     with pytest.raises(InputError, match=re.escape(expected)):
         read_csv(path, required=AXIAL)
+
+
+def test_fill_and_group_order_equal_their_searching_and_merging_forms():
+    """protocol._fill (a running maximum) equals the search per row it replaced, and group_order (a radix
+    sort where the groups fit in uint16) equals the stable argsort, with few groups and with more."""
+    from pampipe.protocol import _fill, group_order
+
+    rng = np.random.default_rng(5)
+    for size in (0, 1, 7, 50_000):
+        signs = rng.choice(np.array([-1, 0, 0, 1], dtype=np.int8), size)
+        nonzero = np.flatnonzero(signs)
+        at = np.maximum(np.searchsorted(nonzero, np.arange(size), side="right") - 1, 0)
+        expected = signs[nonzero[at]] if nonzero.size else signs
+        assert np.array_equal(_fill(signs), expected)
+        for groups in (rng.integers(0, 11, size), rng.integers(0, 2**17, size)):
+            assert np.array_equal(group_order(groups), np.argsort(groups, kind="stable"))
+
+
+def test_median_above_equals_the_median_compared():
+    """rate_sign's lag test counts the values above the threshold instead of taking their median: the
+    same answer for odd and even sizes, thresholds at, between and beside the middle values, and ties."""
+    from pampipe.protocol import _median_above
+
+    rng = np.random.default_rng(6)
+    for size in (1, 2, 3, 4, 5, 10, 11, 1000, 1001):
+        for values in (rng.uniform(0, 1, size), np.round(rng.uniform(0, 1, size), 1)):
+            middle = np.sort(values)[[(size - 1) // 2, size // 2]]
+            for threshold in (*middle, middle.mean(), np.nextafter(middle.mean(), 0), -1.0, 2.0, 0.5):
+                assert _median_above(values, threshold) == (np.median(values) > threshold), (size, threshold)

@@ -321,7 +321,7 @@ def effect_rows(text: str) -> set[tuple[str, str, str, str]]:
 
 def undocumented(text: str) -> list[str]:
     """What the code accepts and ``text`` (formats.md) does not document, one line each."""
-    from pampipe.identification.options import FitSchema
+    from pampipe.identification.fit_schema import FitSchema
     from pampipe.io.config import TestSchema
     from pampipe.io.csvfile import DIMENSIONS, REQUIRED, SIGNS
     from pampipe.model.effects import LIBRARY

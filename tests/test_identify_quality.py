@@ -392,6 +392,12 @@ def test_a_failed_hinge_refit_keeps_the_fit_and_says_so(radial_pam, muscle, monk
     result = identify(data, FitOptions(degree=1))
     assert len(calls) == 2
     assert any("the fit reported scores them by the negative model force" in w for w in result.warnings)
+    # the first fit's report, computed only once the refit failed, is the one a single round reports
+    monkeypatch.setattr(fit_module, "_fit", real)
+    monkeypatch.setattr(fit_module, "HINGE_ROUNDS", 1)
+    alone = identify(data, FitOptions(degree=1))
+    assert np.array_equal(result.x, alone.x) and result.sse == alone.sse and result.tests == alone.tests
+    assert repr(result.quality) == repr(alone.quality) and repr(result.model_error) == repr(alone.model_error)
 
 
 def test_a_catalogue_angle_with_a_pipe_it_cannot_reach_is_calibrated_not_refused(radial_pam, muscle, tmp_path,
@@ -433,12 +439,26 @@ def test_a_calibration_range_the_tests_leave_empty_is_an_input_error(radial_pam,
 
 
 def test_row_groups_number_paths_as_a_unique_of_the_rows():
-    """The mixed-radix key (issue 25) numbers the distinct rows as np.unique(axis=0) does, also where the
-    ranges are too wide for one int64 key."""
-    from pampipe.identification.quality import _row_groups
+    """The mixed-radix key (issue 25) numbers the distinct rows as np.unique(axis=0) does: through the
+    table of present keys, by a 1-D unique where the table would be too large, and where the ranges are
+    too wide for one int64 key."""
+    from pampipe.identification.quality import RANK_TABLE, _row_groups
 
     rng = np.random.default_rng(3)
-    for size, bound in ((1, 5), (50, 3), (20_000, 40), (500, 2**40)):
+    assert (2 * 2**10) ** 3 > RANK_TABLE > (2 * 40) ** 3
+    for size, bound in ((1, 5), (50, 3), (20_000, 40), (2_000, 2**10), (500, 2**40)):
         columns = [rng.integers(-bound, bound, size) for _ in range(3)]
         expected = np.unique(np.column_stack(columns), axis=0, return_inverse=True)[1].ravel()
         assert np.array_equal(_row_groups(columns), expected)
+
+
+def test_paths_are_ordered_as_a_lexsort_by_group_then_coordinate():
+    """The two stable sorts of _path_order equal np.lexsort((x, group)), ties in x included, with few
+    groups (the uint16 radix sort) and with more than 2¹⁶."""
+    from pampipe.identification.quality import _path_order
+
+    rng = np.random.default_rng(4)
+    for size, groups in ((0, 1), (1, 1), (30_000, 84), (200_000, 100_000)):
+        x = np.round(rng.uniform(0, 1, size), 3)  # many ties
+        group = rng.integers(0, groups, size)
+        assert np.array_equal(_path_order(x, group), np.lexsort((x, group)))

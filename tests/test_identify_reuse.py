@@ -81,3 +81,40 @@ def test_the_noise_floor_from_the_scored_model_equals_the_row_by_row_one(monkeyp
     result = identify(data, FitOptions(mode=mode, slack=slack))
     assert len(pairs) == 1 and pairs[0][0] == pairs[0][1]
     assert result.model_error == pairs[0][1] and pairs[0][1].noise_floor > 0
+
+
+def test_the_parameters_packed_once_evaluate_as_the_numpy_ones(data, monkeypatch):
+    """Layout.pack converts p to CasADi once per solve instead of at every call: the functions give the
+    numbers of the numpy p, bit for bit."""
+    from pampipe.identification import exact
+
+    seen = []
+    polish = exact.polish
+    monkeypatch.setattr(exact, "polish", lambda nlp, p, x, *rest: seen.append((nlp, p, x))
+                        or polish(nlp, p, x, *rest))
+    identify(data, FitOptions())
+    nlp, p, x = seen[-1]
+    plain = np.asarray(p, dtype=float).ravel()
+    assert plain.size == nlp.layout.size and not isinstance(p, np.ndarray)
+    for function in (nlp.sse, nlp.hessian, nlp.constraints, nlp.gradient):
+        for packed, unpacked in zip(function.call([x, p]), function.call([x, plain]), strict=True):
+            assert np.array_equal(np.asarray(packed), np.asarray(unpacked))
+
+
+def test_empty_cells_leave_the_fit_unchanged_bit_for_bit(data, monkeypatch):
+    """The cell capacity's headroom (so that the hinge's refits keep one NLP) pads the cells with empty
+    ones: the fit with four times the capacity is the same, bit for bit."""
+    from pampipe.identification import cells, problem
+
+    base = identify(data, FitOptions())
+    sizes = []
+    monkeypatch.setattr(problem, "capacity",
+                        lambda count, **kw: sizes.append(count) or 4 * cells.capacity(count, **kw))
+    padded = identify(data, FitOptions())
+    assert sizes and padded.provenance["parameters"] == base.provenance["parameters"]
+    assert np.array_equal(padded.x, base.x) and padded.sse == base.sse
+    assert padded.solver.iterations == base.solver.iterations
+    for name in ("lower", "upper", "at_bound"):
+        assert np.array_equal(getattr(padded.uncertainty, name), getattr(base.uncertainty, name),
+                              equal_nan=True), name
+    assert repr(padded.model_error) == repr(base.model_error) and repr(padded.quality) == repr(base.quality)

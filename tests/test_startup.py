@@ -126,7 +126,7 @@ def test_plan_without_json_or_report_exits_0():
 
 
 def test_large_mission_files_are_not_kept(tmp_path):
-    from pampipe.io.mission_cache import LARGEST_KEPT
+    from pampipe.io.validated import LARGEST_KEPT
 
     shutil.copytree(PROBLEMS / "missions", tmp_path / "missions")
     shutil.copytree(PROBLEMS / "pams", tmp_path / "pams")

@@ -17,13 +17,12 @@ from pampipe.commands.common import (
 )
 from pampipe.display import column, scaled
 from pampipe.errors import InputError
+from pampipe.heap import retain_freed_memory
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
-from pampipe.identification.options import fit_options
-from pampipe.io.config import load_experiment
+from pampipe.identification.options import fit_options, parse_fit_options
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
-from pampipe.io.pamfile import write_pam
 from pampipe.model.uncertainty import SCALED_UNITS
 from pampipe.progress import deferred, note
 from pampipe.report import table
@@ -76,10 +75,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    experiment = load_experiment(args.experiment)
-    options = fit_options(experiment.fit, {key: getattr(args, key) for key in FLAGS},
-                          calibrate=args.calibrate or (), pipe_diameters=args.pipe_diameter or (),
-                          source=experiment.source, where="command line", names=FLAGS)
+    experiment, options = validated(args.experiment)
+    flags = {key: getattr(args, key) for key in FLAGS}
+    if args.calibrate or args.pipe_diameter or any(value is not None for value in flags.values()):
+        options = fit_options(experiment.fit, flags, calibrate=args.calibrate or (),
+                              pipe_diameters=args.pipe_diameter or (), source=experiment.source,
+                              where="command line", names=FLAGS)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")
     if args.report is not None:
@@ -88,6 +89,7 @@ def run(args: argparse.Namespace) -> int:
     def progress(text: str) -> None:
         note(f"pampipe identify: {text}")
 
+    retain_freed_memory()  # arrays of MBs per test, freed and made again: reuse them (pampipe.heap)
     data = load_experiment_data(experiment, progress=progress)
     with deferred() as later:  # below 10⁵ rows a step is noted only when it takes more than a second
         result = identify(data, options, progress=progress if data.points >= 100_000 else
@@ -95,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
     document = result.as_document()
     document["experiment"] = str(experiment.source)
     if args.output is not None:
+        from pampipe.io.pamfile import write_pam
+
         _check_determined(result, experiment.source, args.output)
         write_pam(args.output, result.fitted_pam(experiment.pam),
                   comments=result.pam_comments(experiment.source))
@@ -117,6 +121,23 @@ def run(args: argparse.Namespace) -> int:
             for path in plot_slip(data.slip, result.slip, args.plots):
                 say(args, f"wrote {path}")
     return 0
+
+
+def validated(path: Path):
+    """(the experiment, the options of its ``fit:`` block) of an experiment file: kept from a previous run
+    while every file its validation read is unchanged (:mod:`pampipe.io.validated`: no YAML parse, no
+    schema library), else validated and kept."""
+    from pampipe.io.validated import cached, keep
+
+    kept = cached("experiment", path)
+    if kept is not None:
+        return kept
+    from pampipe.io.config import load_experiment
+
+    experiment = load_experiment(path)
+    loaded = experiment, parse_fit_options(experiment.fit, source=experiment.source)
+    keep("experiment", path, loaded, experiment.validated_files)
+    return loaded
 
 
 def result_text(result) -> str:

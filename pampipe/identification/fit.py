@@ -15,12 +15,15 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import replace
-from importlib.metadata import PackageNotFoundError, version
+from functools import cache
+from typing import NamedTuple
 
 import casadi as ca
 import numpy as np
 
+from pampipe import __version__
 from pampipe.errors import InputError, SolverError
 from pampipe.experiment import ExperimentData
 from pampipe.identification import drucker, envelope, exact, multistart, problem, quality, seeds, written
@@ -29,7 +32,7 @@ from pampipe.identification import model_error as model_errors
 from pampipe.identification.grip import identify_grip
 from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
-from pampipe.identification.predict import evaluate_tests
+from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identification.statistics import Memo, Statistics, drucker_rows, reduce_experiment, without
@@ -56,11 +59,11 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         return identify_grip(data, options)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
-    result, warm, wall_time, iterations, builds, finish, notes = None, None, 0.0, 0, [], None, []
+    fitted, warm, wall_time, iterations, builds, notes = None, None, 0.0, 0, [], []
     memo = Memo()  # what the hinge's refits reuse of the first reduction
     for round_ in range(HINGE_ROUNDS):
         try:
-            result, finish_round, axial_model = _fit(data, options, say, hinge, warm, memo)
+            fitted = _fit(data, options, say, hinge, warm, memo)
         except SolverError as error:
             if round_ == 0:
                 raise
@@ -68,21 +71,21 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
                          f"max(0, F) failed ({error}); the fit reported scores them by the negative model "
                          "force.")  # the previous round's fit is reported
             break
-        finish = finish_round
-        wall_time, iterations = wall_time + result.solver.wall_time, iterations + result.solver.iterations
-        builds.append((result.solver.build_time, result.solver.origin))
-        more = {} if options.calibrate else _negative_rows(data, axial_model, hinge)
+        wall_time, iterations = wall_time + fitted.solver.wall_time, iterations + fitted.solver.iterations
+        builds.append((fitted.solver.build_time, fitted.solver.origin))
+        more = {} if options.calibrate else _negative_rows(data, fitted.axial_model, hinge)
         if not more:
             break
         say(f"{sum(r.size for r in more.values())} measured row(s) where the model predicts no tension: "
             "refitting them as max(0, F)")
         hinge = {i: np.union1d(hinge.get(i, np.zeros(0, dtype=np.int64)), more.get(i, ()))
                  for i in set(hinge) | set(more)}
-        warm = result.x
+        warm = fitted.x
     else:
         notes.append(f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
                      "predict a negative force and are scored by it (the slack hinge did not settle).")
-    model_error, joint, fit_quality, predictions, warnings = finish()  # once, for the fit reported
+    result, finish = fitted.report()  # only for the fit reported
+    model_error, joint, fit_quality, predictions, warnings = finish()
     warnings = (*warnings, *quality.warnings(fit_quality, result.calibration, options.calibrate), *notes)
     result = replace(result, model_error=model_error, parameter_uncertainty=joint, quality=fit_quality,
                      predictions=predictions, warnings=warnings)
@@ -116,12 +119,21 @@ def _negative_rows(data: ExperimentData, axial_model: dict[int, np.ndarray], hin
     return out
 
 
-def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo):
-    """(IdentifyResult, finish, axial model): one fit with the ``hinge`` rows in cells, from ``warm``
-    (a previous solution) if given; ``finish()`` gives its (model error, written joint uncertainty,
-    fit quality, predictions the data determine, warnings), which the result leaves out (None, no
-    warnings) because only the fit reported needs them (not every round of the hinge); the axial
-    model: test index → F_ax of every row [N], before the hinge.
+class Round(NamedTuple):
+    """One fit of the slack hinge's rounds (see :func:`_fit`)."""
+
+    x: np.ndarray  # the solution
+    solver: SolverInfo  # this round's solve
+    report: Callable  # () -> (IdentifyResult, finish), computed when asked for: only the reported round is
+    axial_model: dict[int, np.ndarray]  # test index -> F_ax of every row [N], before the hinge
+
+
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo) -> Round:
+    """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution) if given. Its
+    report gives the IdentifyResult and ``finish``; ``finish()`` gives its (model error, written joint
+    uncertainty, fit quality, predictions the data determine, warnings), which the result leaves out
+    (None, no warnings). Both are computed only for the fit reported, not for every round of the hinge,
+    which needs only the axial model to find the rows it moves.
     ``memo``: what the rounds of the hinge share of the reduction
     (:class:`~pampipe.identification.statistics.Memo`)."""
     stated = data.pam.geometry
@@ -217,52 +229,61 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
     geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if options.calibrate else stated
 
     moduli, pipe_moduli, blocks = problem.moduli_of(structure, stats, x)
-    sse_model = float(nlp.sse(x, p))
-    hessian = np.asarray(nlp.hessian(x, p), dtype=float)
-    uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
-    tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
-                                                             slack=options.slack)
-    minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
-    blocked = geo.blocked_force(data, geometry)
-    calibration = replace(
-        _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
-                     geo.blocked_force(data, stated) if options.calibrate else blocked),
-        blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
+    axial = {i: predict(Pam(data.pam.name, geometry, moduli), t) for i, t in enumerate(data.tests)
+             if t.kind == "axial"}
+    solver = SolverInfo(info.status, True, iterations, wall_time, build_time, reduce_time,
+                        float(solution["f"]), nlp.origin)
 
-    def muscles_at(xv):
-        return problem.muscles_of(structure, stats, stated, xv)
+    @cache
+    def report():
+        """(IdentifyResult, finish) of this fit."""
+        sse_model = float(nlp.sse(x, p))
+        hessian = np.asarray(nlp.hessian(x, p), dtype=float)
+        uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
+        tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
+                                                                 slack=options.slack, evaluated=axial)
+        minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
+        blocked = geo.blocked_force(data, geometry)
+        calibration = replace(
+            _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
+                         geo.blocked_force(data, stated) if options.calibrate else blocked),
+            blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
 
-    prior_hessian = problem.prior_hessian(structure, values, x.size)
-    data_only = None if prior == "none" else analyse(x, hessian - prior_hessian, sse_model, points_fit, lbx,
-                                                     ubx, names)
+        def muscles_at(xv):
+            return problem.muscles_of(structure, stats, stated, xv)
 
-    def finish():
-        model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
-                                            slack=options.slack, half_range=0.5 * (ubx - lbx),
-                                            constraints=_constraints(structure, grid, x, lbx, ubx,
-                                                                     uncertainty.at_bound),
-                                            model=unclipped)
-        top = max(float(t.pressure.max()) for t in data.tests)
-        joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
-                                              model_error.value, lambda xv: muscles_at(xv)[0],
-                                              written.bores(data, options, geometry), top, data_only)
-        predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options, stats)
-        warnings = _warnings(info.status, uncertainty, names, minimum, options, structure, calibration, stats,
-                             data, predictions)
-        return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound), predictions,
-                tuple(warnings))
+        prior_hessian = problem.prior_hessian(structure, values, x.size)
+        data_only = None if prior == "none" else analyse(x, hessian - prior_hessian, sse_model, points_fit,
+                                                         lbx, ubx, names)
 
-    return IdentifyResult(
-        success=True, status=info.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
-        names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points,
-        solver=SolverInfo(info.status, True, iterations, wall_time, build_time, reduce_time,
-                          float(solution["f"]), nlp.origin),
-        uncertainty=uncertainty, drucker_minimum=minimum,
-        drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(), "form": options.drucker},
-        warnings=(), provenance=_provenance(data, structure, nlp), geometry=geometry,
-        calibration=calibration, predictions=None, slack_rows=stats.slack_rows,
-        excluded_rows=stats.excluded, parameter_uncertainty=None, model_error=None,
-        quality=None), finish, {i: unclipped[t.name] for i, t in enumerate(data.tests) if t.kind == "axial"}
+        def finish():
+            model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
+                                                slack=options.slack, half_range=0.5 * (ubx - lbx),
+                                                constraints=_constraints(structure, grid, x, lbx, ubx,
+                                                                         uncertainty.at_bound),
+                                                model=unclipped)
+            top = max(float(t.pressure.max()) for t in data.tests)
+            joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
+                                                  model_error.value, lambda xv: muscles_at(xv)[0],
+                                                  written.bores(data, options, geometry), top, data_only)
+            predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options,
+                                               stats)
+            warnings = _warnings(solver.status, uncertainty, names, minimum, options, structure, calibration,
+                                 stats, data, predictions)
+            return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound),
+                    predictions, tuple(warnings))
+
+        return IdentifyResult(
+            success=True, status=solver.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
+            names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points, solver=solver,
+            uncertainty=uncertainty, drucker_minimum=minimum,
+            drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(),
+                          "form": options.drucker},
+            warnings=(), provenance=_provenance(data, structure, nlp), geometry=geometry,
+            calibration=calibration, predictions=None, slack_rows=stats.slack_rows,
+            excluded_rows=stats.excluded, parameter_uncertainty=None, model_error=None, quality=None), finish
+
+    return Round(x, solver, report, axial)
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.
@@ -485,10 +506,6 @@ def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[st
 
 
 def _provenance(data, structure, nlp) -> dict:
-    try:
-        pampipe_version = version("pampipe")
-    except PackageNotFoundError:
-        pampipe_version = "unknown"
-    return {"pampipe": pampipe_version, "casadi": ca.__version__, "numpy": np.__version__,
+    return {"pampipe": __version__, "casadi": ca.__version__, "numpy": np.__version__,
             "experiment": str(data.source), "parameters": nlp.n_x, "constraints": nlp.n_g,
             "nlp_nodes": nlp.n_nodes}

@@ -111,11 +111,13 @@ def sample_rows(data, slack: str, *, limit: int | None = SAMPLE) -> RowSample:
 def _scored(test, model: np.ndarray, slack: str) -> tuple[np.ndarray, np.ndarray]:
     """(residual [N], measured force [N]) of the fitted rows of one test, as :func:`row_forces` scores
     them, from ``model``: the model force of every row before the hinge."""
-    used = ~test.slack if slack == "exclude" and test.kind == "axial" else np.ones(test.points, dtype=bool)
-    force = test.force[used]
-    model = model[used]
+    if slack == "exclude" and test.kind == "axial":
+        used = ~test.slack
+        force, model = test.force[used], model[used]
+    else:  # every row (no copy)
+        force = test.force
     if test.kind == "axial" and slack == "unilateral":
-        model = np.where(test.slack[used], np.maximum(model, 0.0), model)
+        model = np.where(test.slack, np.maximum(model, 0.0), model)
     return model - force, force
 
 

@@ -23,6 +23,7 @@ fit:
   calibration_bounds: {braid_angle: [20 deg, 30 deg], initial_length: [300 mm, 320 mm]}
   pipe_diameters: [3 in, 3.5 in] # where the report judges the radial-force predictions
 ```
+The schema of the block is :mod:`.fit_schema` (pydantic, imported only when a block is validated).
 Bounds follow docs/physics.md §6: constant-term coefficients a_k0 ∈ [0, 50] MPa, all others ∈ [−50, 50] MPa.
 Calibrated geometry stays within ``calibration_bounds`` (default: the stated braid angle ± 10°, the
 stated rest length ± 5 %, the stated wall thickness × [0.25, 4]), narrowed where the braid model
@@ -31,119 +32,17 @@ would leave its domain for the tested lengths and pipes (docs/physics.md §2).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Literal
 
 import numpy as np
-from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
 from pampipe.model.uncertainty import moduli_names
-from pampipe.schema import Strict, quantity
-from pampipe.schema import validate as _validate
 
-Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
-Length = quantity("length", gt=0, le=10.0, unit="m")
-Angle = quantity("angle", gt=0, lt=math.pi / 2, unit="rad")
 #: Geometry that ``fit.calibrate`` can fit, in the order of the decision vector.
 CALIBRATABLE = ("braid_angle", "initial_length", "bladder_thickness")
-
-
-class GridSchema(Strict):
-    pressures: int = Field(6, ge=2, le=100)
-    lengths: int = Field(15, ge=2, le=400)
-
-
-class BoundsSchema(Strict):
-    model_config = Strict.model_config | {"strict": False}  # YAML lists become (low, high) tuples
-    constant: tuple[Stress, Stress] = (0.0, 50e6)
-    other: tuple[Stress, Stress] = (-50e6, 50e6)
-    contact: tuple[Stress, Stress] = (-50e6, 50e6)
-
-    @model_validator(mode="after")
-    def _ordered(self):
-        for name in ("constant", "other", "contact"):
-            low, high = getattr(self, name)
-            if not low < high:
-                raise ValueError(f"bounds.{name}: the lower bound {low:g} Pa must be below the upper "
-                                 f"bound {high:g} Pa")
-        return self
-
-
-class CoefficientPrior(Strict):
-    """``{value: 4.4 MPa, sd: 0.5 MPa}``: a Gaussian prior on one moduli coefficient."""
-
-    value: Stress
-    sd: quantity("pressure", ge=1e3, le=1e10, unit="Pa")
-
-
-class PriorSchema(Strict):
-    """A ridge ``{sd, toward}``; or a Gaussian prior: ``coefficients: {hoop.a0: {value, sd}}``, or
-    ``pam: FILE`` (its moduli and ``uncertainty:`` covariance, read by the experiment loader into
-    ``mean`` [Pa] and ``covariance`` [Pa²])."""
-
-    sd: quantity("pressure", ge=1e3, le=1e10, unit="Pa") | None = None  # below 1 kPa it fixes the coefficient
-    toward: Literal["input", "axial", "zero"] = "input"
-    coefficients: dict[str, CoefficientPrior] | None = Field(None, min_length=1, max_length=32)
-    pam: str | None = Field(None, min_length=1)
-    mean: list[float] | None = Field(None, min_length=1, max_length=32)
-    covariance: list[list[float]] | None = None
-
-    @model_validator(mode="after")
-    def _one_kind(self):
-        given = [name for name in ("sd", "coefficients", "pam") if getattr(self, name) is not None]
-        if self.mean is not None and self.pam is None:
-            given.append("mean")
-        if len(given) != 1:
-            raise ValueError("give exactly one of sd (a ridge: {sd: 2 MPa, toward: input}), coefficients "
-                             "({hoop.a0: {value: 4.4 MPa, sd: 0.5 MPa}}) or pam (a PAM file with moduli: "
-                             f"and uncertainty:); {', '.join(given) or 'none'} given")
-        if (self.mean is None) != (self.covariance is None):
-            raise ValueError("mean and covariance go together")
-        if self.pam is not None and self.mean is None:
-            raise ValueError(f"pam: {self.pam!r} is read by the experiment loader; give the prior in an "
-                             "experiment file")
-        return self
-
-
-class CalibrationBoundsSchema(Strict):
-    model_config = Strict.model_config | {"strict": False}  # YAML lists become (low, high) tuples
-    braid_angle: tuple[Angle, Angle] | None = None
-    initial_length: tuple[Length, Length] | None = None
-    bladder_thickness: tuple[Length, Length] | None = None
-
-    @model_validator(mode="after")
-    def _ordered(self):
-        for name in CALIBRATABLE:
-            bounds = getattr(self, name)
-            if bounds is not None and not bounds[0] < bounds[1]:
-                raise ValueError(f"calibration_bounds.{name}: the lower bound must be below the upper bound")
-        return self
-
-
-class FitSchema(Strict):
-    degree: int = Field(3, ge=0, le=7)
-    mode: Literal["shared", "per_pipe", "contact_increment"] = "shared"
-    objective: Literal["least_squares", "sum_rmse"] = "least_squares"
-    average_legs: bool = False
-    average_bins: int = Field(30, ge=2, le=10_000)
-    drucker: Literal["tangent", "sum", "none"] = "tangent"
-    drucker_grid: GridSchema = GridSchema()
-    bounds: BoundsSchema = BoundsSchema()
-    contact_terms: Literal["constant", "full"] = "constant"
-    prior: PriorSchema | None = None
-    contact_smoothing: quantity("force", ge=1e-6, le=1e6, unit="N") = 1.0  # narrower: exp overflows
-    rmse_smoothing: float = Field(1e-4, gt=0, le=1e6)
-    max_iterations: int = Field(1000, ge=1, le=100_000)
-    tolerance: float = Field(1e-10, gt=0, le=1e-2)
-    slack: Literal["unilateral", "exclude"] = "unilateral"
-    calibrate: list[Literal["braid_angle", "initial_length", "bladder_thickness"]] = Field(
-        default_factory=list, max_length=3)
-    calibration_bounds: CalibrationBoundsSchema = CalibrationBoundsSchema()
-    pipe_diameters: list[Length] = Field(default_factory=list, max_length=50)
 
 
 @dataclass(frozen=True)
@@ -189,7 +88,10 @@ class FitOptions:
 def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file",
                       rename: dict[str, str] | None = None) -> FitOptions:
     """Validate a ``fit:`` mapping; errors name ``fit.<key>`` (or ``rename[key]``) and the value."""
-    schema = _validate(Path(source), _Wrapper, {"fit": dict(raw or {})}, rename=rename).fit
+    from pampipe.identification.fit_schema import FitBlock  # pydantic: only when a block is validated
+    from pampipe.schema import validate
+
+    schema = validate(Path(source), FitBlock, {"fit": dict(raw or {})}, rename=rename).fit
     return FitOptions(
         degree=schema.degree, mode=schema.mode, objective=schema.objective,
         average_legs=schema.average_legs, average_bins=schema.average_bins, drucker=schema.drucker,
@@ -207,7 +109,7 @@ def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file
         pipe_diameters=tuple(schema.pipe_diameters))
 
 
-def _gaussian_prior(prior: PriorSchema | None, degree: int, source) -> dict:
+def _gaussian_prior(prior, degree: int, source) -> dict:
     """FitOptions fields of a Gaussian prior (``coefficients`` or ``mean``/``covariance``), else {}."""
     if prior is None or prior.sd is not None:
         return {}
@@ -253,7 +155,3 @@ def fit_options(raw: dict | None, overrides: dict, *, calibrate: Sequence[str] =
     if pipe_diameters:
         options = options.with_overrides(pipe_diameters=(*options.pipe_diameters, *pipe_diameters))
     return options
-
-
-class _Wrapper(Strict):
-    fit: FitSchema

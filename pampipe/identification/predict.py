@@ -39,16 +39,17 @@ def residuals(pam: Pam, test: TestData) -> np.ndarray:
     return predict(pam, test) - test.force
 
 
-def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "unilateral"
-             ) -> tuple[TestFit, float, np.ndarray, np.ndarray]:
+def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "unilateral",
+             model: np.ndarray | None = None) -> tuple[TestFit, float, np.ndarray, np.ndarray]:
     """(fit quality of one test, its sum of squared residuals [N²], the model force of every row [N]
     as scored, and before the hinge).
 
     An axial test's rows are predicted as max(0, F): a muscle cannot push (the slack hinge,
     docs/physics.md §6.2); its slack rows (force ≤ 0) are scored so (``unilateral``) or left out
-    (``exclude``). The per-level table is kept only for tests with pressure levels.
+    (``exclude``). The per-level table is kept only for tests with pressure levels. ``model``: the
+    model force of every row before the hinge (:func:`predict`), if already evaluated.
     """
-    unclipped = model = predict(pam, test)
+    unclipped = model = predict(pam, test) if model is None else model
     used = np.ones(test.points, dtype=bool)
     slack_rows = test.slack if test.kind == "axial" else np.zeros(test.points, dtype=bool)
     if test.kind == "axial":
@@ -70,18 +71,20 @@ def test_fit(pam: Pam, test: TestData, *, block: str = "theta", slack: str = "un
 
 
 def evaluate_tests(data: ExperimentData, geometry, moduli: Moduli, pipe_moduli: dict[float, Moduli],
-                   blocks: dict, *, slack: str = "unilateral"
+                   blocks: dict, *, slack: str = "unilateral", evaluated: dict[int, np.ndarray] | None = None
                    ) -> tuple[tuple[TestFit, ...], float, float | None, dict[str, np.ndarray],
                               dict[str, np.ndarray]]:
     """(per-test fits, Σ squared residuals [N²], Σ over (test, level) of RMSE [N] or None when some
     test has no pressure levels, {test name: model force of every row as scored [N]}, the same
-    before the hinge max(0, F) of the axial tests)."""
+    before the hinge max(0, F) of the axial tests). ``evaluated``: test index → the model force of
+    every row before the hinge (:func:`predict`) of the tests already evaluated."""
     names = {id(m): name for name, m in blocks.items()}
     fits, sse, models, unclipped = [], 0.0, {}, {}
-    for test in data.tests:
+    for index, test in enumerate(data.tests):
         used = moduli if test.kind == "axial" else pipe_moduli.get(test.spec.pipe_diameter, moduli)
         fit, total, models[test.name], unclipped[test.name] = test_fit(
-            Pam(data.pam.name, geometry, used), test, block=names.get(id(used), "theta"), slack=slack)
+            Pam(data.pam.name, geometry, used), test, block=names.get(id(used), "theta"), slack=slack,
+            model=(evaluated or {}).get(index))
         fits.append(fit)
         sse += total
     sum_rmse = float(sum(level.rmse for fit in fits for level in fit.levels)) \

@@ -36,7 +36,7 @@ def structure_of(stats: Statistics, options: FitOptions, grid_rows: int, contact
         groups = len(stats.groups)
     else:
         groups = 1 if qr else 0
-    cells = 0 if stats.cells is None else capacity(stats.cells.count)
+    cells = 0 if stats.cells is None else capacity(stats.cells.count, headroom=not options.calibrate)
     return Structure(options.mode, options.objective, stats.n_theta, groups, qr, cells,
                      tuple((r.levels, r.pipe) for r in stats.radial), len(stats.pipes),
                      grid_rows, contact_rows, options.contact_terms, prior,

@@ -1,7 +1,7 @@
 """The user's on-disk cache of pampipe: its folder, its pruning and the hash of the package's source.
 
-Built NLPs (:func:`pampipe.nlp.cached_functions`) and validated missions
-(:mod:`pampipe.io.mission_cache`) are kept there as one folder per entry. Importing this module loads
+Built NLPs (:func:`pampipe.nlp.cached_functions`) and validated missions and experiments
+(:mod:`pampipe.io.validated`) are kept there as one folder per entry. Importing this module loads
 neither CasADi nor pydantic.
 """
 

@@ -493,16 +493,24 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
                                   t.direction.column, t.direction.loading, t.direction.unloading,
                                   t.direction.held)))
     pam_file = _relative(path, schema.pam) if isinstance(schema.pam, str) else None
-    return Experiment(path, pam, tuple(tests), _prior_from_pam(path, dict(schema.fit or {})), pam_file)
+    fit = dict(schema.fit or {})
+    return Experiment(path, pam, tuple(tests), _prior_from_pam(path, fit), pam_file, _prior_file(path, fit))
+
+
+def _prior_file(path: Path, fit: dict) -> Path | None:
+    """The PAM file named by ``fit.prior.pam`` (see :func:`_prior_from_pam`), or None."""
+    prior = fit.get("prior")
+    return _relative(path, prior["pam"]) if isinstance(prior, dict) and isinstance(prior.get("pam"), str) \
+        else None
 
 
 def _prior_from_pam(path: Path, fit: dict) -> dict:
     """``fit`` with ``prior: {pam: FILE}`` read: the file's moduli as ``mean`` [Pa] and the moduli block of
     its ``uncertainty:`` as ``covariance`` [Pa²] (docs/formats.md §3, fit.prior)."""
-    prior = fit.get("prior")
-    if not (isinstance(prior, dict) and isinstance(prior.get("pam"), str)):
+    target = _prior_file(path, fit)
+    if target is None:
         return fit
-    target = _relative(path, prior["pam"])
+    prior = fit["prior"]
     try:
         pam = load_pam(target)
     except InputError as exc:

@@ -191,7 +191,7 @@ def _read_open(path, blocks, required, progress, size, parse) -> dict[str, np.nd
     chunks = []
     rows = 0
     for start, chunk in itertools.chain([(first + 1, rest)], blocks):
-        if not chunk.strip():
+        if not chunk or chunk.isspace():  # = not chunk.strip(), without copying the block
             continue
         block = None
         signs = next((names[n] for n in SIGNS if n in names), None)
