@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pampipe.model.muscle import Anchored, Muscle, Structure
+from pampipe.model.muscle import PRESSURE_LIMIT, Anchored, Muscle, Structure
 from pampipe.model.pam import Geometry
 from pampipe.model.slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.memo import Memo
@@ -59,6 +59,27 @@ def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
         return _muscle(structure, p).affine_coefficients(d)
 
 
+def least_pressure(c: Anchored, w, kappa, mu, sf: float) -> np.ndarray:
+    """P* [Pa] of a muscle without contact increments or effects, bit for bit
+    :meth:`Muscle.closed_form_pressure` (the same operations in the same order) with two full-size
+    temporaries, not a dozen: P* = max((κW − F₀)/F₁ + (SF·W/(μπA))/F₁, 0) where F₁ > 0, μ > 0 and
+    P* ≤ 100 MPa before the floor, else inf; ``c`` (:func:`anchored_at`, F₀ with the model error) broadcasts
+    against the load ``w`` [N], ``kappa`` and ``mu``."""
+    shape = np.broadcast_shapes(*(np.shape(v) for v in (w, kappa, mu, c.at_zero, c.slope, c.amplification)))
+    with np.errstate(all="ignore"):
+        out = np.subtract(kappa * w, c.at_zero, out=np.empty(shape))
+        np.divide(out, c.slope, out=out)
+        target = np.multiply(mu * math.pi, c.amplification, out=np.empty(shape))
+        np.divide(sf * w, target, out=target)
+        np.divide(target, c.slope, out=target)
+        np.add(out, target, out=out)
+        holds = np.less_equal(out, PRESSURE_LIMIT)
+        holds &= (c.slope > 0) & (mu > 0)
+        np.maximum(out, 0.0, out=out)
+        np.copyto(out, np.inf, where=np.logical_not(holds, out=holds))
+    return out
+
+
 def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
                 pressure: float | None = None):
     """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N] or None without ``pressure``) from the coefficients ``c``
@@ -69,7 +90,11 @@ def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, 
     largest = None
     with np.errstate(all="ignore"):
         c = dataclasses.replace(c, at_zero=c.at_zero + e)
-        least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf, anchored=c)
+        if structure.contact or structure.effects:
+            least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf,
+                                                anchored=c)
+        else:
+            least = least_pressure(c, w, kappa, mu, sf)
         touch = -c.at_zero / c.slope
         if pressure is not None:
             stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
