@@ -35,3 +35,5 @@ def test_least_pressure_is_the_closed_form_bit_for_bit(radial_pam, seed):
         assert found.shape == expected.shape
         assert np.isinf(found).any() and (found == 0).any() and (found > 0).any()  # every branch taken
         np.testing.assert_array_equal(found.view(np.int64), expected.view(np.int64))
+        kept = least_pressure(c, w, kappa, m, 1.5, (m * np.pi, 1.5 * w))  # the evaluator's (μπ, SF·W)
+        np.testing.assert_array_equal(kept.view(np.int64), expected.view(np.int64))

@@ -59,18 +59,20 @@ def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
         return _muscle(structure, p).affine_coefficients(d)
 
 
-def least_pressure(c: Anchored, w, kappa, mu, sf: float) -> np.ndarray:
+def least_pressure(c: Anchored, w, kappa, mu, sf: float, scaled: tuple | None = None) -> np.ndarray:
     """P* [Pa] of a muscle without contact increments or effects, bit for bit
     :meth:`Muscle.closed_form_pressure` (the same operations in the same order) with two full-size
     temporaries, not a dozen: P* = max((κW − F₀)/F₁ + (SF·W/(μπA))/F₁, 0) where F₁ > 0, μ > 0 and
     P* ≤ 100 MPa before the floor, else inf; ``c`` (:func:`anchored_at`, F₀ with the model error) broadcasts
-    against the load ``w`` [N], ``kappa`` and ``mu``."""
+    against the load ``w`` [N], ``kappa`` and ``mu``; ``scaled``: (μπ, SF·W) when already computed (the
+    evaluator keeps them per friction draw: the full draw and friction alone share them)."""
+    grip, demand = (mu * math.pi, sf * w) if scaled is None else scaled
     shape = np.broadcast_shapes(*(np.shape(v) for v in (w, kappa, mu, c.at_zero, c.slope, c.amplification)))
     with np.errstate(all="ignore"):
         out = np.subtract(kappa * w, c.at_zero, out=np.empty(shape))
         np.divide(out, c.slope, out=out)
-        target = np.multiply(mu * math.pi, c.amplification, out=np.empty(shape))
-        np.divide(sf * w, target, out=target)
+        target = np.multiply(grip, c.amplification, out=np.empty(shape))
+        np.divide(demand, target, out=target)
         np.divide(target, c.slope, out=target)
         np.add(out, target, out=out)
         holds = np.less_equal(out, PRESSURE_LIMIT)
@@ -81,11 +83,11 @@ def least_pressure(c: Anchored, w, kappa, mu, sf: float) -> np.ndarray:
 
 
 def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
-                pressure: float | None = None):
+                pressure: float | None = None, scaled: tuple | None = None):
     """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N] or None without ``pressure``) from the coefficients ``c``
     (:func:`anchored_at`): the closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where
     it does not hold), with F₀ shifted by the model error ``e`` [N]; every argument broadcasts against
-    ``c``'s fields (``p`` (size, ...) too)."""
+    ``c``'s fields (``p`` (size, ...) too); ``scaled``: as :func:`least_pressure`."""
     muscle = _muscle(structure, p)
     largest = None
     with np.errstate(all="ignore"):
@@ -94,7 +96,7 @@ def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, 
             least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf,
                                                 anchored=c)
         else:
-            least = least_pressure(c, w, kappa, mu, sf)
+            least = least_pressure(c, w, kappa, mu, sf, scaled)
         touch = -c.at_zero / c.slope
         if pressure is not None:
             stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
@@ -130,6 +132,7 @@ class Evaluator:
         incline = classes.incline[rows]
         self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
         self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
+        self._scaled: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
 
     def inputs(self, sources, nominal=None, drawn_scalar=None) -> tuple:
         """(p (R, size), δ (C, R), μ (C, R), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
@@ -171,6 +174,13 @@ class Evaluator:
                                 pr.tether_drag)
             self._loads[drawn] = mu, load
         return self._loads[drawn]
+
+    def scaled(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(μπ, SF·W [N]) of :meth:`friction_load`, once per evaluator (:func:`least_pressure`)."""
+        if drawn not in self._scaled:
+            mu, load = self.friction_load(drawn)
+            self._scaled[drawn] = mu * math.pi, self.problem.safety_factor * load
+        return self._scaled[drawn]
 
     def monotone(self, name: str) -> int:
         """+1 (−1) where P* is non-decreasing (non-increasing) in the one drawn source ``name``, in floating
@@ -224,7 +234,7 @@ class Evaluator:
             c = Anchored(None, *(getattr(c, name)[pick] if np.ndim(getattr(c, name)) else getattr(c, name)
                                  for name in USED))  # per class; the anchored length is not used
             values = holding_law(self.structure, columns, c, load, kappa[None, :], mu, pr.safety_factor,
-                                 error[None, :], pressure)
+                                 error[None, :], pressure, self.scaled("friction" in sources))
             least = values[0] if least is None else np.maximum(least, values[0])  # never NaN: inf instead
             if pressure is not None:
                 held = values[2] if held is None else np.minimum(held, values[2])
