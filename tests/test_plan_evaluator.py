@@ -6,8 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from pampipe.io.config import load_mission
 from pampipe.model.muscle import Anchored, Muscle
-from pampipe.planning.evaluator import least_pressure
+from pampipe.planning.confidence import sampling_problem
+from pampipe.planning.evaluator import draws_key, least_pressure
+from pampipe.planning.problem import build_elements, mission_muscles
+from tests.conftest import PROBLEMS
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -37,3 +41,16 @@ def test_least_pressure_is_the_closed_form_bit_for_bit(radial_pam, seed):
         np.testing.assert_array_equal(found.view(np.int64), expected.view(np.int64))
         kept = least_pressure(c, w, kappa, m, 1.5, (m * np.pi, 1.5 * w))  # the evaluator's (μπ, SF·W)
         np.testing.assert_array_equal(kept.view(np.int64), expected.view(np.int64))
+
+
+def test_the_problem_names_its_draws_by_their_key():
+    """The chunks find the route's draws and coefficients per process by ``Problem.key``, computed once."""
+    mission = load_mission(PROBLEMS / "missions" / "riser-uncertain-friction.yaml")
+    muscles = mission_muscles(mission)
+    elements = build_elements(mission, muscles)
+    keys = []
+    for seed in (3, 4):
+        problem = sampling_problem(mission, muscles, elements, 0.95, samples=200, seed=seed)[0]
+        assert problem.key == draws_key(problem.uncertainties, 200, seed, problem.kappa_sd)
+        keys.append(problem.key)
+    assert keys[0] != keys[1]

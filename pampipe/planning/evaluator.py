@@ -114,7 +114,7 @@ class Evaluator:
     def __init__(self, problem: Problem, draws: MuscleDraws, classes: Classes, i: int, rows: np.ndarray,
                  bore: np.ndarray, friction: np.ndarray):
         self.problem, self.draws, self.i = problem, draws, i
-        self.key = draws_key(problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
+        self.key = problem.key
         self.structure = problem.structures[i]
         self.nominal = problem.uncertainties[i].nominal
         self.bore, self.friction = bore, friction  # (n, rows) deviations

@@ -88,13 +88,17 @@ class Problem:
     tether_drag: float  # [N]
     payload: float  # [kg]
     supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
+    key: str  # draws_key of the muscles' sources, draws, seed and κ sd: names the draws in every process
     twins: tuple[int, ...] = ()  # per segment, the first with the same inputs and draws (segment_twins)
 
 
 _DRAWS: dict[str, MuscleDraws] = {}
 def drawn_muscles(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
     """:func:`draw_muscles`, drawn once per process for the same arguments (the last kept)."""
-    key = draws_key(uncertainties, samples, seed, kappa_sd)
+    return _drawn(draws_key(uncertainties, samples, seed, kappa_sd), uncertainties, samples, seed, kappa_sd)
+
+
+def _drawn(key: str, uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
     draws = _DRAWS.get(key)  # one lookup: a Dask worker may run chunks in several threads
     if draws is None:
         draws = draw_muscles(list(uncertainties), samples, seed, kappa_sd)
@@ -104,8 +108,9 @@ def drawn_muscles(uncertainties: tuple, samples: int, seed: int, kappa_sd: float
 
 
 def muscle_draws(problem: Problem) -> MuscleDraws:
-    """The route's muscle draws, drawn once per process (and problem) from the seed."""
-    return drawn_muscles(problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
+    """The route's muscle draws, drawn once per process (and problem) from the seed (named by its key: no
+    hash of the sources per chunk)."""
+    return _drawn(problem.key, problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
 
 
 def chunk_classes(samples: int, budget: int = MEMORY_BUDGET) -> int:
