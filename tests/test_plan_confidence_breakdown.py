@@ -15,8 +15,10 @@ from pampipe.io.config import load_mission
 from pampipe.model.pam import Moduli
 from pampipe.model.uncertainty import ParameterUncertainty, moduli_names
 from pampipe.planning.confidence import sampling_problem
+from pampipe.planning.evaluator import Evaluator
 from pampipe.planning.problem import build_elements, mission_muscles
-from pampipe.planning.sampling import Evaluator, muscle_draws, order_statistics
+from pampipe.planning.quantiles import order_statistics
+from pampipe.planning.sampling import muscle_draws
 from pampipe.planning.sources import keyed_normal
 from tests.conftest import PROBLEMS
 

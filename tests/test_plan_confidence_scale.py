@@ -19,8 +19,10 @@ from pampipe.model import slip
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 from pampipe.planning.confidence import plan_confidence, sampling_problem
+from pampipe.planning.evaluator import Evaluator
 from pampipe.planning.problem import build_elements, mission_muscles
-from pampipe.planning.sampling import Evaluator, chunk_classes, muscle_draws, order_statistics, share_at_most
+from pampipe.planning.quantiles import order_statistics, share_at_most
+from pampipe.planning.sampling import chunk_classes, muscle_draws
 from pampipe.planning.sources import keyed_normal
 from tests.conftest import PROBLEMS, ROOT
 

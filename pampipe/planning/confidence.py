@@ -29,6 +29,7 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.parallel import executor, run_all
+from pampipe.planning.evaluator import draws_key
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.sampling import (
     MEMORY_BUDGET,
@@ -151,7 +152,8 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
                       float(sum(seg.mass for seg in mission.segments) + mission.payload),
                       tuple(float(seg.mass) for seg in mission.segments), float(mission.tether_drag),
                       float(mission.payload),
-                      tuple(float(x) for x in pressure_limits(mission)) if with_payload else None)
+                      tuple(float(x) for x in pressure_limits(mission)) if with_payload else None,
+                      draws_key(tuple(uncertainties), samples, seed, kappa_sd))
     twins = segment_twins(problem, draws, np.asarray(elements.diameter), np.asarray(elements.valid))
     classes, inverse = section_classes(route, elements)
     return dataclasses.replace(problem, twins=twins), classes, inverse

@@ -1,0 +1,298 @@
+"""P* over draws × classes for any subset of the drawn sources: the costly part of a confidence plan
+(docs/physics.md §15).
+
+:class:`Evaluator` evaluates one segment over a chunk's classes. The muscle's coefficients F₀, F₁, A, C₀, C₁
+at its anchored length (:func:`anchored_at`) depend on the muscle and the bore only: they are computed once
+per draw and distinct drawn bore and kept per process (:data:`SHARED`), then the load-dependent closed form
+P* = (κW − F₀ − e)/F₁ + SF·W/(μπAF₁) (with contact increments, :meth:`Muscle.closed_form_pressure`;
+:func:`holding_law`) runs vectorised over classes × draws, and the worst of a range's bores is kept.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+import pickle
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from pampipe.model.muscle import PRESSURE_LIMIT, Anchored, Muscle, Structure
+from pampipe.model.pam import Geometry
+from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.planning.memo import Memo
+from pampipe.planning.quantiles import order_statistics
+
+if TYPE_CHECKING:
+    from pampipe.planning.sampling import Classes, Problem
+    from pampipe.planning.sources import MuscleDraws
+
+#: Columns (draws × bores) per vectorised call of :func:`anchored_at`.
+BATCH = 1 << 16
+#: Bytes each process keeps across chunks (:data:`SHARED`): 80 coefficient columns of 10⁴ draws.
+SHARED_BUDGET = 32 << 20
+#: The coefficients of :class:`Anchored` the closed forms use (after ``length``, which they do not).
+USED = ("amplification", "at_zero", "slope", "contact_at_zero", "contact_slope")
+#: Per process, a segment's parameter draws and their coefficients in each drawn bore (:class:`Evaluator`).
+SHARED = Memo(SHARED_BUDGET)
+
+
+def draws_key(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> str:
+    """What names the route's draws: the muscles' sources, the draws, the seed (the bores' seed too)."""
+    what = (tuple(uncertainties), samples, seed, kappa_sd)
+    return hashlib.sha256(pickle.dumps(what, protocol=5)).hexdigest()
+
+
+def _muscle(structure: Structure, p: np.ndarray) -> Muscle:
+    """One :class:`Muscle` whose fields are the columns of ``p`` (size, ...): the numpy path of the one
+    model (:mod:`pampipe.model.ops`), vectorised over every column."""
+    n = structure.n_theta
+    geometry = Geometry(p[0], p[1], p[2], p[3], structure.wall)
+    return Muscle(geometry, p[5:5 + n], p[4], contact=p[5 + n:5 + 2 * n] if structure.contact else None)
+
+
+def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
+    """The muscle's coefficients F₀, F₁, A, C₀, C₁ at the anchored length in bore ``d`` [m] (the costly,
+    load-free part of the law), for columns ``p`` (size, N) and ``d`` (N,)."""
+    with np.errstate(all="ignore"):
+        return _muscle(structure, p).affine_coefficients(d)
+
+
+def least_pressure(c: Anchored, w, kappa, mu, sf: float, scaled: tuple | None = None) -> np.ndarray:
+    """P* [Pa] of a muscle without contact increments or effects, bit for bit
+    :meth:`Muscle.closed_form_pressure` (the same operations in the same order) with two full-size
+    temporaries, not a dozen: P* = max((κW − F₀)/F₁ + (SF·W/(μπA))/F₁, 0) where F₁ > 0, μ > 0 and
+    P* ≤ 100 MPa before the floor, else inf; ``c`` (:func:`anchored_at`, F₀ with the model error) broadcasts
+    against the load ``w`` [N], ``kappa`` and ``mu``; ``scaled``: (μπ, SF·W) when already computed (the
+    evaluator keeps them per friction draw: the full draw and friction alone share them)."""
+    grip, demand = (mu * math.pi, sf * w) if scaled is None else scaled
+    shape = np.broadcast_shapes(*(np.shape(v) for v in (w, kappa, mu, c.at_zero, c.slope, c.amplification)))
+    with np.errstate(all="ignore"):
+        out = np.subtract(kappa * w, c.at_zero, out=np.empty(shape))
+        np.divide(out, c.slope, out=out)
+        target = np.multiply(grip, c.amplification, out=np.empty(shape))
+        np.divide(demand, target, out=target)
+        np.divide(target, c.slope, out=target)
+        np.add(out, target, out=out)
+        holds = np.less_equal(out, PRESSURE_LIMIT)
+        holds &= (c.slope > 0) & (mu > 0)
+        np.maximum(out, 0.0, out=out)
+        np.copyto(out, np.inf, where=np.logical_not(holds, out=holds))
+    return out
+
+
+def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
+                pressure: float | None = None, scaled: tuple | None = None):
+    """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N] or None without ``pressure``) from the coefficients ``c``
+    (:func:`anchored_at`): the closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where
+    it does not hold), with F₀ shifted by the model error ``e`` [N]; every argument broadcasts against
+    ``c``'s fields (``p`` (size, ...) too); ``scaled``: as :func:`least_pressure`."""
+    muscle = _muscle(structure, p)
+    largest = None
+    with np.errstate(all="ignore"):
+        c = dataclasses.replace(c, at_zero=c.at_zero + e)
+        if structure.contact or structure.effects:
+            least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf,
+                                                anchored=c)
+        else:
+            least = least_pressure(c, w, kappa, mu, sf, scaled)
+        touch = -c.at_zero / c.slope
+        if pressure is not None:
+            stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
+            grip = mu * math.pi * c.amplification * stiffening
+            largest = grip * (c.at_zero + c.slope * pressure) / (sf + kappa * grip)
+    values = [v for v in (least, touch, largest) if v is not None]
+    shape = np.broadcast_shapes(*(np.shape(v) for v in values))
+    out = [v if np.shape(v) == shape else np.broadcast_to(np.asarray(v, dtype=float), shape) for v in values]
+    return out if largest is not None else [*out, None]
+
+
+class Evaluator:
+    """P*, first contact and W_max of segment i over draws × classes, for any subset of the sources."""
+
+    def __init__(self, problem: Problem, draws: MuscleDraws, classes: Classes, i: int, rows: np.ndarray,
+                 bore: np.ndarray, friction: np.ndarray):
+        self.problem, self.draws, self.i = problem, draws, i
+        self.key = problem.key
+        self.structure = problem.structures[i]
+        self.nominal = problem.uncertainties[i].nominal
+        self.bore, self.friction = bore, friction  # (n, rows) deviations
+        low, worst, high = classes.low[rows], classes.worst[rows, i], classes.high[rows]
+        # each distinct bore of the ranges once, the largest last: one without a range, two where the worst
+        # bore is an end of its range (commonly the largest), three only where it lies inside
+        self.bores = [high]
+        if not (np.array_equal(worst, low) or np.array_equal(worst, high)):
+            self.bores.insert(0, worst)
+        if not np.array_equal(low, high):
+            self.bores.insert(0, low)
+        self.mu = classes.mu[rows]
+        statement = (low, high, classes.bore_sd[rows])  # keys the bore draw
+        self.groups = [_groups(b, statement) for b in self.bores]
+        incline = classes.incline[rows]
+        self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
+        self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
+        self._scaled: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
+
+    def inputs(self, sources, nominal=None, drawn_scalar=None) -> tuple:
+        """(p (R, size), δ (C, R), μ (C, R), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
+        (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not (the
+        evaluation runs over classes × draws: a class's draws are contiguous).
+        ``drawn_scalar``: the values of the one drawn source κ or e (its deviations) instead of its draws."""
+        d, i = self.draws, self.i
+        drawn = tuple(key for key in ("moduli", "geometry", "prior") if key in sources)
+        if nominal is None:  # the same in every chunk: kept per process
+            p = SHARED.get((self.key, i, drawn), lambda: self._parameters(self.nominal, drawn))
+        else:
+            p = self._parameters(nominal, drawn)
+        bore = self.bore.T if "bore" in sources else np.zeros((self.mu.size, 1))
+        mu = self.friction_load("friction" in sources)[0]
+        kappa, error = d.kappa, d.model_error[i]
+        if drawn_scalar is not None:
+            kappa, error = drawn_scalar, drawn_scalar
+        kappa = np.maximum(self.problem.kappa + (kappa if "kappa" in sources else np.zeros(1)), 0.0)
+        error = error if "model_error" in sources else np.zeros(1)
+        return p, bore, mu, kappa, error
+
+    def _parameters(self, nominal: np.ndarray, drawn: tuple[str, ...]) -> np.ndarray:
+        """The parameter vectors (n, size) with the ``drawn`` sources added to ``nominal`` ((1, size) with
+        none), read-only."""
+        d = self.draws
+        p = np.broadcast_to(nominal, (d.n if drawn else 1, nominal.size)).copy()
+        for key in drawn:
+            p += d.params[key][self.i]
+        p.flags.writeable = False
+        return p
+
+    def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(μ (C, n or 1), the anchor's load W(μ) [N] (C, n or 1)) with or without the friction draw, once
+        per evaluator (the full draw and friction alone share them)."""
+        if drawn not in self._loads:
+            pr = self.problem
+            mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))
+            load = incline_load(pr.total_mass, pr.masses[self.i], self.rise[:, None], self.run[:, None], mu,
+                                pr.tether_drag)
+            self._loads[drawn] = mu, load
+        return self._loads[drawn]
+
+    def scaled(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+        """(μπ, SF·W [N]) of :meth:`friction_load`, once per evaluator (:func:`least_pressure`)."""
+        if drawn not in self._scaled:
+            mu, load = self.friction_load(drawn)
+            self._scaled[drawn] = mu * math.pi, self.problem.safety_factor * load
+        return self._scaled[drawn]
+
+    def monotone(self, name: str) -> int:
+        """+1 (−1) where P* is non-decreasing (non-increasing) in the one drawn source ``name``, in floating
+        point too, else 0 (docs/physics.md §15, *Breakdown*). Without contact increments P* = (κW − F₀ − e)/F₁
+        + SF·W/(μπAF₁) at the nominal muscle, μ and bore: falling in e (F₁ > 0; else inf for every draw),
+        rising in κ = max(κ̂ + δ, 0) where W ≥ 0; each rounded step (product, difference, quotient by a
+        constant of fixed sign, max) keeps the order, and so do the floor at 0, the inf beyond 100 MPa and
+        the max over the range's bores. Contact increments make P* a sum of a rising and a falling term
+        (exact math rises, rounding need not): 0, as for every other source."""
+        if self.structure.contact or self.structure.effects:
+            return 0
+        if name == "model_error":
+            return -1
+        if name == "kappa" and np.all(self.friction_load(False)[1] >= 0):
+            return 1
+        return 0
+
+    def alone(self, name: str, ranks) -> np.ndarray:
+        """The order statistics ``ranks`` (R, C) of P* with only source ``name`` drawn. Where P* is monotone
+        in it (:meth:`monotone`), P* maps the source's order statistics onto its own: R evaluations, not n."""
+        sign = self.monotone(name)
+        if sign == 0:
+            return order_statistics(self.evaluate((name,))[0], ranks, overwrite=True)
+        draws = self.draws.kappa if name == "kappa" else self.draws.model_error[self.i]
+        n = draws.size
+        at = order_statistics(draws[:, None], [k if sign > 0 else n - 1 - k for k in ranks])[:, 0]
+        return self.evaluate((name,), drawn_scalar=at)[0]
+
+    def evaluate(self, sources, pressure=None, *, nominal=None, drawn_scalar=None):
+        """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]);
+        ``nominal``, ``drawn_scalar``: as :meth:`inputs` (then R rows, not n).
+
+        The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
+        once per draw and distinct drawn bore (classes sharing a bore statement share its draws) and kept
+        per process (:data:`SHARED`: the next chunk in that bore reuses them), then the
+        load-dependent closed form runs over classes × draws by broadcasting (the arrays returned are
+        transposed views of those)."""
+        pr = self.problem
+        p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
+        load = self.friction_load("friction" in sources)[1]
+        columns = p.T[:, None, :]  # (size, 1, n or 1)
+        drawn_p = tuple(k for k in ("moduli", "geometry", "prior") if k in sources)
+        shared = None if nominal is not None else (self.key, self.i, self.structure, drawn_p,
+                                                   "bore" in sources)
+        least = held = touch = None
+        for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
+            drawn = bore_nominal[first][:, None] + bore[first]  # (G, n or 1)
+            keys = None if shared is None else [(*shared, *bores[:, g].tolist()) for g in range(first.size)]
+            c = self._anchored(p, drawn, keys)
+            pick = group if bores.shape[1] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
+            c = Anchored(None, *(getattr(c, name)[pick] if np.ndim(getattr(c, name)) else getattr(c, name)
+                                 for name in USED))  # per class; the anchored length is not used
+            values = holding_law(self.structure, columns, c, load, kappa[None, :], mu, pr.safety_factor,
+                                 error[None, :], pressure, self.scaled("friction" in sources))
+            least = values[0] if least is None else np.maximum(least, values[0])  # never NaN: inf instead
+            if pressure is not None:
+                held = values[2] if held is None else np.minimum(held, values[2])
+            touch = values[1]  # the largest bore is the last
+        shape = np.broadcast_shapes(least.shape, mu.shape, (1, p.shape[0]))
+        least = least if least.shape == shape else np.broadcast_to(least, shape)
+        touch = np.broadcast_to(touch, shape)
+        payload = None
+        if pressure is not None:
+            per_kg = STANDARD_GRAVITY * (self.rise[:, None] + mu * self.run[:, None])
+            payload = pr.payload + (held - load) / np.where(per_kg > 0, per_kg, np.nan)
+            payload = np.where((held >= 0) & (touch <= pressure) & (mu > 0) & np.isfinite(payload),
+                               payload, -np.inf)
+            payload = np.broadcast_to(payload, shape).T
+        return least.T, touch.T, payload
+
+    def _anchored(self, p: np.ndarray, d: np.ndarray, keys) -> Anchored:
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (G, n or 1): (G, R) fields, each
+        bore's kept in :data:`SHARED` under its key in ``keys`` (None: computed, not kept)."""
+        columns = [self._column(p, d[g]) if keys is None else
+                   SHARED.get(keys[g], lambda g=g: self._column(p, d[g])) for g in range(d.shape[0])]
+        rows = max(p.shape[0], d.shape[1])
+        joined = (_joined([getattr(c, name) for c in columns], [rows] * len(columns)) for name in USED)
+        return Anchored(None, *(v if np.ndim(v) == 0 else v.reshape(-1, rows) for v in joined))
+
+    def _column(self, p: np.ndarray, d: np.ndarray) -> Anchored:
+        """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (n or 1,): (R,) fields (or one
+        number), in batches of at most :data:`BATCH` columns (bounded memory)."""
+        rows = max(p.shape[0], d.shape[0])
+        d = np.broadcast_to(d, (rows,))
+        parts, sizes = [], []
+        for start in range(0, rows, BATCH):
+            k = np.arange(start, min(start + BATCH, rows))
+            parts.append(anchored_at(self.structure, p[np.minimum(k, p.shape[0] - 1)].T, d[k]))
+            sizes.append(k.size)
+        return Anchored(None, *(_joined([getattr(c, name) for c in parts], sizes) for name in USED))
+
+    def moves(self, direction) -> np.ndarray:
+        """Change of the certain P* [Pa] per class across ± the width the data leave open along
+        ``direction`` (inf where P* stops existing on either side)."""
+        step = direction.scale * direction.step
+        out = [self.evaluate((), nominal=self.nominal + sign * step)[0][0] for sign in (1.0, -1.0)]
+        with np.errstate(invalid="ignore"):
+            delta = out[0] - out[1]
+        return np.where(np.isfinite(delta), delta, np.inf)
+
+
+def _groups(bore: np.ndarray, statement: tuple) -> tuple:
+    """(the distinct (bore, its statement) columns (4, G), each class's group (C,), each group's first
+    class (G,)): classes of one group share the drawn bore and so its coefficients."""
+    bores, group = np.unique(np.stack([bore, *statement]), axis=1, return_inverse=True)
+    group = np.asarray(group).reshape(-1)
+    return bores, group, np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
+
+
+def _joined(values: list, sizes: list[int]):
+    """One coefficient of several parts (each a number or (size,) values): one number where it is the same
+    number in every part (C₀, C₁ = 0 without contact increments), else the parts' values end to end."""
+    if all(np.ndim(v) == 0 for v in values) and len({float(v) for v in values}) == 1:
+        return float(values[0])
+    return np.concatenate([np.broadcast_to(v, (size,)) for v, size in zip(values, sizes, strict=True)])
