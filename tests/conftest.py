@@ -23,6 +23,19 @@ ROOT = Path(__file__).resolve().parent.parent
 PROBLEMS = ROOT / "problems"
 
 
+def in_fresh_interpreter(argv: list[str], watched: set[str], cache, cwd=ROOT):
+    """(exit code, stdout, which of the top-level modules ``watched`` were loaded) of `pampipe ARGV` run in a
+    fresh interpreter with the cache folder ``cache`` (or ``off``)."""
+    code = ("import sys\nfrom pampipe.cli import main\n"
+            f"code = main({argv!r})\n"
+            f"loaded = sorted({{m.split('.')[0] for m in sys.modules}} & {set(watched)!r})\n"
+            "print('LOADED', *loaded, file=sys.stderr)\nsys.exit(code)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=cwd,
+                         env={**os.environ, "PAMPIPE_NLP_CACHE": str(cache)}, timeout=300)
+    loaded = next(line for line in out.stderr.splitlines() if line.startswith("LOADED")).split()[1:]
+    return out.returncode, out.stdout, loaded
+
+
 @pytest.fixture(scope="session")
 def radial_pam():
     """The paper's radial-test muscle with the demo moduli (docs/physics.md §7)."""

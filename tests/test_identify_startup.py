@@ -12,7 +12,7 @@ import sys
 from importlib.metadata import version
 
 from pampipe import __version__
-from tests.conftest import PROBLEMS, ROOT
+from tests.conftest import PROBLEMS, ROOT, in_fresh_interpreter
 
 PRIOR = "pams/paper-radial-pam-uncertain.yaml"
 
@@ -20,14 +20,8 @@ PRIOR = "pams/paper-radial-pam-uncertain.yaml"
 def _identify_in_fresh_interpreter(experiment, cache, *flags):
     """(exit code, stdout, names of pydantic/yaml modules loaded) of `pampipe identify EXPERIMENT --json
     --reproducible FLAGS`."""
-    code = ("import sys\nfrom pampipe.cli import main\n"
-            f"code = main(['identify', {str(experiment)!r}, '--json', '--reproducible', *{list(flags)!r}])\n"
-            "loaded = sorted({m.split('.')[0] for m in sys.modules} & {'pydantic', 'yaml'})\n"
-            "print('LOADED', *loaded, file=sys.stderr)\nsys.exit(code)\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
-                         env={**os.environ, "PAMPIPE_NLP_CACHE": str(cache)}, timeout=300)
-    loaded = next(line for line in out.stderr.splitlines() if line.startswith("LOADED")).split()[1:]
-    return out.returncode, out.stdout, loaded
+    return in_fresh_interpreter(["identify", str(experiment), "--json", "--reproducible", *flags],
+                                {"pydantic", "yaml"}, cache)
 
 
 def _with_prior(folder):

@@ -9,16 +9,13 @@ CasADi, give the same plan, and be validated again as soon as any file it read c
 from __future__ import annotations
 
 import json
-import os
 import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 from pampipe.model.muscle import Muscle
-from tests.conftest import PROBLEMS, ROOT, run_cli
+from tests.conftest import PROBLEMS, ROOT, in_fresh_interpreter, run_cli
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 
@@ -63,14 +60,7 @@ def _untimed(stdout: str) -> dict:
 
 def _plan_in_fresh_interpreter(mission, cache, cwd=ROOT):
     """(exit code, stdout, names of casadi/pydantic modules loaded) of `pampipe plan MISSION --json`."""
-    code = ("import sys\nfrom pampipe.cli import main\n"
-            f"code = main(['plan', {str(mission)!r}, '--json'])\n"
-            "loaded = sorted({m.split('.')[0] for m in sys.modules} & {'casadi', 'pydantic'})\n"
-            "print('LOADED', *loaded, file=sys.stderr)\nsys.exit(code)\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=cwd,
-                         env={**os.environ, "PAMPIPE_NLP_CACHE": str(cache)}, timeout=300)
-    loaded = next(line for line in out.stderr.splitlines() if line.startswith("LOADED")).split()[1:]
-    return out.returncode, out.stdout, loaded
+    return in_fresh_interpreter(["plan", str(mission), "--json"], {"casadi", "pydantic"}, cache, cwd)
 
 
 def test_demo_plan_read_before_loads_neither_casadi_nor_pydantic(tmp_path):
