@@ -93,6 +93,8 @@ class Problem:
 
 
 _DRAWS: dict[str, MuscleDraws] = {}
+
+
 def drawn_muscles(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
     """:func:`draw_muscles`, drawn once per process for the same arguments (the last kept)."""
     return _drawn(draws_key(uncertainties, samples, seed, kappa_sd), uncertainties, samples, seed, kappa_sd)
