@@ -4,8 +4,9 @@
 :class:`Evaluator` evaluates one segment over a chunk's classes. The muscle's coefficients F₀, F₁, A, C₀, C₁
 at its anchored length (:func:`anchored_at`) depend on the muscle and the bore only: they are computed once
 per draw and distinct drawn bore and kept per process (:data:`SHARED`), then the load-dependent closed form
-P* = (κW − F₀ − e)/F₁ + SF·W/(μπAF₁) (with contact increments, :meth:`Muscle.closed_form_pressure`;
-:func:`holding_law`) runs vectorised over classes × draws, and the worst of a range's bores is kept.
+P* = (κW − F₀ − e)/F₁ + SF·W/(μπAF₁) runs vectorised over classes × draws, and the worst of a range's bores is
+kept: in its affine form W·k + (W/μ)·r − f (:mod:`pampipe.planning.law`, the per-draw k, r, f kept per process
+too), or with contact increments or effects :meth:`Muscle.closed_form_pressure` (:func:`holding_law`).
 """
 
 from __future__ import annotations
@@ -169,12 +170,13 @@ class Evaluator:
 
     def monotone(self, name: str) -> int:
         """+1 (−1) where P* is non-decreasing (non-increasing) in the one drawn source ``name``, in floating
-        point too, else 0 (docs/physics.md §15, *Breakdown*). Without contact increments P* = (κW − F₀ − e)/F₁
-        + SF·W/(μπAF₁) at the nominal muscle, μ and bore: falling in e (F₁ > 0; else inf for every draw),
-        rising in κ = max(κ̂ + δ, 0) where W ≥ 0; each rounded step (product, difference, quotient by a
-        constant of fixed sign, max) keeps the order, and so do the floor at 0, the inf beyond 100 MPa and
-        the max over the range's bores. Contact increments make P* a sum of a rising and a falling term
-        (exact math rises, rounding need not): 0, as for every other source."""
+        point too, else 0 (docs/physics.md §15, *Breakdown*). Without contact increments
+        P* = W·k + (W/μ)·r − f, k = κ/F₁, f = (F₀ + e)/F₁ (:mod:`law`) at the nominal muscle, μ and bore:
+        falling in e (F₁ > 0; else inf for every draw), rising in κ = max(κ̂ + δ, 0) where W ≥ 0; each
+        rounded step (sum with a constant, quotient by F₁ > 0, product by W ≥ 0, difference from a constant)
+        keeps the order, and so do the floor at 0, the inf beyond 100 MPa and the max over the range's
+        bores. Contact increments make P* a sum of a rising and a falling term (exact math rises, rounding
+        need not): 0, as for every other source."""
         if self.structure.contact or self.structure.effects:
             return 0
         if name == "model_error":
