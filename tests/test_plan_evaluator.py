@@ -1,5 +1,6 @@
-"""The evaluator's numpy forms of the closed forms agree bit for bit with the one model's
-(:meth:`Muscle.closed_form_pressure`) on random cases: signs, zeros, beyond 100 MPa, broadcasting."""
+"""The evaluator's affine form of the closed form (:mod:`pampipe.planning.law`) agrees with the one model's
+(:meth:`Muscle.closed_form_pressure`) to 1e-12 on random cases: signs, zeros, beyond 100 MPa, broadcasting;
+its order statistics are settled after the partitions."""
 
 from __future__ import annotations
 
@@ -9,13 +10,19 @@ import pytest
 from pampipe.io.config import load_mission
 from pampipe.model.muscle import Anchored, Muscle
 from pampipe.planning.confidence import sampling_problem
-from pampipe.planning.evaluator import draws_key, least_pressure
+from pampipe.planning.evaluator import draws_key
+from pampipe.planning.law import per_class, per_draw, raw_least, settle
 from pampipe.planning.problem import build_elements, mission_muscles
+from pampipe.planning.quantiles import order_statistics
 from tests.conftest import PROBLEMS
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_least_pressure_is_the_closed_form_bit_for_bit(radial_pam, seed):
+def test_the_affine_law_is_the_closed_form_to_1e_12(radial_pam, seed):
+    """law.settle(W·k + (W/μ)·r − f) against :meth:`Muscle.closed_form_pressure` on random coefficients,
+    loads and frictions of every sign (zeros too): inf in the same places (F₁ ≤ 0, μ ≤ 0, beyond 100 MPa),
+    the floor at 0 taken, and every value within 1e-12 of the terms' size (1e-12 of P* where they do not
+    cancel), for drawn friction and one friction per class."""
     rng = np.random.default_rng(seed)
     n, classes = 400, 7
 
@@ -26,21 +33,54 @@ def test_least_pressure_is_the_closed_form_bit_for_bit(radial_pam, seed):
         return v
 
     c = Anchored(None, spread((1, n), 1.0), spread((1, n), 50.0), spread((1, n), 1e-3), 0.0, 0.0)
+    error = spread((1, n), 5.0)
     load = spread((classes, n), 100.0)  # friction drawn: W(μ) per class and draw
     mu = spread((classes, n), 0.3)
     kappa = np.maximum(spread((1, n), 0.5), 0.0)
     muscle = Muscle.from_pam(radial_pam)
     assert muscle.contact is None and not muscle.effects
     for w, m in ((load, mu), (load[:, :1], mu[:, :1])):  # drawn friction, then one value per class
+        shifted = Anchored(None, c.amplification, c.at_zero + error, c.slope, 0.0, 0.0)
         with np.errstate(all="ignore"):
             expected = muscle.closed_form_pressure(None, w, kappa=kappa, friction=m, safety_factor=1.5,
-                                                   anchored=c)
-        found = least_pressure(c, w, kappa, m, 1.5)
+                                                   anchored=shifted)
+            size = (np.abs(kappa * w / c.slope) + np.abs((c.at_zero + error) / c.slope)
+                    + np.abs(1.5 * w / (m * np.pi * c.amplification * c.slope)))
+        terms = per_draw(c, kappa, error, 1.5)
+        shape = np.broadcast_shapes(w.shape, terms.k.shape)
+        raw = raw_least(*per_class(np.broadcast_to(w, shape), np.broadcast_to(m, shape)), terms,
+                        np.empty(shape), np.empty(shape))
+        found = settle(raw)
         assert found.shape == expected.shape
-        assert np.isinf(found).any() and (found == 0).any() and (found > 0).any()  # every branch taken
-        np.testing.assert_array_equal(found.view(np.int64), expected.view(np.int64))
-        kept = least_pressure(c, w, kappa, m, 1.5, (m * np.pi, 1.5 * w))  # the evaluator's (μπ, SF·W)
-        np.testing.assert_array_equal(kept.view(np.int64), expected.view(np.int64))
+        finite = np.isfinite(expected)
+        assert (~finite).any() and (expected[finite] == 0).any() and (expected[finite] > 0).any()
+        assert ((c.slope <= 0) & finite).sum() == 0 and ((m <= 0) & finite).sum() == 0
+        np.testing.assert_array_equal(np.isinf(found), ~finite)  # inf where it does not hold
+        assert np.all(np.abs(found[finite] - expected[finite]) <= 1e-12 * size[finite])
+        plain = finite & (expected > 0.1 * size)  # no cancellation: relative to P* itself
+        assert plain.sum() > 100
+        np.testing.assert_allclose(found[plain], expected[plain], rtol=1e-12, atol=0)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_settled_order_statistics_equal_those_of_the_settled_values(seed):
+    """order_statistics(raw, settle=law.settle) gives the sorted settled values at every rank and their
+    share ≤ the first, also where settle makes ties (0 below, inf beyond 100 MPa and for NaN)."""
+    rng = np.random.default_rng(seed)
+    n, c = int(rng.integers(200, 2000)), int(rng.integers(1, 30))
+    raw = rng.normal(2e5, 3e5, (n, c))
+    raw[rng.random((n, c)) < 0.05] = np.nan
+    raw[rng.random((n, c)) < 0.05] = 2e8
+    raw[:, 0] = -1.0  # every value floors at 0
+    if c > 1:
+        raw[: n // 2, 1] = np.nan  # half the column fails to hold
+    settled = settle(raw)
+    for k in (0, n // 3, n // 2, n - 2):
+        ranks = [k, n - 1, n // 4]
+        expected = np.sort(settled, axis=0)[ranks]
+        found, share = order_statistics(raw.copy(), ranks, share=True, settle=settle)
+        np.testing.assert_array_equal(found, expected)
+        np.testing.assert_array_equal(share, np.mean(settled <= expected[0], axis=0))
 
 
 def test_the_problem_names_its_draws_by_their_key():

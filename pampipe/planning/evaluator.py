@@ -4,23 +4,26 @@
 :class:`Evaluator` evaluates one segment over a chunk's classes. The muscle's coefficients F₀, F₁, A, C₀, C₁
 at its anchored length (:func:`anchored_at`) depend on the muscle and the bore only: they are computed once
 per draw and distinct drawn bore and kept per process (:data:`SHARED`), then the load-dependent closed form
-P* = (κW − F₀ − e)/F₁ + SF·W/(μπAF₁) (with contact increments, :meth:`Muscle.closed_form_pressure`;
-:func:`holding_law`) runs vectorised over classes × draws, and the worst of a range's bores is kept.
+P* = (κW − F₀ − e)/F₁ + SF·W/(μπAF₁) runs vectorised over classes × draws, and the worst of a range's bores is
+kept: in its affine form W·k + (W/μ)·r − f (:mod:`pampipe.planning.law`, the per-draw k, r, f kept per process
+too), or with contact increments or effects :meth:`Muscle.closed_form_pressure` (:func:`holding_law`).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import hashlib
+import itertools
 import math
 import pickle
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pampipe.model.muscle import PRESSURE_LIMIT, Anchored, Muscle, Structure
+from pampipe.model.muscle import Anchored, Muscle, Structure
 from pampipe.model.pam import Geometry
-from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.model.slip import STANDARD_GRAVITY
+from pampipe.planning.law import Terms, per_class, per_draw, raw_least, settle
 from pampipe.planning.memo import Memo
 from pampipe.planning.quantiles import order_statistics
 
@@ -59,35 +62,13 @@ def anchored_at(structure: Structure, p: np.ndarray, d) -> Anchored:
         return _muscle(structure, p).affine_coefficients(d)
 
 
-def least_pressure(c: Anchored, w, kappa, mu, sf: float, scaled: tuple | None = None) -> np.ndarray:
-    """P* [Pa] of a muscle without contact increments or effects, bit for bit
-    :meth:`Muscle.closed_form_pressure` (the same operations in the same order) with two full-size
-    temporaries, not a dozen: P* = max((κW − F₀)/F₁ + (SF·W/(μπA))/F₁, 0) where F₁ > 0, μ > 0 and
-    P* ≤ 100 MPa before the floor, else inf; ``c`` (:func:`anchored_at`, F₀ with the model error) broadcasts
-    against the load ``w`` [N], ``kappa`` and ``mu``; ``scaled``: (μπ, SF·W) when already computed (the
-    evaluator keeps them per friction draw: the full draw and friction alone share them)."""
-    grip, demand = (mu * math.pi, sf * w) if scaled is None else scaled
-    shape = np.broadcast_shapes(*(np.shape(v) for v in (w, kappa, mu, c.at_zero, c.slope, c.amplification)))
-    with np.errstate(all="ignore"):
-        out = np.subtract(kappa * w, c.at_zero, out=np.empty(shape))
-        np.divide(out, c.slope, out=out)
-        target = np.multiply(grip, c.amplification, out=np.empty(shape))
-        np.divide(demand, target, out=target)
-        np.divide(target, c.slope, out=target)
-        np.add(out, target, out=out)
-        holds = np.less_equal(out, PRESSURE_LIMIT)
-        holds &= (c.slope > 0) & (mu > 0)
-        np.maximum(out, 0.0, out=out)
-        np.copyto(out, np.inf, where=np.logical_not(holds, out=holds))
-    return out
-
-
 def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, sf: float, e,
-                pressure: float | None = None, scaled: tuple | None = None):
+                pressure: float | None = None):
     """(P* [Pa], P_a(D, 0) [Pa], W_max(P) [N] or None without ``pressure``) from the coefficients ``c``
     (:func:`anchored_at`): the closed forms the plan uses (:meth:`Muscle.closed_form_pressure`, inf where
-    it does not hold), with F₀ shifted by the model error ``e`` [N]; every argument broadcasts against
-    ``c``'s fields (``p`` (size, ...) too); ``scaled``: as :func:`least_pressure`."""
+    it does not hold; without contact increments or effects its affine form, :mod:`pampipe.planning.law`),
+    with F₀ shifted by the model error ``e`` [N]; every argument broadcasts against ``c``'s fields (``p``
+    (size, ...) too) and ``w``, ``mu`` against each other."""
     muscle = _muscle(structure, p)
     largest = None
     with np.errstate(all="ignore"):
@@ -96,7 +77,9 @@ def holding_law(structure: Structure, p: np.ndarray, c: Anchored, w, kappa, mu, 
             least = muscle.closed_form_pressure(None, w, kappa=kappa, friction=mu, safety_factor=sf,
                                                 anchored=c)
         else:
-            least = least_pressure(c, w, kappa, mu, sf, scaled)
+            t = per_draw(c, kappa, 0.0, sf)
+            shape = np.broadcast_shapes(*(np.shape(v) for v in (w, mu, t.k, t.r, t.f)))
+            least = settle(raw_least(*per_class(w, mu), t, np.empty(shape), np.empty(shape)))
         touch = -c.at_zero / c.slope
         if pressure is not None:
             stiffening = 1 + (c.contact_at_zero + c.contact_slope * pressure) / (p[4] * c.slope)
@@ -131,8 +114,9 @@ class Evaluator:
         self.groups = [_groups(b, statement) for b in self.bores]
         incline = classes.incline[rows]
         self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
+        self.affine = not (self.structure.contact or self.structure.effects)  # :mod:`law`'s affine form
         self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
-        self._scaled: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
+        self._per_class: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
 
     def inputs(self, sources, nominal=None, drawn_scalar=None) -> tuple:
         """(p (R, size), δ (C, R), μ (C, R), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
@@ -166,30 +150,33 @@ class Evaluator:
 
     def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
         """(μ (C, n or 1), the anchor's load W(μ) [N] (C, n or 1)) with or without the friction draw, once
-        per evaluator (the full draw and friction alone share them)."""
+        per evaluator (the full draw and friction alone share them). W = μ·g·cos φ·(M − m) + (g·M·|sin φ| +
+        drag) (:func:`pampipe.model.slip.incline_load`, affine in μ: two passes over the draws)."""
         if drawn not in self._loads:
             pr = self.problem
             mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))
-            load = incline_load(pr.total_mass, pr.masses[self.i], self.rise[:, None], self.run[:, None], mu,
-                                pr.tether_drag)
+            slope = STANDARD_GRAVITY * (self.run * (pr.total_mass - pr.masses[self.i]))
+            load = np.multiply(mu, slope[:, None])
+            load += (STANDARD_GRAVITY * (pr.total_mass * self.rise) + pr.tether_drag)[:, None]
             self._loads[drawn] = mu, load
         return self._loads[drawn]
 
-    def scaled(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
-        """(μπ, SF·W [N]) of :meth:`friction_load`, once per evaluator (:func:`least_pressure`)."""
-        if drawn not in self._scaled:
+    def per_class(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`law.per_class` (W, W/μ [N]) of :meth:`friction_load`, once per evaluator."""
+        if drawn not in self._per_class:
             mu, load = self.friction_load(drawn)
-            self._scaled[drawn] = mu * math.pi, self.problem.safety_factor * load
-        return self._scaled[drawn]
+            self._per_class[drawn] = per_class(load, mu)
+        return self._per_class[drawn]
 
     def monotone(self, name: str) -> int:
         """+1 (−1) where P* is non-decreasing (non-increasing) in the one drawn source ``name``, in floating
-        point too, else 0 (docs/physics.md §15, *Breakdown*). Without contact increments P* = (κW − F₀ − e)/F₁
-        + SF·W/(μπAF₁) at the nominal muscle, μ and bore: falling in e (F₁ > 0; else inf for every draw),
-        rising in κ = max(κ̂ + δ, 0) where W ≥ 0; each rounded step (product, difference, quotient by a
-        constant of fixed sign, max) keeps the order, and so do the floor at 0, the inf beyond 100 MPa and
-        the max over the range's bores. Contact increments make P* a sum of a rising and a falling term
-        (exact math rises, rounding need not): 0, as for every other source."""
+        point too, else 0 (docs/physics.md §15, *Breakdown*). Without contact increments
+        P* = W·k + (W/μ)·r − f, k = κ/F₁, f = (F₀ + e)/F₁ (:mod:`law`) at the nominal muscle, μ and bore:
+        falling in e (F₁ > 0; else inf for every draw), rising in κ = max(κ̂ + δ, 0) where W ≥ 0; each
+        rounded step (sum with a constant, quotient by F₁ > 0, product by W ≥ 0, difference from a constant)
+        keeps the order, and so do the floor at 0, the inf beyond 100 MPa and the max over the range's
+        bores. Contact increments make P* a sum of a rising and a falling term (exact math rises, rounding
+        need not): 0, as for every other source."""
         if self.structure.contact or self.structure.effects:
             return 0
         if name == "model_error":
@@ -203,38 +190,36 @@ class Evaluator:
         in it (:meth:`monotone`), P* maps the source's order statistics onto its own: R evaluations, not n."""
         sign = self.monotone(name)
         if sign == 0:
-            return order_statistics(self.evaluate((name,))[0], ranks, overwrite=True)
+            return order_statistics(self.evaluate((name,), raw=True)[0], ranks, overwrite=True, settle=settle)
         draws = self.draws.kappa if name == "kappa" else self.draws.model_error[self.i]
         n = draws.size
         at = order_statistics(draws[:, None], [k if sign > 0 else n - 1 - k for k in ranks])[:, 0]
         return self.evaluate((name,), drawn_scalar=at)[0]
 
-    def evaluate(self, sources, pressure=None, *, nominal=None, drawn_scalar=None):
+    def evaluate(self, sources, pressure=None, *, nominal=None, drawn_scalar=None, raw=False):
         """(P* (n, C) [Pa], touch at the largest bore (n, C) [Pa], payload at ``pressure`` (n, C) [kg]);
-        ``nominal``, ``drawn_scalar``: as :meth:`inputs` (then R rows, not n).
+        ``nominal``, ``drawn_scalar``: as :meth:`inputs` (then R rows, not n); ``raw``: P* may be the raw
+        value of :mod:`pampipe.planning.law` (to :func:`law.settle` after the order statistics).
 
         The coefficients (:func:`anchored_at`) depend on the muscle and the bore only: they are computed
         once per draw and distinct drawn bore (classes sharing a bore statement share its draws) and kept
         per process (:data:`SHARED`: the next chunk in that bore reuses them), then the
         load-dependent closed form runs over classes × draws by broadcasting (the arrays returned are
         transposed views of those)."""
+        if self.affine and pressure is None:
+            least, touch = self._affine(sources, nominal, drawn_scalar)
+            return (least if raw else settle(least)).T, touch.T, None
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
         load = self.friction_load("friction" in sources)[1]
         columns = p.T[:, None, :]  # (size, 1, n or 1)
-        drawn_p = tuple(k for k in ("moduli", "geometry", "prior") if k in sources)
-        shared = None if nominal is not None else (self.key, self.i, self.structure, drawn_p,
-                                                   "bore" in sources)
         least = held = touch = None
-        for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
-            drawn = bore_nominal[first][:, None] + bore[first]  # (G, n or 1)
-            keys = None if shared is None else [(*shared, *bores[:, g].tolist()) for g in range(first.size)]
-            c = self._anchored(p, drawn, keys)
-            pick = group if bores.shape[1] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
+        for group, c in self._in_bores(p, bore, sources, nominal):
+            pick = group if c.slope.shape[0] > 1 else slice(0, 1)  # one bore for all: broadcast, no copy
             c = Anchored(None, *(getattr(c, name)[pick] if np.ndim(getattr(c, name)) else getattr(c, name)
                                  for name in USED))  # per class; the anchored length is not used
             values = holding_law(self.structure, columns, c, load, kappa[None, :], mu, pr.safety_factor,
-                                 error[None, :], pressure, self.scaled("friction" in sources))
+                                 error[None, :], pressure)
             least = values[0] if least is None else np.maximum(least, values[0])  # never NaN: inf instead
             if pressure is not None:
                 held = values[2] if held is None else np.minimum(held, values[2])
@@ -250,6 +235,62 @@ class Evaluator:
                                payload, -np.inf)
             payload = np.broadcast_to(payload, shape).T
         return least.T, touch.T, payload
+
+    def _affine(self, sources, nominal, drawn_scalar) -> tuple[np.ndarray, np.ndarray]:
+        """(raw P* (C, R) [Pa], touch at the largest bore (C, R) [Pa]) of :meth:`evaluate` by the affine form
+        (:func:`law.raw_least`, four passes per bore), run by run of classes in one bore (the classes come
+        sorted by bore), with each bore's :class:`law.Terms` kept per process (:meth:`_terms`)."""
+        p, bore, _, kappa, error = self.inputs(sources, nominal, drawn_scalar)
+        w, per_mu = self.per_class("friction" in sources)
+        shape = np.broadcast_shapes(w.shape, (1, p.shape[0]), (1, bore.shape[1]), (1, kappa.size),
+                                    (1, error.size))
+        spare, least = np.empty(shape), None
+        for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
+            terms = [self._terms(p, bore_nominal[first[g]] + bore[first[g]], sources, kappa, error,
+                                 None if nominal is not None else tuple(bores[:, g].tolist()),
+                                 drawn_scalar is None) for g in range(first.size)]
+            out = np.empty(shape)
+            for g, run in _runs(group):
+                raw_least(w[run], per_mu[run], terms[g], out[run], spare[run])
+            least = out if least is None else np.maximum(least, out, out=least)  # NaN stays NaN: inf
+        if len(terms) == 1:  # the largest bore is the last
+            return least, np.broadcast_to(-terms[0].f, shape)
+        touch = np.empty(shape)
+        for g, run in _runs(group):
+            touch[run] = -terms[g].f
+        return least, touch
+
+    def _terms(self, p: np.ndarray, d: np.ndarray, sources, kappa, error, bore: tuple | None,
+               keep: bool) -> Terms:
+        """:func:`law.per_draw` of draws ``p`` (n or 1, size) in the drawn bore ``d`` (n or 1,) [m], ``bore``
+        its statement (None: ``p`` is not the muscle's: not kept); ``keep``: κ and e are the draws', and
+        the terms are kept in :data:`SHARED` (the next chunk in that bore reuses them)."""
+        key = None if bore is None else (*self._shared(sources), *bore)
+
+        def column() -> Anchored:
+            return self._column(p, d) if key is None else SHARED.get(key, lambda: self._column(p, d))
+
+        def terms() -> Terms:
+            return per_draw(column(), kappa, error, self.problem.safety_factor)
+
+        if key is None or not keep:
+            return terms()
+        drawn = ("kappa" in sources, "model_error" in sources, self.problem.kappa, self.problem.safety_factor)
+        return SHARED.get((*key, "terms", *drawn), terms)
+
+    def _shared(self, sources) -> tuple:
+        """What names the coefficients of the muscle draws with ``sources`` drawn, before the bore."""
+        drawn_p = tuple(k for k in ("moduli", "geometry", "prior") if k in sources)
+        return self.key, self.i, self.structure, drawn_p, "bore" in sources
+
+    def _in_bores(self, p: np.ndarray, bore: np.ndarray, sources, nominal):
+        """(each class's group (C,), :meth:`_anchored` (G, R) in the groups' drawn bores) for each bore of
+        the ranges, the largest last; kept in :data:`SHARED` unless ``nominal`` is given."""
+        shared = self._shared(sources)
+        for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
+            drawn = bore_nominal[first][:, None] + bore[first]  # (G, n or 1)
+            keys = None if nominal is not None else [(*shared, *b) for b in bores.T.tolist()]
+            yield group, self._anchored(p, drawn, keys)
 
     def _anchored(self, p: np.ndarray, d: np.ndarray, keys) -> Anchored:
         """:func:`anchored_at` of draws ``p`` (n or 1, size) in bores ``d`` (G, n or 1): (G, R) fields, each
@@ -288,6 +329,12 @@ def _groups(bore: np.ndarray, statement: tuple) -> tuple:
     bores, group = np.unique(np.stack([bore, *statement]), axis=1, return_inverse=True)
     group = np.asarray(group).reshape(-1)
     return bores, group, np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
+
+
+def _runs(group: np.ndarray) -> list[tuple[int, slice]]:
+    """(group, rows) of each run of consecutive classes in one group (``group`` (C,))."""
+    cuts = [0, *(np.flatnonzero(np.diff(group)) + 1).tolist(), group.size]
+    return [(int(group[a]), slice(a, b)) for a, b in itertools.pairwise(cuts)]
 
 
 def _joined(values: list, sizes: list[int]):

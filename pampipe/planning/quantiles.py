@@ -22,13 +22,16 @@ def lower_rank(n: int, level: float) -> int:
     return min(math.floor((1 - level) * n + 1e-9), n - 1)
 
 
-def order_statistics(values: np.ndarray, ranks, *, share: bool = False, overwrite: bool = False):
+def order_statistics(values: np.ndarray, ranks, *, share: bool = False, overwrite: bool = False,
+                     settle=None):
     """``np.sort(values, axis=0)[ranks]`` for ``values`` (n, C): (len(ranks), C), the same numbers without
     the full sort. One single-kth partition per distinct rank, each of what lies above the previous one
     (numpy's SIMD partition: half the sort's time at 10⁴ draws and a few ranks). With ``share``, also the
     share of the values ≤ the first rank's statistic (C,): after the partitions no value below a rank
     exceeds its statistic and none above is less, so only the ties above it are counted. ``overwrite``:
-    ``values`` may be reordered in place where it allows (the evaluator's (n, C) are views of (C, n))."""
+    ``values`` may be reordered in place where it allows (the evaluator's (n, C) are views of (C, n)).
+    ``settle``: a non-decreasing map (NaN sorts last, as the largest): the statistics and the share of
+    ``settle(values)``, mapped after the partitions (the ties it makes above the rank are counted)."""
     part = values.T
     if not (overwrite and part.flags.c_contiguous and part.flags.writeable):
         part = np.array(part, order="C")  # a copy, also of a broadcast (read-only) view
@@ -37,10 +40,13 @@ def order_statistics(values: np.ndarray, ranks, *, share: bool = False, overwrit
         part[:, start:].partition(k - start, axis=1)
         start = k + 1
     out = part[:, list(ranks)].T
+    above = part[:, ranks[0] + 1:] if share else None
+    if settle is not None:
+        out = settle(out)
+        above = None if above is None else settle(above)
     if not share:
         return out
-    k = ranks[0]
-    return out, (k + 1 + np.count_nonzero(part[:, k + 1:] == out[0][:, None], axis=1)) / values.shape[0]
+    return out, (ranks[0] + 1 + np.count_nonzero(above == out[0][:, None], axis=1)) / values.shape[0]
 
 
 def share_at_most(values: np.ndarray, limits: np.ndarray) -> np.ndarray:

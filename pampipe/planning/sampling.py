@@ -23,6 +23,7 @@ import numpy as np
 from pampipe.heap import retain_freed_memory
 from pampipe.model.muscle import Structure
 from pampipe.planning.evaluator import Evaluator, draws_key
+from pampipe.planning.law import settle
 from pampipe.planning.quantiles import lower_rank, order_statistics, share_at_most, upper_rank
 from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
 
@@ -172,8 +173,9 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         take = slice(None) if rows.size == count else rows  # every class: no copy
         ev = Evaluator(problem, draws, classes, i, rows, bore[take].T, friction[take].T)
         supply = None if problem.supply is None else problem.supply[i]
-        least, touch, held = ev.evaluate(problem.active, supply)
-        (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True, overwrite=True)
+        least, touch, held = ev.evaluate(problem.active, supply, raw=True)
+        (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True, overwrite=True,
+                                                                  settle=settle)
         out.pressure[rows, i] = planned
         out.contact[rows, i] = share_at_most(touch, planned)
         out.band[rows, i] = np.stack(rest[:2], axis=1)
