@@ -1,6 +1,6 @@
-"""The reduction's faster forms change only rounding: the optimum identify finds moves by < 1e-12
-(relative) against the forms they replace (one QR of a whole chunk per TSQR update; d**3 and d**4 by
-pow()), on synthetic data of known moduli."""
+"""The radial moments' d³ and d⁴ by products change only rounding: the optimum identify finds moves by
+< 1e-12 (relative) against the form they replace (d**3 and d**4 by pow()), on synthetic data of known
+moduli."""
 
 from __future__ import annotations
 
@@ -32,13 +32,11 @@ def test_the_powers_are_pows_to_two_ulp():
 
 
 @pytest.mark.parametrize("degree", [1, 3])
-def test_the_optimum_moves_less_than_1e_12_against_the_replaced_forms(data, monkeypatch, degree):
+def test_the_optimum_moves_less_than_1e_12_against_the_replaced_form(data, monkeypatch, degree):
     """Degree 1: every modulus is determined, each moves < 1e-12 of the largest. Degree 3 leaves
     directions the data do not determine (rank < 16), where IPOPT's path, not the data, sets the
     moduli: there the fitted axial forces at every row and the SSE move < 1e-12."""
-    monkeypatch.setattr(statistics, "QR_ROWS", 64)  # many updates per chunk
     new = identify(data, FitOptions(degree=degree))
-    monkeypatch.setattr(statistics, "QR_ROWS", statistics.CHUNK)
     monkeypatch.setattr(statistics, "powers", lambda d: (d * d, d**3, d**4))
     old = identify(data, FitOptions(degree=degree))
     assert abs(new.sse - old.sse) < 1e-12 * old.sse

@@ -39,9 +39,6 @@ MPA = 1e6
 SUB_BINS = 8
 #: Rows per chunk of the one pass (bounds the regressor matrix: 2¹⁶ × 17 × 8 B ≈ 9 MB).
 CHUNK = 1 << 16
-#: Rows per QR update of the TSQR: 2¹² × 18 × 8 B ≈ 0.6 MB stays in the cache through LAPACK's one
-#: Householder sweep per column (a whole chunk streams from memory 17 times: 2.3× slower).
-QR_ROWS = 1 << 12
 RADIAL_MOMENTS = ("n", "x", "y", "sdd", "sddd", "sdddd", "sde", "sdde", "see")
 
 
@@ -217,7 +214,7 @@ def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, 
 
     One pass over the rows in chunks: the regressors of a chunk are computed once and each level's
     R is updated by a QR of [R; its rows of the chunk] (TSQR). The chunks that ``memo`` holds for
-    the same rows are not computed again. The QR updates take :data:`QR_ROWS` rows at a time.
+    the same rows are not computed again.
     """
     p = 4 * (degree + 1)
     levels = test.level_pressure.size
@@ -249,11 +246,9 @@ def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, 
         present = np.flatnonzero(np.bincount(level, minlength=levels))
         for lev in present:
             mine = block if present.size == 1 else block[level == lev]
-            for at in range(0, mine.shape[0], QR_ROWS):
-                part = mine[at:at + QR_ROWS]
-                stacked = np.empty((p + 1 + part.shape[0], p + 1), order="F")  # [R; the level's rows]
-                stacked[:p + 1], stacked[p + 1:] = r_aug[lev], part
-                r_aug[lev] = _qr_r(stacked, p + 1)
+            stacked = np.empty((p + 1 + mine.shape[0], p + 1), order="F")  # [R; the level's rows]
+            stacked[:p + 1], stacked[p + 1:] = r_aug[lev], mine
+            r_aug[lev] = _qr_r(stacked, p + 1)
             count[lev] += mine.shape[0]
         kept.append((r_aug.copy(), count.copy()))
     for lev in np.flatnonzero(count):
