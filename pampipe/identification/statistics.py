@@ -190,14 +190,15 @@ def regressors(pressure, length, geometry, degree, pref=MPA):
     return -block[:, -1], block[:, :-1]
 
 
-def _augmented(pressure, length, force, geometry, degree, pref) -> np.ndarray:
+def _augmented(pressure, length, force, geometry, degree, pref, head: int = 0) -> np.ndarray:
     """[Φ | y] (rows × (p + 1)) with y = F − offset: one pass, written into one array, column-major
-    (the layout LAPACK's QR reads: numpy copies a row-major block first, at the cost of the QR itself)."""
+    (the layout LAPACK's QR reads: numpy copies a row-major block first, at the cost of the QR itself).
+    ``head``: that many rows left unset above them (for the R a TSQR update stacks on its rows)."""
     offset, row = forces.axial_force_regressors(pressure, length, geometry, degree, pref)
-    block = np.empty((np.size(length), len(row) + 1), order="F")
+    block = np.empty((head + np.size(length), len(row) + 1), order="F")
     for j, column in enumerate(row):
-        np.multiply(column, MPA, out=block[:, j])
-    np.subtract(force, offset, out=block[:, -1])
+        np.multiply(column, MPA, out=block[head:, j])
+    np.subtract(force, offset, out=block[head:, -1])
     return block
 
 
@@ -241,15 +242,19 @@ def _axial_groups(index, test: TestData, rows, geometry, degree, pref, average, 
     for start in range(len(kept) * CHUNK, rows.size, CHUNK):
         chunk = rows[start:start + CHUNK]
         block = _augmented(test.pressure[chunk], test.length[chunk], test.force[chunk], geometry, degree,
-                           pref)
+                           pref, p + 1)  # [R; the chunk's rows], R still to be written
         level = test.level[chunk]
         present = np.flatnonzero(np.bincount(level, minlength=levels))
         for lev in present:
-            mine = block if present.size == 1 else block[level == lev]
-            stacked = np.empty((p + 1 + mine.shape[0], p + 1), order="F")  # [R; the level's rows]
-            stacked[:p + 1], stacked[p + 1:] = r_aug[lev], mine
+            if present.size == 1:  # the chunk is one level's: its R goes on top (no copy of the rows)
+                stacked = block
+            else:
+                mine = block[p + 1:][level == lev]
+                stacked = np.empty((p + 1 + mine.shape[0], p + 1), order="F")  # [R; the level's rows]
+                stacked[p + 1:] = mine
+            stacked[:p + 1] = r_aug[lev]
             r_aug[lev] = _qr_r(stacked, p + 1)
-            count[lev] += mine.shape[0]
+            count[lev] += stacked.shape[0] - p - 1
         kept.append((r_aug.copy(), count.copy()))
     for lev in np.flatnonzero(count):
         yield ((index, lev), test.level_pressure[lev], count[lev], r_aug[lev, :p, :p], r_aug[lev, :p, p],
