@@ -118,3 +118,30 @@ def test_empty_cells_leave_the_fit_unchanged_bit_for_bit(data, monkeypatch):
         assert np.array_equal(getattr(padded.uncertainty, name), getattr(base.uncertainty, name),
                               equal_nan=True), name
     assert repr(padded.model_error) == repr(base.model_error) and repr(padded.quality) == repr(base.quality)
+
+
+def test_the_tsqr_equals_stacking_each_chunks_level_rows_under_r_bit_for_bit(data, monkeypatch):
+    """A chunk of one level's rows gets its R written above them in place; a chunk that spans levels is
+    split: either way R, z and rest equal a QR of [R; the level's rows of the chunk] chunk after chunk."""
+    monkeypatch.setattr(statistics, "CHUNK", 256)
+    got = _reduce(data, {}).axial
+    index = next(i for i, t in enumerate(data.tests) if t.kind == "axial")
+    test, p = data.tests[index], 16
+    rows = np.flatnonzero(test.force > 0)
+    r = np.zeros((test.level_pressure.size, p + 1, p + 1))
+    spans = 0
+    for start in range(0, rows.size, 256):
+        chunk = rows[start:start + 256]
+        offset, phi = statistics.regressors(test.pressure[chunk], test.length[chunk], data.pam.geometry, 3)
+        block = np.column_stack([phi, test.force[chunk] - offset])
+        levels = np.unique(test.level[chunk])
+        spans += levels.size > 1
+        for lev in levels:
+            stacked = np.asfortranarray(np.vstack([r[lev], block[test.level[chunk] == lev]]))
+            r[lev] = np.linalg.qr(stacked, mode="r")[:p + 1]
+    assert spans and spans < rows.size // 256  # both kinds of chunk
+    mine = got.test == index
+    expected = r[np.unique(test.level[rows])]
+    assert np.array_equal(got.r[mine], expected[:, :p, :p])
+    assert np.array_equal(got.z[mine], expected[:, :p, p])
+    assert np.array_equal(got.rest[mine], expected[:, p, p] ** 2)

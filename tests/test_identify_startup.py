@@ -88,3 +88,18 @@ def test_identify_keeps_freed_memory_for_reuse(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
                          env={**os.environ, "PAMPIPE_NLP_CACHE": str(tmp_path / "cache")}, timeout=300)
     assert out.returncode == 0 and "ASKED 1" in out.stderr
+
+
+def test_an_experiment_without_slip_tests_does_not_load_the_slip_package(tmp_path):
+    """pampipe.slip (μ and κ from slip tests, ~20 ms of imports) loads only for experiments with them."""
+    code = ("import sys\nfrom pampipe.cli import main\n"
+            "codes = [main(['identify', sys.argv[1], '--json', '--reproducible'])]\n"
+            "before = any(m.startswith('pampipe.slip') for m in sys.modules)\n"
+            "codes.append(main(['identify', sys.argv[2], '--json', '--reproducible']))\n"
+            "after = any(m.startswith('pampipe.slip') for m in sys.modules)\n"
+            "print('SLIP', codes, before, after, file=sys.stderr)\n")
+    experiments = [str(PROBLEMS / "experiments" / name) for name in ("paper-protocol.yaml", "slip-3in.yaml")]
+    out = subprocess.run([sys.executable, "-c", code, *experiments], capture_output=True, text=True, cwd=ROOT,
+                         env={**os.environ, "PAMPIPE_NLP_CACHE": str(tmp_path / "cache")}, timeout=300)
+    line = next(line for line in out.stderr.splitlines() if line.startswith("SLIP"))
+    assert line == "SLIP [0, 0] False True", out.stderr[-2000:]

@@ -41,7 +41,6 @@ from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
-from pampipe.slip import fit_slip
 
 #: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
 LAW_NAMES = problem.LAW_NAMES
@@ -92,6 +91,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     slip = None
     if data.slip:
+        from pampipe.slip import fit_slip
+
         say(f"fitting friction and load coupling to {len(data.slip)} slip test(s)")
         slip = fit_slip(data.slip, Muscle.from_pam(Pam(data.pam.name, result.geometry, result.moduli)))
     return replace(result, slip=slip, solver=replace(

