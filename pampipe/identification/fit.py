@@ -380,7 +380,8 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     p_max = max(max(float(t.pressure.max()) for t in data.tests), 1.0)
     p_min = min(float(t.pressure.min()) for t in data.tests)
     pressures = np.linspace(max(0.0, p_min), p_max, options.grid_pressures)
-    pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
+    with np.errstate(invalid="ignore"):  # a pipe beyond the braid's reach: NaN, refused by the checks
+        pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
     low = min([geometry.initial_length, *pipe_lengths,
                *(float(t.length.min()) for t in data.tests if t.kind == "axial")])
     if data.pam.moduli is not None:
@@ -389,7 +390,9 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
         except SolverError:
             pass
     low = max(low, geometry.shortest_length * 1.001)
-    return pressures, drucker.grid_lengths(geometry, stats.pipes, low, options), low
+    with np.errstate(invalid="ignore"):
+        lengths = drucker.grid_lengths(geometry, stats.pipes, low, options)
+    return pressures, lengths, low
 
 
 def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:
