@@ -94,3 +94,18 @@ def test_the_problem_names_its_draws_by_their_key():
         assert problem.key == draws_key(problem.uncertainties, 200, seed, problem.kappa_sd)
         keys.append(problem.key)
     assert keys[0] != keys[1]
+
+
+def test_the_load_affine_in_friction_equals_the_incline_load():
+    """W = μ·∂W/∂μ + W(0) (slip.incline_load_affine, the evaluator's two passes) against slip.incline_load on
+    random robots, inclines and frictions, to rounding."""
+    from pampipe.model.slip import incline_load, incline_load_affine
+
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        total, anchor, drag = rng.uniform(1, 20), rng.uniform(0.1, 1), rng.uniform(0, 30)
+        phi, mu = rng.uniform(-np.pi / 2, np.pi / 2, 7), rng.uniform(0, 1.2, (7, 30))
+        rise, run = np.abs(np.sin(phi)), np.cos(phi)
+        slope, at_zero = incline_load_affine(total, anchor, rise, run, drag)
+        expected = incline_load(total, anchor, rise[:, None], run[:, None], mu, drag)
+        np.testing.assert_allclose(mu * slope[:, None] + at_zero[:, None], expected, rtol=1e-13, atol=1e-12)

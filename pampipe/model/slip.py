@@ -25,3 +25,10 @@ def anchor_load(total_mass, anchor_mass, incline, friction, tether_drag=0.0):
 def incline_load(total_mass, anchor_mass, rise, run, friction, tether_drag=0.0):
     """:func:`anchor_load` [N] from rise = |sin φ| and run = cos φ, computed once for every segment."""
     return STANDARD_GRAVITY * (total_mass * rise + friction * run * (total_mass - anchor_mass)) + tether_drag
+
+
+def incline_load_affine(total_mass, anchor_mass, rise, run, tether_drag=0.0):
+    """(∂W/∂μ [N], W at μ = 0 [N]) of :func:`incline_load`, which is affine in μ: W = μ·g·cos φ·(M − m)
+    + (g·M·|sin φ| + drag), for many frictions at one incline (two passes over them, not five)."""
+    slope = STANDARD_GRAVITY * (run * (total_mass - anchor_mass))
+    return slope, STANDARD_GRAVITY * (total_mass * rise) + tether_drag

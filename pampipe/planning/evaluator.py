@@ -22,7 +22,7 @@ import numpy as np
 
 from pampipe.model.muscle import Anchored, Muscle, Structure
 from pampipe.model.pam import Geometry
-from pampipe.model.slip import STANDARD_GRAVITY
+from pampipe.model.slip import STANDARD_GRAVITY, incline_load_affine
 from pampipe.planning.law import Terms, per_class, per_draw, raw_least, settle
 from pampipe.planning.memo import Memo
 from pampipe.planning.quantiles import order_statistics
@@ -150,14 +150,15 @@ class Evaluator:
 
     def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
         """(μ (C, n or 1), the anchor's load W(μ) [N] (C, n or 1)) with or without the friction draw, once
-        per evaluator (the full draw and friction alone share them). W = μ·g·cos φ·(M − m) + (g·M·|sin φ| +
-        drag) (:func:`pampipe.model.slip.incline_load`, affine in μ: two passes over the draws)."""
+        per evaluator (the full draw and friction alone share them), by its affine form in μ
+        (:func:`pampipe.model.slip.incline_load_affine`)."""
         if drawn not in self._loads:
             pr = self.problem
             mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))
-            slope = STANDARD_GRAVITY * (self.run * (pr.total_mass - pr.masses[self.i]))
+            slope, at_zero = incline_load_affine(pr.total_mass, pr.masses[self.i], self.rise, self.run,
+                                                 pr.tether_drag)
             load = np.multiply(mu, slope[:, None])
-            load += (STANDARD_GRAVITY * (pr.total_mass * self.rise) + pr.tether_drag)[:, None]
+            load += at_zero[:, None]
             self._loads[drawn] = mu, load
         return self._loads[drawn]
 
@@ -177,7 +178,7 @@ class Evaluator:
         keeps the order, and so do the floor at 0, the inf beyond 100 MPa and the max over the range's
         bores. Contact increments make P* a sum of a rising and a falling term (exact math rises, rounding
         need not): 0, as for every other source."""
-        if self.structure.contact or self.structure.effects:
+        if not self.affine:
             return 0
         if name == "model_error":
             return -1
