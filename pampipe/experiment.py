@@ -126,7 +126,11 @@ class TestData:
     @property
     def slack(self) -> np.ndarray:
         """Rows where the muscle is slack (recorded force ≤ 0), docs/commands.md §3.3."""
-        return self.force <= 0
+        return self.slack_at(slice(None))
+
+    def slack_at(self, rows) -> np.ndarray:
+        """:attr:`slack` of ``rows`` only (no pass over every row)."""
+        return self.force[rows] <= 0
 
 
 @dataclass(frozen=True)

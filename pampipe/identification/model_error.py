@@ -135,7 +135,7 @@ def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
             force = main.axial_force(test.pressure[rows], test.length[rows], leg=test.leg[rows],
                                      pressure_leg=pressure_leg)
             if slack == "unilateral":
-                force = np.where(test.force[rows] <= 0, np.maximum(force, 0.0), force)
+                force = np.where(test.slack_at(rows), np.maximum(force, 0.0), force)
         else:
             muscle = pipes.get(test.spec.pipe_diameter, main)
             force = muscle.radial_force(test.pressure[rows], test.spec.pipe_diameter, test.spec.axial_load)
