@@ -142,7 +142,8 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
     check_uncertainty(mission, uncertainties)
     route = mission.route
     kappa_sd = float(getattr(mission, "kappa_sd", 0.0))
-    draws = drawn_muscles(tuple(uncertainties), samples, seed, kappa_sd)  # the chunks reuse them
+    key = draws_key(tuple(uncertainties), samples, seed, kappa_sd)
+    draws = drawn_muscles(key, tuple(uncertainties), samples, seed, kappa_sd)  # the chunks reuse them
     active = muscle_sources(draws)
     active += [name for name, sd in (("bore", route.diameter_sd), ("friction", route.friction_sd))
                if np.any(np.asarray(sd) > 0)]
@@ -153,7 +154,7 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
                       tuple(float(seg.mass) for seg in mission.segments), float(mission.tether_drag),
                       float(mission.payload),
                       tuple(float(x) for x in pressure_limits(mission)) if with_payload else None,
-                      draws_key(tuple(uncertainties), samples, seed, kappa_sd))
+                      key)
     twins = segment_twins(problem, draws, np.asarray(elements.diameter), np.asarray(elements.valid))
     classes, inverse = section_classes(route, elements)
     return dataclasses.replace(problem, twins=twins), classes, inverse

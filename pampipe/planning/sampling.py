@@ -22,7 +22,7 @@ import numpy as np
 
 from pampipe.heap import retain_freed_memory
 from pampipe.model.muscle import Structure
-from pampipe.planning.evaluator import Evaluator, draws_key
+from pampipe.planning.evaluator import Evaluator
 from pampipe.planning.law import settle
 from pampipe.planning.quantiles import lower_rank, order_statistics, share_at_most, upper_rank
 from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
@@ -96,12 +96,9 @@ class Problem:
 _DRAWS: dict[str, MuscleDraws] = {}
 
 
-def drawn_muscles(uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
-    """:func:`draw_muscles`, drawn once per process for the same arguments (the last kept)."""
-    return _drawn(draws_key(uncertainties, samples, seed, kappa_sd), uncertainties, samples, seed, kappa_sd)
-
-
-def _drawn(key: str, uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
+def drawn_muscles(key: str, uncertainties: tuple, samples: int, seed: int, kappa_sd: float) -> MuscleDraws:
+    """:func:`draw_muscles`, drawn once per process for the same arguments, named by their ``key``
+    (:func:`evaluator.draws_key`; the last kept)."""
     draws = _DRAWS.get(key)  # one lookup: a Dask worker may run chunks in several threads
     if draws is None:
         draws = draw_muscles(list(uncertainties), samples, seed, kappa_sd)
@@ -113,7 +110,7 @@ def _drawn(key: str, uncertainties: tuple, samples: int, seed: int, kappa_sd: fl
 def muscle_draws(problem: Problem) -> MuscleDraws:
     """The route's muscle draws, drawn once per process (and problem) from the seed (named by its key: no
     hash of the sources per chunk)."""
-    return _drawn(problem.key, problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
+    return drawn_muscles(problem.key, problem.uncertainties, problem.samples, problem.seed, problem.kappa_sd)
 
 
 def chunk_classes(samples: int, budget: int = MEMORY_BUDGET) -> int:
