@@ -13,7 +13,7 @@ import numpy as np
 
 from pampipe.errors import InputError
 from pampipe.model.braid import diameter_at_length
-from pampipe.model.forces import bladder_volume, wall_section
+from pampipe.model.forces import bladder_volume, inner_room, wall_section
 from pampipe.model.pam import Geometry
 
 #: The neutral braid angle from the axis [deg], atan √2: contractile below it, extensile above it.
@@ -112,8 +112,7 @@ def _bladder_fits(lengths: np.ndarray, geometry: Geometry) -> bool:
         return True
     ends = np.array([lengths.min(), lengths.max()])
     r_o = diameter_at_length(ends, geometry) / 2
-    room = r_o**2 - bladder_volume(geometry) / (math.pi * ends)
-    return bool(np.all(room > 1e-9 * r_o**2))
+    return bool(np.all(inner_room(ends, r_o, bladder_volume(geometry)) > 1e-9 * r_o**2))
 
 
 def check_pressure(pressure, *, where: str = "pressure", upper: float = 1e8) -> None:

@@ -38,8 +38,14 @@ def wall_section(length, geometry, diameter=None):
     v_b = bladder_volume(geometry)
     if geometry.wall == "thin":
         return r_o, r_o, v_b / (2 * math.pi * r_o * length)
-    r_i = ops.sqrt(r_o**2 - v_b / (math.pi * length))
+    r_i = ops.sqrt(inner_room(length, r_o, v_b))
     return r_o, r_i, r_o - r_i
+
+
+def inner_room(length, r_o, v_b):
+    """R_i² = R_o² − V_b/(πL) [m²] of a thick wall at length L (outer radius R_o, bladder volume V_b);
+    negative where the bladder does not fit inside the braid."""
+    return r_o**2 - v_b / (math.pi * length)
 
 
 def axial_levers(length, geometry, diameter=None):
