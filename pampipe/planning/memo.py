@@ -22,6 +22,7 @@ class Memo:
         self.budget = budget
         self._values: dict = {}
         self._sizes: dict = {}
+        self._total = 0  # the sum of _sizes [B]
         self._lock = threading.Lock()
 
     def get(self, key, compute):
@@ -33,8 +34,10 @@ class Memo:
         parts = [value] if isinstance(value, np.ndarray) else vars(value).values()
         size = sum(v.nbytes for v in parts if isinstance(v, np.ndarray))
         with self._lock:
+            self._total += size - self._sizes.get(key, 0)  # another thread may have kept it meanwhile
             self._values[key], self._sizes[key] = value, size
-            while sum(self._sizes.values()) > self.budget and len(self._values) > 1:
+            while self._total > self.budget and len(self._values) > 1:
                 oldest = next(iter(self._values))
-                del self._values[oldest], self._sizes[oldest]
+                self._total -= self._sizes.pop(oldest)
+                del self._values[oldest]
         return value
