@@ -3,7 +3,8 @@
 Truth known independently of the planner (issue 22, item 8). Each trial:
 1. a TRUE muscle: the stated geometry (the paper's radial-test muscle) plus a draw from the stated
    tolerance (sd below), with the demo moduli;
-2. synthetic tests of it (:mod:`pampipe.synthetic`, force noise 2 N): the axial test alone, and the axial test
+2. synthetic tests of it (:mod:`pampipe.simulation.synthetic`, force noise 2 N): the axial test alone, and
+the axial test
    plus one radial test in the 88.9 mm pipe;
 3. ``identify`` on each, from the STATED geometry with its sds (the PAM file's ``{value, sd}``);
 4. ``plan --confidence 0.95`` of the demo climb (3 × 0.4 kg, 2 kg payload, SF 1.5) up a 3 in riser:
@@ -34,15 +35,15 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from pampipe.errors import SolverError  # noqa: E402
-from pampipe.experiment import ExperimentData, make_test_data  # noqa: E402
 from pampipe.identification import identify  # noqa: E402
 from pampipe.identification.options import FitOptions  # noqa: E402
 from pampipe.io.config import load_mission, load_pam  # noqa: E402
-from pampipe.model import slip  # noqa: E402
+from pampipe.model import no_slip as slip  # noqa: E402
 from pampipe.model.muscle import Muscle  # noqa: E402
 from pampipe.model.pam import Pam  # noqa: E402
 from pampipe.planning import plan_mission  # noqa: E402
-from pampipe.synthetic import Protocol, generate  # noqa: E402
+from pampipe.simulation.synthetic import Protocol, generate  # noqa: E402
+from pampipe.specs.experiment import ExperimentData, make_test_data  # noqa: E402
 
 PROBLEMS = ROOT / "problems"
 CONFIDENCE = 0.95

@@ -27,10 +27,10 @@ from scipy.optimize import minimize
 from pampipe.design import solve_inventory
 from pampipe.design.groups import make_groups, segment_loads
 from pampipe.design.multistart import make_problem, multistart
-from pampipe.io.inventory import load_inventory
+from pampipe.io.inventory_file import load_inventory
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
-from pampipe.parallel import SerialExecutor, executor, run_all
+from pampipe.runtime.executors import SerialExecutor, executor, run_all
 
 ROOT = Path(__file__).resolve().parent.parent
 INVENTORIES = ROOT / "problems" / "inventories"

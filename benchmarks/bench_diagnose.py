@@ -69,7 +69,7 @@ def example() -> None:
     from pampipe.identification import identify, parse_fit_options
     from pampipe.io.config import load_experiment
     from pampipe.io.csvfile import load_experiment_data
-    from pampipe.report import table
+    from pampipe.views.tables import table
 
     data = load_experiment_data(load_experiment(EXAMPLE))
     started = time.perf_counter()
@@ -89,7 +89,7 @@ def example() -> None:
 
 
 def scaling(sizes: list[str]) -> None:
-    from pampipe.report import table
+    from pampipe.views.tables import table
 
     rows = []
     for size in sizes:

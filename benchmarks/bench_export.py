@@ -5,7 +5,8 @@ payload), in the same run:
 
 1. the exported ``pampipe_required_pressure`` (double, gcc -O2), called once per section in a C loop
    timed inside the program (inputs read before the clock starts);
-2. the strongest Python baseline: pampipe's own vectorised numpy path, :func:`pampipe.model.slip.anchor_load`
+2. the strongest Python baseline: pampipe's own vectorised numpy path,
+:func:`pampipe.model.no_slip.anchor_load`
    and :meth:`Muscle.least_holding_pressure` on whole arrays (what `plan` does), checks included;
 3. the CasADi SX function the C is generated from, mapped over the sections (CasADi's virtual machine).
 
@@ -40,7 +41,7 @@ from pampipe.export import Provenance, generate
 from pampipe.export.law import mission_law
 from pampipe.export.sources import source
 from pampipe.io.config import load_mission
-from pampipe.model import slip
+from pampipe.model import no_slip
 from pampipe.planning.problem import mission_muscles
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -85,7 +86,7 @@ def numpy_baseline(mission, muscles, rows: np.ndarray) -> np.ndarray:
     total = sum(s.mass for s in mission.segments) + payload
     out = []
     for seg, muscle in zip(mission.segments, muscles, strict=True):
-        load = slip.anchor_load(total, seg.mass, incline, friction, mission.tether_drag)
+        load = no_slip.anchor_load(total, seg.mass, incline, friction, mission.tether_drag)
         out.append(muscle.least_holding_pressure(d, load, kappa=mission.kappa, friction=friction,
                                                  safety_factor=mission.safety_factor))
     return np.stack(out, axis=1)

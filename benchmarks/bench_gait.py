@@ -37,13 +37,13 @@ import pampipe
 from pampipe.io.config import load_mission
 from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
 from pampipe.locomotion.optimal import _problem, solve_optimal
-from pampipe.locomotion.pneumatics import Chamber, pressure_rate
+from pampipe.locomotion.replay import simulate
 from pampipe.locomotion.requirements import MuscleNeed
 from pampipe.locomotion.schedule import MIDDLE, PHASES, ControlPlan
-from pampipe.locomotion.simulation import simulate
-from pampipe.model import slip
+from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.planning import plan_mission
+from pampipe.pneumatics.timing import Chamber, pressure_rate
 
 DEMO = Path(__file__).resolve().parent.parent / "problems" / "missions" / "vertical-climb-3in.yaml"
 
@@ -56,7 +56,7 @@ def reference_needs(mission, section, options):
     needs = []
     for segment, target in zip(mission.segments, planned.segments, strict=True):
         muscle, d = Muscle.from_pam(segment.pam), section.diameter
-        load = float(slip.anchor_load(total, segment.mass, section.incline, section.friction,
+        load = float(no_slip.anchor_load(total, segment.mass, section.incline, section.friction,
                                       mission.tether_drag))
         required = float(muscle.least_holding_pressure(d, load, kappa=mission.kappa,
                                                        friction=section.friction,

@@ -39,12 +39,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.experiment import TestSpec
 from pampipe.io.config import load_pam
 from pampipe.io.pamfile import write_experiment
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
-from pampipe.synthetic import Protocol, generate
+from pampipe.simulation.synthetic import Protocol, generate
+from pampipe.specs.experiment import TestSpec
 
 ROOT = Path(__file__).resolve().parent.parent
 THREADS = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -149,9 +149,9 @@ def main() -> None:
                   f"trf+{solver}", flush=True)
         print(f"first pampipe run with an empty NLP cache (build included): {cold:.3f} s")
         python = statistics.median(run([sys.executable, "-c", "print('{}')"], env)[0] for _ in range(3))
-        units = statistics.median(run([sys.executable, "-c", "from pampipe.units import to_si; to_si('1 mm', "
-                                       "'length'); print('{}')"], env)[0] for _ in range(3))
-        print(f"start-up: python {python:.3f} s; importing pampipe.units and parsing one quantity "
+        units = statistics.median(run([sys.executable, "-c", "from pampipe.units.quantities import to_si; "
+                                       "to_si('1 mm', 'length'); print('{}')"], env)[0] for _ in range(3))
+        print(f"start-up: python {python:.3f} s; importing pampipe.units.quantities and parsing one quantity "
               f"{units - python:.3f} s more")
 
         print(f"\ncalibration on {args.calibration_rows:,} isometric rows (braid angle 3 deg and L0 1 mm "

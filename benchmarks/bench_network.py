@@ -3,7 +3,7 @@
 Times, in one run (one BLAS thread):
 
 * importing wntr, in a fresh interpreter (pampipe imports it only when a mission names a network);
-* reading ky4 (1,156 pipes) into :class:`pampipe.network.Network`, its whole-network sections, the route
+* reading ky4 (1,156 pipes) into :class:`pampipe.specs.network.Network`, its whole-network sections, the route
   J-315 -> J-897, against what a user would write with the same tools: wntr's own ``WaterNetworkModel``
   (which pampipe calls, then turns into arrays) and ``networkx.dijkstra_path`` on wntr's pipes;
 * ``plan`` of the mission ``route: {network: ky4}`` (every pipe, with the coverage) and of the route
@@ -36,10 +36,10 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from pampipe.io.config import load_mission
-from pampipe.network import load_network, route_sections, whole_network
 from pampipe.planning import plan_mission
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.problem import mission_muscles
+from pampipe.specs.network import load_network, route_sections, whole_network
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSIONS = ROOT / "problems" / "missions"

@@ -44,11 +44,11 @@ from scipy.optimize import brentq
 from threadpoolctl import threadpool_limits
 
 from pampipe.io.config import load_mission
-from pampipe.mission import Section
-from pampipe.model import forces, slip
+from pampipe.model import forces, no_slip
 from pampipe.planning import plan_mission
 from pampipe.planning.problem import CHUNK, build_elements, mission_muscles
 from pampipe.planning.solve import solve
+from pampipe.specs.mission import Section
 
 ROOT = Path(__file__).resolve().parent.parent
 DEMO = ROOT / "problems" / "missions" / "vertical-climb-3in.yaml"
@@ -101,7 +101,7 @@ def numpy_closed_form(mission, route: Columns) -> np.ndarray:
         f0 = horner(a1, e1) * lever1 - horner(a2, e2) * lever2
         f1 = ri * shared - math.pi * ri * ri + (horner(b1, e1) * lever1 - horner(b2, e2) * lever2
                                                  ) / m.reference_pressure
-        w = slip.STANDARD_GRAVITY * (total * rise + mu * run * (total - seg.mass)) + mission.tether_drag
+        w = no_slip.STANDARD_GRAVITY * (total * rise + mu * run * (total - seg.mass)) + mission.tether_drag
         amplification = c2 * d / length
         p = np.maximum((mission.kappa * w - f0) / f1
                        + mission.safety_factor * w / (mu * math.pi * amplification * f1), 0.0)
@@ -133,7 +133,7 @@ def brentq_plan(mission, route, indices) -> np.ndarray:
         for i, seg in enumerate(mission.segments):
             m = seg.pam.moduli
             args = (seg.pam.geometry, m.as_vector(), m.reference_pressure)
-            load = slip.anchor_load(total, seg.mass, phi, mu, mission.tether_drag)
+            load = no_slip.anchor_load(total, seg.mass, phi, mu, mission.tether_drag)
             start = float(forces.anchoring_pressure(d, *args, mission.kappa * load))
 
             def margin(p, d=d, mu=mu, args=args, load=load):

@@ -10,7 +10,7 @@ Also: :class:`Muscle` (the one door to the model), ``load_pam``, ``load_mission`
 ``load_experiment``. Names are imported on first use, so ``import pampipe`` stays light.
 """
 
-__version__ = "0.1.0"
+from pampipe._version import __version__
 
 _API = ("simulate", "identify", "plan", "gait", "diagnose", "design_inventory", "export_mission", "load_pam",
         "load_mission", "load_experiment", "load_inventory", "extension", "save_pam", "route", "synth",

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from pampipe.results import notebook
-from pampipe.units import real_number, show, to_si
+from pampipe.units.quantities import real_number, show, to_si
 
 Source = str | os.PathLike | Mapping  # a file, or its content as a dict (or the loaded object itself)
 Progress = Callable[[str], None]
@@ -42,7 +42,7 @@ def _file(source: Source, kind: str, base) -> tuple[Path, dict | None]:
 def _si(value, dimension: str, name: str):
     """SI float(s) of one value or a sequence of them (None stays None).
 
-    A value is anything :func:`pampipe.units.to_si` reads: a unit string, any real number (int,
+    A value is anything :func:`pampipe.units.quantities.to_si` reads: a unit string, any real number (int,
     float, Decimal, Fraction, numpy scalars and 0-d arrays) or a pint Quantity; a sequence is a list,
     a tuple or a 1-d array (numpy, or a pint Quantity of one).
     """
@@ -54,7 +54,8 @@ def _si(value, dimension: str, name: str):
 
 
 def _number(value, name: str, allowed: str) -> float:
-    """A real number of any kind (:func:`pampipe.units.real_number`), else InputError naming ``name``."""
+    """A real number of any kind (:func:`pampipe.units.quantities.real_number`), else InputError naming
+    ``name``."""
     from pampipe.errors import InputError
 
     number = real_number(value, where=name)
@@ -117,12 +118,12 @@ def load_pam(pam: Source, *, base=None):
 
 
 def load_mission(mission: Source, *, base=None):
-    """A :class:`~pampipe.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself.
+    """A :class:`~pampipe.specs.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself.
 
     A file that loaded before and is unchanged, with every file it names, comes from the cache
     (:mod:`pampipe.io.validated`) without being parsed again."""
     from pampipe.io.validated import cached, keep
-    from pampipe.mission import Mission
+    from pampipe.specs.mission import Mission
 
     if isinstance(mission, Mission):
         return mission
@@ -152,11 +153,11 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
     """One muscle in one or more pipes under one or more axial loads (`pampipe simulate`).
 
     ``pipe_diameter`` and ``axial_load``: a value or a list; ``pressure``: a list (default: the
-    paper's 69…689 kPa). Returns a :class:`pampipe.simulation.SimulateResult`.
+    paper's 69…689 kPa). Returns a :class:`pampipe.simulation.anchored.SimulateResult`.
     """
     from pampipe.errors import InputError
-    from pampipe.simulation import PAPER_PRESSURES
-    from pampipe.simulation import simulate as run
+    from pampipe.simulation.anchored import PAPER_PRESSURES
+    from pampipe.simulation.anchored import simulate as run
 
     paper_literal = _flag(paper_literal, "paper_literal")
     model = load_pam(pam, base=base)
@@ -174,10 +175,10 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
 def extension(pam: Source, *, pressure=None, base=None):
     """An extensile PAM's free length against pressure (`pampipe simulate` without a pipe).
 
-    Returns a :class:`pampipe.simulation.ExtensionResult`."""
+    Returns a :class:`pampipe.simulation.anchored.ExtensionResult`."""
     from pampipe.errors import InputError
-    from pampipe.simulation import PAPER_PRESSURES
-    from pampipe.simulation import extension as run
+    from pampipe.simulation.anchored import PAPER_PRESSURES
+    from pampipe.simulation.anchored import extension as run
 
     model = load_pam(pam, base=base)
     source = pam if not isinstance(pam, Mapping) else "PAM"
@@ -390,9 +391,9 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
 
 
 def load_inventory(inventory: Source, *, base=None):
-    """A :class:`~pampipe.inventory.Inventory` from an inventory file or dict (docs/commands.md §8)."""
-    from pampipe.inventory import Inventory
-    from pampipe.io.inventory import load_inventory as load
+    """A :class:`~pampipe.specs.inventory.Inventory` from an inventory file or dict (docs/commands.md §8)."""
+    from pampipe.io.inventory_file import load_inventory as load
+    from pampipe.specs.inventory import Inventory
 
     if isinstance(inventory, Inventory):
         return inventory
@@ -410,8 +411,8 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
     import dataclasses
 
     from pampipe.design import solve_inventory
-    from pampipe.inventory import Objective
-    from pampipe.parallel import executor
+    from pampipe.runtime.executors import executor
+    from pampipe.specs.inventory import Objective
 
     starts, seed, sizes = _whole(starts, "starts", least=1), _whole(seed, "seed", least=0), _whole(
         sizes, "sizes", least=1)
@@ -427,7 +428,7 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
 
 def _where(workers, scheduler) -> tuple[int | None, str | None]:
     """Checked ``workers`` (a whole number ≥ 1) and ``scheduler`` (an address) for
-    :func:`pampipe.parallel.executor`."""
+    :func:`pampipe.runtime.executors.executor`."""
     from pampipe.errors import InputError
 
     if scheduler is not None and not isinstance(scheduler, str):
@@ -513,7 +514,7 @@ def set_units(name: str) -> None:
     """Show results in ``name`` from now on, in this process: ``str(result)``, ``result.to_text()`` and
     ``result.plot()``; a preset (``"si"``, ``"metric"``, ``"us"``) or a pressure unit (``"psi"``). A
     command line run keeps its own --units; ``to_dict()`` and ``to_frame()`` stay SI."""
-    from pampipe import display
+    from pampipe.units import display
 
     display.set_units(name)
 
@@ -575,7 +576,7 @@ def _objective(name: str, kind):
         raise InputError(f"objective: {name!r} is not one of {', '.join(k.value for k in kind)}.") from None
 
 
-@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot="pampipe.plots.gait:plot_report",
+@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot="pampipe.views.plots.gait:plot_report",
           text="pampipe.commands.gait:result_text")
 @dataclass(frozen=True)
 class GaitReport:

@@ -16,10 +16,12 @@ import re
 import sys
 import warnings
 
-from pampipe import __version__, display, interrupts, progress
+from pampipe._version import __version__
 from pampipe.errors import InputError, PampipeError, StreamError
 from pampipe.io import streams
 from pampipe.io.files import forget_written, written
+from pampipe.runtime import interrupts, progress
+from pampipe.units import display
 
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
@@ -136,7 +138,7 @@ def _run(argv: list[str]) -> int:
             return int(exc.code or 0)
         command = f"pampipe {args.command}"
         if getattr(args, "plot_format", None):
-            from pampipe.report import set_plot_format
+            from pampipe.views.tables import set_plot_format
 
             set_plot_format(args.plot_format)
         with progress.shown(enabled=not (getattr(args, "json", False) or getattr(args, "quiet", False))), \

@@ -163,10 +163,10 @@ def frame(rows: list[dict]):
 
 def report_text(result, target: str, units: str | None) -> str:
     """The text that ``target`` (``"module:function"``) writes of ``result``, in ``units`` (a --units
-    value; None: those of :func:`pampipe.display.set_units`)."""
+    value; None: those of :func:`pampipe.units.display.set_units`)."""
     from contextlib import nullcontext
 
-    from pampipe import display
+    from pampipe.units import display
 
     module, name = target.split(":")
     build: Callable = getattr(importlib.import_module(module), name)
@@ -176,7 +176,7 @@ def report_text(result, target: str, units: str | None) -> str:
 
 def main_figure(result, target: str, ax=None):
     """The first figure that ``target`` (``"module:function"``) draws for ``result``, into ``ax`` if given."""
-    from pampipe.report import capture
+    from pampipe.views.tables import capture
 
     module, name = target.split(":")
     draw: Callable = getattr(importlib.import_module(module), name)

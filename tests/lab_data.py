@@ -22,12 +22,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.experiment import ExperimentData, TestSpec, make_test_data
 from pampipe.io import yamlwrite
 from pampipe.io.pamfile import pam_document
 from pampipe.model.effects import LIBRARY
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
+from pampipe.specs.experiment import ExperimentData, TestSpec, make_test_data
 
 DEG = np.pi / 180
 

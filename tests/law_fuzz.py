@@ -5,7 +5,7 @@ anything a broken sensor or a bad cast sends. :func:`arguments` draws rows insid
 its edges, just outside them and far outside (NaN, ±inf, ±1e300, angles beyond ±90°, negative bores and
 frictions). :func:`unsafe_ok` is the property: an OK answer must come only for arguments inside the
 domain, and with a pressure that, by `plan`'s own model (:class:`pampipe.model.muscle.Muscle`,
-:func:`pampipe.model.slip.anchor_load`), presses on the wall and holds the load with the safety factor.
+:func:`pampipe.model.no_slip.anchor_load`), presses on the wall and holds the load with the safety factor.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from pampipe.export.law import DOMAIN, Law, Reason
-from pampipe.model.slip import anchor_load
+from pampipe.model.no_slip import anchor_load
 from pampipe.planning.problem import mission_muscles
 
 #: Values no sensor should send, mixed into every column.

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from pampipe.errors import InputError
-from pampipe.experiment import legs_and_cycles, pressure_levels
 from pampipe.io import csvfile as data_module
 from pampipe.io.csvfile import read_csv
+from pampipe.specs.experiment import legs_and_cycles, pressure_levels
 
 AXIAL = ("pressure", "length", "force")
 
@@ -147,7 +147,7 @@ def test_the_fast_reader_still_names_the_bad_line(tmp_path, monkeypatch, text, e
 def test_fill_and_group_order_equal_their_searching_and_merging_forms():
     """protocol._fill (a running maximum) equals the search per row it replaced, and group_order (a radix
     sort where the groups fit in uint16) equals the stable argsort, with few groups and with more."""
-    from pampipe.protocol import _fill, group_order
+    from pampipe.specs.protocol import _fill, group_order
 
     rng = np.random.default_rng(5)
     for size in (0, 1, 7, 50_000):
@@ -163,7 +163,7 @@ def test_fill_and_group_order_equal_their_searching_and_merging_forms():
 def test_median_above_equals_the_median_compared():
     """rate_sign's lag test counts the values above the threshold instead of taking their median: the
     same answer for odd and even sizes, thresholds at, between and beside the middle values, and ties."""
-    from pampipe.protocol import _median_above
+    from pampipe.specs.protocol import _median_above
 
     rng = np.random.default_rng(6)
     for size in (1, 2, 3, 4, 5, 10, 11, 1000, 1001):

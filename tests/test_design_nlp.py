@@ -14,16 +14,15 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.design import nlp as design_nlp
-from pampipe.design import solve_inventory
+from pampipe.design import design_nlp, solve_inventory
 from pampipe.design.evaluate import designed_pam, evaluate_pipes, objective_value
 from pampipe.design.groups import make_groups, segment_loads
 from pampipe.design.multistart import make_problem, multistart
-from pampipe.inventory import Objective, Pipes
-from pampipe.io.inventory import load_inventory
+from pampipe.io.inventory_file import load_inventory
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
-from pampipe.parallel import SerialExecutor
+from pampipe.runtime.executors import SerialExecutor
+from pampipe.specs.inventory import Objective, Pipes
 from tests.conftest import PROBLEMS
 
 RISER = PROBLEMS / "inventories" / "riser.yaml"

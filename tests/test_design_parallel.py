@@ -1,4 +1,5 @@
-"""The executor helper (pampipe.parallel) and issue 16's reproducibility: serial, 2 local workers and a
+"""The executor helper (pampipe.runtime.executors) and issue 16's reproducibility: serial, 2 local workers
+and a
 Dask LocalCluster give byte-identical `design --reproducible` JSON."""
 
 from __future__ import annotations
@@ -13,8 +14,8 @@ import pytest
 
 from pampipe.design import solve_inventory
 from pampipe.errors import InputError
-from pampipe.io.inventory import load_inventory
-from pampipe.parallel import SerialExecutor, executor, run_all
+from pampipe.io.inventory_file import load_inventory
+from pampipe.runtime.executors import SerialExecutor, executor, run_all
 from tests.conftest import PROBLEMS, ROOT
 
 RISER = PROBLEMS / "inventories" / "riser.yaml"

@@ -14,19 +14,19 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pampipe import experiment
 from pampipe.diagnosis import noise, structure, verdict
-from pampipe.diagnosis.cells import reduce_rows
 from pampipe.diagnosis.hidden import MAGNITUDES, hidden_experiment, hidden_protocol
 from pampipe.diagnosis.refit import BLOCKS, Fit, build_problem
+from pampipe.diagnosis.refit_cells import reduce_rows
 from pampipe.diagnosis.workflow import diagnose
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.io.config import load_pam
 from pampipe.io.files import to_json
 from pampipe.io.pamfile import write_pam
 from pampipe.model.muscle import Muscle
-from pampipe.simulation import simulate_anchored
-from pampipe.synthetic import PAPER_PIPES
+from pampipe.simulation.anchored import simulate_anchored
+from pampipe.simulation.synthetic import PAPER_PIPES
+from pampipe.specs import experiment
+from pampipe.specs.experiment import ExperimentData, make_test_data
 from tests.conftest import PROBLEMS, run_cli
 
 EXAMPLE = PROBLEMS / "experiments" / "hidden-contact-stiffening.yaml"

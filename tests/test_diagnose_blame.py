@@ -15,14 +15,14 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from pampipe import experiment
 from pampipe.diagnosis import noise, verdict
 from pampipe.diagnosis.candidates import corrected_geometry
 from pampipe.diagnosis.hidden import hidden_experiment
 from pampipe.diagnosis.search import Step
 from pampipe.diagnosis.workflow import diagnose
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.model.muscle import Muscle
+from pampipe.specs import experiment
+from pampipe.specs.experiment import ExperimentData, make_test_data
 
 SIGMA = 2.0
 

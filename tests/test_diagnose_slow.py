@@ -120,7 +120,7 @@ def test_two_pipes_report_the_tied_pair_as_one_group(radial_pam):
     factors: the two are one indistinguishable group, neither named on its own. A third diameter is
     proposed only if the two models differ there by 3 noise floors; here they differ by ≈ 2x, so the
     reason says that no test in range separates them."""
-    from pampipe.synthetic import PAPER_PIPES
+    from pampipe.simulation.synthetic import PAPER_PIPES
 
     protocol = replace(hidden_protocol(), pipes=PAPER_PIPES)
     result = diagnose(hidden_experiment(radial_pam, "wall_friction", seed=5700, protocol=protocol))

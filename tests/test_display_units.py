@@ -7,7 +7,7 @@ import re
 
 import pytest
 
-from pampipe.display import column, localize, shown_in
+from pampipe.units.display import column, localize, shown_in
 from tests.conftest import PROBLEMS
 
 INCH = 0.0254  # m, exact
@@ -144,7 +144,7 @@ def test_plot_axes_keep_their_data_and_show_round_ticks_of_the_display_unit():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from pampipe.plots.units import localize_figure
+    from pampipe.views.plots.display_units import localize_figure
 
     fig, ax = plt.subplots()
     ax.plot([0.0, 689.0], [0.0, 50.0], label="no slip 121.8 kPa")

@@ -279,7 +279,7 @@ def section(text: str, number: str) -> str:
 
 def schema_keys(model, prefix: str = "") -> set[str]:
     """Every key a pydantic model accepts; a nested mapping's as dotted leaves (`drucker_grid.pressures`)."""
-    from pampipe.schema import _model_in
+    from pampipe.specs.schema import _model_in
 
     keys = set()
     for name, field in model.model_fields.items():

@@ -19,7 +19,7 @@ from pampipe.model.effects import (
     radial_force_with_effects,
 )
 from pampipe.model.muscle import Muscle
-from pampipe.simulation import simulate_anchored
+from pampipe.simulation.anchored import simulate_anchored
 from tests.conftest import PROBLEMS
 
 PRESSURES = np.linspace(0.0, 689e3, 12)

@@ -32,9 +32,9 @@ from pampipe.cli import main
 from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
 from pampipe.io.files import to_json
-from pampipe.mission import Section
 from pampipe.planning import plan_mission
 from pampipe.planning.checks import PRESSURE_FLOOR
+from pampipe.specs.mission import Section
 from tests import export_c
 from tests.conftest import PROBLEMS
 

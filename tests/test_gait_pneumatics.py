@@ -7,8 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.locomotion.options import Gas, Valve
-from pampipe.locomotion.pneumatics import (
+from pampipe.model import braid, forces
+from pampipe.model.muscle import Muscle
+from pampipe.pneumatics.options import Gas, Valve
+from pampipe.pneumatics.timing import (
     GAS_CONSTANT,
     ISO_DENSITY,
     ISO_TEMPERATURE,
@@ -17,8 +19,6 @@ from pampipe.locomotion.pneumatics import (
     mass_flow,
     transition_time,
 )
-from pampipe.model import braid, forces
-from pampipe.model.muscle import Muscle
 
 ATM = 101325.0
 

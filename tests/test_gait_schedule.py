@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from pampipe.io.config import load_mission
-from pampipe.locomotion import gait_options, optimal_gait, pneumatics, schedule, sequential_gait
+from pampipe.locomotion import gait_options, optimal_gait, schedule, sequential_gait
 from pampipe.locomotion.optimal import _problem
 from pampipe.locomotion.schedule import ANCHORS
+from pampipe.pneumatics import timing as pneumatics
 from tests.conftest import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

@@ -10,11 +10,11 @@ import pytest
 from pampipe.errors import SolverError
 from pampipe.io.config import load_mission
 from pampipe.locomotion import gait_options
-from pampipe.locomotion.options import GaitOptions, Gas, Valve
-from pampipe.locomotion.pneumatics import GAS_CONSTANT, ISO_DENSITY, ISO_TEMPERATURE, Chamber
+from pampipe.locomotion.replay import simulate
 from pampipe.locomotion.requirements import section_needs
 from pampipe.locomotion.schedule import ControlPlan, lengths, positions
-from pampipe.locomotion.simulation import simulate
+from pampipe.pneumatics.options import GaitOptions, Gas, Valve
+from pampipe.pneumatics.timing import GAS_CONSTANT, ISO_DENSITY, ISO_TEMPERATURE, Chamber
 from tests.conftest import PROBLEMS
 
 ATM = 101325.0

@@ -19,9 +19,12 @@ import yaml
 from scipy.integrate import quad
 
 from pampipe.io.config import load_mission
-from pampipe.locomotion import gait_options, pneumatics, sequential_gait, table
-from pampipe.locomotion.options import Gas, Valve
-from pampipe.locomotion.pneumatics import (
+from pampipe.locomotion import gait_options, sequential_gait, table
+from pampipe.model.muscle import Muscle
+from pampipe.planning import plan_mission
+from pampipe.pneumatics import timing as pneumatics
+from pampipe.pneumatics.options import Gas, Valve
+from pampipe.pneumatics.timing import (
     GAS_CONSTANT,
     ISO_DENSITY,
     ISO_TEMPERATURE,
@@ -31,8 +34,6 @@ from pampipe.locomotion.pneumatics import (
     pressure_rate,
     transition_times,
 )
-from pampipe.model.muscle import Muscle
-from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
 
 ATM = 101325.0

@@ -1,4 +1,5 @@
-"""pampipe.heap: with freed memory retained, a loop of MB-sized numpy temporaries stops faulting pages in.
+"""pampipe.runtime.heap: with freed memory retained, a loop of MB-sized numpy temporaries stops faulting
+pages in.
 
 Page faults are counted (getrusage), not timed: each fresh 2.6 MB temporary costs ~640 faults when glibc
 unmaps it on free, and none when the block is reused."""
@@ -13,7 +14,7 @@ import pytest
 LOOP = """
 import resource, sys
 import numpy as np
-from pampipe.heap import retain_freed_memory
+from pampipe.runtime.heap import retain_freed_memory
 taken = retain_freed_memory() if sys.argv[1] == "retain" else None
 x = np.ones((10000, 33))
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
@@ -34,7 +35,7 @@ def _faults(mode: str) -> tuple[str, int]:
 def test_retained_memory_is_reused_without_page_faults():
     taken, retained = _faults("retain")
     if taken != "True":
-        pytest.skip("this C library has no mallopt (not glibc): pampipe.heap changes nothing here")
+        pytest.skip("this C library has no mallopt (not glibc): pampipe.runtime.heap changes nothing here")
     _, default = _faults("default")
     assert default > 300 * 100, default  # the control: glibc's default faults every temporary in
     assert retained < default / 10, (retained, default)

@@ -1,6 +1,7 @@
 """Moduli identification: recovery from generated data, uncertainty coverage, Drucker, modes, build size.
 
-Data come from :mod:`pampipe.synthetic` with known moduli (the demo moduli of docs/physics.md §7) and known
+Data come from :mod:`pampipe.simulation.synthetic` with known moduli (the demo moduli of docs/physics.md §7)
+and known
 Gaussian force noise σ, so every expected answer is known independently of the fitting code.
 """
 
@@ -10,15 +11,15 @@ import numpy as np
 import pytest
 
 from pampipe.errors import SolverError
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.identification import FitOptions, identify, predict
 from pampipe.identification.fit import LAW_NAMES
-from pampipe.identification.nlp import build_problem
+from pampipe.identification.fit_nlp import build_problem
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli, Pam
-from pampipe.synthetic import Protocol, generate
+from pampipe.simulation.synthetic import Protocol, generate
+from pampipe.specs.experiment import ExperimentData, make_test_data
 from tests.conftest import PROBLEMS
 
 SIGMA = 2.0  # [N] force noise of the generated data

@@ -7,14 +7,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.identification import FitOptions, identify, model_error, statistics
 from pampipe.identification import fit as fitting
 from pampipe.identification.statistics import Memo, reduce_experiment
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.model.pam import Pam
-from pampipe.synthetic import Protocol, generate
+from pampipe.simulation.synthetic import Protocol, generate
+from pampipe.specs.experiment import ExperimentData, make_test_data
 from tests.conftest import PROBLEMS
 
 
@@ -104,7 +104,8 @@ def test_the_parameters_packed_once_evaluate_as_the_numpy_ones(data, monkeypatch
 def test_empty_cells_leave_the_fit_unchanged_bit_for_bit(data, monkeypatch):
     """The cell capacity's headroom (so that the hinge's refits keep one NLP) pads the cells with empty
     ones: the fit with four times the capacity is the same, bit for bit."""
-    from pampipe.identification import cells, problem
+    from pampipe.identification import moment_cells as cells
+    from pampipe.identification import problem
 
     base = identify(data, FitOptions())
     sizes = []

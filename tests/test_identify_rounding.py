@@ -7,11 +7,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.identification import FitOptions, identify, statistics
 from pampipe.identification.predict import predict
 from pampipe.model.pam import Pam
-from pampipe.synthetic import Protocol, generate
+from pampipe.simulation.synthetic import Protocol, generate
+from pampipe.specs.experiment import ExperimentData, make_test_data
 from tests.conftest import PROBLEMS
 
 

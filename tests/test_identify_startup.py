@@ -79,10 +79,10 @@ def test_the_version_in_the_provenance_is_the_installed_one():
 
 
 def test_identify_keeps_freed_memory_for_reuse(tmp_path):
-    """The command asks glibc to reuse freed blocks (pampipe.heap: at 3·10⁶ rows 1.5·10⁵ page faults
+    """The command asks glibc to reuse freed blocks (pampipe.runtime.heap: at 3·10⁶ rows 1.5·10⁵ page faults
     become 6·10⁴) before it reads the data."""
     experiment = PROBLEMS / "experiments" / "paper-protocol.yaml"
-    code = ("import sys\nfrom pampipe.cli import main\nfrom pampipe.heap import retain_freed_memory\n"
+    code = ("import sys\nfrom pampipe.cli import main\nfrom pampipe.runtime.heap import retain_freed_memory\n"
             f"code = main(['identify', {str(experiment)!r}, '--json'])\n"
             "print('ASKED', retain_freed_memory.cache_info().currsize, file=sys.stderr)\nsys.exit(code)\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,

@@ -1,6 +1,7 @@
 """What identify writes of its uncertainty, against truths known independently of the fitting code.
 
-Data come from :mod:`pampipe.synthetic` with known moduli and known Gaussian force noise σ = 2 N: the
+Data come from :mod:`pampipe.simulation.synthetic` with known moduli and known Gaussian force noise σ = 2 N:
+the
 spread of repeated fits over noise seeds, which directions a protocol cannot see, and whether the model is
 right.
 """
@@ -14,14 +15,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.identification import FitOptions, identify
 from pampipe.identification.written import FORCE_MOVE, PRESSURE_MOVE
 from pampipe.io.config import load_experiment, load_pam
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.yamlfile import load_mapping
 from pampipe.model.pam import Pam
-from pampipe.synthetic import Protocol, generate
+from pampipe.simulation.synthetic import Protocol, generate
+from pampipe.specs.experiment import ExperimentData, make_test_data
 from tests.conftest import PROBLEMS, run_cli
 
 SIGMA = 2.0  # [N]

@@ -48,7 +48,7 @@ def test_interrupt_leaves_no_partial_output(big_experiment, signum, tmp_path):
 
 #: diagnose with IPOPT's iteration log on stdout (unbuffered, no NLP cache that could hold quiet solvers),
 #: so the test sees when IPOPT is iterating instead of guessing it from a delay.
-IPOPT_VISIBLE = ("import sys, pampipe.nlp as nlp; nlp.IPOPT_DEFAULTS['print_level'] = 5; "
+IPOPT_VISIBLE = ("import sys, pampipe.runtime.ipopt as nlp; nlp.IPOPT_DEFAULTS['print_level'] = 5; "
                  "from pampipe.cli import main; sys.exit(main(sys.argv[1:]))")
 
 

@@ -80,7 +80,7 @@ def test_the_checker_catches_violations():
     bad_model = pampipe_imports("from pampipe.io.config import load_pam\nimport numpy", "model.bad")
     assert violations("model.bad", bad_model) == ["pampipe.model.bad imports pampipe.io.config"]
     bad_plot = pampipe_imports("from ..model import forces", "plots.bad")
-    assert violations("plots.bad", bad_plot) == ["pampipe.plots.bad imports pampipe.model"]
+    assert violations("plots.bad", bad_plot) == ["pampipe.views.plots.bad imports pampipe.model"]
     science = pampipe_imports("def f():\n    from pampipe.io import pamfile\n", "identification.bad")
     assert violations("identification.bad", science) == ["pampipe.identification.bad imports pampipe.io"]
     fine = pampipe_imports("from pampipe.model.muscle import Muscle", "planning.fine")

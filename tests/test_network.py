@@ -15,7 +15,7 @@ import yaml
 from pampipe.cli import main
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.config import load_mission
-from pampipe.network import coverage, load_network, route_sections, whole_network
+from pampipe.specs.network import coverage, load_network, route_sections, whole_network
 from tests.conftest import PROBLEMS
 
 wntr = pytest.importorskip("wntr")
@@ -56,7 +56,7 @@ def ky4():
 
 @pytest.fixture(scope="module")
 def ky4_model():
-    """wntr's own model of ky4, read independently of pampipe.network."""
+    """wntr's own model of ky4, read independently of pampipe.specs.network."""
     from wntr.library import model_library
 
     return wntr.network.WaterNetworkModel(model_library.get_filepath("ky4"))

@@ -1,4 +1,4 @@
-"""The on-disk cache of built NLPs (pampipe/nlp.py): a second process loads what the first built,
+"""The on-disk cache of built NLPs (pampipe/runtime/ipopt.py): a second process loads what the first built,
 the loaded functions compute what the built ones did, damage and ``off`` are handled.
 
 The reference is the function built in this process: a loaded copy must return the same numbers
@@ -14,7 +14,7 @@ import sys
 import casadi as ca
 import pytest
 
-from pampipe import nlp
+from pampipe.runtime import ipopt as nlp
 from tests.conftest import PROBLEMS, ROOT
 
 

@@ -9,17 +9,17 @@ from __future__ import annotations
 import casadi as ca
 import pytest
 
-from pampipe import nlp
 from pampipe.errors import SolverError
+from pampipe.runtime import ipopt
 
 
 def _solver(objective):
     x = ca.SX.sym("x")
-    return nlp.nlpsol("toy", {"x": x, "f": objective(x)})
+    return ipopt.nlpsol("toy", {"x": x, "f": objective(x)})
 
 
 def test_finite_derivatives_pass():
-    solution, stats = nlp.solve(_solver(lambda x: (x - 2) ** 2), what="toy", x0=0.0)
+    solution, stats = ipopt.solve(_solver(lambda x: (x - 2) ** 2), what="toy", x0=0.0)
     assert float(solution["x"]) == pytest.approx(2.0) and stats.success
 
 
@@ -27,9 +27,9 @@ def test_infinite_gradient_at_the_answer_fails():
     """f = (x − 2)² + 1e-12·√|x − 2|: the minimum is at x = 2, where the gradient is infinite."""
     solver = _solver(lambda x: (x - 2) ** 2 + 1e-12 * ca.sqrt(ca.fabs(x - 2)))
     with pytest.raises(SolverError) as error:
-        nlp._check_derivatives(solver, {"x": ca.DM(2.0)}, {}, "toy")
+        ipopt._check_derivatives(solver, {"x": ca.DM(2.0)}, {}, "toy")
     assert error.value.status == "non_finite_derivatives"
-    nlp._check_derivatives(solver, {"x": ca.DM(1.0)}, {}, "toy")  # finite elsewhere: no error
+    ipopt._check_derivatives(solver, {"x": ca.DM(1.0)}, {}, "toy")  # finite elsewhere: no error
 
 
 def _region_problem(power, where):
@@ -42,7 +42,7 @@ def _region_problem(power, where):
     problem = {"x": x, "p": p, "f": (x - 5) ** 4 + (term if where == "f" else 0)}
     if where == "g":
         problem["g"] = x + term
-    return nlp.nlpsol("toy", problem), x, p, term
+    return ipopt.nlpsol("toy", problem), x, p, term
 
 
 @pytest.mark.parametrize(("power", "where"), [(0.5, "f"), (0.5, "g"), (1.5, "f"), (1.5, "g")])
@@ -54,7 +54,7 @@ def test_nan_derivatives_at_an_iterate_fail_the_solve(power, where):
     assert not all(ca.DM(v).is_regular() for v in derivatives(2.5, 0.0))
     bounds = {"lbg": -10.0, "ubg": 10.0} if where == "g" else {}
     with pytest.raises(SolverError) as error:
-        nlp.solve(solver, what="toy", x0=0.0, p=0.0, **bounds)
+        ipopt.solve(solver, what="toy", x0=0.0, p=0.0, **bounds)
     assert error.value.status == "Invalid_Number_Detected"
     assert "toy failed" in str(error.value)
 
@@ -62,11 +62,11 @@ def test_nan_derivatives_at_an_iterate_fail_the_solve(power, where):
 def test_the_same_problem_without_the_nan_region_solves():
     """The control: the term moved to [20, 21], which the iterates never reach, leaves a plain solve."""
     x, p = ca.SX.sym("x"), ca.SX.sym("p")
-    solver = nlp.nlpsol("toy", {"x": x, "p": p,
+    solver = ipopt.nlpsol("toy", {"x": x, "p": p,
                                 "f": (x - 5) ** 4 + p * ca.sqrt(ca.fmax((x - 20) * (x - 21), 0))})
-    solution, stats = nlp.solve(solver, what="toy", x0=0.0, p=0.0)
+    solution, stats = ipopt.solve(solver, what="toy", x0=0.0, p=0.0)
     assert stats.success and float(solution["x"]) == pytest.approx(5.0, abs=1e-2)
 
 
 def test_ipopt_checks_derivatives_for_nan_and_inf():
-    assert nlp.IPOPT_DEFAULTS["check_derivatives_for_naninf"] == "yes"
+    assert ipopt.IPOPT_DEFAULTS["check_derivatives_for_naninf"] == "yes"

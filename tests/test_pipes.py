@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from pampipe.errors import InputError
-from pampipe.pipes import SCHEDULES, bore
+from pampipe.specs.pipes import SCHEDULES, bore
 
 INCH = 0.0254
 
@@ -50,7 +50,7 @@ def test_nps_3_sch_40_is_the_issue_bore():
 
 def test_large_sizes_use_the_metric_outside_diameter_rounded_to_a_millimetre():
     # NPS 24 Sch 40: OD 24.000 in, wall 0.688 in, bore 22.624 in = 574.65 mm; the metric column has
-    # 610 mm - 2 x 17.48 mm = 575.04 mm (OD rounded 0.4 mm up). Documented in pampipe.pipes.
+    # 610 mm - 2 x 17.48 mm = 575.04 mm (OD rounded 0.4 mm up). Documented in pampipe.specs.pipes.
     assert bore({"nps": 24, "schedule": 40}).nominal == pytest.approx(22.624 * INCH, abs=0.4e-3 + 1e-9)
 
 
@@ -59,7 +59,7 @@ def test_pe_bore_is_outside_diameter_less_two_walls():
     size = bore({"dn": 110, "sdr": 11})
     assert size.nominal == pytest.approx(90.0e-3, abs=1e-12)
     assert size.label == "DN 110 SDR 11"
-    # SDR 17: 110 / 17 mm wall, exactly (the formula; tables round the wall up, see pampipe.pipes)
+    # SDR 17: 110 / 17 mm wall, exactly (the formula; tables round the wall up, see pampipe.specs.pipes)
     assert bore({"dn": 110, "sdr": 17}).nominal == pytest.approx((110 - 2 * 110 / 17) * 1e-3, rel=1e-12)
 
 

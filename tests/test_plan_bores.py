@@ -26,12 +26,12 @@ import numpy as np
 import pytest
 
 from pampipe.io.config import load_mission
-from pampipe.mission import Section
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
 from pampipe.planning import plan_mission
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.problem import mission_muscles
+from pampipe.specs.mission import Section
 from tests.conftest import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

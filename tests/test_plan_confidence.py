@@ -9,7 +9,7 @@ import pytest
 
 from pampipe.errors import InputError
 from pampipe.io.config import load_mission
-from pampipe.model import slip
+from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
@@ -25,7 +25,7 @@ def holding_fraction(mission, s, i, pressure, draws, rng):
     theta = rng.multivariate_normal(m.as_vector(), seg.pam.covariance, size=draws, method="eigh").T
     mu = rng.normal(sec.friction, sec.friction_sd, size=draws)
     total = sum(x.mass for x in mission.segments) + mission.payload
-    load = slip.anchor_load(total, seg.mass, sec.incline, mu, mission.tether_drag)
+    load = no_slip.anchor_load(total, seg.mass, sec.incline, mu, mission.tether_drag)
     capacity = Muscle(seg.pam.geometry, theta, m.reference_pressure).holding_capacity(
         pressure, sec.diameter, load, kappa=mission.kappa, friction=mu)
     return float(np.mean(capacity >= mission.safety_factor * load))

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from pampipe.io.config import load_mission
-from pampipe.model import slip
+from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 from pampipe.planning.confidence import plan_confidence, sampling_problem
@@ -117,7 +117,7 @@ def test_grouped_law_equals_the_per_section_law_on_random_draws(tmp_path):
         for c in range(len(classes)):
             muscle = Muscle(Geometry(*p[k, :4], structure.wall), p[k, 5:5 + n], p[k, 4])
             mu = classes.mu[c] + ev.friction[k, c]
-            load = slip.anchor_load(problem.total_mass, problem.masses[0], classes.incline[c], mu,
+            load = no_slip.anchor_load(problem.total_mass, problem.masses[0], classes.incline[c], mu,
                                     problem.tether_drag)
             bores = {classes.low[c], classes.worst[c, 0], classes.high[c]}
             expected = max(float(muscle.least_holding_pressure(b + ev.bore[k, c], load, kappa=problem.kappa,
@@ -163,7 +163,7 @@ def test_chunked_plan_holds_in_c_of_independent_monte_carlo(tmp_path):
     for s in range(0, 30, 4):
         mu = rng.normal(r.friction[s], r.friction_sd[s], n)
         delta = rng.normal(0.0, r.diameter_sd[s], n) if r.diameter_sd[s] > 0 else np.zeros(n)
-        load = slip.anchor_load(total, seg.mass, r.incline[s], mu, mission.tether_drag)
+        load = no_slip.anchor_load(total, seg.mass, r.incline[s], mu, mission.tether_drag)
         bores = np.linspace(r.diameter_low[s], r.diameter_high[s], 9)  # the range, holds over all of it
         holds = np.ones(n, dtype=bool)
         for d in bores:

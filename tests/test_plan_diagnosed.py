@@ -14,7 +14,7 @@ import yaml
 
 from pampipe.cli import main
 from pampipe.io.config import load_mission
-from pampipe.model import braid, forces, slip
+from pampipe.model import braid, forces, no_slip
 from pampipe.planning import max_payload, plan_mission
 from tests.conftest import PROBLEMS
 
@@ -43,7 +43,7 @@ def _closed_form(mission, s, i, extra_force, grip_divisor):
     seg, sec = mission.segments[i], mission.route[s]
     g, m = seg.pam.geometry, seg.pam.moduli
     total = sum(x.mass for x in mission.segments) + mission.payload
-    load = slip.anchor_load(total, seg.mass, sec.incline, sec.friction)
+    load = no_slip.anchor_load(total, seg.mass, sec.incline, sec.friction)
     amp = braid.amplification_factor(sec.diameter, g)
     at_zero, slope = forces.axial_force_affine(braid.length_at_diameter(sec.diameter, g), g, m.as_vector(),
                                                m.reference_pressure)

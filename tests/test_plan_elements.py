@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from pampipe.io.config import load_mission
-from pampipe.mission import Section
 from pampipe.planning import plan_mission, problem
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.solve import solve
+from pampipe.specs.mission import Section
 from tests.conftest import PROBLEMS
 
 FIELDS = ("diameter", "length", "volume", "load", "load_per_payload", "friction", "anchoring",

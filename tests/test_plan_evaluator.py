@@ -99,7 +99,7 @@ def test_the_problem_names_its_draws_by_their_key():
 def test_the_load_affine_in_friction_equals_the_incline_load():
     """W = μ·∂W/∂μ + W(0) (slip.incline_load_affine, the evaluator's two passes) against slip.incline_load on
     random robots, inclines and frictions, to rounding."""
-    from pampipe.model.slip import incline_load, incline_load_affine
+    from pampipe.model.no_slip import incline_load, incline_load_affine
 
     rng = np.random.default_rng(11)
     for _ in range(50):

@@ -16,11 +16,12 @@ from scipy.optimize import brentq
 
 from pampipe.errors import InputError
 from pampipe.io.config import load_mission
-from pampipe.mission import Mission, Section, Segment
-from pampipe.model import braid, forces, slip
+from pampipe.model import braid, forces
+from pampipe.model import no_slip as slip
 from pampipe.model.pam import Moduli
 from pampipe.planning import max_payload, plan_mission
 from pampipe.planning.solve import block_solver
+from pampipe.specs.mission import Mission, Section, Segment
 from tests.conftest import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

@@ -1,6 +1,6 @@
 """`plan` on routes through a pipe network (docs/commands.md §7): `route: {network, from, to}` in a mission.
 
-Independent answers: wntr's own model of ky4 (read here, not through pampipe.network), networkx for the
+Independent answers: wntr's own model of ky4 (read here, not through pampipe.specs.network), networkx for the
 shortest path, the closed form of the anchoring pressure (docs/physics.md §7, pampipe.model.forces) for
 the contact margins, and a dense scan of each bore range (tests/test_plan_bores.py) for the worst bore.
 """

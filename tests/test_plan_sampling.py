@@ -14,7 +14,7 @@ import pytest
 from pampipe import api
 from pampipe.io.config import load_mission
 from pampipe.io.pamfile import write_pam
-from pampipe.model import slip
+from pampipe.model import no_slip as slip
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names

@@ -16,7 +16,7 @@ import yaml
 from pampipe import api
 from pampipe.cli import main
 from pampipe.errors import InputError
-from pampipe.model import slip
+from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from tests.conftest import PROBLEMS
 
@@ -101,7 +101,7 @@ def test_bore_sd_under_confidence_holds_in_c_of_monte_carlo_draws(confidence):
     rng = np.random.default_rng(7)
     bores = rng.normal(3 * INCH, sd, 10_000)
     total = sum(s.mass for s in mission.segments) + mission.payload
-    load = slip.anchor_load(total, seg.mass, sec.incline, sec.friction, mission.tether_drag)
+    load = no_slip.anchor_load(total, seg.mass, sec.incline, sec.friction, mission.tether_drag)
     muscle = Muscle.from_pam(seg.pam)
     share = np.mean(muscle.holding_capacity(point.pressure, bores, load, kappa=1.0, friction=0.3)
                     >= mission.safety_factor * load)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import pampipe
-from pampipe.report import capture
+from pampipe.views.tables import capture
 from tests.conftest import PROBLEMS, ROOT
 
 UNIT = re.compile(r"\[[^\]]+\]|\(network units\)")
@@ -54,7 +54,7 @@ def plan():
 
 
 def test_plan_plots(plan):
-    from pampipe.plots.plan import plot_plan
+    from pampipe.views.plots.plan import plot_plan
 
     for fig in _figures(plot_plan, plan):
         check(fig)
@@ -70,7 +70,7 @@ def test_plan_draws_identical_segments_as_one_line(plan):
 
 
 def test_network_route_plots_and_colour_span():
-    from pampipe.plots.plan import plot_plan
+    from pampipe.views.plots.plan import plot_plan
 
     plan = pampipe.plan(PROBLEMS / "missions" / "ky4-route.yaml")
     figures = _figures(plot_plan, plan)
@@ -84,8 +84,8 @@ def test_network_route_plots_and_colour_span():
 
 
 def test_simulate_and_gait_plots():
-    from pampipe.plots.gait import plot_report
-    from pampipe.plots.simulate import plot_simulation
+    from pampipe.views.plots.gait import plot_report
+    from pampipe.views.plots.simulate import plot_simulation
 
     pam = PROBLEMS / "pams" / "paper-radial-pam.yaml"
     simulation = pampipe.simulate(pam, pipe_diameter=["3 in", "3.5 in"])
@@ -114,8 +114,8 @@ def test_a_figure_legend_is_shown_in_the_users_units():
     the control: the axis legend next to it."""
     from matplotlib.figure import Figure
 
-    from pampipe.display import shown_in
-    from pampipe.plots.units import localize_figure
+    from pampipe.units.display import shown_in
+    from pampipe.views.plots.display_units import localize_figure
 
     fig = Figure()
     ax = fig.add_subplot()
@@ -132,8 +132,8 @@ def test_a_log_axis_gets_decades_of_the_users_unit():
     """Under us, a log axis in N is ticked at 1, 10, 100 lbf (not at N decades relabelled 2.248, 22.48)."""
     from matplotlib.figure import Figure
 
-    from pampipe.display import shown_in
-    from pampipe.plots.units import localize_figure
+    from pampipe.units.display import shown_in
+    from pampipe.views.plots.display_units import localize_figure
 
     fig = Figure()
     ax = fig.add_subplot()

@@ -6,8 +6,8 @@ import io
 import subprocess
 import sys
 
-from pampipe import progress
-from pampipe.parallel import SerialExecutor, run_all
+from pampipe.runtime import progress
+from pampipe.runtime.executors import SerialExecutor, run_all
 from tests.conftest import PROBLEMS, ROOT
 
 

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 import yaml
 
-from pampipe.experiment import TestSpec as Spec
-from pampipe.experiment import make_slip_data
 from pampipe.model.muscle import Muscle
 from pampipe.slip import fit_slip
 from pampipe.slip.detect import detect
+from pampipe.specs.experiment import TestSpec as Spec
+from pampipe.specs.experiment import make_slip_data
 from tests import slip_data
 from tests.conftest import PROBLEMS
 
@@ -123,7 +123,7 @@ def test_friction_law_check(muscle, two_bores):
 
 def test_diagnose_reports_a_rate_trend_instead_of_hiding_it(muscle, radial_pam, two_bores):
     """A grip that grows with load rate is reported as a trend; Coulomb data show none."""
-    from pampipe.diagnosis.slip import SlipDiagnosis, diagnose_slip
+    from pampipe.diagnosis.slip_residuals import SlipDiagnosis, diagnose_slip
 
     viscous = diagnose_slip(_tests(muscle, BORES, rate_gain=0.1), radial_pam)
     assert viscous.verdict == "trend"

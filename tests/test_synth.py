@@ -12,7 +12,7 @@ from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.pamfile import write_experiment
 from pampipe.model import forces
 from pampipe.model.muscle import Muscle
-from pampipe.synthetic import PAPER_LOAD, PAPER_PIPES, Protocol, generate
+from pampipe.simulation.synthetic import PAPER_LOAD, PAPER_PIPES, Protocol, generate
 
 
 def test_protocol_shape_and_noise_free_values(radial_pam):

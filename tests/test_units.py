@@ -15,8 +15,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pampipe.errors import InputError
-from pampipe.unit_table import DIMENSIONS, UNITS
-from pampipe.units import column_factor, to_si
+from pampipe.units.quantities import column_factor, to_si
+from pampipe.units.table import DIMENSIONS, UNITS
 
 PINT_NAMES = {"psig": "psi", "barg": "bar", "%": "percent"}  # names pint does not know, read as these
 

@@ -5,7 +5,7 @@ Entering a bend, the steering module's valves fill its PAMs to the bend's comman
 as the slowest PAM's fill); leaving it, they vent them to the gait's ``vented_pressure`` (step
 ``steer-out``). Each PAM is a chamber of the gas volume it has at its commanded length, V = πD²L/4 − V_b
 (the largest it reaches, so the times are upper bounds), behind a valve of the mission's ``gait:`` block
-(:func:`pampipe.locomotion.pneumatics.transition_time`). The peristaltic steps through the bend are those
+(:func:`pampipe.pneumatics.timing.transition_time`). The peristaltic steps through the bend are those
 of a straight section of the same length (its arc is part of the route's length).
 """
 
@@ -13,9 +13,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from pampipe.locomotion.options import GaitOptions
-from pampipe.locomotion.pneumatics import Chamber, transition_time
 from pampipe.model.forces import bladder_volume
+from pampipe.pneumatics.options import GaitOptions
+from pampipe.pneumatics.timing import Chamber, transition_time
 
 
 @dataclass(frozen=True)

@@ -162,7 +162,7 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
     muscle = options = None
     if steering is not None:
         from pampipe.bends.gait import steering_steps  # locomotion imports planning, which imports this
-        from pampipe.locomotion.options import gait_options
+        from pampipe.pneumatics.options import gait_options
 
         muscle = Muscle.from_pam(steering.pam, where=f"{mission.source}: robot.steering.pam")
         options = gait_options(mission.gait, source=mission.source)

@@ -68,7 +68,7 @@ def _solvers(structure: Structure):
     L_k = L₀(1 + ε_k); p = [muscle parameters, κ*, cos φ_b, sin φ_b, r]."""
     import casadi as ca
 
-    from pampipe import nlp
+    from pampipe.runtime import ipopt as nlp
 
     sym = Muscle.symbolic(structure)
     x = ca.SX.sym("x", 2 * COUNT)
@@ -97,7 +97,7 @@ def steer(muscle: Muscle, *, curvature: float, direction: float, radius: float,
           supply: float) -> SteeringCommand:
     """The least-pressure triad that bends the module to ``curvature`` κ* [1/m] toward ``direction`` φ_b
     [rad] (from PAM 1 toward PAM 2), PAMs at ``radius`` r [m], pressures at most ``supply`` [Pa]."""
-    from pampipe import nlp  # CasADi: loaded only when a bend needs steering
+    from pampipe.runtime import ipopt as nlp  # CasADi: loaded only when a bend needs steering
 
     g = muscle.geometry
     least, most = _solvers(muscle.structure)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from pampipe.errors import InputError
 from pampipe.io.files import atomic_write, atomic_write_text, json_chunks, to_json
-from pampipe.units import to_si
+from pampipe.units.quantities import to_si
 
 
 def quantity_type(dimension: str):
@@ -63,8 +63,8 @@ def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -
 
 
 def add_units_option(parser: argparse.ArgumentParser) -> None:
-    """--units: the units of the text output (:mod:`pampipe.display`); JSON stays SI."""
-    from pampipe.display import CHOICES
+    """--units: the units of the text output (:mod:`pampipe.units.display`); JSON stays SI."""
+    from pampipe.units.display import CHOICES
 
     parser.add_argument("--units", choices=CHOICES, default="metric",
                         help="units of the tables, warnings, reasons and plots: si (Pa, m, N), metric (kPa, "
@@ -74,7 +74,8 @@ def add_units_option(parser: argparse.ArgumentParser) -> None:
 
 
 def add_parallel_options(parser: argparse.ArgumentParser, what: str) -> None:
-    """--workers N and --scheduler ADDRESS: where ``what`` runs (:func:`pampipe.parallel.executor`); the
+    """--workers N and --scheduler ADDRESS: where ``what`` runs (:func:`pampipe.runtime.executors.executor`);
+    the
     result is the same on each."""
     parser.add_argument("--workers", type=int, metavar="N", help=f"run {what} on N local processes")
     parser.add_argument("--scheduler", metavar="ADDRESS",
@@ -82,7 +83,7 @@ def add_parallel_options(parser: argparse.ArgumentParser, what: str) -> None:
 
 
 def add_report_option(parser: argparse.ArgumentParser) -> None:
-    """--report FILE.html: the self-contained HTML report (:mod:`pampipe.html_report`)."""
+    """--report FILE.html: the self-contained HTML report (:mod:`pampipe.views.html`)."""
     parser.add_argument("--report", type=Path, metavar="FILE.html",
                         help="also write one self-contained HTML file to send: inputs with their SHA-256, "
                              "tables, warnings, plots (inline SVG) and the model's assumptions")
@@ -93,8 +94,8 @@ def write_html_report(args: argparse.Namespace, command: str, *, inputs, text: s
     """Write ``args.report`` if asked for; ``draw()`` draws the command's plots (captured as SVG)."""
     if getattr(args, "report", None) is None:
         return
-    from pampipe.display import localize
-    from pampipe.html_report import svg_figures, write_report
+    from pampipe.units.display import localize
+    from pampipe.views.html import svg_figures, write_report
 
     source = getattr(args, "mission", None) or getattr(args, "experiment", None)
     write_report(args.report, command, title=f"pampipe {command} {source}", inputs=inputs,
@@ -123,8 +124,8 @@ def say(args: argparse.Namespace, text: str) -> None:
 
 def emit(args: argparse.Namespace, document: dict | None, text: str, *, indent: int | None = 2) -> None:
     """Print the JSON document (under --json) or the text report (``document`` may then be None); the text
-    in the display units of --units (:func:`pampipe.display.localize`)."""
-    from pampipe.display import localize
+    in the display units of --units (:func:`pampipe.units.display.localize`)."""
+    from pampipe.units.display import localize
 
     text = localize(text)
     if getattr(args, "json", False):
@@ -140,7 +141,7 @@ def emit_streamed(args: argparse.Namespace, document, text: str) -> None:
     """:func:`emit` and :func:`write_json` (``-o``) of a large document written as it is produced
     (:func:`pampipe.io.files.json_chunks`), on one line; ``document()`` gives it with its
     :class:`~pampipe.io.files.Streamed` lists. -o is written first (atomically), then copied to stdout."""
-    from pampipe.display import localize
+    from pampipe.units.display import localize
 
     timings = not args.reproducible
     if args.output is not None:

@@ -11,9 +11,9 @@ from pathlib import Path
 from pampipe.commands.common import add_output_options, add_parallel_options, add_units_option, emit, say
 from pampipe.errors import InfeasibleError
 from pampipe.io.files import check_not_input
-from pampipe.io.inventory import load_inventory
+from pampipe.io.inventory_file import load_inventory
 from pampipe.io.pamfile import write_pam
-from pampipe.report import table
+from pampipe.views.tables import table
 
 NAME = "design"
 HELP = "choose the rest length, rest diameter and braid angle of the muscle for a pipe inventory"
@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
     for path in result.outputs:
         say(args, f"wrote {path}")
     if args.plots:
-        from pampipe.plots.design import plot_design
+        from pampipe.views.plots.design import plot_design
 
         for path in plot_design(result, args.plots):
             say(args, f"wrote {path}")

@@ -17,13 +17,13 @@ from pampipe.commands.common import (
 from pampipe.diagnosis import structure
 from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate, describe
 from pampipe.diagnosis.selection import FOLDS
-from pampipe.display import scaled
 from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
 from pampipe.model.effects import LIBRARY
-from pampipe.report import table
+from pampipe.units.display import scaled
+from pampipe.views.tables import table
 
 NAME = "diagnose"
 HELP = "name the effect missing from the model of an experiment, refit with it, show the gap shrink"
@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     text = result_text(result)
     document = result.as_document()
     emit(args, document, text)
-    from pampipe.plots.diagnose import plot_diagnosis
+    from pampipe.views.plots.diagnose import plot_diagnosis
 
     write_html_report(args, "diagnose", inputs=[experiment.source, *experiment.input_files], text=text,
                       document=document, draw=lambda: plot_diagnosis(result, None),
@@ -81,8 +81,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def say_err(args, text: str) -> None:
-    """A progress line on stderr (:mod:`pampipe.progress`: none under --json or --quiet)."""
-    from pampipe import progress
+    """A progress line on stderr (:mod:`pampipe.runtime.progress`: none under --json or --quiet)."""
+    from pampipe.runtime import progress
 
     progress.note(f"diagnose: {text}")
 

@@ -33,7 +33,7 @@ def compute(args: argparse.Namespace) -> tuple[dict, Callable[[], str]]:
     written here."""
     from pampipe.errors import InputError
     from pampipe.io.config import load_experiment, load_mission
-    from pampipe.io.inventory import load_inventory
+    from pampipe.io.inventory_file import load_inventory
 
     if args.name is None:
         listing = bundled.catalogue()

@@ -12,8 +12,8 @@ from pampipe.commands.plan import probability
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_set, check_not_input
-from pampipe.progress import note
-from pampipe.report import table
+from pampipe.runtime.progress import note
+from pampipe.views.tables import table
 
 NAME = "export"
 HELP = ("write the mission's anchoring law and gait schedule as plain C99 (pampipe_plan.h/.c) and an "

@@ -10,8 +10,8 @@ from pampipe import api
 from pampipe.commands.common import add_output_options, add_units_option, emit, say
 from pampipe.locomotion.result import GaitResult
 from pampipe.locomotion.schedule import POSITION_KEYS
-from pampipe.progress import note
-from pampipe.report import table
+from pampipe.runtime.progress import note
+from pampipe.views.tables import table
 
 NAME = "gait"
 HELP = ("the 7-step peristaltic schedule of a mission section: steps, pressures, positions, valve "
@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
                       progress=note)
     emit(args, report.to_dict(), result_text(report))
     if args.plots:
-        from pampipe.plots.gait import plot_gait
+        from pampipe.views.plots.gait import plot_gait
 
         for result in report.results:
             for path in plot_gait(result, args.plots):

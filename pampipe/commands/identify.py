@@ -15,17 +15,17 @@ from pampipe.commands.common import (
     say,
     write_html_report,
 )
-from pampipe.display import column, scaled
 from pampipe.errors import InputError
-from pampipe.heap import retain_freed_memory
 from pampipe.identification import identify
 from pampipe.identification.grip import GripResult
 from pampipe.identification.options import fit_options, parse_fit_options
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
 from pampipe.model.uncertainty import SCALED_UNITS
-from pampipe.progress import deferred, note
-from pampipe.report import table
+from pampipe.runtime.heap import retain_freed_memory
+from pampipe.runtime.progress import deferred, note
+from pampipe.units.display import column, scaled
+from pampipe.views.tables import table
 
 NAME = "identify"
 HELP = ("fit the bladder moduli to axial and radial test data (IPOPT, Drucker-stable, with uncertainty), and "
@@ -89,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     def progress(text: str) -> None:
         note(f"pampipe identify: {text}")
 
-    retain_freed_memory()  # arrays of MBs per test, freed and made again: reuse them (pampipe.heap)
+    retain_freed_memory()  # arrays of MBs per test, freed and made again: reuse them (pampipe.runtime.heap)
     data = load_experiment_data(experiment, progress=progress)
     with deferred() as later:  # below 10⁵ rows a step is noted only when it takes more than a second
         result = identify(data, options, progress=progress if data.points >= 100_000 else
@@ -110,13 +110,13 @@ def run(args: argparse.Namespace) -> int:
     if args.output is not None:
         say(args, f"wrote {args.output}")
     if args.plots:
-        from pampipe.plots.identify import plot_identification
+        from pampipe.views.plots.identify import plot_identification
 
         if data.tests:
             for path in plot_identification(data, result, args.plots):
                 say(args, f"wrote {path}")
         if result.slip is not None:
-            from pampipe.plots.slip import plot_slip
+            from pampipe.views.plots.slip_tests import plot_slip
 
             for path in plot_slip(data.slip, result.slip, args.plots):
                 say(args, f"wrote {path}")
@@ -147,7 +147,7 @@ def result_text(result) -> str:
 
 def full_report(result, source: str) -> str:
     """The moduli report (when the moduli were fitted) and the slip report (when there are slip tests)."""
-    from pampipe.commands.slip_text import slip_report
+    from pampipe.views.slip_text import slip_report
 
     if isinstance(result, GripResult):
         return (f"{source}: slip tests only; the moduli are those of the stated PAM\n"
@@ -376,8 +376,8 @@ def _level_table(result, scale: float) -> str:
 
 def _draw(data, result) -> None:
     """Every plot of `identify --plots` (into the current figure capture)."""
-    from pampipe.plots.identify import plot_identification
-    from pampipe.plots.slip import plot_slip
+    from pampipe.views.plots.identify import plot_identification
+    from pampipe.views.plots.slip_tests import plot_slip
 
     if data.tests:
         plot_identification(data, result, None)

@@ -20,7 +20,7 @@ from pampipe.commands.common import (
 )
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import Streamed, check_output
-from pampipe.units import to_si
+from pampipe.units.quantities import to_si
 
 NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
@@ -130,7 +130,7 @@ COMPACT_SECTIONS = 10_000
 
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
-    from pampipe.commands.plan_text import SHOWN, plan_text
+    from pampipe.views.plan_text import SHOWN, plan_text
 
     mission = api.load_mission(args.mission)
     if args.output is not None:
@@ -149,7 +149,7 @@ def run(args: argparse.Namespace) -> int:
     large = len(plan.arrays.route) > COMPACT_SECTIONS
     wanted = args.json or args.output is not None or args.report is not None
     document = plan.to_dict() if wanted and not (large and args.report is None) else None
-    from pampipe.display import current, localize
+    from pampipe.units.display import current, localize
 
     unit = current().pressure
     for warning in plan.warnings:
@@ -166,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
             write_json(args.output, document, args, indent=indent)
     if args.output is not None:
         say(args, f"wrote {args.output}")
-    from pampipe.plots.plan import plot_plan
+    from pampipe.views.plots.plan import plot_plan
 
     if args.report is not None:
         reasons = [f"{s['name']}: {s['reason']}" for s in document["sections"] if s.get("reason")]

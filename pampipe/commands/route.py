@@ -14,7 +14,7 @@ from pampipe.io import bundled, yamlwrite
 from pampipe.io.config import load_mission
 from pampipe.io.files import check_not_input
 from pampipe.io.yamlfile import load_mapping
-from pampipe.report import table
+from pampipe.views.tables import table
 
 NAME = "route"
 HELP = "the shortest path between two nodes of an EPANET network, as a mission file (one section per pipe)"
@@ -69,7 +69,7 @@ def compute(args: argparse.Namespace) -> tuple[dict, Callable[[], str]]:
     """(the JSON document, what writes the text report in the display units) of the command; files are
     written here."""
     from pampipe.io.routes import turn_angles
-    from pampipe.network import load_network, route_sections
+    from pampipe.specs.network import load_network, route_sections
 
     template = args.template or bundled.find(DEFAULT_TEMPLATE)
     mission = load_mission(template)

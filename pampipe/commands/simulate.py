@@ -9,7 +9,7 @@ import numpy as np
 
 from pampipe import api
 from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type, say
-from pampipe.report import table
+from pampipe.views.tables import table
 
 NAME = "simulate"
 HELP = "anchoring pressure, anchored length, amplification and radial force of a PAM in a pipe"
@@ -41,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
                           pressure=args.pressure, paper_literal=args.paper_literal)
     emit(args, result.to_dict(), result_text(result))
     if args.plots:
-        from pampipe.plots.simulate import plot_simulation
+        from pampipe.views.plots.simulate import plot_simulation
 
         for path in plot_simulation(result, args.plots):
             say(args, f"wrote {path}")
@@ -57,7 +57,7 @@ def _extension(args: argparse.Namespace) -> int:
             for p, length, d in zip(result.pressures, result.free_length, result.diameter, strict=True)]
     emit(args, result.to_dict(), head + "\n" + table(["P [kPa]", "L [mm]", "extension [%]", "D [mm]"], rows))
     if args.plots:
-        from pampipe.plots.simulate import plot_extension
+        from pampipe.views.plots.simulate import plot_extension
 
         say(args, f"wrote {plot_extension(result, args.plots)}")
     return 0

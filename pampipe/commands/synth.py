@@ -16,8 +16,8 @@ from pampipe.io.csvfile import check_rows
 from pampipe.io.pamfile import write_experiment
 from pampipe.model.domain import check_kind
 from pampipe.model.muscle import Muscle
-from pampipe.slip.synthetic import SlipProtocol, generate_slip
-from pampipe.synthetic import Protocol, comments, generate
+from pampipe.simulation.synthetic import Protocol, comments, generate
+from pampipe.slip.synthetic_trials import SlipProtocol, generate_slip
 
 NAME = "synth"
 HELP = ("generate a synthetic experiment (paper protocol, known moduli, noise, seed) for identify; with "

@@ -1,9 +1,9 @@
 """`pampipe design`: choose the muscle geometry for a pipe inventory (docs/commands.md §8).
 
 The rest length, rest diameter and braid angle are the decision variables of an NLP built once
-from the symbolic :class:`~pampipe.model.muscle.Muscle` (:mod:`pampipe.design.nlp`); the bladder
+from the symbolic :class:`~pampipe.model.muscle.Muscle` (:mod:`pampipe.design.design_nlp`); the bladder
 material is fixed. It is solved from a Latin hypercube of starts on any executor
-(:mod:`pampipe.parallel`), and with ``design.sizes: K`` up to K muscles are chosen to serve the most
+(:mod:`pampipe.runtime.executors`), and with ``design.sizes: K`` up to K muscles are chosen to serve the most
 pipe length (:mod:`pampipe.design.sizes`). Library API::
 
     import pampipe

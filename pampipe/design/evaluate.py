@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.design.groups import segment_loads
-from pampipe.inventory import Inventory, Objective, Pipes
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry, Pam
+from pampipe.specs.inventory import Inventory, Objective, Pipes
 
 #: Relative slack of the served test on the NLP's constraints (IPOPT meets them to ~1e-10).
 SLACK = 1e-7

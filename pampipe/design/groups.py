@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.inventory import Inventory, Pipes
-from pampipe.model.slip import anchor_load
+from pampipe.model.no_slip import anchor_load
+from pampipe.specs.inventory import Inventory, Pipes
 
 #: Columns of one group in the NLP's parameter vector.
 COLUMNS = ("diameter", "friction", "load_max", "load_min", "load_mean", "length")

@@ -1,7 +1,7 @@
 """Multi-start of the design NLP: Latin-hypercube starts, one plain-data task per start, the best kept.
 
 A :class:`StartTask` holds numbers only (it pickles for any executor); :func:`solve_start` runs in
-the worker, which builds its own solver (cached per process, :func:`pampipe.design.nlp.build`).
+the worker, which builds its own solver (cached per process, :func:`pampipe.design.design_nlp.build`).
 The starts are a Latin hypercube drawn from the inventory's seed, so start k is the same point on
 every executor; the best start is the least objective, ties broken by the lower start index.
 """
@@ -13,13 +13,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pampipe import nlp
-from pampipe.design import nlp as design_nlp
+from pampipe.design import design_nlp
 from pampipe.design.groups import Groups, block_size
 from pampipe.errors import SolverError
-from pampipe.inventory import DesignSpace, Inventory, Objective
 from pampipe.model.muscle import Structure
-from pampipe.parallel import run_all
+from pampipe.runtime import ipopt
+from pampipe.runtime.executors import run_all
+from pampipe.specs.inventory import DesignSpace, Inventory, Objective
 
 #: Starts whose objective is within this relative distance of the best "reached" it: IPOPT stops at
 #: tol 1e-10 on the scaled problem, so starts converging to the same optimum agree far closer.
@@ -63,7 +63,7 @@ def solve_start(task: StartTask) -> StartResult:
     """Solve the design NLP from one start (in whatever process runs it)."""
     solver, _ = design_nlp.build(task.structure, task.objective, task.size)
     try:
-        sol, stats = nlp.solve(solver, what="the design NLP", x0=task.x0, p=task.p,
+        sol, stats = ipopt.solve(solver, what="the design NLP", x0=task.x0, p=task.p,
                                lbx=task.lbx, ubx=task.ubx, lbg=task.lbg, ubg=task.ubg)
     except SolverError as exc:
         raw = solver.stats()

@@ -11,10 +11,10 @@ from pampipe.design.evaluate import PipeTable, designed_pam
 from pampipe.design.groups import segment_loads
 from pampipe.design.multistart import MultiStart
 from pampipe.design.single import SizeDesign
-from pampipe.inventory import Inventory
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from pampipe.results import notebook
+from pampipe.specs.inventory import Inventory
 
 
 def _finite(value: float) -> float | None:
@@ -51,7 +51,7 @@ def starts_document(run: MultiStart) -> dict:
                       "iterations": r.iterations, "wall_time_s": r.wall_time} for r in run.results]}
 
 
-@notebook(headline=("feasible", "objective", "binding"), plot="pampipe.plots.design:plot_design",
+@notebook(headline=("feasible", "objective", "binding"), plot="pampipe.views.plots.design:plot_design",
           text="pampipe.commands.design:report")
 @dataclass(frozen=True)
 class DesignResult:

@@ -15,13 +15,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from pampipe.design import nlp as design_nlp
+from pampipe.design import design_nlp
 from pampipe.design.groups import Groups, make_groups
 from pampipe.design.multistart import MultiStart, Problem, make_problem, multistart
 from pampipe.errors import InfeasibleError
-from pampipe.inventory import Inventory, Objective, Pipes
+from pampipe.specs.inventory import Inventory, Objective, Pipes
 
-#: Constraint families (rows of :data:`pampipe.design.nlp.ROWS`) with the names reported to users.
+#: Constraint families (rows of :data:`pampipe.design.design_nlp.ROWS`) with the names reported to users.
 FAMILIES = {
     "grip": ("slope", "grip_light", "grip_heavy"),
     "contact_margin": ("reach",),

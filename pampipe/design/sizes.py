@@ -23,7 +23,7 @@ import numpy as np
 
 from pampipe.design.evaluate import PipeTable, evaluate_pipes
 from pampipe.design.single import DesignInfeasible, SizeDesign, design_for
-from pampipe.inventory import Inventory
+from pampipe.specs.inventory import Inventory
 
 MAX_ROUNDS = 8  # assign-and-refit rounds (the tested inventories settle in 1 to 3)
 

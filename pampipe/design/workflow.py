@@ -12,9 +12,9 @@ from pampipe.design.result import DesignResult, size_result
 from pampipe.design.single import DesignInfeasible, design_for
 from pampipe.design.sizes import choose_sizes
 from pampipe.errors import InputError
-from pampipe.inventory import Inventory
 from pampipe.model.muscle import Muscle
-from pampipe.parallel import SerialExecutor
+from pampipe.runtime.executors import SerialExecutor
+from pampipe.specs.inventory import Inventory
 
 
 class _Tally(Executor):

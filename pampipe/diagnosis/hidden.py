@@ -1,12 +1,13 @@
 """Synthetic experiments with effects hidden in them (the test bench of `diagnose`).
 
-The protocol is the paper's (:mod:`pampipe.synthetic`): isobaric axial cycles from L₀ to L_free(P) at
+The protocol is the paper's (:mod:`pampipe.simulation.synthetic`): isobaric axial cycles from L₀ to L_free(P)
+at
 69…689 kPa, and split-pipe tests with and without the 1024.74 N hanging load. To let the effects
 that act only on the pipe tests be told apart, the hidden-effect protocol adds a third pipe
 (3.25 in) between the paper's 3 in and 3.5 in: with two pipes, wall friction (one slope factor
 per pipe) and contact stiffening (two modulus increments) fit each other's slopes exactly.
 
-Generation: :func:`pampipe.synthetic.generate` gives the rows and the white force noise σ_F (no
+Generation: :func:`pampipe.simulation.synthetic.generate` gives the rows and the white force noise σ_F (no
 pressure noise, so the recorded pressure is the regulated one). Then each hidden effect adds its
 force at the recorded rows:
 
@@ -34,11 +35,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.experiment import ExperimentData, make_test_data
 from pampipe.model.effects import LIBRARY, get_effect
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry, Pam
-from pampipe.synthetic import PAPER_LOAD, Protocol, generate
+from pampipe.simulation.synthetic import PAPER_LOAD, Protocol, generate
+from pampipe.specs.experiment import ExperimentData, make_test_data
 
 #: Realistic magnitudes (SI) at which each library effect is hidden; see the module docstring of
 #: :mod:`pampipe.model.effects` for the meaning of each parameter.

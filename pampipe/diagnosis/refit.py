@@ -43,7 +43,7 @@ from pampipe.diagnosis.candidates import (
 )
 from pampipe.model.forces import contact_switch
 from pampipe.model.muscle import Muscle, Structure
-from pampipe.nlp import nlpsol, solve
+from pampipe.runtime.ipopt import nlpsol, solve
 
 MPA = 1e6
 #: Drucker grid size (pressures × lengths), fixed so that it never changes the build.

@@ -93,7 +93,7 @@ def summarize(model, base_bic: float, data, cells, refitter) -> Summary:
                    model.bic - base_bic, tests, model.cv_rmse, fit.iterations, fit.wall_time, fit.status)
 
 
-@notebook(headline=("verdict", "reason"), plot="pampipe.plots.diagnose:plot_diagnosis",
+@notebook(headline=("verdict", "reason"), plot="pampipe.views.plots.diagnose:plot_diagnosis",
           text="pampipe.commands.diagnose:result_text")
 @dataclass(frozen=True)
 class DiagnoseResult:
@@ -113,7 +113,7 @@ class DiagnoseResult:
     timings: dict = field(default_factory=dict)
     refitter: object = field(default=None, repr=False, compare=False)
     anchoring: tuple[float | None, ...] = ()  # the baseline's anchoring pressure per test (radial) [Pa]
-    slip: object = None  # pampipe.diagnosis.slip.SlipDiagnosis of the slip tests (None: none)
+    slip: object = None  # pampipe.diagnosis.slip_residuals.SlipDiagnosis of the slip tests (None: none)
 
     @property
     def baseline(self) -> Summary:

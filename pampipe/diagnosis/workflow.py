@@ -22,16 +22,16 @@ import numpy as np
 
 from pampipe.diagnosis import noise, selection, structure
 from pampipe.diagnosis.candidates import DEFAULT, candidate
-from pampipe.diagnosis.cells import reduce_rows, slack_rows
 from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter, effect_parameters
+from pampipe.diagnosis.refit_cells import reduce_rows, slack_rows
 from pampipe.diagnosis.result import DiagnoseResult, summarize
 from pampipe.diagnosis.search import Model, Search
 from pampipe.diagnosis.separate import separating_experiment
-from pampipe.diagnosis.slip import diagnose_slip
+from pampipe.diagnosis.slip_residuals import diagnose_slip
 from pampipe.diagnosis.verdict import Scores, decide, qualify, tie_groups, undetermined_effects
 from pampipe.errors import InputError, PampipeError
-from pampipe.experiment import ExperimentData
 from pampipe.model.forces import contact_switch
+from pampipe.specs.experiment import ExperimentData
 
 DEGREE = 3
 #: A separating experiment is proposed only where the two models differ by this many noise floors.

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import casadi as ca
 
-from pampipe import __version__
+from pampipe._version import __version__
 from pampipe.errors import InputError
 from pampipe.export.gait_table import GaitStep, SectionGait, section_gaits
 from pampipe.export.law import Law, Reason, confidence_margins, mission_law

@@ -3,7 +3,7 @@
 For segment i (rear to front) and a section of inner diameter D, incline φ, wall friction μ and
 payload m [kg], with the mission's robot, safety factor SF, load path κ and tether drag built in:
 
-    W_i = g(M|sin φ| + μ cos φ (M − m_i)) + F_tether,   M = Σm_j + m    (pampipe.model.slip)
+    W_i = g(M|sin φ| + μ cos φ (M − m_i)) + F_tether,   M = Σm_j + m    (pampipe.model.no_slip)
     P_i = Muscle.closed_form_pressure(D, W_i, κ, μ, SF)                 (docs/physics.md §8.3)
 
 the same calls `plan` makes, on CasADi symbols instead of numbers. With ``--confidence C`` each P_i gains
@@ -28,12 +28,12 @@ import casadi as ca
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.model import slip
+from pampipe.model import no_slip
 from pampipe.model.braid import diameter_at_length
 from pampipe.model.effects import LIBRARY
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.problem import mission_muscles
-from pampipe.units import real_number
+from pampipe.units.quantities import real_number
 
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
 
@@ -47,7 +47,8 @@ DOMAIN = {"inner_diameter_m": (0.0, 10.0, True), "incline_rad": (-math.pi / 2, m
 
 
 def in_domain(*arguments) -> bool:
-    """True if (D, φ, μ, m) are real numbers (:func:`pampipe.units.real_number`: numpy, Decimal, Fraction
+    """True if (D, φ, μ, m) are real numbers (:func:`pampipe.units.quantities.real_number`: numpy, Decimal,
+    Fraction
     too), finite and within :data:`DOMAIN` (NaN is not)."""
     for value, (low, high, open_low) in zip(arguments, DOMAIN.values(), strict=True):
         try:
@@ -155,7 +156,7 @@ def mission_law(mission, *, confidence: float | None = None, margins: tuple[floa
     total = sum(seg.mass for seg in mission.segments) + payload
     outputs = []
     for i, (seg, muscle) in enumerate(zip(mission.segments, muscles, strict=True)):
-        load = slip.anchor_load(total, seg.mass, incline, friction, mission.tether_drag)
+        load = no_slip.anchor_load(total, seg.mass, incline, friction, mission.tether_drag)
         pressure = muscle.closed_form_pressure(d, load, kappa=mission.kappa, friction=friction,
                                                safety_factor=mission.safety_factor)
         outputs.append(pressure + margins[i] if margins else pressure)

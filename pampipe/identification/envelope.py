@@ -17,7 +17,7 @@ user needs is known. This module answers for the numbers themselves:
 Each prediction y(x) gets its 95 % half-width 1.96·√(gᵀ Cov g), g = ∂y/∂x by central differences
 (exact up to round-off for the moduli, in which F_ax is linear), and is *determined* when its
 sensitivity lies in the identifiable combinations: ‖V_uᵀg̃‖ ≤ :data:`DETERMINED`·‖g̃‖
-(:meth:`pampipe.identification.uncertainty.Uncertainty.undetermined_share`).
+(:meth:`pampipe.identification.covariance.Uncertainty.undetermined_share`).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.identification import problem
-from pampipe.identification.nlp import Structure
+from pampipe.identification.fit_nlp import Structure
 from pampipe.model import braid
 
 #: Grid cells per axis over the tested (P, L) range.

@@ -23,26 +23,27 @@ from typing import NamedTuple
 import casadi as ca
 import numpy as np
 
-from pampipe import __version__
+from pampipe._version import __version__
 from pampipe.errors import InputError, SolverError
-from pampipe.experiment import ExperimentData
 from pampipe.identification import drucker, envelope, exact, multistart, problem, quality, seeds, written
 from pampipe.identification import geometry as geo
 from pampipe.identification import model_error as model_errors
+from pampipe.identification.covariance import analyse
+from pampipe.identification.fit_nlp import build_problem
 from pampipe.identification.grip import identify_grip
-from pampipe.identification.nlp import build_problem
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
 from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
 from pampipe.identification.statistics import Memo, Statistics, drucker_rows, reduce_experiment, without
-from pampipe.identification.uncertainty import analyse
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
+from pampipe.specs.experiment import ExperimentData
 
-#: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
+#: What an IPOPT failure means for this fit (the generic words are in
+#: :data:`pampipe.runtime.ipopt.IPOPT_STATUS`).
 LAW_NAMES = problem.LAW_NAMES
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
     """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6).

@@ -9,7 +9,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from pampipe.identification.options import CALIBRATABLE
-from pampipe.schema import Strict, quantity
+from pampipe.specs.schema import Strict, quantity
 
 Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
 Length = quantity("length", gt=0, le=10.0, unit="m")

@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.identification.nlp import GEOMETRY
+from pampipe.identification.fit_nlp import GEOMETRY
 from pampipe.identification.options import FitOptions
 from pampipe.model import forces
 from pampipe.model.pam import Geometry

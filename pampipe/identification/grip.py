@@ -12,17 +12,17 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from pampipe.errors import InputError
-from pampipe.experiment import ExperimentData
 from pampipe.identification.options import FitOptions
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from pampipe.results import notebook
+from pampipe.specs.experiment import ExperimentData
 
 if TYPE_CHECKING:  # the slip package loads only for slip tests
     from pampipe.slip import SlipResult
 
 
-@notebook(headline=("success", "status"), plot="pampipe.plots.slip:plot_grip",
+@notebook(headline=("success", "status"), plot="pampipe.views.plots.slip_tests:plot_grip",
           text="pampipe.commands.identify:result_text")
 @dataclass(frozen=True)
 class GripResult:

@@ -19,7 +19,7 @@ informs, whose inverse is meaningless).
 The refit obeys the fit's constraints: parameters at a bound and Drucker rows at zero stay there
 (the step is taken in the null space of those rows), the other bounds and Drucker rows bound the
 step (a small QP, :func:`_refit`), and it moves only the combinations the remaining data identify by the
-fit's own rule (:func:`pampipe.identification.uncertainty.identifiable`). Without that, a held-out
+fit's own rule (:func:`pampipe.identification.covariance.identifiable`). Without that, a held-out
 band is extrapolated along directions the constraints close (measured on data generated from the
 model itself: 60 N held-out RMSE at the top pressure band instead of the 2 N noise).
 Were the model right, a held-out residual would have variance σ_n²(1 + J_iS_gJ_iᵀ), noise plus the
@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.identification.uncertainty import identifiable
+from pampipe.identification.covariance import identifiable
 
 #: Pressure bands held out in turn.
 BANDS = 4

@@ -89,7 +89,7 @@ def parse_fit_options(raw: dict | None, *, source: Path | str = "experiment file
                       rename: dict[str, str] | None = None) -> FitOptions:
     """Validate a ``fit:`` mapping; errors name ``fit.<key>`` (or ``rename[key]``) and the value."""
     from pampipe.identification.fit_schema import FitBlock  # pydantic: only when a block is validated
-    from pampipe.schema import validate
+    from pampipe.specs.schema import validate
 
     schema = validate(Path(source), FitBlock, {"fit": dict(raw or {})}, rename=rename).fit
     return FitOptions(

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from pampipe.experiment import ExperimentData, TestData
 from pampipe.identification.result import LevelFit, TestFit
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli, Pam
+from pampipe.specs.experiment import ExperimentData, TestData
 
 #: Rows evaluated at a time (the model's temporaries stay a few MB whatever the row count).
 CHUNK = 1 << 16

@@ -1,7 +1,7 @@
 """What one fit feeds the cached NLP: decision names and bounds, the parameter values, the start.
 
 Units of the decision vector x: moduli in MPa (b per P_ref = 1 MPa), the braid angle in deg, the
-rest length and the wall thickness in mm (:data:`pampipe.identification.nlp.GEOMETRY`).
+rest length and the wall thickness in mm (:data:`pampipe.identification.fit_nlp.GEOMETRY`).
 """
 
 from __future__ import annotations
@@ -11,15 +11,15 @@ import math
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.experiment import ExperimentData
 from pampipe.identification import geometry as geo
-from pampipe.identification.cells import capacity
-from pampipe.identification.nlp import Structure
+from pampipe.identification.fit_nlp import Structure
+from pampipe.identification.moment_cells import capacity
 from pampipe.identification.options import FitOptions
 from pampipe.identification.statistics import MPA, Statistics, radial_coefficients, regressors, tangent_rows
 from pampipe.model import bladder, braid
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
+from pampipe.specs.experiment import ExperimentData
 
 LAW_NAMES = ("axial.a", "axial.b", "hoop.a", "hoop.b")
 #: Display names of the calibrated geometry entries in x.

@@ -29,8 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.experiment import TestData
-from pampipe.protocol import group_order
+from pampipe.specs.experiment import TestData
+from pampipe.specs.protocol import group_order
 
 #: The fit is reported as above the noise when some test's RMSE exceeds this multiple of its floor.
 WARN_RATIO = 3.0
@@ -187,7 +187,7 @@ def _paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _path_order(x: np.ndarray, group: np.ndarray) -> np.ndarray:
     """``np.lexsort((x, group))`` (by group, then x; ties in recorded order) as two stable sorts, the one
-    by group a radix sort (:func:`~pampipe.protocol.group_order`): 1.5x faster at 1.8·10⁶ rows."""
+    by group a radix sort (:func:`~pampipe.specs.protocol.group_order`): 1.5x faster at 1.8·10⁶ rows."""
     order = np.argsort(x, kind="stable")
     return order[group_order(group[order])]
 

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pampipe.identification.covariance import Uncertainty
 from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
@@ -15,7 +16,6 @@ from pampipe.identification.model_error import ModelError
 from pampipe.identification.multistart import Search
 from pampipe.identification.options import FitOptions
 from pampipe.identification.quality import Quality
-from pampipe.identification.uncertainty import Uncertainty
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
 from pampipe.results import notebook
@@ -102,7 +102,7 @@ class Calibration:
         return doc
 
 
-@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.plots.identify:plot_result",
+@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.views.plots.identify:plot_result",
           text="pampipe.commands.identify:result_text")
 @dataclass(frozen=True)
 class IdentifyResult:

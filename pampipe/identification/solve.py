@@ -1,4 +1,5 @@
-"""The solve loop of `identify`: IPOPT through :func:`pampipe.nlp.solve`, rescaled at every start and
+"""The solve loop of `identify`: IPOPT through :func:`pampipe.runtime.ipopt.solve`, rescaled at every start
+and
 repeated while the data the problem is fed follow the solution (slack cells changing side, Drucker
 intervals following a calibrated geometry).
 """
@@ -14,14 +15,15 @@ import numpy as np
 from pampipe.errors import SolverError
 from pampipe.identification import drucker
 from pampipe.identification import geometry as geo
-from pampipe.identification.cells import FIELDS
-from pampipe.identification.nlp import Structure
+from pampipe.identification.fit_nlp import Structure
+from pampipe.identification.moment_cells import FIELDS
 from pampipe.identification.options import FitOptions
 from pampipe.identification.statistics import MPA, Statistics
 from pampipe.model import forces
-from pampipe.nlp import solve
+from pampipe.runtime.ipopt import solve
 
-#: What an IPOPT failure means for this fit (the generic words are in :data:`pampipe.nlp.IPOPT_STATUS`).
+#: What an IPOPT failure means for this fit (the generic words are in
+#: :data:`pampipe.runtime.ipopt.IPOPT_STATUS`).
 FIT_HINTS = {
     "Maximum_Iterations_Exceeded": "IPOPT stopped at the iteration limit (raise fit.max_iterations)",
     "Infeasible_Problem_Detected": "no moduli satisfy the bounds and the Drucker constraints together "

@@ -14,7 +14,7 @@ u(x) = A(F_ax(x, L_p) − F_a) = c₀ + c₁x with c₀ = A(φ₀·θ − F_a), 
 model is F_r = max(0, u). Each pressure level is split into ``SUB_BINS`` equal-count pressure bins,
 and every bin keeps n, x̄, ȳ and the centred moments Σd², Σd³, Σd⁴, Σde, Σd²e, Σe² (d = x − x̄,
 e = y − ȳ). With these the sum of squares of a bin is exact for any model quadratic in x on
-the bin (see :mod:`pampipe.identification.nlp`), whatever the number of rows.
+the bin (see :mod:`pampipe.identification.fit_nlp`), whatever the number of rows.
 
 **Drucker grid** (docs/physics.md §6): the tangent moduli are linear in θ, so the constraints are rows
 C with C·θ ≥ 0 (MPa), one per direction and grid point, or one per point in the ``sum`` form.
@@ -28,11 +28,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from pampipe.experiment import ExperimentData, TestData
-from pampipe.identification.cells import Cells, reduce_cells
+from pampipe.identification.moment_cells import Cells, reduce_cells
 from pampipe.model import braid, forces
 from pampipe.model.bladder import strains
 from pampipe.model.pam import Geometry
+from pampipe.specs.experiment import ExperimentData, TestData
 
 MPA = 1e6
 #: Equal-count pressure sub-bins per radial pressure level.

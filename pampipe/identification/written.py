@@ -6,7 +6,7 @@ The decision vector x of the fit is in MPa (moduli), deg (braid angle) and mm (l
 (restricted to the identifiable combinations, :mod:`.uncertainty`) converted to SI.
 
 **Undetermined directions.** Every combination that is not identifiable (its 95 % half-width is
-not below :data:`pampipe.identification.uncertainty.IDENTIFIABLE` of the range the bounds allow, or
+not below :data:`pampipe.identification.covariance.IDENTIFIABLE` of the range the bounds allow, or
 its eigenvalue is below 10⁻¹⁴ of the largest) has zero variance in that covariance; it is listed
 instead. The combinations' directions δx = V_i/D (x units) are restricted to the written entries and
 orthonormalised there (SVD; a direction with less than :data:`NEGLIGIBLE` of its length in the
@@ -28,7 +28,7 @@ import numpy as np
 
 from pampipe.identification import problem
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names, scaled_unit
-from pampipe.pipes import schedule_bores
+from pampipe.specs.pipes import schedule_bores
 
 #: A direction with less than this share of its length in the written entries is not theirs.
 NEGLIGIBLE = 1e-3
@@ -60,7 +60,7 @@ def parameter_uncertainty(u, x, names, structure, hessian, lower, upper, model_e
                           diameters, pressure: float, data_only=None) -> ParameterUncertainty:
     """The written :class:`ParameterUncertainty` (module docstring).
 
-    ``u``: the fit's :class:`~pampipe.identification.uncertainty.Uncertainty`; ``muscle_at(x)``: the
+    ``u``: the fit's :class:`~pampipe.identification.covariance.Uncertainty`; ``muscle_at(x)``: the
     muscle of a decision vector; ``pressure`` [Pa]: where the radial force is judged; ``data_only``:
     the uncertainty of the same fit without its prior (None: no prior), whose undetermined directions
     that the prior fixes are listed as ``prior_determined``.

@@ -14,11 +14,9 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import numpy as np
 from pydantic import AfterValidator, Field, field_validator, model_validator
 
-from pampipe.collector import paused
 from pampipe.errors import InputError
 from pampipe.io.routes import elbow_radius, listed_route, network_route
 from pampipe.io.yamlfile import load_mapping
-from pampipe.mission import Mission, Segment, Steering
 from pampipe.model.domain import check_geometry, check_kind
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Grip, Moduli, Pam
@@ -28,12 +26,14 @@ from pampipe.model.uncertainty import (
     UndeterminedDirection,
     moduli_names,
 )
-from pampipe.schema import Strict, quantity
-from pampipe.schema import validate as _validate
-from pampipe.units import to_si
+from pampipe.runtime.collector import paused
+from pampipe.specs.mission import Mission, Segment, Steering
+from pampipe.specs.schema import Strict, quantity
+from pampipe.specs.schema import validate as _validate
+from pampipe.units.quantities import to_si
 
 if TYPE_CHECKING:
-    from pampipe.experiment import Experiment
+    from pampipe.specs.experiment import Experiment
 
 __all__ = ["Strict", "_validate", "load_experiment", "load_mission", "load_pam", "quantity"]
 
@@ -421,7 +421,7 @@ SectionFriction = Literal["from_pam"] | Friction | UncertainFriction | None
 class SectionSchema(Strict):
     name: str = Field(min_length=1)
     length: RouteLength
-    inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.pipes.bore
+    inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.specs.pipes.bore
     incline: Incline = 0.0
     friction: SectionFriction = None
     pipe_material: str | None = Field(None, min_length=1, max_length=100)
@@ -470,7 +470,11 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
-    from pampipe.experiment import DirectionCoding, Experiment, TestSpec  # not needed on plan's start-up path
+    from pampipe.specs.experiment import (  # not needed on plan's start-up path
+        DirectionCoding,
+        Experiment,
+        TestSpec,
+    )
 
     path = Path(path)
     schema = _validate(path, ExperimentSchema,
@@ -531,7 +535,7 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
-    with paused():  # a long route is millions of acyclic objects (pampipe.collector)
+    with paused():  # a long route is millions of acyclic objects (pampipe.runtime.collector)
         return _load_mission(Path(path), raw)
 
 

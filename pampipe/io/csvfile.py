@@ -4,10 +4,10 @@ CSV format (docs/formats.md §3): one header row, every column named ``quantity 
 (``pressure [kPa]``, ``length [mm]``, ``force [N]``, ``time [s]``); rows in recorded order; blank
 lines are ignored. Optional columns: ``set_pressure [kPa]`` (the set point of every row) and
 ``direction [-]`` or ``state [-]`` (+1, −1 or 0: the sign of the swept variable's rate, see
-:mod:`pampipe.protocol`). Columns with other names are allowed (they must still be numeric) and
+:mod:`pampipe.specs.protocol`). Columns with other names are allowed (they must still be numeric) and
 ignored.
 
-A cell is a plain decimal number (:data:`pampipe.units.NUMBER`), nothing else: no comments
+A cell is a plain decimal number (:data:`pampipe.units.quantities.NUMBER`), nothing else: no comments
 (``1#514.46`` is an error, not 1), no NaN or infinity, no underscores or hexadecimal.
 
 Reading is chunked: blocks of :data:`BLOCK_BYTES` whole lines are parsed by numpy's C parser, or by
@@ -20,7 +20,7 @@ number, or fails to parse, does a slow line-by-line scan run, to name the exact 
 Only regular files are read (a FIFO or ``/dev/zero`` is refused before reading).
 
 :func:`load_experiment_data` reads every test of an experiment and groups its rows
-(:func:`pampipe.experiment.make_test_data`).
+(:func:`pampipe.specs.experiment.make_test_data`).
 """
 
 from __future__ import annotations
@@ -36,10 +36,16 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.experiment import DIRECTION_WORDS, Experiment, ExperimentData, make_slip_data, make_test_data
 from pampipe.io.files import atomic_write
 from pampipe.io.paths import open_input
-from pampipe.units import NUMBER, column_factor, show
+from pampipe.specs.experiment import (
+    DIRECTION_WORDS,
+    Experiment,
+    ExperimentData,
+    make_slip_data,
+    make_test_data,
+)
+from pampipe.units.quantities import NUMBER, column_factor, show
 
 #: Bytes read per block, in whole lines: bounds the text held in memory (a block holds ≈ 2·10⁵ rows
 #: of a 3-column file, and no line may be longer).
@@ -277,7 +283,7 @@ def _parse_header(path, line, required):
 
 
 def _direction_words(path, chunk: bytes, first_line: int, col: int, ncols: int) -> bytes:
-    """The block with the words of its direction column (:data:`pampipe.experiment.DIRECTION_WORDS`:
+    """The block with the words of its direction column (:data:`pampipe.specs.experiment.DIRECTION_WORDS`:
     loading, filling → +1; unloading, venting → −1; held → 0) written as signs; a word that is not one
     of them is an error naming the line. Other cells are left for the number check."""
     lines = _decode(path, chunk, first_line).split("\n")

@@ -25,9 +25,9 @@ import stat
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
-from pampipe import interrupts
 from pampipe.errors import InputError, SolverError
 from pampipe.io.paths import kind_of
+from pampipe.runtime import interrupts
 
 _WRITTEN: list[Path] = []
 

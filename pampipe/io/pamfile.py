@@ -12,13 +12,13 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.experiment import TestSpec
 from pampipe.io import yamlwrite
 from pampipe.io.csvfile import write_csv
 from pampipe.io.files import check_not_input, check_overwrite
 from pampipe.model.effects import get_effect
 from pampipe.model.pam import Pam
 from pampipe.model.uncertainty import GEOMETRY_NAMES, ParameterUncertainty
+from pampipe.specs.experiment import TestSpec
 
 MPA = 1e6
 

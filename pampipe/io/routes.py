@@ -1,10 +1,12 @@
-"""A mission's ``route:`` as columns (:class:`pampipe.mission.Route`), listed or a network (formats.md §4).
+"""A mission's ``route:`` as columns (:class:`pampipe.specs.mission.Route`), listed or a network (formats.md
+§4).
 
-* A list of sections: each ``inner_diameter`` is read by :func:`pampipe.pipes.bore` (a length, ``{value}``,
+* A list of sections: each ``inner_diameter`` is read by :func:`pampipe.specs.pipes.bore` (a length,
+``{value}``,
   ``{nps, schedule}`` or ``{dn, sdr}``, with ``tolerance`` and ``sd``), once per distinct value.
 * ``{network, from, to, friction}``: the shortest path by length through the pipes the robot can pass
-  (:func:`pampipe.network.route_sections`); without ``from``/``to`` every pipe of the network
-  (:func:`pampipe.network.whole_network`). ``tolerance`` and ``sd`` apply to every pipe's bore.
+  (:func:`pampipe.specs.network.route_sections`); without ``from``/``to`` every pipe of the network
+  (:func:`pampipe.specs.network.whole_network`). ``tolerance`` and ``sd`` apply to every pipe's bore.
 """
 
 from __future__ import annotations
@@ -17,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.mission import NetworkRoute, Route
-from pampipe.pipes import BoreSpec, bore
-from pampipe.units import to_si
+from pampipe.specs.mission import NetworkRoute, Route
+from pampipe.specs.pipes import BoreSpec, bore
+from pampipe.units.quantities import to_si
 
 #: "1.5 D": an elbow radius as a multiple of the bore.
 _MULTIPLE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
@@ -143,7 +145,7 @@ def network_route(path: Path, spec, segments, measured=None, *, elbow: Radius | 
     """The route of ``{network, from, to, friction, tolerance, sd}`` (a ``NetworkRouteSchema``) for a robot
     of ``segments``: only pipes whose whole bore range lies inside the muscles' range are passed.
     """
-    from pampipe.network import load_network, route_sections, whole_network
+    from pampipe.specs.network import load_network, route_sections, whole_network
 
     mu, mu_sd = _friction(spec.friction, measured, "route.friction")
     given = [spec.from_node is not None, spec.to_node is not None]

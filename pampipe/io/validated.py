@@ -2,8 +2,10 @@
 
 Validating a mission or experiment file costs importing pydantic and building its schemas, more than
 ``pampipe plan`` spends on the plan itself and a tenth of a small ``pampipe identify``. Once a file has
-loaded, what it loaded to (a :class:`~pampipe.mission.Mission`; an experiment and its ``fit:`` options) is
-kept (pickled) in the user's cache (:mod:`pampipe.io.cache`), in an entry named by the kind of load, the hash
+loaded, what it loaded to (a :class:`~pampipe.specs.mission.Mission`; an experiment and its ``fit:`` options)
+is
+kept (pickled) in the user's cache (:mod:`pampipe.runtime.cache`), in an entry named by the kind of load, the
+hash
 of the working folder, the path as given, the file's bytes, the package's source files (names, sizes,
 times) and the Python version. The entry records the hash of every file the validation read (the file
 itself, its PAM files, a network file; not an experiment's CSV data, which every run reads anyway); it is
@@ -21,7 +23,7 @@ import sys
 from collections.abc import Iterable
 from pathlib import Path
 
-from pampipe.io.cache import cache_folder, source_stamp, store
+from pampipe.runtime.cache import cache_folder, source_stamp, store
 
 PICKLE = "loaded.pickle"
 #: Files larger than this [bytes] are not kept: their parse and use, not start-up, set their time, and

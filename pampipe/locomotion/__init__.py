@@ -11,12 +11,12 @@ from dataclasses import replace
 import numpy as np
 
 from pampipe.locomotion.optimal import WarmStart, problem_key, solve_optimal
-from pampipe.locomotion.options import GaitOptions, gait_options
+from pampipe.locomotion.replay import simulate
 from pampipe.locomotion.requirements import find_section, section_needs
 from pampipe.locomotion.result import GaitResult, evaluate
 from pampipe.locomotion.schedule import ControlPlan, sequential_plan
-from pampipe.locomotion.simulation import simulate
-from pampipe.mission import Mission
+from pampipe.pneumatics.options import GaitOptions, gait_options
+from pampipe.specs.mission import Mission
 
 __all__ = ["GaitOptions", "GaitResult", "gait_options", "optimal_gait", "sequential_gait"]
 

@@ -34,12 +34,12 @@ from functools import cache, cached_property
 import casadi as ca
 import numpy as np
 
-from pampipe.locomotion.options import GaitOptions, Gas, Valve
-from pampipe.locomotion.pneumatics import CHAMBER_SIZE, Chamber, pressure_rate
 from pampipe.locomotion.requirements import MuscleNeed
 from pampipe.locomotion.schedule import PHASES, ControlPlan
 from pampipe.model.muscle import Muscle, Structure
-from pampipe.nlp import nlpsol, solve
+from pampipe.pneumatics.options import GaitOptions, Gas, Valve
+from pampipe.pneumatics.timing import CHAMBER_SIZE, Chamber, pressure_rate
+from pampipe.runtime.ipopt import nlpsol, solve
 
 SCALE = 1e5  # pressure scaling [Pa]: the states are P / 1e5
 HOLD_BACKOFF = 200.0  # [Pa] holders satisfy no slip at P − 200 Pa: covers the RK4 error (tens of Pa)

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.locomotion.options import GaitOptions
-from pampipe.locomotion.pneumatics import Chamber
-from pampipe.mission import Mission
 from pampipe.model.muscle import Muscle
 from pampipe.planning import plan_mission
+from pampipe.pneumatics.options import GaitOptions
+from pampipe.pneumatics.timing import Chamber
+from pampipe.specs.mission import Mission
 
 
 @dataclass(frozen=True)

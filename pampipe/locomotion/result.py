@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from pampipe.locomotion.options import GaitOptions
+from pampipe.locomotion.replay import Trajectory, simulate
 from pampipe.locomotion.requirements import MuscleNeed
 from pampipe.locomotion.schedule import (
     ANCHORS,
@@ -19,7 +19,7 @@ from pampipe.locomotion.schedule import (
     positions,
     valve_action,
 )
-from pampipe.locomotion.simulation import Trajectory, simulate
+from pampipe.pneumatics.options import GaitOptions
 from pampipe.results import notebook
 
 
@@ -37,7 +37,8 @@ class StepState:
     slip_margins: dict[str, float]  # holding capacity / required hold of each anchor (≥ SF)
 
 
-@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"), plot="pampipe.plots.gait:plot_gait",
+@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"),
+plot="pampipe.views.plots.gait:plot_gait",
           text="pampipe.commands.gait:section_text")
 @dataclass(frozen=True)
 class GaitResult:

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.errors import SolverError
-from pampipe.locomotion.options import GaitOptions
-from pampipe.locomotion.pneumatics import free_length_curve, transition_time
 from pampipe.locomotion.requirements import MuscleNeed
+from pampipe.pneumatics.options import GaitOptions
+from pampipe.pneumatics.timing import free_length_curve, transition_time
 
 STEPS = ("I", "II", "III", "IV", "V", "VI", "VII")
 #: anchored segments in each step (docs/physics.md §8, paper Fig. 18)
@@ -112,7 +112,7 @@ def lengths(needs: tuple[MuscleNeed, ...], pressures: np.ndarray) -> np.ndarray:
 
 
 def free_length_on(muscle, contact: float):
-    """L_free(P) on [0, P_a] as :func:`~pampipe.locomotion.pneumatics.free_length_curve` (None where no
+    """L_free(P) on [0, P_a] as :func:`~pampipe.pneumatics.timing.free_length_curve` (None where no
     interpolant is within its tolerance, e.g. a muscle that stays at L₀ up to some pressure), once per
     muscle content (structure, parameter vector) and P_a [Pa]: a gait evaluates the same muscles again."""
     key = (muscle.structure, muscle.parameter_vector().tobytes(), contact)

@@ -2,7 +2,7 @@
 
 The sequential schedule (:func:`~pampipe.locomotion.schedule.sequential_plan`) moves one segment per
 phase, valve fully open, from the vented pressure P_v to the plan's pressure P_i (rise) or back (fall),
-for exactly the transition time t = ∫ dP/|ṗ| (:func:`~pampipe.locomotion.pneumatics.transition_times`).
+for exactly the transition time t = ∫ dP/|ṗ| (:func:`~pampipe.pneumatics.timing.transition_times`).
 So, with no simulation (docs/physics.md §8.5):
 
 * the pressures at the end of each step are the levels the schedule fills or vents to (P_i or P_v;
@@ -14,7 +14,7 @@ So, with no simulation (docs/physics.md §8.5):
 
 These agree with the simulated gait (:func:`~pampipe.locomotion.sequential_gait`) to its integrator's
 tolerance; every section's chambers are fitted at once per distinct muscle
-(:func:`~pampipe.locomotion.pneumatics.chambers_of_muscle`), every transition integrated in one pass.
+(:func:`~pampipe.pneumatics.timing.chambers_of_muscle`), every transition integrated in one pass.
 """
 
 from __future__ import annotations
@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.locomotion.options import GaitOptions
-from pampipe.locomotion.pneumatics import Chamber, chambers_of_muscle, transition_times
 from pampipe.locomotion.requirements import vented_error
 from pampipe.locomotion.schedule import MIDDLE, PHASES
+from pampipe.pneumatics.options import GaitOptions
+from pampipe.pneumatics.timing import Chamber, chambers_of_muscle, transition_times
 
 #: +1 (fill), −1 (vent) or 0 for each segment in each phase of the sequential schedule (6, 3).
 VALVES = np.array([[{"rise": 1, "fall": -1}.get(role, 0) for role in phase.roles] for phase in PHASES])

@@ -55,7 +55,7 @@ TENSION_ITERATIONS = 3
 class Parameter:
     """One named parameter of an effect: display unit, SI bounds and null value.
 
-    ``dimension`` is the :mod:`pampipe.units` dimension used to read it from a PAM file; ``scale``
+    ``dimension`` is the :mod:`pampipe.units.quantities` dimension used to read it from a PAM file; ``scale``
     is the SI value of one display ``unit`` (the NLP works in display units, which are O(1)).
     """
 

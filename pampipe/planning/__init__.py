@@ -15,8 +15,8 @@ Library API::
 A bore range (a tolerance) is planned in its worst bore (:func:`pampipe.planning.bores.worst_bores`).
 """
 
-from pampipe.planning.mission import plan_mission
 from pampipe.planning.payload import PayloadLimit, SectionPayload, max_payload
+from pampipe.planning.planner import plan_mission
 from pampipe.planning.result import MissionPlan, PlanArrays, SectionPlan, SegmentPlan
 
 __all__ = ["MissionPlan", "PayloadLimit", "PlanArrays", "SectionPayload", "SectionPlan", "SegmentPlan",

@@ -28,7 +28,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pampipe.errors import InputError
-from pampipe.parallel import executor, run_all
 from pampipe.planning.evaluator import draws_key
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.sampling import (
@@ -48,6 +47,7 @@ from pampipe.planning.sources import (
     muscle_sources,
     muscle_uncertainty,
 )
+from pampipe.runtime.executors import executor, run_all
 
 METHOD = "monte_carlo"
 DEFAULT_SAMPLES = 4000
@@ -170,7 +170,7 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     undetermined directions; ``with_payload`` adds the payload held with probability C at each segment's
     pressure limit (the supply, or its PAM's lower ``max_pressure``). The classes of alike sections are
     sampled in chunks of at most ``budget`` bytes, on ``workers`` local processes or the Dask
-    ``scheduler`` (:mod:`pampipe.parallel`), with the same result on each.
+    ``scheduler`` (:mod:`pampipe.runtime.executors`), with the same result on each.
     """
     problem, classes, inverse = sampling_problem(mission, muscles, elements, confidence, samples=samples,
                                                  seed=seed, prior=prior, with_payload=with_payload)

@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pampipe.model.muscle import Anchored, Muscle, Structure
+from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load_affine
 from pampipe.model.pam import Geometry
-from pampipe.model.slip import STANDARD_GRAVITY, incline_load_affine
 from pampipe.planning.law import Terms, per_class, per_draw, raw_least, settle
 from pampipe.planning.memo import Memo
 from pampipe.planning.quantiles import order_statistics
@@ -151,7 +151,7 @@ class Evaluator:
     def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
         """(μ (C, n or 1), the anchor's load W(μ) [N] (C, n or 1)) with or without the friction draw, once
         per evaluator (the full draw and friction alone share them), by its affine form in μ
-        (:func:`pampipe.model.slip.incline_load_affine`)."""
+        (:func:`pampipe.model.no_slip.incline_load_affine`)."""
         if drawn not in self._loads:
             pr = self.problem
             mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))

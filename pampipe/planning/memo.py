@@ -2,7 +2,8 @@
 
 The muscle's parameter draws, and its coefficients at the anchored length, depend on the draw and the
 bore only, not on the load: every chunk of classes in the same bore needs the same ones. A chunk is a task
-on any executor (:mod:`pampipe.parallel`), so they are kept per process, under a key that names everything
+on any executor (:mod:`pampipe.runtime.executors`), so they are kept per process, under a key that names
+everything
 they depend on (the draws' key, the segment, the sources, the bore statement); a process computes them
 once, whatever the chunks it runs and their order, and the numbers are those it would compute again.
 """

@@ -5,7 +5,7 @@ I…VII, the segments {2}, {1,2}, {1}, {1,3}, {3}, {2,3}, {2}: every segment is 
 some step, so in every section each segment must hold the section's whole load alone.
 
 * Load on the single anchor i in section s (incline φ, wall friction μ, M = segment masses + payload):
-  W = g·(M·|sin φ| + μ·cos φ·(M − m_i)) + tether_drag  [N]  (:func:`pampipe.model.slip.incline_load`).
+  W = g·(M·|sin φ| + μ·cos φ·(M − m_i)) + tether_drag  [N]  (:func:`pampipe.model.no_slip.incline_load`).
 * No slip: μπF_r(P, D_s, κW) ≥ SF·W, asked of the segment's :class:`~pampipe.model.muscle.Muscle`.
 * Contact: P ≥ max(P_a(κW), 0), the pressure at which the loaded muscle presses on the wall.
 * A bore range [D_low, D_high] (a tolerance): each element is planned in its worst bore, the D of the
@@ -22,7 +22,7 @@ from operator import attrgetter
 import numpy as np
 
 from pampipe.model.muscle import Muscle
-from pampipe.model.slip import STANDARD_GRAVITY, incline_load
+from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.bores import worst_bores
 
 #: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
@@ -107,8 +107,9 @@ class RouteColumns:
 
 
 def route_columns(route) -> RouteColumns:
-    """The columns of a route: a :class:`~pampipe.mission.Route`, a sequence of
-    :class:`~pampipe.mission.Section`, or any object with ``diameter``, ``incline`` and ``friction`` arrays
+    """The columns of a route: a :class:`~pampipe.specs.mission.Route`, a sequence of
+    :class:`~pampipe.specs.mission.Section`, or any object with ``diameter``, ``incline`` and ``friction``
+    arrays
     (and optionally ``diameter_low``/``diameter_high``; without them the bore is exact).
     """
     keys = ("diameter", "incline", "friction")

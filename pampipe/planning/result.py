@@ -156,7 +156,7 @@ class PlanArrays:
 
 
 @notebook(headline=("mission", "feasible", "payload_kg", "supply_pressure_Pa", "safety_factor"),
-          plot="pampipe.plots.plan:plot_plan", text="pampipe.commands.plan_text:result_text")
+          plot="pampipe.views.plots.plan:plot_plan", text="pampipe.views.plan_text:result_text")
 @dataclass(frozen=True)
 class MissionPlan:
     """The anchoring pressures of a whole mission; ``feasible`` only if every section is.
@@ -180,7 +180,8 @@ class MissionPlan:
     kappa: float = 1.0  # κ of the load path
     wall_time: float = 0.0  # [s] from reading the mission to the plan (set by the API)
     warnings: tuple[str, ...] = ()  # sentences for the engineer: defaults taken, thin contact margins, ...
-    coverage: object | None = None  # pampipe.network.Coverage of a network plan (the route's pipes, or all)
+    coverage: object | None = None  # pampipe.specs.network.Coverage of a network plan (the route's pipes, or
+    # all)
     bends: tuple = ()  # pampipe.bends.plan.BendPlan per bend, in travel order
     reducers: tuple = ()  # pampipe.bends.plan.ReducerPlan per change of bore
     uncertainty: object | None = field(default=None, repr=False)  # planning.confidence.Confidence (sampled)

@@ -7,7 +7,8 @@ same draws. One evaluation over the n draws serves every section of a class, so 
 of a few hundred kinds costs a few hundred evaluations.
 
 Classes are sampled in **chunks** of at most :func:`chunk_classes` classes (a memory budget,
-:data:`MEMORY_BUDGET`), each chunk a task of :func:`pampipe.parallel.run_all`. A task is plain numbers
+:data:`MEMORY_BUDGET`), each chunk a task of :func:`pampipe.runtime.executors.run_all`. A task is plain
+numbers
 and the seed; the worker draws the route's muscle draws itself from the seed (:func:`sources.draw_muscles`,
 once per process), so serial, local processes and a Dask cluster give bit-identical results.
 """
@@ -20,12 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.heap import retain_freed_memory
 from pampipe.model.muscle import Structure
 from pampipe.planning.evaluator import Evaluator
 from pampipe.planning.law import settle
 from pampipe.planning.quantiles import lower_rank, order_statistics, share_at_most, upper_rank
 from pampipe.planning.sources import MuscleDraws, MuscleUncertainty, draw_muscles, keyed_normal
+from pampipe.runtime.heap import retain_freed_memory
 
 LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
 #: Memory a chunk may use for its draws × classes arrays [B].
@@ -135,9 +136,10 @@ class ChunkResult:
 
 
 def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
-    """The sampled plan of one chunk of classes (a picklable task for :func:`pampipe.parallel.run_all`)."""
+    """The sampled plan of one chunk of classes (a picklable task for
+    :func:`pampipe.runtime.executors.run_all`)."""
     problem, classes = task
-    retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.heap)
+    retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.runtime.heap)
     draws = muscle_draws(problem)
     n, count, m = problem.samples, len(classes), len(problem.structures)
     bore = np.zeros((count, n))  # a class's draws are a row; the evaluator takes (n, C) views

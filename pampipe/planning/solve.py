@@ -82,7 +82,7 @@ def block_solver(structure: Structure, size: int):
     """IPOPT on a block of ``size`` elements of one muscle; built once per (structure, size)."""
     import casadi as ca
 
-    from pampipe import nlp
+    from pampipe.runtime import ipopt as nlp
 
     element = _element_function(structure)
     x = ca.MX.sym("x", size)
@@ -99,7 +99,7 @@ def _solve_ipopt(muscles, e: Elements, supply: float, least: np.ndarray, *, bloc
 
     The box is [max(P_a(κW), 0), supply] where the supply holds the load, else [.., 100 MPa].
     """
-    from pampipe import nlp
+    from pampipe.runtime import ipopt as nlp
 
     pressure = np.full(least.shape, np.inf)
     iterations = 0

@@ -17,7 +17,7 @@ import numpy as np
 from pampipe.planning.result import PlanArrays
 
 if TYPE_CHECKING:
-    from pampipe.network import Coverage
+    from pampipe.specs.network import Coverage
 
 #: Sections named one by one in a warning; the others are counted.
 LISTED = 10
@@ -73,7 +73,7 @@ def _listed(names: np.ndarray) -> str:
 def route_coverage(route, reasons: dict[int, str]) -> Coverage:
     """Pipes and length a network plan serves (the whole network's, or the route's pipes); ``reasons`` maps
     infeasible sections to reason codes."""
-    from pampipe.network import coverage  # network routes only: keep it off plan's start-up path
+    from pampipe.specs.network import coverage  # network routes only: keep it off plan's start-up path
 
     feasible = np.ones(len(route), dtype=bool)
     feasible[list(reasons)] = False

@@ -7,12 +7,12 @@ import math
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from pampipe.experiment import SlipData
 from pampipe.slip.detect import Trial, detect
 from pampipe.slip.fit import FRICTION_BOUNDS, KAPPA_BOUNDS, Estimate, Likelihood, maximise, profile_interval
 from pampipe.slip.law import check_law
 from pampipe.slip.result import Effective, SlipResult
 from pampipe.slip.trend import trends
+from pampipe.specs.experiment import SlipData
 
 #: Detection confidence below which a trial is named in a warning.
 LOW_CONFIDENCE = 0.9

@@ -1,0 +1,1 @@
+"""Pneumatic timing of a muscle: the gait block's valve and gas options, chamber volume, ISO 6358 flow."""

@@ -1,0 +1,224 @@
+"""Schema building blocks and validation with messages in pampipe's words (docs/formats.md §1-§4).
+
+:class:`Strict` models forbid unknown keys and do not coerce types (``"yes"`` is not a boolean, ``3.5``
+not an integer). :func:`quantity` makes a field that reads a quantity (:func:`pampipe.units.quantities.to_si`)
+and checks its range. :func:`validate` turns pydantic's errors into one short message: the key path,
+the value, what is allowed, a did-you-mean for misspelt keys, at most :data:`MAX_PROBLEMS` problems.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import pydantic
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict
+
+from pampipe.errors import InputError
+from pampipe.units.quantities import show, to_si
+
+#: Distinct quantity strings remembered per schema field (a route of 10⁶ distinct lengths is not kept).
+MAX_CONVERTED = 10_000
+#: Problems listed in one message; the rest are counted.
+MAX_PROBLEMS = 10
+
+
+class Strict(BaseModel):
+    """Base of every schema: unknown keys are errors, values are not coerced, objects are frozen."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, defer_build=True)
+
+
+def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,
+             lt: float | None = None, le: float | None = None, unit: str = ""):
+    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked."""
+
+    converted: dict[str, float] = {}  # quantity string -> SI value: a route repeats its "3 in"
+
+    def convert(value: Any) -> float:
+        if type(value) is not str:
+            return to_si(value, dimension)
+        number = converted.get(value)
+        if number is None:
+            number = to_si(value, dimension)
+            if len(converted) < MAX_CONVERTED:
+                converted[value] = number
+        return number
+
+    def check(value: float) -> float:
+        suffix = f" {unit}" if unit else ""
+        shown = f"{value:.6g}{suffix}"
+        if gt is not None and not value > gt:
+            raise ValueError(f"{shown} must be greater than {gt:g}{suffix}")
+        if ge is not None and not value >= ge:
+            if not _within_rounding(value, ge):
+                raise ValueError(f"{shown} must be at least {ge:g}{suffix}")
+            value = ge
+        if lt is not None and not value < lt:
+            raise ValueError(f"{shown} must be less than {lt:g}{suffix}")
+        if le is not None and not value <= le:
+            if not _within_rounding(value, le):
+                raise ValueError(f"{shown} must be at most {le:g}{suffix}")
+            value = le
+        return value
+
+    def _within_rounding(value: float, bound: float) -> bool:
+        """An angle one ulp beyond a closed bound is the bound: '100 grad' and '5400 arcmin' are π/2
+        rounded up by the conversion (100·π/200 = 1.5707963267948968 > π/2)."""
+        return dimension == "angle" and abs(value - bound) <= math.ulp(bound)
+
+    return Annotated[float, BeforeValidator(convert), AfterValidator(check)]
+
+
+def validate(path: Path | str, schema_cls: type[BaseModel], raw: Any, *,
+             rename: dict[str, str] | None = None):
+    """``schema_cls`` validated from ``raw``; problems raise one :class:`InputError` naming ``path``.
+
+    ``rename`` maps key paths to the names the user typed (``{'fit.seed': '--seed'}``).
+    """
+    try:
+        return schema_cls.model_validate(raw)
+    except pydantic.ValidationError as exc:
+        tags = _schema_names(Strict) | _SCALAR_TAGS
+        errors = _relevant(exc.errors(include_url=False), raw, tags)
+        lines: list[str] = []
+        used = 0
+        for err in errors:
+            used += 1
+            line = _describe(schema_cls, err, rename or {}, tags)
+            if line not in lines:
+                lines.append(line)
+            if len(lines) == MAX_PROBLEMS:
+                break
+        more = len(errors) - used
+        tail = f"; … and {more:,} more problem{'s' if more > 1 else ''}" if more > 0 else ""
+        raise InputError(f"{path}: " + "; ".join(lines) + tail) from None
+
+
+# ------------------------------------------------------------------------------------- messages
+def _relevant(errors: list[dict], raw: Any, tags: set[str]) -> list[dict]:
+    """Drop the errors of union members the input cannot be meant for.
+
+    A mapping given for ``friction: 0.3 | {value, sd}`` is meant for the mapping form, so the number
+    form's complaint ("not a number") is noise, and the reverse for a scalar.
+    """
+    kept = [err for err in errors if _consistent(err["loc"], raw, tags)]
+    return kept or errors
+
+
+def _consistent(loc: tuple, raw: Any, tags: set[str]) -> bool:
+    node = raw
+    for part in loc:
+        if _is_union_tag(part, tags):
+            if (part not in _SCALAR_TAGS and "[" not in part) != isinstance(node, dict):
+                return False
+            continue
+        try:
+            node = node[part]
+        except (KeyError, IndexError, TypeError):
+            return True
+    return True
+
+
+def _describe(schema_cls: type[BaseModel], err: dict, rename: dict[str, str], tags: set[str]) -> str:
+    """One readable sentence for one pydantic error: key path, bad value, what is allowed."""
+    loc = [part for part in err["loc"] if not _is_union_tag(part, tags)]
+    key = ".".join(f"[{p}]" if isinstance(p, int) else str(p) or "''" for p in loc).replace(".[", "[")
+    key = rename.get(key, key)
+    kind, value, ctx = err["type"], err.get("input"), err.get("ctx") or {}
+    if kind == "extra_forbidden":
+        import difflib
+
+        allowed = _allowed_keys(schema_cls, err["loc"][:-1], tags)
+        close = difflib.get_close_matches(str(loc[-1]), allowed, n=1)
+        return (f"unknown key {show(key)}" + (f"; did you mean '{close[0]}'?" if close else "")
+                + (f" (allowed keys here: {', '.join(allowed)})" if allowed else ""))
+    if kind == "missing":
+        return f"missing required key {show(key)}"
+    message = _MESSAGES.get(kind, "")
+    message = message.format(**ctx) if message else err["msg"].removeprefix("Value error, ")
+    where = key or "top level"
+    if kind in ("value_error", "too_short", "too_long") or isinstance(value, dict | list):
+        return f"{where}: {message}"
+    return f"{where}: {message} (got {show(value)})"
+
+
+_MESSAGES = {
+    "float_type": "expected a number", "float_parsing": "expected a number",
+    "int_type": "expected a whole number", "int_parsing": "expected a whole number",
+    "int_from_float": "expected a whole number",
+    "bool_type": "expected true or false", "bool_parsing": "expected true or false",
+    "string_type": "expected text", "string_too_short": "must not be empty",
+    **dict.fromkeys(("dict_type", "model_type", "model_attributes_type"),
+                    "expected a mapping (key: value lines)"),
+    "list_type": "expected a list", "tuple_type": "expected a list",
+    "too_short": "needs at least {min_length} item(s), got {actual_length}",
+    "too_long": "takes at most {max_length} item(s), got {actual_length}",
+    "literal_error": "must be {expected}",
+    "greater_than": "must be greater than {gt}", "greater_than_equal": "must be at least {ge}",
+    "less_than": "must be less than {lt}", "less_than_equal": "must be at most {le}",
+    "finite_number": "must be a finite number",
+}
+
+
+_SCALAR_TAGS = {"str", "float", "int", "bool", "list", "dict", "none"}
+
+
+def _is_union_tag(part, tags: set[str]) -> bool:
+    """pydantic puts the member tried (``str``, ``PamSchema``, ``function-after[...]``) into a union's loc.
+
+    ``tags`` holds the schema class names and the scalar member names.
+    """
+    return isinstance(part, str) and (part in tags or "[" in part)
+
+
+def _schema_names(cls) -> set[str]:
+    names = set()
+    for sub in cls.__subclasses__():
+        names |= {sub.__name__} | _schema_names(sub)
+    return names
+
+
+def _allowed_keys(schema_cls: type[BaseModel], loc: tuple, tags: set[str]) -> list[str]:
+    """The keys (as written: aliases such as ``from``) of the mapping at ``loc``; a union member named
+    in ``loc`` (pydantic's tag) picks that member."""
+    cls: Any = schema_cls
+    annotation = None
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        if _is_union_tag(part, tags):
+            cls = _model_named(annotation, part) or cls
+            continue
+        field = cls.model_fields.get(part) if isinstance(cls, type) and issubclass(cls, BaseModel) else None
+        if field is None:
+            return []
+        annotation = field.annotation
+        cls = _model_in(annotation)
+        if cls is None:
+            return []
+    if not (isinstance(cls, type) and issubclass(cls, BaseModel)):
+        return []
+    return [field.alias or name for name, field in cls.model_fields.items()]
+
+
+def _model_named(annotation, name: str) -> type[BaseModel] | None:
+    """The model class called ``name`` among the members of ``annotation``, if any."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation if annotation.__name__ == name else None
+    for arg in getattr(annotation, "__args__", ()):
+        found = _model_named(arg, name)
+        if found is not None:
+            return found
+    return None
+
+
+def _model_in(annotation) -> type[BaseModel] | None:
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()):
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
