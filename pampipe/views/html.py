@@ -19,7 +19,7 @@ from pampipe._version import __version__
 from pampipe.io.files import atomic_write_text
 from pampipe.results import HTML_ROWS, records
 
-DOCS = Path(__file__).resolve().parents[1] / "docs"
+DOCS = Path(__file__).resolve().parents[2] / "docs"
 
 #: The model's assumptions behind each command: (statement, docs file, section heading).
 ASSUMPTIONS = {
