@@ -12,5 +12,7 @@ EXAMPLES = ["pampipe.examples", *(f"pampipe.examples.{name}" for name in find_na
 setup(
     packages=[*find_packages(include=["pampipe", "pampipe.*"]), *EXAMPLES],
     package_dir={"pampipe.examples": "problems"},
-    package_data={name: ["*.yaml", "*.csv"] for name in EXAMPLES},
+    package_data={"pampipe": ["py.typed"],  # PEP 561: the package's annotations are for type checkers too
+                  # CREDIT.md: a measured data set ships with its credit
+                  **{name: ["*.yaml", "*.csv", "*.md"] for name in EXAMPLES}},
 )
