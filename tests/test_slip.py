@@ -354,18 +354,73 @@ def test_the_shipped_slip_example(cli):
     assert low <= 0.3 <= high  # the generating friction (kappa = 1)
 
 
-@pytest.mark.slow
-def test_interval_coverage_over_seeds(muscle):
-    """12 data sets (3 and 3.5 in, 12 trials each, 2 % scatter, stick-slip, μ = 0.3, κ = 1): the 95 %
-    intervals hold the truth in at least 10 of 12 (measured: 11 of 12 for each of μ and κ)."""
-    pressures = np.linspace(2.5e5, 6e5, 12)
-    hits = np.zeros(2, dtype=int)
-    for seed in range(12):
+def _coverage(muscle, seeds, *, stick_slip: bool, scatter=0.03):
+    """Hits and counts of the 95 % intervals of μ, κ and each bore's μ_eff = μ/(1 + κμπA) over data sets of
+    4–12 trials per bore (3 and 3.5 in, 3 % scatter, μ = 0.3, κ = 1), each drawn with its own seed."""
+    hits, counts = np.zeros(3, dtype=int), np.zeros(3, dtype=int)
+    for seed in seeds:
+        n = int(np.random.default_rng(seed).integers(4, 13))
+        pressures = np.linspace(2.5e5, 6e5, n)
         tests = tuple(make_slip_data(Spec(f"s{k}", "slip", Path("s.csv"), bore, 0.0),
                                      slip_data.slip_test(muscle, bore, pressures, mu=0.3, kappa=1.0,
-                                                         scatter=0.02, stick_slip=True, seed=100 * seed + k))
+                                                         scatter=scatter, stick_slip=stick_slip,
+                                                         seed=1000 * seed + k))
                       for k, bore in enumerate((0.0762, 0.0889)))
         result = fit_slip(tests, muscle)
-        hits += [result.friction.low <= 0.3 <= result.friction.high,
-                 result.load_coupling.low <= 1.0 <= result.load_coupling.high]
-    assert np.all(hits >= 10), hits
+        if result.friction is not None:
+            hits[:2] += [result.friction.low <= 0.3 <= result.friction.high,
+                         result.load_coupling.low <= 1.0 <= result.load_coupling.high]
+            counts[:2] += 1
+        for e in result.effective:
+            if e.estimate.closed:
+                truth = 0.3 / (1 + 1.0 * 0.3 * math.pi * e.amplification)
+                hits[2] += e.estimate.low <= truth <= e.estimate.high
+                counts[2] += 1
+    return hits, counts
+
+
+def test_interval_coverage_small(muscle):
+    """The default run's coverage study (issue 35): 8 data sets of 4–12 clean slips per bore; the 95 %
+    intervals of μ, κ and μ_eff miss the truth at most once each."""
+    hits, counts = _coverage(muscle, range(8), stick_slip=False)
+    assert np.all(counts == [8, 8, 16]) and np.all(hits >= counts - 1), (hits, counts)
+
+
+@pytest.mark.slow
+def test_interval_coverage_over_seeds(muscle):
+    """40 data sets of 4–12 clean slips per bore: the 95 % intervals hold the truth in ≥ 93 % for each of μ,
+    κ and μ_eff. With stick-slip (slip in three jumps) the detected onsets scatter more than the slip loads
+    and μ_eff held it in 0.89–0.90 over 120 sets (μ 0.90, κ 0.91; with χ²₁ about 3 points less): not 93 %."""
+    hits, counts = _coverage(muscle, range(40), stick_slip=False)
+    assert np.all(hits >= 0.93 * counts), (hits, counts)
+
+
+@pytest.mark.parametrize("n", [4, 6, 12])
+def test_profile_interval_of_a_mean_is_the_exact_t_interval(n):
+    """For n normal loads about an unknown mean (absolute noise, σ estimated), the profile-likelihood
+    interval with the small-sample threshold is exactly x̄ ± t₀.₉₇₅,ₙ₋₁·s/√n (s the n − 1 sd): the
+    textbook interval, computed here without pampipe. With χ²₁ it was narrower (4 loads: 1.96·s·√(4/3)/√4
+    against 3.18·s/√4)."""
+    from scipy import stats
+
+    from pampipe.slip.fit import FRICTION_BOUNDS, Likelihood, maximise, profile_interval
+
+    loads = 1.0 + 0.05 * np.random.default_rng(n).standard_normal(n)
+    like = Likelihood(loads, np.zeros(n, bool), lambda mu, kappa: np.full(n, mu), "absolute")
+    best = maximise(like, kappa=0.0)
+    interval = profile_interval(like, best, "friction", FRICTION_BOUNDS, kappa_fixed=0.0)
+    half = stats.t.ppf(0.975, n - 1) * loads.std(ddof=1) / math.sqrt(n)
+    assert interval.low == pytest.approx(loads.mean() - half, abs=2e-5)
+    assert interval.high == pytest.approx(loads.mean() + half, abs=2e-5)
+
+
+def test_interval_threshold_limits():
+    """n·ln(1 + t²/(n − p)) → χ²₁ = 3.841 for many trials; 5.90 at n = 4, p = 1; open with no degree of
+    freedom; χ²₁ with σ held."""
+    from pampipe.slip.fit import CHI2_95, interval_threshold
+
+    assert interval_threshold(10**6, 1, False) == pytest.approx(CHI2_95, rel=1e-5)
+    t3 = 3.182446305284263  # t₀.₉₇₅ on 3 degrees of freedom (tables)
+    assert interval_threshold(4, 1, False) == pytest.approx(4 * math.log1p(t3**2 / 3), rel=1e-9)
+    assert interval_threshold(2, 2, False) == math.inf
+    assert interval_threshold(4, 1, True) == CHI2_95

@@ -5,8 +5,12 @@ The model is the no-slip condition at safety factor 1: the slip load F solves F 
 (log F = log F̂ + ε) or absolutely (F = F̂ + ε), ε ~ N(0, σ²); the noise model with the larger
 likelihood is used. A censored trial (no slip up to its largest load F_c) enters as the survival
 term P(F > F_c) = 1 − Φ((F_c − F̂)/σ) (or its log form). 95 % intervals are profile-likelihood
-intervals: the values where 2·(ℓ̂ − ℓ_profile) = 3.841 (χ²₁), the other parameters re-optimised.
-A bound reached before that leaves the interval open: the quantity is then not determined.
+intervals: the values where 2·(ℓ̂ − ℓ_profile) = c, the other parameters re-optimised. With σ estimated
+from n slipped trials and p free slip parameters, c = n·ln(1 + t²/(n − p)) with t the 97.5 % quantile of
+Student's t on n − p degrees of freedom: the likelihood-ratio form of the exact t interval of a normal
+model, which tends to χ²₁ = 3.841 for many trials and is wider for few (4 trials, p = 1: c = 5.90).
+With σ held, c = 3.841. A bound reached before that leaves the interval open: the quantity is then not
+determined.
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: χ²₁ quantile of a 95 % profile-likelihood interval.
+#: χ²₁ quantile of a 95 % profile-likelihood interval (σ known, or many trials).
 CHI2_95 = 3.841458820694124
 #: Search bounds of μ and κ (a bound reached by the interval leaves it open).
 FRICTION_BOUNDS = (1e-3, 5.0)
@@ -44,6 +48,21 @@ class Estimate:
     def sd(self) -> float | None:
         """(high − low)/(2·1.96): the normal sd of the same width (None when open)."""
         return None if not self.closed else (self.high - self.low) / (2 * 1.959963984540054)
+
+
+def interval_threshold(slipped: int, free: int, sigma_held: bool) -> float:
+    """c of a 95 % profile interval, 2·(ℓ̂ − ℓ_profile) = c: n·ln(1 + t²₀.₉₇₅,ₙ₋ₚ/(n − p)) for n slipped
+    trials and p free slip parameters with σ estimated (the small-sample form of χ²₁), χ²₁ with σ held;
+    inf (an open interval) with no degree of freedom left."""
+    if sigma_held:
+        return CHI2_95
+    dof = slipped - free
+    if dof < 1:
+        return math.inf
+    from scipy.special import stdtrit
+
+    t = float(stdtrit(dof, 0.975))
+    return slipped * math.log1p(t * t / dof)
 
 
 @dataclass(frozen=True)
@@ -136,7 +155,9 @@ def profile_interval(like: Likelihood, best: Fit, which: str, bounds, *,
     from scipy.optimize import brentq
 
     value = best.mu if which == "friction" else best.kappa
-    target = best.loglik - CHI2_95 / 2
+    free = 2 if which == "load_coupling" or (kappa_fixed is None and best.kappa_free) else 1  # μ; κ if free
+    slipped = int(np.sum(~like.censored))
+    target = best.loglik - interval_threshold(slipped, free, like.sigma is not None) / 2
 
     def profile(v: float) -> float:
         if which == "friction":
@@ -148,7 +169,7 @@ def profile_interval(like: Likelihood, best: Fit, which: str, bounds, *,
 
     ends = []
     for edge in bounds:
-        if abs(edge - value) < 1e-12 or profile(edge) > 0:
+        if not math.isfinite(target) or abs(edge - value) < 1e-12 or profile(edge) > 0:
             ends.append(None)
             continue
         ends.append(float(brentq(profile, *sorted((value, edge)), xtol=1e-6 * max(abs(value), 1e-3))))
