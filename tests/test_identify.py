@@ -14,8 +14,8 @@ from pampipe.errors import SolverError
 from pampipe.identification import FitOptions, identify, predict
 from pampipe.identification.fit import LAW_NAMES
 from pampipe.identification.fit_nlp import build_problem
-from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
 from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli, Pam
 from pampipe.simulation.synthetic import Protocol, generate
