@@ -42,8 +42,7 @@ class Composed:
 
     def __init__(self, active: list[tuple[Effect, dict]]):
         self.active = active
-        self.stages = {hook: [(e, v) for e, v in active if getattr(type(e), hook) is not getattr(Effect, hook)]
-                       for hook in HOOKS}
+        self.stages = {hook: [(e, v) for e, v in active if _overrides(e, hook)] for hook in HOOKS}
         self.stretches = any(e.braid_strain(1.0, v) is not None for e, v in self.stages["braid_strain"])
 
     # ---------------------------------------------------------------------------------- the hooks
@@ -159,3 +158,8 @@ class Composed:
                 unclipped = unclipped * factor
         unclipped = self._sum("radial_increment", state, unclipped)
         return contact_switch(unclipped, smoothing, clip)
+
+
+def _overrides(effect: Effect, hook: str) -> bool:
+    """True when ``effect`` has its own ``hook`` (the base class's is the identity)."""
+    return getattr(type(effect), hook) is not getattr(Effect, hook)
