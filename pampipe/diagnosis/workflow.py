@@ -43,7 +43,8 @@ GENERIC_THETA = np.array([1.5, 0, 0, 0, 0, 0, 0, 0, 4.4, 0, 0, 0, 0, 0, 0, 0])
 def _initial_theta(data: ExperimentData, say) -> tuple[np.ndarray, str]:
     """θ₀ [MPa, b at 1 MPa] from `identify` (shared mode) if it runs, else the PAM's or a generic one."""
     try:
-        from pampipe.identification import identify, parse_fit_options
+        from pampipe.identification.fit import identify
+        from pampipe.identification.options import parse_fit_options
 
         options = parse_fit_options(data.fit, source=data.source)
         if options.calibrate:  # the refits and -o use the stated geometry, so the baseline does too

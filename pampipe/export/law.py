@@ -128,7 +128,7 @@ class Law:
 def confidence_margins(mission, confidence: float, **sampling) -> tuple[float, ...]:
     """ΔP_i [Pa] per segment: the largest P_C − P_nominal of `plan --confidence C` over the sections
     where the segment plans (0 where none does); ``sampling``: ``samples``/``seed`` of the plan."""
-    from pampipe.planning import plan_mission
+    from pampipe.planning.planner import plan_mission
 
     plan = plan_mission(mission, confidence=confidence, **sampling)
     a = plan.arrays

@@ -93,7 +93,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     slip = None
     if data.slip:
-        from pampipe.slip import fit_slip
+        from pampipe.slip.workflow import fit_slip
 
         say(f"fitting friction and load coupling to {len(data.slip)} slip test(s)")
         slip = fit_slip(data.slip, Muscle.from_pam(Pam(data.pam.name, result.geometry, result.moduli)))
