@@ -100,7 +100,8 @@ class Composed:
         return None if total is None else ops.column(total, like=theta)
 
     def refusals(self) -> dict[str, str]:
-        """{name: why} of the effects the closed-form holding pressure cannot carry (:mod:`.effects`)."""
+        """{name: why} of the effects the closed-form holding pressure cannot carry (see
+        :mod:`pampipe.model.effects`)."""
         return {e.name: e.no_closed_form for e, _ in self.active if e.no_closed_form}
 
     # --------------------------------------------------------------------------------- the forces
