@@ -140,7 +140,7 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
     ``memo``: what the rounds of the hinge share of the reduction
     (:class:`~pampipe.identification.statistics.Memo`).
 
-    Steps: :func:`_set_up` (reduce, build, start), :func:`_calibrated` or one solve, :func:`_solved`
+    Steps: :func:`.fit_setup.set_up` (reduce, build, start), :func:`_calibrated` or one solve, :func:`_solved`
     (polish, moduli), and :func:`_report` when asked for.
     """
     setup = set_up(data, options, say, hinge, warm, memo)
