@@ -37,7 +37,8 @@ sys.path.insert(0, str(ROOT))
 from pampipe.errors import SolverError  # noqa: E402
 from pampipe.identification import identify  # noqa: E402
 from pampipe.identification.options import FitOptions  # noqa: E402
-from pampipe.io.config import load_mission, load_pam  # noqa: E402
+from pampipe.io.mission_schema import load_mission  # noqa: E402
+from pampipe.io.pam_schema import load_pam  # noqa: E402
 from pampipe.model import no_slip as slip  # noqa: E402
 from pampipe.model.muscle import Muscle  # noqa: E402
 from pampipe.model.pam import Pam  # noqa: E402

@@ -33,7 +33,7 @@ SIZES = {"1e4": (2, 150, 60), "1e5": (4, 500, 900), "3e5": (6, 1250, 2700)}
 CHILD = """
 import json, resource, sys, time
 from pampipe.diagnosis.hidden import hidden_experiment, hidden_protocol
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 cycles, points, radial, mode = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 pam = load_pam(sys.argv[5])
 data = hidden_experiment(pam, "contact_stiffening", seed=3,
@@ -67,8 +67,8 @@ def child(size: str, mode: str) -> dict:
 def example() -> None:
     from pampipe.diagnosis.workflow import diagnose
     from pampipe.identification import identify, parse_fit_options
-    from pampipe.io.config import load_experiment
     from pampipe.io.csvfile import load_experiment_data
+    from pampipe.io.experiment_schema import load_experiment
     from pampipe.views.tables import table
 
     data = load_experiment_data(load_experiment(EXAMPLE))

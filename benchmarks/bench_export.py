@@ -40,7 +40,7 @@ from bench_big_mission import THREADS, measured
 from pampipe.export import Provenance, generate
 from pampipe.export.law import mission_law
 from pampipe.export.sources import source
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import no_slip
 from pampipe.planning.problem import mission_muscles
 

@@ -34,7 +34,7 @@ from scipy.integrate import solve_ivp
 from threadpoolctl import threadpool_limits
 
 import pampipe
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
 from pampipe.locomotion.optimal import _problem, solve_optimal
 from pampipe.locomotion.replay import simulate

@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.pamfile import write_experiment
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam

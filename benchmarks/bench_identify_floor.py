@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_big_mission import THREADS, measured
 from bench_identify import ROOT, paper_protocol
 
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 
 
 def main() -> None:

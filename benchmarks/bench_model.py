@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.model import forces
 from pampipe.model.muscle import Muscle, Structure
 

@@ -4,7 +4,7 @@ Each reader runs twice in a fresh process on the same file: once for its time (i
 its peak resident size, once under tracemalloc for its peak of Python allocations (tracemalloc slows
 the run several times, so it is not timed):
 
-* ``pampipe``: :func:`pampipe.io.config.load_mission`: YAML 1.2 core, units, schema, SI objects;
+* ``pampipe``: :func:`pampipe.io.mission_schema.load_mission`: YAML 1.2 core, units, schema, SI objects;
 * ``yaml.safe_load``: PyYAML's pure-Python safe loader, the baseline (parsing only, no units);
 * ``yaml CSafeLoader``: PyYAML with libyaml, the strongest plain reader (parsing only, YAML 1.1).
 
@@ -49,7 +49,7 @@ def child(reader: str, path: str, trace: bool) -> None:
 
     import yaml
 
-    from pampipe.io.config import load_mission
+    from pampipe.io.mission_schema import load_mission
 
     text_readers = {"yaml.safe_load": yaml.safe_load,
                     "yaml CSafeLoader": lambda text: yaml.load(text, Loader=yaml.CSafeLoader)}

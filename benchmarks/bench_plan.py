@@ -43,7 +43,7 @@ import numpy as np
 from scipy.optimize import brentq
 from threadpoolctl import threadpool_limits
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import forces, no_slip
 from pampipe.planning import plan_mission
 from pampipe.planning.problem import CHUNK, build_elements, mission_muscles

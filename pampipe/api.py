@@ -108,7 +108,7 @@ def _names(value, name: str):
 
 def load_pam(pam: Source, *, base=None):
     """A :class:`~pampipe.model.pam.Pam` from a PAM file or dict (docs/formats.md §2); a Pam passes."""
-    from pampipe.io.config import load_pam as load
+    from pampipe.io.pam_schema import load_pam as load
     from pampipe.model.pam import Pam
 
     if isinstance(pam, Pam):
@@ -130,7 +130,7 @@ def load_mission(mission: Source, *, base=None):
     path, raw = _file(mission, "mission", base)
     if raw is None and (kept := cached("mission", path)) is not None:
         return kept  # read before, unchanged: no YAML parse, no schema library
-    from pampipe.io.config import load_mission as load
+    from pampipe.io.mission_schema import load_mission as load
 
     loaded = load(path, raw=raw)
     if raw is None:
@@ -140,8 +140,8 @@ def load_mission(mission: Source, *, base=None):
 
 def load_experiment(experiment: Source, *, base=None, progress: Progress | None = None):
     """(Experiment, ExperimentData): the experiment and its CSV data (docs/formats.md §3)."""
-    from pampipe.io.config import load_experiment as load
     from pampipe.io.csvfile import load_experiment_data
+    from pampipe.io.experiment_schema import load_experiment as load
 
     path, raw = _file(experiment, "experiment", base)
     spec = load(path, raw=raw)

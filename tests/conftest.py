@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, settings
 
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 
 #: No test depends on the machine's speed: hypothesis neither times examples nor calls slow data generation
 #: an error (both fail on a busy machine, e.g. with two test runs at once). Tests' own settings build on this.

@@ -62,7 +62,7 @@ def run_case(case: Case) -> dict:
     """Diagnose one case; the outcome as a plain dict (picklable)."""
     from pampipe.diagnosis.hidden import hidden_experiment
     from pampipe.diagnosis.workflow import diagnose
-    from pampipe.io.config import load_pam
+    from pampipe.io.pam_schema import load_pam
     from tests.conftest import PROBLEMS
 
     pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")

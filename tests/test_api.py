@@ -20,8 +20,8 @@ import yaml
 
 import pampipe
 from pampipe import api
-from pampipe.io.config import load_pam
 from pampipe.io.files import to_json
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.pamfile import write_pam
 from tests.conftest import PROBLEMS, ROOT, run_cli
 

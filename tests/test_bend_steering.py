@@ -12,7 +12,7 @@ import pytest
 
 from pampipe.bends import steering
 from pampipe.bends.steering import curvature_of_lengths, steer
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.model.muscle import Muscle
 
 PAM = Path(__file__).resolve().parents[1] / "problems" / "pams" / "extensile-steering.yaml"

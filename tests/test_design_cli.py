@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from tests.conftest import PROBLEMS
 
 INVENTORIES = PROBLEMS / "inventories"

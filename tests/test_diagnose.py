@@ -19,8 +19,8 @@ from pampipe.diagnosis.hidden import MAGNITUDES, hidden_experiment, hidden_proto
 from pampipe.diagnosis.refit import BLOCKS, Fit, build_problem
 from pampipe.diagnosis.refit_cells import reduce_rows
 from pampipe.diagnosis.workflow import diagnose
-from pampipe.io.config import load_pam
 from pampipe.io.files import to_json
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.pamfile import write_pam
 from pampipe.model.muscle import Muscle
 from pampipe.simulation.anchored import simulate_anchored

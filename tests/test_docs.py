@@ -322,8 +322,8 @@ def effect_rows(text: str) -> set[tuple[str, str, str, str]]:
 def undocumented(text: str) -> list[str]:
     """What the code accepts and ``text`` (formats.md) does not document, one line each."""
     from pampipe.identification.fit_schema import FitSchema
-    from pampipe.io.config import TestSchema
     from pampipe.io.csvfile import DIMENSIONS, REQUIRED, SIGNS
+    from pampipe.io.experiment_schema import TestSchema
     from pampipe.model.effects import LIBRARY
 
     experiment = section(text, "3")

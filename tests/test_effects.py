@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 from pampipe.errors import InputError
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.model import braid, forces
 from pampipe.model.effects import (
     LIBRARY,

@@ -30,8 +30,8 @@ import yaml
 import pampipe
 from pampipe.cli import main
 from pampipe.export import Provenance, generate
-from pampipe.io.config import load_mission
 from pampipe.io.files import to_json
+from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission
 from pampipe.planning.checks import PRESSURE_FLOOR
 from pampipe.specs.mission import Section

@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 
 from pampipe.export import Provenance, generate
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
 

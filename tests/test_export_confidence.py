@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pampipe import api
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission
 from tests.conftest import PROBLEMS
 

@@ -15,7 +15,7 @@ import pytest
 
 from pampipe.export import cgen
 from pampipe.export.law import Reason
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from tests import export_c, law_fuzz
 from tests.conftest import PROBLEMS
 from tests.test_export import write_export

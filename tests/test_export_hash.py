@@ -17,7 +17,7 @@ import subprocess
 import pytest
 
 from pampipe.export import Provenance, generate
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from tests import export_c
 from tests.conftest import PROBLEMS
 

@@ -98,7 +98,7 @@ LAW_ROWS = int(os.environ.get("PAMPIPE_FUZZ_LAW_ROWS", "10000"))
 @pytest.fixture(scope="module")
 def law_drivers(tmp_path_factory):
     """mission name -> (mission, export, compiled C driver), for the C law's fuzzing."""
-    from pampipe.io.config import load_mission
+    from pampipe.io.mission_schema import load_mission
     from tests import export_c
     from tests.test_export import write_export
 

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.locomotion import gait_options, optimal_gait, schedule, sequential_gait
 from pampipe.locomotion.optimal import _problem
 from pampipe.locomotion.schedule import ANCHORS

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pampipe.errors import SolverError
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.locomotion import gait_options
 from pampipe.locomotion.replay import simulate
 from pampipe.locomotion.requirements import section_needs

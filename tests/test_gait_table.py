@@ -18,7 +18,7 @@ import pytest
 import yaml
 from scipy.integrate import quad
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.locomotion import gait_options, sequential_gait, table
 from pampipe.model.muscle import Muscle
 from pampipe.planning import plan_mission

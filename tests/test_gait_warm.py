@@ -14,7 +14,7 @@ import pytest
 
 import pampipe
 from pampipe import api
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
 from tests.conftest import PROBLEMS
 

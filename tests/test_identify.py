@@ -14,8 +14,8 @@ from pampipe.errors import SolverError
 from pampipe.identification import FitOptions, identify, predict
 from pampipe.identification.fit import LAW_NAMES
 from pampipe.identification.fit_nlp import build_problem
-from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
 from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli, Pam
 from pampipe.simulation.synthetic import Protocol, generate
@@ -236,3 +236,11 @@ def test_per_pipe_result_keeps_one_moduli_set_per_pipe(fits, bundled):
     assert len({id(m) for m in result.pipe_moduli.values()}) == 2
     doc = result.as_document()
     assert [entry["pipe_diameter_m"] for entry in doc["per_pipe"]] == [0.0762, 0.0889]
+
+
+def test_the_calibration_bounds_schema_lists_the_calibratable_geometry():
+    """fit_schema checks the bounds in the order of its own fields, which must be options.CALIBRATABLE."""
+    from pampipe.identification.fit_schema import CalibrationBoundsSchema
+    from pampipe.identification.options import CALIBRATABLE
+
+    assert tuple(CalibrationBoundsSchema.model_fields) == CALIBRATABLE

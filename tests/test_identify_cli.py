@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pampipe.cli import main
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from tests.conftest import PROBLEMS, run_cli
 
 BUNDLED = PROBLEMS / "experiments" / "paper-protocol.yaml"

@@ -21,7 +21,7 @@ from pampipe.cli import main
 from pampipe.identification import FitOptions, identify
 from pampipe.identification.drucker import bernstein_rows, minimum
 from pampipe.identification.statistics import drucker_rows
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.pamfile import write_experiment
 from pampipe.model import braid
 from pampipe.model.effects import LIBRARY

@@ -26,8 +26,8 @@ import yaml
 from pampipe.errors import InputError
 from pampipe.identification import FitOptions, identify, multistart, seeds
 from pampipe.identification.options import parse_fit_options
-from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from tests import lab_data as lab

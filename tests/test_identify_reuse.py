@@ -10,8 +10,8 @@ import pytest
 from pampipe.identification import FitOptions, identify, model_error, statistics
 from pampipe.identification import fit as fitting
 from pampipe.identification.statistics import Memo, reduce_experiment
-from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
 from pampipe.model.pam import Pam
 from pampipe.simulation.synthetic import Protocol, generate
 from pampipe.specs.experiment import ExperimentData, make_test_data

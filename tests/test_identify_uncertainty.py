@@ -17,8 +17,9 @@ import pytest
 
 from pampipe.identification import FitOptions, identify
 from pampipe.identification.written import FORCE_MOVE, PRESSURE_MOVE
-from pampipe.io.config import load_experiment, load_pam
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.yamlfile import load_mapping
 from pampipe.model.pam import Pam
 from pampipe.simulation.synthetic import Protocol, generate

@@ -14,7 +14,7 @@ import yaml
 
 from pampipe.cli import main
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.specs.network import coverage, load_network, route_sections, whole_network
 from tests.conftest import PROBLEMS
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pampipe.errors import InputError
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.pamfile import write_pam
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
 from tests.conftest import PROBLEMS

@@ -12,7 +12,7 @@ import yaml
 from conftest import PROBLEMS
 
 from pampipe.bends.steering import curvature_of_lengths
-from pampipe.io.config import load_pam
+from pampipe.io.pam_schema import load_pam
 from pampipe.model.muscle import Muscle
 
 INCH = 0.0254

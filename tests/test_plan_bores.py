@@ -25,7 +25,7 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
 from pampipe.planning import plan_mission

@@ -8,7 +8,7 @@ import json
 import pytest
 import yaml
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import forces
 from tests.conftest import PROBLEMS, run_cli
 

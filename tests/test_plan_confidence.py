@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pampipe.errors import InputError
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.planning import plan_mission

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model.pam import Moduli
 from pampipe.model.uncertainty import ParameterUncertainty, moduli_names
 from pampipe.planning.confidence import sampling_problem

@@ -14,7 +14,7 @@ import sys
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry

@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from pampipe.cli import main
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import braid, forces, no_slip
 from pampipe.planning import max_payload, plan_mission
 from tests.conftest import PROBLEMS

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission, problem
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.solve import solve

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model.muscle import Anchored, Muscle
 from pampipe.planning.confidence import sampling_problem
 from pampipe.planning.evaluator import draws_key

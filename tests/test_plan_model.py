@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from pampipe.errors import InputError
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.model import braid, forces
 from pampipe.model import no_slip as slip
 from pampipe.model.pam import Moduli

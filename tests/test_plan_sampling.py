@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pampipe import api
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.io.pamfile import write_pam
 from pampipe.model import no_slip as slip
 from pampipe.model.muscle import Muscle

@@ -16,7 +16,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission
 from pampipe.specs import mission as mission_module
 from pampipe.specs.mission import Route

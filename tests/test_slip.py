@@ -177,7 +177,7 @@ def gripped_pam(tmp_path_factory, muscle):
 
 
 def test_identify_writes_the_contact_block(gripped_pam):
-    from pampipe.io.config import load_pam
+    from pampipe.io.pam_schema import load_pam
 
     doc = yaml.safe_load(gripped_pam.read_text())
     assert set(doc["contact"]) >= {"friction", "load_coupling", "pipe_material"}
@@ -220,7 +220,7 @@ def test_plan_from_pam_equals_plan_by_hand(tmp_path, gripped_pam):
 
 
 def test_plan_takes_kappa_from_the_pam_without_load_path(tmp_path, gripped_pam):
-    from pampipe.io.config import load_mission
+    from pampipe.io.mission_schema import load_mission
 
     path = _mission(tmp_path, gripped_pam)
     raw = yaml.safe_load(path.read_text())
@@ -314,7 +314,7 @@ def test_identify_fits_moduli_and_grip_together(tmp_path, muscle):
 
 
 def load_bundled_pam():
-    from pampipe.io.config import load_pam
+    from pampipe.io.pam_schema import load_pam
 
     return load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
 

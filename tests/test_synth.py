@@ -7,8 +7,8 @@ import pytest
 
 from pampipe.cli import main
 from pampipe.errors import InputError
-from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
 from pampipe.io.pamfile import write_experiment
 from pampipe.model import forces
 from pampipe.model.muscle import Muscle

@@ -17,8 +17,8 @@ from pampipe.commands.common import (
 from pampipe.diagnosis import structure
 from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY, candidate, describe
 from pampipe.diagnosis.selection import FOLDS
-from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
 from pampipe.io.files import check_output
 from pampipe.io.pamfile import write_pam
 from pampipe.model.effects import LIBRARY

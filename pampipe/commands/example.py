@@ -32,8 +32,9 @@ def compute(args: argparse.Namespace) -> tuple[dict, Callable[[], str]]:
     """(the JSON document, what writes the text report in the display units) of the command; files are
     written here."""
     from pampipe.errors import InputError
-    from pampipe.io.config import load_experiment, load_mission
+    from pampipe.io.experiment_schema import load_experiment
     from pampipe.io.inventory_file import load_inventory
+    from pampipe.io.mission_schema import load_mission
 
     if args.name is None:
         listing = bundled.catalogue()

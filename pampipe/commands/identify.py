@@ -132,7 +132,7 @@ def validated(path: Path):
     kept = cached("experiment", path)
     if kept is not None:
         return kept
-    from pampipe.io.config import load_experiment
+    from pampipe.io.experiment_schema import load_experiment
 
     experiment = load_experiment(path)
     loaded = experiment, parse_fit_options(experiment.fit, source=experiment.source)

@@ -11,8 +11,8 @@ from pathlib import Path
 from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type
 from pampipe.errors import InputError
 from pampipe.io import bundled, yamlwrite
-from pampipe.io.config import load_mission
 from pampipe.io.files import check_not_input
+from pampipe.io.mission_schema import load_mission
 from pampipe.io.yamlfile import load_mapping
 from pampipe.views.tables import table
 

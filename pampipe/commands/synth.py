@@ -11,8 +11,8 @@ import numpy as np
 from pampipe.commands.common import add_output_options, add_units_option, emit, integer_type, quantity_type
 from pampipe.errors import InputError
 from pampipe.io import bundled
-from pampipe.io.config import load_pam
 from pampipe.io.csvfile import check_rows
+from pampipe.io.pam_schema import load_pam
 from pampipe.io.pamfile import write_experiment
 from pampipe.model.domain import check_kind
 from pampipe.model.muscle import Muscle

@@ -10,7 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pampipe.model.muscle import Muscle
-from pampipe.slip import SlipResult, fit_slip
+from pampipe.slip.result import SlipResult
+from pampipe.slip.workflow import fit_slip
 
 
 @dataclass(frozen=True)

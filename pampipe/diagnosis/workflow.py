@@ -43,7 +43,8 @@ GENERIC_THETA = np.array([1.5, 0, 0, 0, 0, 0, 0, 0, 4.4, 0, 0, 0, 0, 0, 0, 0])
 def _initial_theta(data: ExperimentData, say) -> tuple[np.ndarray, str]:
     """θ₀ [MPa, b at 1 MPa] from `identify` (shared mode) if it runs, else the PAM's or a generic one."""
     try:
-        from pampipe.identification import identify, parse_fit_options
+        from pampipe.identification.fit import identify
+        from pampipe.identification.options import parse_fit_options
 
         options = parse_fit_options(data.fit, source=data.source)
         if options.calibrate:  # the refits and -o use the stated geometry, so the baseline does too
@@ -114,20 +115,8 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     """Find the effects missing from the baseline model of ``data`` (see the module docstring)."""
     say = progress or (lambda _text: None)
     started = time.perf_counter()
-    names = list(DEFAULT) if effects is None else list(dict.fromkeys(effects))
-    for name in names:
-        try:
-            candidate(name)
-        except KeyError as exc:
-            raise InputError(str(exc.args[0])) from None
+    names = _candidates(data, effects)
     n = data.points
-    if not data.tests and data.slip:
-        raise InputError(f"{data.source}: only slip tests: `pampipe identify` fits their friction, and "
-                         "`pampipe diagnose` tests their residuals together with axial or radial tests of "
-                         "the muscle; for slip tests alone see the residual trends in `identify`'s report.")
-    if n <= 4 * (DEGREE + 1) + 4:
-        raise InputError(f"{data.source}: {n} data rows are too few to diagnose a "
-                         f"{4 * (DEGREE + 1)}-parameter model; record more points.")
     timings = {}
     t0 = time.perf_counter()
     cells = reduce_rows(data, reduce=reduce)
@@ -164,30 +153,10 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
                       noisy=noise.noisier_than_twins(data, floors))
 
     t0 = time.perf_counter()
-    confounded = []
-    for step in steps:
-        if step.action != "add" or step.effect not in chosen.effects:
-            continue
-        trials = {t.effect: t for t in step.trials}
-        for other in step.confounded:
-            if other in chosen.effects:
-                continue
-            separate = separating_experiment(data, refitter, trials[step.effect].model.fit,
-                                             trials[other].model.fit, floors)
-            confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
+    confounded = _confounded(data, refitter, steps, chosen, floors)
     timings["separate_wall_time_s"] = time.perf_counter() - t0
     if confounded:
-        words = []
-        for c in confounded:
-            sep = c["separate_by"]
-            if sep is not None and sep["ratio"] is not None and sep["ratio"] >= SEPARATES:
-                words.append(f"{sep['experiment']} would separate {c['effect']} and {c['with']} (predictions "
-                             f"differ by {sep['ratio']:.1f}x the noise floor)")
-            else:
-                c["separate_by"] = None
-                best = "" if sep is None else f" (the best differs by {sep['ratio'] or 0:.2g}x the noise)"
-                words.append(f"no test in range separates {c['effect']} and {c['with']}{best}")
-        verdict = replace(verdict, reason=f"{verdict.reason}; " + "; ".join(words))
+        verdict = replace(verdict, reason=f"{verdict.reason}; " + "; ".join(_separations(confounded)))
     baseline, chosen = search.with_cv(baseline), search.with_cv(chosen)
     summaries = {"baseline": summarize(baseline, baseline.bic, data, cells, refitter),
                  "selected": summarize(chosen, baseline.bic, data, cells, refitter)}
@@ -202,3 +171,56 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
         say("slip tests: fitting friction with the diagnosed muscle and testing the residuals")
         result = replace(result, slip=diagnose_slip(data.slip, result.augmented_pam()))
     return result
+
+
+def _candidates(data: ExperimentData, effects: list[str] | None) -> list[str]:
+    """The candidate effects to try (every default one when ``effects`` is None), once each; InputError for an
+    unknown name, an experiment of slip tests only, or too few rows for the baseline model."""
+    names = list(DEFAULT) if effects is None else list(dict.fromkeys(effects))
+    for name in names:
+        try:
+            candidate(name)
+        except KeyError as exc:
+            raise InputError(str(exc.args[0])) from None
+    n = data.points
+    if not data.tests and data.slip:
+        raise InputError(f"{data.source}: only slip tests: `pampipe identify` fits their friction, and "
+                         "`pampipe diagnose` tests their residuals together with axial or radial tests of "
+                         "the muscle; for slip tests alone see the residual trends in `identify`'s report.")
+    if n <= 4 * (DEGREE + 1) + 4:
+        raise InputError(f"{data.source}: {n} data rows are too few to diagnose a "
+                         f"{4 * (DEGREE + 1)}-parameter model; record more points.")
+    return names
+
+
+def _confounded(data: ExperimentData, refitter: Refitter, steps, chosen: Model, floors) -> list[dict]:
+    """For each chosen effect that a step found confounded with another not chosen: the experiment that
+    would separate the two ({effect, with, separate_by})."""
+    confounded = []
+    for step in steps:
+        if step.action != "add" or step.effect not in chosen.effects:
+            continue
+        trials = {t.effect: t for t in step.trials}
+        for other in step.confounded:
+            if other in chosen.effects:
+                continue
+            separate = separating_experiment(data, refitter, trials[step.effect].model.fit,
+                                             trials[other].model.fit, floors)
+            confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
+    return confounded
+
+
+def _separations(confounded: list[dict]) -> list[str]:
+    """A sentence per confounded pair: the test that separates them by at least :data:`SEPARATES` times the
+    noise floor, or that none in range does (its ``separate_by`` is then cleared)."""
+    words = []
+    for c in confounded:
+        sep = c["separate_by"]
+        if sep is not None and sep["ratio"] is not None and sep["ratio"] >= SEPARATES:
+            words.append(f"{sep['experiment']} would separate {c['effect']} and {c['with']} (predictions "
+                         f"differ by {sep['ratio']:.1f}x the noise floor)")
+        else:
+            c["separate_by"] = None
+            best = "" if sep is None else f" (the best differs by {sep['ratio'] or 0:.2g}x the noise)"
+            words.append(f"no test in range separates {c['effect']} and {c['with']}{best}")
+    return words

@@ -12,10 +12,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pampipe.export.law import Law, Reason
-from pampipe.locomotion import gait_options
 from pampipe.locomotion.schedule import ANCHORS, STEPS
 from pampipe.locomotion.table import VALVES, sequential_table
-from pampipe.planning import plan_mission
+from pampipe.planning.planner import plan_mission
+from pampipe.pneumatics.options import gait_options
 
 
 @dataclass(frozen=True)

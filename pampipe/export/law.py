@@ -38,7 +38,7 @@ from pampipe.units.quantities import real_number
 INPUTS = ("inner_diameter_m", "incline_rad", "friction", "payload_kg")
 
 #: The range of each argument, inclusive unless ``open`` says so: (low, high, open_low) in SI. The
-#: bounds are those a mission file accepts (pampipe.io.config); π/2 is the double nearest to it.
+#: bounds are those a mission file accepts (pampipe.io.mission_schema); π/2 is the double nearest to it.
 #: Friction below this is no friction (reason 3): a sliding load μ·g·M this small underflows to
 #: subnormal floats, where the law's arithmetic no longer holds. No wall is this slippery.
 FRICTION_MIN = 1e-6
@@ -128,7 +128,7 @@ class Law:
 def confidence_margins(mission, confidence: float, **sampling) -> tuple[float, ...]:
     """ΔP_i [Pa] per segment: the largest P_C − P_nominal of `plan --confidence C` over the sections
     where the segment plans (0 where none does); ``sampling``: ``samples``/``seed`` of the plan."""
-    from pampipe.planning import plan_mission
+    from pampipe.planning.planner import plan_mission
 
     plan = plan_mission(mission, confidence=confidence, **sampling)
     a = plan.arrays

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pampipe.export import cgen
+from pampipe.export import cgen, templates
 from pampipe.export.gait_table import SectionGait
 from pampipe.export.law import DOMAIN, FRICTION_MIN, INPUTS, Law, Reason
 
@@ -103,15 +103,29 @@ def _block(lines: list[str], indent: str = "") -> str:
 
 
 def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
-    """pampipe_plan.h."""
-    n = len(law.segments)
-    top = ["pampipe_plan.h: the anchoring law and gait schedule of one mission, for the robot's controller.",
-           "", *_provenance(law, provenance), "",
-           "Plain C99: <math.h> only, no allocation, no state that changes (reentrant). pampipe_real is",
-           "double, or float when pampipe_plan.c and its callers are compiled with -DPAMPIPE_REAL_FLOAT",
-           "(avr-gcc's double is a float anyway). Units are SI: m, rad, kg, Pa (gauge), s. The physics:",
-           "docs/physics.md sections 7-8 of pampipe."]
-    function_doc = [
+    """pampipe_plan.h (:data:`.templates.HEADER`)."""
+    codes = "\n".join(f"#define {REASONS[r]} {int(r)}" for r in sorted(REASONS))
+    return templates.HEADER.format(
+        top=_block(_header_top(law, provenance)), hash_mark=HASH_MARK, segments=len(law.segments),
+        codes=codes, payload=law.payload, diameter_max=DOMAIN["inner_diameter_m"][1],
+        incline_max=DOMAIN["incline_rad"][1], friction_max=DOMAIN["friction"][1], friction_min=FRICTION_MIN,
+        payload_max=DOMAIN["payload_kg"][1], supply=law.supply_pressure,
+        function_doc=_block(_function_doc(law)), sections=len(gaits), table_doc=_block(TABLE_DOC))
+
+
+def _header_top(law: Law, provenance) -> list[str]:
+    """The header's opening comment: what it is, where it comes from, how to compile it."""
+    return ["pampipe_plan.h: the anchoring law and gait schedule of one mission, for the robot's controller.",
+            "", *_provenance(law, provenance), "",
+            "Plain C99: <math.h> only, no allocation, no state that changes (reentrant). pampipe_real is",
+            "double, or float when pampipe_plan.c and its callers are compiled with -DPAMPIPE_REAL_FLOAT",
+            "(avr-gcc's double is a float anyway). Units are SI: m, rad, kg, Pa (gauge), s. The physics:",
+            "docs/physics.md sections 7-8 of pampipe."]
+
+
+def _function_doc(law: Law) -> list[str]:
+    """The comment of pampipe_required_pressure: its arguments, their checks and its return codes."""
+    return [
         "The least gauge pressure of each segment (rear to front) that holds the robot in a pipe section",
         "with no slip and the safety factor: the numbers `pampipe plan` gives for that section",
         "(docs/physics.md 8.3-8.4), from the same model, closed form.",
@@ -140,82 +154,17 @@ def header(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
         "need (infinity where no pressure up to 100 MPa holds). Straight-line code, no loops or iteration.",
         *_confidence_doc(law),
     ]
-    table_doc = [
-        "The sequential gait of every route section, as `pampipe gait --section NAME --json` gives it:",
-        "steps I..VII (docs/physics.md 8.1); step I is the state a cycle starts from (duration 0).",
-        "valve[i] is what segment i's valve does during the transition into the step: PAMPIPE_VALVE_FILL",
-        "(from the supply), PAMPIPE_VALVE_VENT or PAMPIPE_VALVE_CLOSED. A section whose reason is not",
-        "PAMPIPE_OK (pampipe_required_pressure with the mission's payload) cannot be crossed: its",
-        "cycle_time_s, stride_m and steps are all zero.",
-    ]
-    codes = "\n".join(f"#define {REASONS[r]} {int(r)}" for r in sorted(REASONS))
-    return f"""{_block(top)}
-#ifndef PAMPIPE_PLAN_H
-#define PAMPIPE_PLAN_H
 
-#ifdef __cplusplus
-extern "C" {{
-#endif
 
-#define PAMPIPE_MISSION_HASH {HASH_MARK}  /* this export's hash: pampipe_plan.c refuses another header */
-#define PAMPIPE_SEGMENTS {n}                 /* the mission's segment count */
-#ifdef PAMPIPE_REAL_FLOAT
-typedef float pampipe_real;
-#else
-typedef double pampipe_real;               /* float when compiled with -DPAMPIPE_REAL_FLOAT */
-#endif
-
-#define PAMPIPE_OK 0
-{codes}
-
-#define PAMPIPE_MISSION_PAYLOAD_KG ((pampipe_real){law.payload!r})
-#define PAMPIPE_DIAMETER_MAX_M ((pampipe_real){DOMAIN["inner_diameter_m"][1]!r})   /* bore: 0 < D <= this */
-#define PAMPIPE_INCLINE_MAX_RAD ((pampipe_real){DOMAIN["incline_rad"][1]!r}) /* |incline| <= this (pi/2) */
-#define PAMPIPE_FRICTION_MAX ((pampipe_real){DOMAIN["friction"][1]!r})      /* 0 <= friction <= this */
-#define PAMPIPE_FRICTION_MIN ((pampipe_real){FRICTION_MIN!r})     /* below it: PAMPIPE_NO_FRICTION */
-#define PAMPIPE_PAYLOAD_MAX_KG ((pampipe_real){DOMAIN["payload_kg"][1]!r})  /* 0 <= payload <= this */
-#define PAMPIPE_SUPPLY_PRESSURE_PA ((pampipe_real){law.supply_pressure!r})
-
-{_block(function_doc)}
-int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real incline_rad, pampipe_real friction,
-                              pampipe_real payload_kg, pampipe_real pressure_Pa[PAMPIPE_SEGMENTS]);
-
-#define PAMPIPE_SECTIONS {len(gaits)}
-#define PAMPIPE_GAIT_STEPS 7
-#define PAMPIPE_VALVE_CLOSED 0
-#define PAMPIPE_VALVE_FILL 1
-#define PAMPIPE_VALVE_VENT (-1)
-
-typedef struct {{
-    signed char valve[PAMPIPE_SEGMENTS];        /* during the transition into this step */
-    unsigned char anchored[PAMPIPE_SEGMENTS];   /* 1 where the segment holds the wall in this step */
-    pampipe_real duration_s;                    /* of the transition into this step [s] */
-    pampipe_real pressure_Pa[PAMPIPE_SEGMENTS]; /* gauge pressures at the end of the step [Pa] */
-}} pampipe_gait_step;
-
-typedef struct {{
-    const char *name;
-    pampipe_real inner_diameter_m;              /* [m] */
-    pampipe_real incline_rad;                   /* [rad] */
-    pampipe_real friction;                      /* [-] */
-    pampipe_real length_m;                      /* [m] */
-    int reason;                                 /* PAMPIPE_OK if the robot can cross it */
-    pampipe_real cycle_time_s;                  /* [s] */
-    pampipe_real stride_m;                      /* advance per cycle [m] */
-    pampipe_gait_step step[PAMPIPE_GAIT_STEPS]; /* I..VII */
-}} pampipe_gait_section;
-
-{_block(table_doc)}
-extern const pampipe_gait_section pampipe_gait[PAMPIPE_SECTIONS];
-extern const char *const pampipe_segment_name[PAMPIPE_SEGMENTS];
-extern const char *const pampipe_step_name[PAMPIPE_GAIT_STEPS];
-
-#ifdef __cplusplus
-}}
-#endif
-
-#endif /* PAMPIPE_PLAN_H */
-"""
+#: The comment of the gait table in the header.
+TABLE_DOC = (
+    "The sequential gait of every route section, as `pampipe gait --section NAME --json` gives it:",
+    "steps I..VII (docs/physics.md 8.1); step I is the state a cycle starts from (duration 0).",
+    "valve[i] is what segment i's valve does during the transition into the step: PAMPIPE_VALVE_FILL",
+    "(from the supply), PAMPIPE_VALVE_VENT or PAMPIPE_VALVE_CLOSED. A section whose reason is not",
+    "PAMPIPE_OK (pampipe_required_pressure with the mission's payload) cannot be crossed: its",
+    "cycle_time_s, stride_m and steps are all zero.",
+)
 
 
 def _array(values) -> str:
@@ -242,82 +191,31 @@ def _section(gait: SectionGait, segments: int) -> str:
 
 
 def source(law: Law, gaits: tuple[SectionGait, ...], provenance) -> str:
-    """pampipe_plan.c."""
+    """pampipe_plan.c (:data:`.templates.SOURCE`): the law's straight-line code, generated from the CasADi
+    function (:func:`.cgen.statements`), and the gait table."""
     n = len(law.segments)
     outputs = [f"pressure_Pa[{i}]" for i in range(n)]
     variables, body = cgen.statements(law.function, list(INPUTS), outputs)
     declarations = "".join(f"    pampipe_real {', '.join(variables[i:i + 8])};\n"
                            for i in range(0, len(variables), 8))
-    statements = "\n".join(f"    {s}" for s in body)
-    rest = ", ".join(_mm(d) for d in law.rest_diameters)
-    largest = ", ".join(_mm(d) for d in law.largest_diameters)
-    names = _array(cgen.string(s) for s in law.segments)
     names_comment = "".join(
         cgen.long_comment(f"segment {i + 1}'s whole name (the literal is shortened):", name, "") + "\n"
         for i, name in enumerate(law.segments) if cgen.shortened(name) != name)
-    steps = _array(cgen.string(s) for s in ("I", "II", "III", "IV", "V", "VI", "VII"))
-    table = ",\n".join(_section(g, n) for g in gaits)
-    top = ["pampipe_plan.c: see pampipe_plan.h.", "", *_provenance(law, provenance)]
-    return f"""{_block(top)}
-#include <math.h>
-
-#include "pampipe_plan.h"
-
-#if !defined(PAMPIPE_MISSION_HASH) || PAMPIPE_MISSION_HASH != {HASH_MARK}
-#error "pampipe_plan.h comes from another export than pampipe_plan.c: export the mission again"
-#endif
-
-{cgen.PRELUDE}
-{names_comment}const char *const pampipe_segment_name[PAMPIPE_SEGMENTS] = {names};
-const char *const pampipe_step_name[PAMPIPE_GAIT_STEPS] = {steps};
-
-int pampipe_required_pressure(pampipe_real inner_diameter_m, pampipe_real incline_rad, pampipe_real friction,
-                              pampipe_real payload_kg, pampipe_real pressure_Pa[PAMPIPE_SEGMENTS])
-{{
-{declarations}    int i, reason = PAMPIPE_OK;
-
-    for (i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        pressure_Pa[i] = PAMPIPE_NAN;
-    }}
-    /* every comparison is false for NaN, so NaN fails each range; so do +-inf */
-    if (!(inner_diameter_m > PAMPIPE_R(0.0) && inner_diameter_m <= PAMPIPE_DIAMETER_MAX_M)
-        || !(incline_rad >= -PAMPIPE_INCLINE_MAX_RAD && incline_rad <= PAMPIPE_INCLINE_MAX_RAD)
-        || !(friction >= PAMPIPE_R(0.0) && friction <= PAMPIPE_FRICTION_MAX)
-        || !(payload_kg >= PAMPIPE_R(0.0) && payload_kg <= PAMPIPE_PAYLOAD_MAX_KG)) {{
-        return PAMPIPE_BAD_ARGUMENT;
-    }}
-    if (!(friction >= PAMPIPE_FRICTION_MIN)) {{
-        return PAMPIPE_NO_FRICTION;
-    }}
-    if (inner_diameter_m <= {_real(law.narrowest)}) {{ /* rest diameters: {rest} */
-        return PAMPIPE_NARROW;
-    }}
-    if (inner_diameter_m >= {_real(law.widest)}) {{ /* braid limits D(B/sqrt 3): {largest} */
-        return PAMPIPE_WIDE;
-    }}
-    /* {len(body)} operations generated from pampipe.model.muscle.Muscle.closed_form_pressure */
-{statements}
-    for (i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-#ifdef PAMPIPE_REAL_FLOAT
-        /* float rounds P = P_a + x with cancellation, up to 2e-6 of P below the double answer: round
-           up by 5e-6 of P, so that the float law never asks for less than holds */
-        pressure_Pa[i] += PAMPIPE_R(5e-6) * PAMPIPE_FABS(pressure_Pa[i]);
-#endif
-        if (!(pressure_Pa[i] <= {_pressure_limit(law)})) {{ /* {_pressure_limit_words(law)}; NaN, inf too */
-            reason = PAMPIPE_ABOVE_SUPPLY;
-        }}
-    }}
-    return reason;
-}}
-
-const pampipe_gait_section pampipe_gait[PAMPIPE_SECTIONS] = {{
-{table}
-}};
-"""
+    return templates.SOURCE.format(
+        top=_block(["pampipe_plan.c: see pampipe_plan.h.", "", *_provenance(law, provenance)]),
+        hash_mark=HASH_MARK, prelude=cgen.PRELUDE, names_comment=names_comment,
+        names=_array(cgen.string(s) for s in law.segments),
+        steps=_array(cgen.string(s) for s in ("I", "II", "III", "IV", "V", "VI", "VII")),
+        declarations=declarations, narrowest=_real(law.narrowest),
+        rest=", ".join(_mm(d) for d in law.rest_diameters), widest=_real(law.widest),
+        largest=", ".join(_mm(d) for d in law.largest_diameters), operations=len(body),
+        statements="\n".join(f"    {s}" for s in body), pressure_limit=_pressure_limit(law),
+        pressure_limit_words=_pressure_limit_words(law), table=",\n".join(_section(g, n) for g in gaits))
 
 
 def sketch(law: Law, gaits: tuple[SectionGait, ...], provenance, name: str) -> str:
-    """The Arduino example sketch ``name``.ino (an Arduino Mega 2560; wiring to adapt)."""
+    """The Arduino example sketch ``name``.ino (an Arduino Mega 2560; wiring to adapt;
+    :data:`.templates.SKETCH`)."""
     first = gaits[0]
     top = [f"{name}.ino: a pampipe example for an Arduino Mega 2560, with pampipe_plan.h and pampipe_plan.c.",
            f"Mission: {provenance.mission} (pampipe {provenance.version}).",
@@ -334,105 +232,15 @@ def sketch(law: Law, gaits: tuple[SectionGait, ...], provenance, name: str) -> s
            "",
            "Wiring (change it to yours): fill valves on pins 22, 24, 26, vent valves on 23, 25, 27",
            "(HIGH = open), pressure sensors with 0.5-4.5 V over 0-1 MPa gauge on A0, A1, A2."]
-    return f"""{_block(top)}
-#include "pampipe_plan.h"
-
-#if !defined(PAMPIPE_MISSION_HASH) || PAMPIPE_MISSION_HASH != {HASH_MARK}
-#error "pampipe_plan.h comes from another export than this sketch: export the mission again"
-#endif
-
-static const uint8_t FILL_PIN[PAMPIPE_SEGMENTS] = {{22, 24, 26}};
-static const uint8_t VENT_PIN[PAMPIPE_SEGMENTS] = {{23, 25, 27}};
-static const uint8_t SENSOR_PIN[PAMPIPE_SEGMENTS] = {{A0, A1, A2}};
-
-static pampipe_real gauge_pressure_Pa(uint8_t segment)
-{{
-    pampipe_real volts = analogRead(SENSOR_PIN[segment]) * (pampipe_real)(5.0 / 1023.0);
-    return (volts - (pampipe_real)0.5) * (pampipe_real)(1.0e6 / 4.0);
-}}
-
-static void set_valve(uint8_t segment, int action)
-{{
-    digitalWrite(FILL_PIN[segment], action == PAMPIPE_VALVE_FILL ? HIGH : LOW);
-    digitalWrite(VENT_PIN[segment], action == PAMPIPE_VALVE_VENT ? HIGH : LOW);
-}}
-
-static void walk_step(const pampipe_gait_step *step)
-{{
-    unsigned long start = millis();
-    unsigned long limit = (unsigned long)(1500 * step->duration_s);
-    bool opened[PAMPIPE_SEGMENTS];
-    bool busy = true;
-    for (uint8_t i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        opened[i] = step->valve[i] != PAMPIPE_VALVE_CLOSED;
-        set_valve(i, step->valve[i]);
-    }}
-    while (busy && millis() - start < limit) {{
-        busy = false;
-        for (uint8_t i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-            pampipe_real p = gauge_pressure_Pa(i);
-            if ((step->valve[i] == PAMPIPE_VALVE_FILL && p >= step->pressure_Pa[i])
-                || (step->valve[i] == PAMPIPE_VALVE_VENT && p <= step->pressure_Pa[i])) {{
-                opened[i] = false;
-                set_valve(i, PAMPIPE_VALVE_CLOSED);
-            }}
-            busy = busy || opened[i];
-        }}
-    }}
-    for (uint8_t i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        set_valve(i, PAMPIPE_VALVE_CLOSED);
-    }}
-}}
-
-static const pampipe_gait_section *section = 0;
-
-void setup()
-{{
-    Serial.begin(115200);
-    for (uint8_t i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        pinMode(FILL_PIN[i], OUTPUT);
-        pinMode(VENT_PIN[i], OUTPUT);
-        set_valve(i, PAMPIPE_VALVE_CLOSED);
-    }}
-    pampipe_real pressure[PAMPIPE_SEGMENTS];
-    int reason = pampipe_required_pressure((pampipe_real){first.diameter!r},
-                                           (pampipe_real){first.incline!r},
-                                           (pampipe_real){first.friction!r},
-                                           PAMPIPE_MISSION_PAYLOAD_KG, pressure);
-    Serial.print({cgen.string(f"section {first.name}: reason ")});
-    Serial.println(reason);
-    for (uint8_t i = 0; i < PAMPIPE_SEGMENTS; ++i) {{
-        Serial.print(pampipe_segment_name[i]);
-        Serial.print(" needs ");
-        Serial.print(pressure[i] / 1000, 3);
-        Serial.println(" kPa");
-    }}
-    for (int s = 0; s < PAMPIPE_SECTIONS && section == 0; ++s) {{
-        if (pampipe_gait[s].reason == PAMPIPE_OK) {{
-            section = &pampipe_gait[s];
-        }}
-    }}
-}}
-
-void loop()
-{{
-    if (section == 0) {{
-        return; /* no section of the route can be crossed */
-    }}
-    for (uint8_t k = 1; k < PAMPIPE_GAIT_STEPS; ++k) {{
-        Serial.print("step ");
-        Serial.println(pampipe_step_name[k]);
-        walk_step(&section->step[k]);
-    }}
-}}
-"""
+    return templates.SKETCH.format(top=_block(top), hash_mark=HASH_MARK, diameter=first.diameter,
+                                   incline=first.incline, friction=first.friction,
+                                   reason_label=cgen.string(f"section {first.name}: reason "))
 
 
 def is_sketch_name(name: str) -> bool:
     """True if Arduino accepts ``name`` as a sketch (and its folder) name."""
     return (isinstance(name, str) and 0 < len(name) <= 63 and name[0].isascii() and name[0].isalnum()
             and all(c.isascii() and (c.isalnum() or c in "_.-") for c in name))
-
 
 
 def _confidence_doc(law: Law) -> list[str]:

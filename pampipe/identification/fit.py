@@ -14,10 +14,9 @@ while it is negative (:mod:`.drucker`); (6) uncertainty from the Hessian at the 
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from dataclasses import replace
-from functools import cache
+from functools import cache, partial
 from typing import NamedTuple
 
 import casadi as ca
@@ -29,22 +28,24 @@ from pampipe.identification import drucker, envelope, exact, multistart, problem
 from pampipe.identification import geometry as geo
 from pampipe.identification import model_error as model_errors
 from pampipe.identification.covariance import analyse
-from pampipe.identification.fit_nlp import build_problem
+from pampipe.identification.fit_setup import Setup, set_up, updater_for
+from pampipe.identification.fit_warnings import fit_warnings
 from pampipe.identification.grip import identify_grip
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
-from pampipe.identification.solve import fixed_geometry_fit, geometry_mask, solve_fit, updater
-from pampipe.identification.statistics import Memo, Statistics, drucker_rows, reduce_experiment, without
+from pampipe.identification.solve import fixed_geometry_fit, solve_fit
+from pampipe.identification.statistics import Memo, without
 from pampipe.model import bladder, braid
 from pampipe.model.domain import check_length, check_pipe_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from pampipe.specs.experiment import ExperimentData
 
-#: What an IPOPT failure means for this fit (the generic words are in
-#: :data:`pampipe.runtime.ipopt.IPOPT_STATUS`).
+#: The names of the four moduli laws in the order of θ (:data:`.problem.LAW_NAMES`).
 LAW_NAMES = problem.LAW_NAMES
+
+
 def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
     """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6).
 
@@ -92,7 +93,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     built = [b for b in builds if b[0] > 0] or builds[-1:]  # the rounds that built or loaded an NLP
     slip = None
     if data.slip:
-        from pampipe.slip import fit_slip
+        from pampipe.slip.workflow import fit_slip
 
         say(f"fitting friction and load coupling to {len(data.slip)} slip test(s)")
         slip = fit_slip(data.slip, Muscle.from_pam(Pam(data.pam.name, result.geometry, result.moduli)))
@@ -137,155 +138,173 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
     (None, no warnings). Both are computed only for the fit reported, not for every round of the hinge,
     which needs only the axial model to find the rows it moves.
     ``memo``: what the rounds of the hinge share of the reduction
-    (:class:`~pampipe.identification.statistics.Memo`)."""
-    stated = data.pam.geometry
-    started = time.perf_counter()
-    say(f"reducing {data.points:,} rows to sufficient statistics")
-    stats = reduce_experiment(data, degree=options.degree, reference_pressure=MPA,
-                              average_legs=options.average_legs, average_bins=options.average_bins,
-                              slack=options.slack, calibrate=bool(options.calibrate), hinge=hinge,
-                              memo=memo)
-    reduce_time = time.perf_counter() - started
+    (:class:`~pampipe.identification.statistics.Memo`).
 
-    n = stats.n_theta
-    pressures, lengths, low = _grid(data, stats, options)
-    grid = _constraint_rows(stated, options, pressures, lengths, n)
-    contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
-    prior = problem.prior_kind(options)
-    structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
-    before = build_problem.cache_info().misses
-    nlp = build_problem(structure)
-    build_time = nlp.build_time if build_problem.cache_info().misses > before else 0.0
-
-    geometry_bounds = geo.bounds(data, options, stats.pipes)
-    names, lbx, ubx = problem.names_and_bounds(structure, stats, options, geometry_bounds)
-    values = problem.parameters(structure, stats, grid, contact_base, contact_incr, options, stated)
-    fixed = geometry_mask(structure, lbx.size)
-    inside = stated if not options.calibrate else geo.from_x(  # the stated geometry, within the bounds
-        stated, structure.calibrate,
-        np.clip(geo.stated_x(stated, structure.calibrate), lbx[fixed], ubx[fixed]))
-    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
-    if warm is not None and warm.size == x0.size:
-        x0 = warm
-    x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-    p = nlp.layout.pack(values)
-    sse0 = float(nlp.sse(x0, p))
-    points_fit = stats.points
-    if prior == "gaussian":  # σ̂²(θ − θ_p)ᵀΣ_p⁻¹(θ − θ_p) in MPa, σ̂² from the start: a posterior
-        values["prior_weight"] = sse0 / max(points_fit - x0.size, 1)
-        values["prior_target"] = np.asarray(options.prior_mean) / MPA
-        values["prior_precision"] = np.asarray(options.prior_precision) * MPA**2
-    elif prior != "none":
-        values["prior_weight"] = sse0 / max(points_fit - x0.size, 1) / (options.prior_sd / MPA) ** 2
-        if prior == "fixed":
-            values["prior_target"] = problem.prior_target(data, options, n)
-
-    stated_fit, search = None, None
-    wall_time, iterations = 0.0, 0
+    Steps: :func:`.fit_setup.set_up` (reduce, build, start), :func:`_calibrated` or one solve, :func:`_solved`
+    (polish, moduli), and :func:`_report` when asked for.
+    """
+    setup = set_up(data, options, say, hinge, warm, memo)
     if options.calibrate:
-        say("fitting at the stated geometry")
-        held = _copied(values)
-        x_held, info = fixed_geometry_fit(nlp, held, x0, lbx, ubx, stats, structure,
-                                          updater(held, stats, structure, stated, options, pressures, low))
-        wall_time, iterations = info.wall_time, info.iterations
-        stated_fit = float(nlp.sse(x_held, nlp.layout.pack(held)))
-        seed = seeds.seed(data, stated, None if "initial_length" not in options.calibrate
-                          else tuple(v * 1e-3 for v in geometry_bounds["initial_length"]))
-        reference, p0 = problem.reference_theta(data, n), nlp.layout.pack(values)
-
-        def guess_at(start):
-            guess = problem.initial_guess(structure, stats, reference, lbx, ubx,
-                                          geo.from_x(stated, structure.calibrate, start))
-            guess[fixed] = start
-            return np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-
-        starts, screened = multistart.start_points(
-            structure.calibrate, lbx[fixed], ubx[fixed], geo.stated_x(stated, structure.calibrate),
-            _seed_starts(data, stated, structure.calibrate, seed),
-            lambda start: float(nlp.sse(guess_at(start), p0)))
-        say(f"global calibration: IPOPT from {len(starts)} starting geometries ({options.mode}, "
-            f"calibrating {', '.join(options.calibrate)})")
-        totals = [0.0, 0]
-
-        def run(start):
-            own = _copied(values)
-            update = updater(own, stats, structure, stated, options, pressures, low)
-            free, second = solve_fit(nlp, own, guess_at(start), lbx, ubx, stats, structure, update)
-            totals[0] += second.wall_time
-            totals[1] += second.iterations
-            x_free = np.asarray(free["x"], dtype=float).ravel()
-            return (free, second, own), float(nlp.sse(x_free, nlp.layout.pack(own))), x_free[fixed]
-
-        search, (solution, info, values) = multistart.search(run, starts, structure.calibrate, points_fit,
-                                                             seed, screened)
-        info = replace(info, wall_time=totals[0], iterations=totals[1])
+        solve = _calibrated(data, options, say, setup)
     else:
-        say(f"solving the {x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
-        solution, info = solve_fit(nlp, values, x0, lbx, ubx, stats, structure,
-                                   updater(values, stats, structure, stated, options, pressures, low))
-    x = np.asarray(solution["x"], dtype=float).ravel()
-    wall_time, iterations = wall_time + info.wall_time, iterations + info.iterations
-    p = nlp.layout.pack(values)
-    if exact.applies(structure):  # IPOPT stops at its tolerance: the exact optimum at its active set
-        x = exact.polish(nlp, p, x, lbx, ubx)
-    geometry = geo.from_x(stated, structure.calibrate, x[fixed]) if options.calibrate else stated
+        say(f"solving the {setup.x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
+        solution, info = solve_fit(setup.nlp, setup.values, setup.x0, setup.lbx, setup.ubx, setup.stats,
+                                   setup.structure, updater_for(setup.values, data, options, setup))
+        solve = Solve(solution, info, setup.values, 0.0, 0, None, None)
+    fit = _solved(data, options, setup, solve)
+    return Round(fit.x, fit.solver, cache(lambda: _report(data, options, setup, solve, fit)), fit.axial)
 
-    moduli, pipe_moduli, blocks = problem.moduli_of(structure, stats, x)
+
+class Solve(NamedTuple):
+    """What the solve gives: IPOPT's solution and statistics and the parameter values it used; with
+    calibration also the earlier fit at the stated geometry and the multistart search."""
+
+    solution: dict
+    info: SolverInfo
+    values: dict
+    wall_time: float  # [s] of the solves before ``info``'s (the stated geometry's fit)
+    iterations: int  # and their iterations
+    stated_fit: float | None  # SSE at the stated geometry
+    search: object | None  # multistart.Search
+
+
+class Fit(NamedTuple):
+    """The solution of one round (:func:`_solved`): x polished, the geometry and moduli it gives."""
+
+    x: np.ndarray
+    p: object  # the packed parameter values of the solve
+    geometry: object
+    moduli: object
+    pipe_moduli: object
+    blocks: dict
+    axial: dict[int, np.ndarray]  # test index -> F_ax of every row [N], before the hinge
+    solver: SolverInfo
+
+
+def _calibrated(data: ExperimentData, options: FitOptions, say, setup: Setup) -> Solve:
+    """(4) with calibration: the fit at the stated geometry, then IPOPT from several starting geometries
+    (:mod:`.multistart`), the best kept."""
+    nlp, structure, stats, stated = setup.nlp, setup.structure, setup.stats, data.pam.geometry
+    lbx, ubx, fixed, values = setup.lbx, setup.ubx, setup.fixed, setup.values
+    say("fitting at the stated geometry")
+    held = _copied(values)
+    x_held, info = fixed_geometry_fit(nlp, held, setup.x0, lbx, ubx, stats, structure,
+                                      updater_for(held, data, options, setup))
+    wall_time, iterations = info.wall_time, info.iterations
+    stated_fit = float(nlp.sse(x_held, nlp.layout.pack(held)))
+    seed = seeds.seed(data, stated, None if "initial_length" not in options.calibrate
+                      else tuple(v * 1e-3 for v in setup.geometry_bounds["initial_length"]))
+    reference, p0 = problem.reference_theta(data, stats.n_theta), nlp.layout.pack(values)
+
+    def guess_at(start):
+        guess = problem.initial_guess(structure, stats, reference, lbx, ubx,
+                                      geo.from_x(stated, structure.calibrate, start))
+        guess[fixed] = start
+        return np.clip(guess, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
+
+    starts, screened = multistart.start_points(
+        structure.calibrate, lbx[fixed], ubx[fixed], geo.stated_x(stated, structure.calibrate),
+        _seed_starts(data, stated, structure.calibrate, seed),
+        lambda start: float(nlp.sse(guess_at(start), p0)))
+    say(f"global calibration: IPOPT from {len(starts)} starting geometries ({options.mode}, "
+        f"calibrating {', '.join(options.calibrate)})")
+    totals = [0.0, 0]
+
+    def run(start):
+        own = _copied(values)
+        free, second = solve_fit(nlp, own, guess_at(start), lbx, ubx, stats, structure,
+                                 updater_for(own, data, options, setup))
+        totals[0] += second.wall_time
+        totals[1] += second.iterations
+        x_free = np.asarray(free["x"], dtype=float).ravel()
+        return (free, second, own), float(nlp.sse(x_free, nlp.layout.pack(own))), x_free[fixed]
+
+    search, (solution, info, values) = multistart.search(run, starts, structure.calibrate, stats.points,
+                                                         seed, screened)
+    info = replace(info, wall_time=totals[0], iterations=totals[1])
+    return Solve(solution, info, values, wall_time, iterations, stated_fit, search)
+
+
+def _solved(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solve) -> Fit:
+    """The round's solution: x at the exact optimum of its active set where that applies (IPOPT stops at its
+    tolerance), the geometry and moduli it gives, and every axial row's model force."""
+    nlp, structure = setup.nlp, setup.structure
+    x = np.asarray(solve.solution["x"], dtype=float).ravel()
+    wall_time, iterations = solve.wall_time + solve.info.wall_time, solve.iterations + solve.info.iterations
+    p = nlp.layout.pack(solve.values)
+    if exact.applies(structure):
+        x = exact.polish(nlp, p, x, setup.lbx, setup.ubx)
+    geometry = geo.from_x(data.pam.geometry, structure.calibrate, x[setup.fixed]) if options.calibrate \
+        else data.pam.geometry
+    moduli, pipe_moduli, blocks = problem.moduli_of(structure, setup.stats, x)
     axial = {i: predict(Pam(data.pam.name, geometry, moduli), t) for i, t in enumerate(data.tests)
              if t.kind == "axial"}
-    solver = SolverInfo(info.status, True, iterations, wall_time, build_time, reduce_time,
-                        float(solution["f"]), nlp.origin)
+    solver = SolverInfo(solve.info.status, True, iterations, wall_time, setup.build_time, setup.reduce_time,
+                        float(solve.solution["f"]), nlp.origin)
+    return Fit(x, p, geometry, moduli, pipe_moduli, blocks, axial, solver)
 
-    @cache
-    def report():
-        """(IdentifyResult, finish) of this fit."""
-        sse_model = float(nlp.sse(x, p))
-        hessian = np.asarray(nlp.hessian(x, p), dtype=float)
-        uncertainty = analyse(x, hessian, sse_model, points_fit, lbx, ubx, names)
-        tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, geometry, moduli, pipe_moduli, blocks,
-                                                                 slack=options.slack, evaluated=axial)
-        minimum = _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options)
-        blocked = geo.blocked_force(data, geometry)
-        calibration = replace(
-            _calibration(stated, geometry, structure, uncertainty, names, stated_fit, points_fit, blocked,
-                         geo.blocked_force(data, stated) if options.calibrate else blocked),
-            blocked_force_skipped=geo.blocked_force_skipped(data, geometry), search=search)
 
-        def muscles_at(xv):
-            return problem.muscles_of(structure, stats, stated, xv)
+def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solve, fit: Fit):
+    """(5)-(7) of the reported round: (IdentifyResult, finish) with the uncertainty from the Hessian, each
+    test's scores, the exact Drucker minimum and the geometry checks; ``finish`` (:func:`_finish`) gives the
+    rest."""
+    nlp, structure, stated, names, x = setup.nlp, setup.structure, data.pam.geometry, setup.names, fit.x
+    sse_model = float(nlp.sse(x, fit.p))
+    hessian = np.asarray(nlp.hessian(x, fit.p), dtype=float)
+    uncertainty = analyse(x, hessian, sse_model, setup.stats.points, setup.lbx, setup.ubx, names)
+    tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, fit.geometry, fit.moduli, fit.pipe_moduli,
+                                                             fit.blocks, slack=options.slack,
+                                                             evaluated=fit.axial)
+    minimum = _drucker_minimum(fit.geometry, fit.blocks, fit.moduli, setup.pressures, setup.lengths,
+                               setup.stats, options)
+    blocked = geo.blocked_force(data, fit.geometry)
+    calibration = replace(
+        _calibration(stated, fit.geometry, structure, uncertainty, names, solve.stated_fit,
+                     setup.stats.points, blocked,
+                     geo.blocked_force(data, stated) if options.calibrate else blocked),
+        blocked_force_skipped=geo.blocked_force_skipped(data, fit.geometry), search=solve.search)
+    prior_hessian = problem.prior_hessian(structure, solve.values, x.size)
+    data_only = None if setup.prior == "none" else analyse(x, hessian - prior_hessian, sse_model,
+                                                           setup.stats.points, setup.lbx, setup.ubx, names)
+    finish = partial(_finish, data, options, setup, fit, hessian, uncertainty, prior_hessian, data_only,
+                     unclipped, models, minimum, calibration)
+    return IdentifyResult(
+        success=True, status=fit.solver.status, options=options, moduli=fit.moduli,
+        pipe_moduli=fit.pipe_moduli, x=x, names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse,
+        points=data.points, solver=fit.solver, uncertainty=uncertainty, drucker_minimum=minimum,
+        drucker_grid={"pressures": setup.pressures.tolist(), "lengths": setup.lengths.tolist(),
+                      "form": options.drucker},
+        warnings=(), provenance=_provenance(data, structure, nlp), geometry=fit.geometry,
+        calibration=calibration, predictions=None, slack_rows=setup.stats.slack_rows,
+        excluded_rows=setup.stats.excluded, parameter_uncertainty=None, model_error=None,
+        quality=None), finish
 
-        prior_hessian = problem.prior_hessian(structure, values, x.size)
-        data_only = None if prior == "none" else analyse(x, hessian - prior_hessian, sse_model, points_fit,
-                                                         lbx, ubx, names)
 
-        def finish():
-            model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
-                                                slack=options.slack, half_range=0.5 * (ubx - lbx),
-                                                constraints=_constraints(structure, grid, x, lbx, ubx,
-                                                                         uncertainty.at_bound),
-                                                model=unclipped)
-            top = max(float(t.pressure.max()) for t in data.tests)
-            joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
-                                                  model_error.value, lambda xv: muscles_at(xv)[0],
-                                                  written.bores(data, options, geometry), top, data_only)
-            predictions = envelope.predictions(data, structure, x, uncertainty, geometry, stated, options,
-                                               stats)
-            warnings = _warnings(solver.status, uncertainty, names, minimum, options, structure, calibration,
-                                 stats, data, predictions)
-            return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound),
-                    predictions, tuple(warnings))
+def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, prior_hessian, data_only, unclipped,
+            models, minimum, calibration):
+    """(model error, written joint uncertainty, fit quality, predictions the data determine, warnings) of the
+    reported round (:func:`_report`)."""
+    structure, stats, names, x = setup.structure, setup.stats, setup.names, fit.x
+    lbx, ubx = setup.lbx, setup.ubx
 
-        return IdentifyResult(
-            success=True, status=solver.status, options=options, moduli=moduli, pipe_moduli=pipe_moduli, x=x,
-            names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse, points=data.points, solver=solver,
-            uncertainty=uncertainty, drucker_minimum=minimum,
-            drucker_grid={"pressures": pressures.tolist(), "lengths": lengths.tolist(),
-                          "form": options.drucker},
-            warnings=(), provenance=_provenance(data, structure, nlp), geometry=geometry,
-            calibration=calibration, predictions=None, slack_rows=stats.slack_rows,
-            excluded_rows=stats.excluded, parameter_uncertainty=None, model_error=None, quality=None), finish
+    def muscles_at(xv):
+        return problem.muscles_of(structure, stats, data.pam.geometry, xv)
 
-    return Round(x, solver, report, axial)
+    model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
+                                        slack=options.slack, half_range=0.5 * (ubx - lbx),
+                                        constraints=_constraints(structure, setup.grid, x, lbx, ubx,
+                                                                 uncertainty.at_bound),
+                                        model=unclipped)
+    top = max(float(t.pressure.max()) for t in data.tests)
+    joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
+                                          model_error.value, lambda xv: muscles_at(xv)[0],
+                                          written.bores(data, options, fit.geometry), top, data_only)
+    predictions = envelope.predictions(data, structure, x, uncertainty, fit.geometry, data.pam.geometry,
+                                       options, stats)
+    warnings = fit_warnings(fit.solver.status, uncertainty, names, minimum, options, structure, calibration,
+                            stats, data, predictions)
+    return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound),
+            predictions, tuple(warnings))
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.
@@ -331,15 +350,6 @@ def _seed_starts(data, stated, calibrate, seed) -> list[tuple[str, np.ndarray | 
     return out
 
 
-def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) -> np.ndarray:
-    """Drucker rows: Bernstein bounds between the grid's lengths (tangent) or grid points (sum)."""
-    if options.drucker == "none":
-        return np.zeros((0, n))
-    if options.drucker == "sum":
-        return drucker_rows(stated, options.degree, pressures, lengths, form="sum")
-    return drucker.bernstein_rows([stated], options.degree, pressures, lengths, reference_pressure=MPA)
-
-
 def _check(data: ExperimentData, options: FitOptions) -> None:
     geometry = data.pam.geometry
     kinds = {t.kind for t in data.tests}
@@ -374,28 +384,6 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
             check_pipe_diameter(geometry, test.spec.pipe_diameter, where=f"test {test.name}: pipe_diameter")
 
 
-def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
-    """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
-    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
-    geometry = data.pam.geometry
-    p_max = max(max(float(t.pressure.max()) for t in data.tests), 1.0)
-    p_min = min(float(t.pressure.min()) for t in data.tests)
-    pressures = np.linspace(max(0.0, p_min), p_max, options.grid_pressures)
-    with np.errstate(invalid="ignore"):  # a pipe beyond the braid's reach: NaN, refused by the checks
-        pipe_lengths = [float(braid.length_at_diameter(d, geometry)) for d in stats.pipes]
-    low = min([geometry.initial_length, *pipe_lengths,
-               *(float(t.length.min()) for t in data.tests if t.kind == "axial")])
-    if data.pam.moduli is not None:
-        try:
-            low = min(low, float(Muscle.from_pam(data.pam).free_length(p_max)[0]))
-        except SolverError:
-            pass
-    low = max(low, geometry.shortest_length * 1.001)
-    with np.errstate(invalid="ignore"):
-        lengths = drucker.grid_lengths(geometry, stats.pipes, low, options)
-    return pressures, lengths, low
-
-
 def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:
     """The exact minimum over the box for every moduli set; contact mode adds the anchored state."""
     if options.drucker == "none":
@@ -425,89 +413,6 @@ def _calibration(stated, geometry, structure, uncertainty, names, stated_sse, ro
     stated_rmse = None if stated_sse is None else math.sqrt(stated_sse / max(rows, 1))
     return Calibration(stated, geometry, tuple(structure.calibrate), intervals, stated_rmse, blocked,
                        stated_blocked)
-
-
-def _warnings(status, u, names, minimum, options, structure, calibration, stats, data,
-              predictions) -> list[str]:
-    out = []
-    if status != "Solve_Succeeded":
-        out.append(f"IPOPT stopped with {status}: the solution is acceptable but not fully converged.")
-    if u.rank_deficient:
-        out.append(f"the data determine only {u.rank} of {len(names)} parameter combinations; individual "
-                   "coefficients without an interval are not identifiable from these tests "
-                   "(docs/physics.md §6); see which predictions are determined, or add a prior (fit.prior).")
-    bound = [name for name, flag in zip(names, u.at_bound, strict=True) if flag]
-    if bound:
-        out.append(f"at a bound: {', '.join(bound)} (intervals ignore the bound; consider fit.bounds"
-                   + (" or fit.calibration_bounds" if any(b.startswith("geometry.") for b in bound) else "")
-                   + ").")
-    if minimum is not None and not minimum.stable:
-        out.append(f"Drucker stability fails between the grid points: {minimum.direction} tangent modulus "
-                   f"{minimum.value / 1e6:.4g} MPa at P = {minimum.pressure / 1e3:.4g} kPa, L = "
-                   f"{minimum.length * 1e3:.5g} mm; refine fit.drucker_grid.")
-    if options.mode == "per_pipe" and not (structure.qr or structure.cells):
-        out.append("per_pipe without an axial test: the PAM file gets the first pipe's moduli; each pipe's "
-                   "moduli are valid only in that pipe (see per_pipe in the JSON).")
-    out += _geometry_warnings(calibration, options)
-    if calibration.search is not None and calibration.search.runner_ups():
-        best, other = calibration.search.best, calibration.search.runner_ups()[0]
-        shown = ", ".join(f"{name} {value:.4g} {multistart.UNITS[name]}"
-                          for name, value in zip(calibration.calibrated, other.geometry, strict=True))
-        out.append(f"another local minimum fits almost as well (RMSE {other.rmse:.4g} N against "
-                   f"{best.rmse:.4g} N) at {shown}: the data barely tell these geometries apart; a test that "
-                   "separates them (a pressure ramp at the rest length, lengths closer to full contraction) "
-                   "would, or state the geometry you trust and narrow fit.calibration_bounds.")
-    unused = [name for name, *_ in options.calibration_bounds if name not in options.calibrate]
-    if unused:
-        out.append(f"fit.calibration_bounds for {', '.join(unused)} is not used: only calibrated entries "
-                   "have bounds (add them to fit.calibrate or --calibrate).")
-    judged = {pipe.pipe_diameter for pipe in predictions.pipes}
-    outside = [d for d in options.pipe_diameters if d not in judged]
-    if outside:
-        g = calibration.geometry
-        shown = ", ".join(f"{d * 1e3:.4g} mm" for d in outside)
-        out.append(f"pipe diameter(s) {shown} of fit.pipe_diameters cannot be judged: the muscle touches "
-                   f"only bores between its rest diameter "
-                   f"{g.initial_diameter * 1e3:.4g} mm and {g.largest_diameter * 1e3:.4g} mm.")
-    if stats.excluded:
-        out.append(f"{stats.excluded} slack row(s) (force <= 0) were excluded from the fit (fit.slack: "
-                   "exclude).")
-    unknown = [t.name for t in data.tests if t.direction_source == "unknown"]
-    if unknown:
-        out.append(f"test(s) {', '.join(unknown)}: the rows are not in time order and there is no time or "
-                   "direction column, so the loading/unloading legs are unknown (hysteresis effects cannot "
-                   "be fitted).")
-    return out
-
-
-def _geometry_warnings(calibration: Calibration, options: FitOptions) -> list[str]:
-    out = []
-    undetermined = [name for name, band in calibration.intervals.items() if band is None]
-    if undetermined:
-        out.append(f"the data do not determine the calibrated {' and '.join(undetermined)} (no 95 % "
-                   "interval): the moduli can absorb the geometry; add a test at the rest length (a pressure "
-                   "ramp at L0, where the force depends on the geometry alone) or calibrate less.")
-    blocked = calibration.blocked_force
-    if blocked is None:
-        return out
-    g = calibration.geometry
-    if not blocked.consistent:
-        words = (f"the blocked-force slope dF/dP at L = {blocked.length * 1e3:.5g} mm is "
-                 f"{blocked.slope * 1e3:.4g} N/kPa in the data but {blocked.geometry_slope * 1e3:.4g} N/kPa "
-                 f"for the {'calibrated' if options.calibrate else 'stated'} geometry (braid angle "
-                 f"{math.degrees(g.braid_angle):.4g} deg from the axis, L0 = "
-                 f"{g.initial_length * 1e3:.5g} mm)")
-        if blocked.fitting_angle is not None:
-            words += (f"; a braid angle of {math.degrees(blocked.fitting_angle):.4g} deg from the axis would "
-                      "fit it (at this L0)")
-        if not options.calibrate:
-            words += "; calibrate it: --calibrate braid_angle --calibrate initial_length"
-        out.append(words + ".")
-    if blocked.has_threshold and "initial_length" not in options.calibrate:
-        out.append(f"the muscle needs about {blocked.threshold / 1e3:.3g} kPa before it pulls at its longest "
-                   f"tested length ({blocked.length * 1e3:.5g} mm), which the model cannot show at the "
-                   "stated rest length: calibrate it (--calibrate initial_length) or diagnose prestrain.")
-    return out
 
 
 def _provenance(data, structure, nlp) -> dict:

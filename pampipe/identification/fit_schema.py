@@ -8,7 +8,6 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from pampipe.identification.options import CALIBRATABLE
 from pampipe.specs.schema import Strict, quantity
 
 Stress = quantity("pressure", ge=-1e10, le=1e10, unit="Pa")
@@ -81,7 +80,7 @@ class CalibrationBoundsSchema(Strict):
 
     @model_validator(mode="after")
     def _ordered(self):
-        for name in CALIBRATABLE:
+        for name in type(self).model_fields:  # the calibratable geometry, in options.CALIBRATABLE order
             bounds = getattr(self, name)
             if bounds is not None and not bounds[0] < bounds[1]:
                 raise ValueError(f"calibration_bounds.{name}: the lower bound must be below the upper bound")

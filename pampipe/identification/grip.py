@@ -19,7 +19,7 @@ from pampipe.results import notebook
 from pampipe.specs.experiment import ExperimentData
 
 if TYPE_CHECKING:  # the slip package loads only for slip tests
-    from pampipe.slip import SlipResult
+    from pampipe.slip.result import SlipResult
 
 
 @notebook(headline=("success", "status"), plot="pampipe.views.plots.slip_tests:plot_grip",
@@ -70,7 +70,7 @@ def identify_grip(data: ExperimentData, options: FitOptions) -> GripResult:
         raise InputError(f"{data.source}: the experiment has no tests to fit.")
     muscle = Muscle.from_pam(data.pam, where=f"{data.source}: pam (an experiment with slip tests only takes "
                                                 "its moduli from the PAM)")
-    from pampipe.slip import fit_slip
+    from pampipe.slip.workflow import fit_slip
 
     started = time.perf_counter()
     slip = fit_slip(data.slip, muscle)

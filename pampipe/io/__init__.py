@@ -1,7 +1,8 @@
 """The I/O layer: every file format pampipe reads or writes lives here, and nowhere else.
 
 * :mod:`.yamlfile`: reading YAML files safely; :mod:`.yamlwrite`: writing them through one emitter;
-* :mod:`.config`: the PAM, experiment and mission schemas (docs/formats.md §1-§4) → SI objects;
+* :mod:`.pam_schema`, :mod:`.experiment_schema`, :mod:`.mission_schema`: the PAM, experiment and mission
+  files (docs/formats.md §2-§4) → SI objects, over the fields of :mod:`.schema_fields`;
 * :mod:`.csvfile`: CSV data → SI arrays;
 * :mod:`.pamfile`: a :class:`~pampipe.model.pam.Pam` → PAM file;
 * :mod:`.files`: atomic writes, input protection and deterministic JSON.

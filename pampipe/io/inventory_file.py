@@ -32,10 +32,11 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
-from pampipe.io.config import PamSchema, Strict, _validate, build_pam, load_pam, quantity
+from pampipe.io.pam_schema import PamSchema, build_pam, load_pam
 from pampipe.io.yamlfile import load_mapping
 from pampipe.specs.inventory import DesignSpace, Inventory, Objective, Pipes
 from pampipe.specs.pipes import bore
+from pampipe.specs.schema import Strict, quantity, validate
 
 Length = quantity("length", gt=0, le=10.0, unit="m")
 PipeLength = quantity("length", gt=0, le=1e7, unit="m")
@@ -127,7 +128,7 @@ def load_inventory(path: str | Path, *, raw: dict | None = None) -> Inventory:
     """
     path = Path(path)
     content = load_mapping(path, what="inventory file") if raw is None else raw
-    schema = _validate(path, InventorySchema, content)
+    schema = validate(path, InventorySchema, content)
     material, material_file = _material(path, schema.material)
     if material.moduli is None:
         raise InputError(f"{path}: material: the PAM '{material.name}' has no 'moduli:' block; the design "

@@ -13,7 +13,7 @@ import numpy as np
 
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.model.muscle import Muscle
-from pampipe.planning import plan_mission
+from pampipe.planning.planner import plan_mission
 from pampipe.pneumatics.options import GaitOptions
 from pampipe.pneumatics.timing import Chamber
 from pampipe.specs.mission import Mission

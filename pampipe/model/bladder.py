@@ -44,6 +44,24 @@ def stress_sums(strain, a, b):
     return sum_a * strain, sum_b * strain
 
 
+def stresses(pressure, length, diameter, geometry, theta, reference_pressure):
+    """(σ₁, σ₂) [Pa] at (L, D) and P: both laws of Eq. 8 at the strains of Eqs. 6-7, θ = [a₁, b₁, a₂, b₂]."""
+    a1, b1, a2, b2 = split_moduli(theta)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
+    return (stress(eps_axial, pressure, a1, b1, reference_pressure),
+            stress(eps_hoop, pressure, a2, b2, reference_pressure))
+
+
+def stress_sum_pairs(length, diameter, geometry, theta):
+    """((S₁ᵃ, S₁ᵇ), (S₂ᵃ, S₂ᵇ)) [Pa]: :func:`stress_sums` of both laws at (L, D).
+
+    σ_k = S_kᵃ + (P/P_ref)·S_kᵇ (Eq. 8).
+    """
+    a1, b1, a2, b2 = split_moduli(theta)
+    eps_axial, eps_hoop = strains(length, diameter, geometry)
+    return stress_sums(eps_axial, a1, b1), stress_sums(eps_hoop, a2, b2)
+
+
 def tangent_modulus(strain, pressure, a, b, reference_pressure):
     """Eᵗ = ∂σ/∂ε = Σ_j (j + 1)(a_j + b_j P/P_ref) ε^j [Pa]."""
     scaled = pressure / reference_pressure

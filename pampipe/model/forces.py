@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 from pampipe.model import ops
-from pampipe.model.bladder import split_moduli, strains, stress, stress_sums
+from pampipe.model.bladder import split_moduli, strains, stress, stress_sum_pairs, stresses
 from pampipe.model.braid import (
     amplification_factor,
     braid_length,
@@ -48,14 +48,19 @@ def inner_room(length, r_o, v_b):
     return r_o**2 - v_b / (math.pi * length)
 
 
-def axial_levers(length, geometry, diameter=None):
+def axial_levers(length, geometry, diameter=None, *, stretched=False):
     """(pressure area, σ₁ lever, σ₂ lever) such that F_ax = P·area + σ₁·lever₁ − σ₂·lever₂ (Eq. 9).
 
     Thick: area = R_i L²/(2πN²R_o) − πR_i² [m²], lever₁ = V_b/L [m²], lever₂ = t L²/(2πN²R_o) [m²].
-    Thin:  area = (3L² − B²)/(4πN²) (Gaylord), lever₂ = V_b L/(B² − L²).
+    Thin:  area = (3L² − B²)/(4πN²) (Gaylord), lever₂ = V_b L/(B² − L²). ``stretched``: the braid is
+    longer than B (docs/physics.md §9b) and ``diameter`` is given: B'² − L² = (NπD)² (N fixed), so the thin
+    levers are area = (2L² − (NπD)²)/(4πN²), lever₂ = V_b L/(NπD)²; thick levers depend on D alone.
     """
     n2 = turns(geometry) ** 2
     v_b = bladder_volume(geometry)
+    if geometry.wall == "thin" and stretched:
+        circ2 = n2 * math.pi**2 * diameter**2  # (NπD)² = B'² − L²
+        return ((2 * length**2 - circ2) / (4 * math.pi * n2), v_b / length, v_b * length / circ2)
     if geometry.wall == "thin":
         b = braid_length(geometry)
         return ((3 * length**2 - b**2) / (4 * math.pi * n2), v_b / length,
@@ -73,21 +78,21 @@ def bladder_force(pressure, length, geometry, theta, reference_pressure, *, diam
     if diameter is None:
         diameter = diameter_at_length(length, geometry)
     _, lever1, lever2 = axial_levers(length, geometry, diameter) if levers is None else levers
-    a1, b1, a2, b2 = split_moduli(theta)
-    eps_axial, eps_hoop = strains(length, diameter, geometry)
-    return (stress(eps_axial, pressure, a1, b1, reference_pressure) * lever1
-            - stress(eps_hoop, pressure, a2, b2, reference_pressure) * lever2)
+    sigma_axial, sigma_hoop = stresses(pressure, length, diameter, geometry, theta, reference_pressure)
+    return sigma_axial * lever1 - sigma_hoop * lever2
 
 
-def axial_force(pressure, length, geometry, theta, reference_pressure=1e6, *, diameter=None):
+def axial_force(pressure, length, geometry, theta, reference_pressure=1e6, *, diameter=None, stretched=False):
     """F_ax(P, L) [N] (Eq. 9): tension the free muscle holds at length L and gauge pressure P.
 
     Thick wall: F_ax = P[R_iL²/(2πN²R_o) − πR_i²] + σ₁V_b/L − σ₂tL²/(2πN²R_o).
-    ``diameter`` = D(L) may be passed when already known (it saves a square root per point).
+    ``diameter`` = D(L) may be passed when already known (it saves a square root per point), and must be
+    when the braid is ``stretched`` (docs/physics.md §9b: (L, D) then lie on a longer braid, see
+    :func:`axial_levers`).
     """
     if diameter is None:
         diameter = diameter_at_length(length, geometry)
-    levers = axial_levers(length, geometry, diameter)
+    levers = axial_levers(length, geometry, diameter, stretched=stretched)
     return pressure * levers[0] + bladder_force(pressure, length, geometry, theta, reference_pressure,
                                                 diameter=diameter, levers=levers)
 
@@ -102,10 +107,7 @@ def bladder_force_affine(length, geometry, theta, reference_pressure, *, diamete
     if diameter is None:
         diameter = diameter_at_length(length, geometry)
     _, lever1, lever2 = axial_levers(length, geometry, diameter) if levers is None else levers
-    a1, b1, a2, b2 = split_moduli(theta)
-    eps_axial, eps_hoop = strains(length, diameter, geometry)
-    axial_a, axial_b = stress_sums(eps_axial, a1, b1)
-    hoop_a, hoop_b = stress_sums(eps_hoop, a2, b2)
+    (axial_a, axial_b), (hoop_a, hoop_b) = stress_sum_pairs(length, diameter, geometry, theta)
     return (axial_a * lever1 - hoop_a * lever2,
             (axial_b * lever1 - hoop_b * lever2) / reference_pressure)
 
@@ -141,6 +143,18 @@ def axial_force_regressors(pressure, length, geometry, degree, reference_pressur
         rows.append(terms)
         rows.append([scaled * t for t in terms])
     return pressure * area, [t for block in rows for t in block]
+
+
+def tension_axial_part(pressure, length, diameter, geometry, theta, reference_pressure):
+    """T cos α − (pull) = PπR_i² − σ₁V_b/L [N] (Eq. 12) at (L, D), with pull = F_ax (free) or F_a (pipe).
+
+    The axial share of the total braid tension T, which stretches an extensible braid (docs/physics.md §9b).
+    """
+    _, r_i, _ = wall_section(length, geometry, diameter) if geometry.wall == "thick" else (0, diameter / 2, 0)
+    a1, b1, _, _ = split_moduli(theta)
+    eps_axial = strains(length, diameter, geometry)[0]
+    sigma_axial = stress(eps_axial, pressure, a1, b1, reference_pressure)
+    return pressure * math.pi * r_i**2 - sigma_axial * bladder_volume(geometry) / length
 
 
 def anchoring_pressure(diameter, geometry, theta, reference_pressure=1e6, axial_load=0.0):
@@ -201,10 +215,7 @@ def radial_force_terms(pressure, diameter, geometry, theta, reference_pressure=1
     length = length_at_diameter(diameter, geometry)
     _, r_i, t = wall_section(length, geometry)
     amp = amplification_factor(diameter, geometry)
-    a1, b1, a2, b2 = split_moduli(theta)
-    eps_axial, eps_hoop = strains(length, diameter, geometry)
-    sigma_axial = stress(eps_axial, pressure, a1, b1, reference_pressure)
-    sigma_hoop = stress(eps_hoop, pressure, a2, b2, reference_pressure)
+    sigma_axial, sigma_hoop = stresses(pressure, length, diameter, geometry, theta, reference_pressure)
     return {
         "pressure_wall": 2 * pressure * r_i * length,
         "pressure_end_caps": -amp * pressure * math.pi * r_i**2,

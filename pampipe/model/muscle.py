@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.errors import InputError, SolverError
-from pampipe.model import braid, effects, forces, ops
+from pampipe.model import braid, forces, ops
+from pampipe.model import effects as effects_library
 from pampipe.model.bladder import drucker_tangent_moduli
 from pampipe.model.pam import Geometry, Pam
 
@@ -60,7 +61,7 @@ class Structure:
         if self.contact:
             out += [f"contact.{name}" for name in theta]
         for name in self.effects:
-            out += [f"{name}.{p.name}" for p in effects.get_effect(name).parameters]
+            out += [f"{name}.{p.name}" for p in effects_library.get_effect(name).parameters]
         return out
 
     @property
@@ -104,8 +105,10 @@ class Muscle:
         self.contact = contact
         self.effects = {k: dict(v) for k, v in effects.items()} if effects else None
         self.name = name
-        for key in self.effects or ():
-            _effect(key)
+        try:
+            self._composed = effects_library.compose(self.effects)  # the active effects, composed once
+        except KeyError as exc:
+            raise InputError(str(exc.args[0])) from None
 
     def __repr__(self) -> str:
         """``Muscle('name', L0=… mm, D0=… mm, alpha0=… deg, t0=… mm, theta=[…] MPa, effects=[…])``."""
@@ -199,9 +202,8 @@ class Muscle:
         ``pressure_leg`` that of the pressure rate (pressure hysteresis).
         """
         if self.effects:
-            return effects.axial_force_with_effects(pressure, length, self.geometry, self.theta,
-                                                    self.reference_pressure, self.effects, leg=leg,
-                                                    pressure_leg=pressure_leg)
+            return self._composed.axial_force(pressure, length, self.geometry, self.theta,
+                                              self.reference_pressure, leg=leg, pressure_leg=pressure_leg)
         return forces.axial_force(pressure, length, self.geometry, self.theta, self.reference_pressure)
 
     def radial_force(self, pressure, diameter, axial_load=0.0, *, smoothing=None, clip=True):
@@ -210,9 +212,9 @@ class Muscle:
         ``smoothing`` [N] and ``clip``: see :func:`pampipe.model.forces.contact_switch`.
         """
         if self.effects:
-            return effects.radial_force_with_effects(pressure, diameter, self.geometry, self.theta,
-                                                     self.reference_pressure, axial_load, self.contact,
-                                                     self.effects, smoothing=smoothing, clip=clip)
+            return self._composed.radial_force(pressure, diameter, self.geometry, self.theta,
+                                              self.reference_pressure, axial_load, self.contact,
+                                              smoothing=smoothing, clip=clip)
         return forces.radial_force(pressure, diameter, self.geometry, self.theta, self.reference_pressure,
                                    axial_load, self.contact, smoothing, clip=clip)
 
@@ -334,7 +336,7 @@ class Muscle:
 
     def closed_form_refusals(self) -> dict[str, str]:
         """{effect: why} of this muscle's effects that :meth:`required_pressure` cannot carry."""
-        return effects.refusals(self.effects)
+        return self._composed.refusals()
 
     def _closed_form(self, diameter, load, kappa, friction, safety_factor, anchored=None):
         """(P* before its floor at 0 [Pa], where its derivation holds) of :meth:`required_pressure`."""
@@ -342,7 +344,7 @@ class Muscle:
         if refused:
             raise ValueError(f"no closed-form holding pressure with the effect(s) {', '.join(refused)}")
         c = self._coefficients(diameter) if anchored is None else anchored
-        anchoring = (effects.effective_load(self.effects, kappa * load) - c.at_zero) / c.slope
+        anchoring = (self._composed.load(kappa * load) - c.at_zero) / c.slope
         target = safety_factor * load / (friction * math.pi * c.amplification)
         if self._contact_theta() is None:  # a = 0 and b = F₁: x = R/F₁
             inner = anchoring + target / c.slope
@@ -352,7 +354,7 @@ class Muscle:
             b = c.slope + (c.contact_at_zero + c.contact_slope * anchoring) / self.reference_pressure
             inner = anchoring + 2 * target / (b + ops.sqrt(b**2 + 4 * a * target))
             valid = ops.logical_and(ops.logical_and(c.slope > 0, friction > 0), ops.logical_or(b > 0, a > 0))
-        return effects.measured_pressure(self.effects, inner), valid
+        return self._composed.measured_pressure(inner), valid
 
     def least_holding_pressure(self, diameter, load, *, kappa, friction, safety_factor,
                                anchored: Anchored | None = None):
@@ -414,7 +416,7 @@ class Muscle:
 
     def _contact_theta(self):
         """Δθ [Pa] once anchored: the contact increments plus those of closed-form effects (None: none)."""
-        extra = effects.contact_increments(self.effects, self.theta)
+        extra = self._composed.contact_increments(self.theta)
         if extra is None:
             return self.contact
         return extra if self.contact is None else self.contact + extra
@@ -431,8 +433,8 @@ class Muscle:
             c0, c1 = forces.bladder_force_affine(length, g, contact, pref, diameter=diameter)
         amplification = braid.amplification_factor(diameter, g, length)
         if self.effects:
-            state = effects.State(None, length, diameter, g, self.theta, pref, in_pipe=True)
-            amplification = amplification * effects.radial_factor(self.effects, state)
+            state = effects_library.State(None, length, diameter, g, self.theta, pref, in_pipe=True)
+            amplification = amplification * self._composed.radial_factor(state)
         return Anchored(length, amplification, at_zero, slope, c0, c1)
 
 
@@ -450,7 +452,7 @@ class Anchored:
 
 def _effect(name: str):
     try:
-        return effects.get_effect(name)
+        return effects_library.get_effect(name)
     except KeyError as exc:
         raise InputError(str(exc.args[0])) from None
 

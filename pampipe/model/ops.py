@@ -55,3 +55,12 @@ def if_else(condition, then, otherwise):
 
 logical_and = _pick(np.logical_and, "logic_and")
 logical_or = _pick(np.logical_or, "logic_or")
+
+
+def column(entries, *, like):
+    """A column of ``entries`` of the same kind as ``like``: casadi.vertcat when an entry or ``like`` is an
+    SX or MX symbol (CasADi is loaded then), else a numpy array of floats."""
+    ca = sys.modules.get("casadi")
+    if ca is not None and any(isinstance(e, ca.SX | ca.MX) for e in (*entries, like)):
+        return ca.vertcat(*entries)
+    return np.array([float(e) for e in entries])

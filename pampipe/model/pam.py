@@ -1,6 +1,6 @@
 """Frozen SI descriptions of a PAM: its braid/bladder geometry and its bladder moduli.
 
-No I/O here: :mod:`pampipe.io.config` builds these from YAML files.
+No I/O here: :mod:`pampipe.io.pam_schema` builds these from YAML files.
 """
 
 from __future__ import annotations

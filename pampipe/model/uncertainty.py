@@ -1,6 +1,6 @@
 """What a fit leaves uncertain about a muscle: joint covariance, model error, undetermined directions.
 
-No I/O here: :mod:`pampipe.io.config` reads the PAM file's ``uncertainty:`` block into a
+No I/O here: :mod:`pampipe.io.pam_schema` reads the PAM file's ``uncertainty:`` block into a
 :class:`ParameterUncertainty`, :mod:`pampipe.io.pamfile` writes it, ``identify`` builds it.
 
 Parameters are named ``axial.a0 … axial.a3, axial.b0 … axial.b3, hoop.a0 … hoop.b3`` (the moduli θ in the

@@ -2,7 +2,7 @@
 
 Library API::
 
-    from pampipe.io.config import load_mission
+    from pampipe.io.mission_schema import load_mission
     from pampipe.planning import plan_mission, max_payload
 
     plan = plan_mission(load_mission("mission.yaml"))          # -> MissionPlan

@@ -28,18 +28,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pampipe.errors import InputError
+from pampipe.planning.classes import Classes, Problem, section_classes
 from pampipe.planning.evaluator import draws_key
 from pampipe.planning.feasibility import pressure_limits
-from pampipe.planning.sampling import (
-    MEMORY_BUDGET,
-    Classes,
-    Problem,
-    chunk_classes,
-    drawn_muscles,
-    sample_chunk,
-    section_classes,
-    segment_twins,
-)
+from pampipe.planning.sampling import MEMORY_BUDGET, chunk_classes, drawn_muscles, sample_chunk, segment_twins
 from pampipe.planning.sources import (
     SOURCE_WORDS,
     SOURCES,

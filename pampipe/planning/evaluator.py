@@ -28,7 +28,7 @@ from pampipe.planning.memo import Memo
 from pampipe.planning.quantiles import order_statistics
 
 if TYPE_CHECKING:
-    from pampipe.planning.sampling import Classes, Problem
+    from pampipe.planning.classes import Classes, Problem
     from pampipe.planning.sources import MuscleDraws
 
 #: Columns (draws × bores) per vectorised call of :func:`anchored_at`.

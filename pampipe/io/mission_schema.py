@@ -1,0 +1,248 @@
+"""The mission file (docs/formats.md §4): its strict pydantic schema and :func:`load_mission`.
+
+The robot's PAM files are read too (:mod:`.pam_schema`), the route is listed or taken from a pipe network
+(:mod:`.routes`), and the measured wall contact of the PAM files is checked to agree where the mission uses
+it.
+Any problem raises :class:`InputError` naming the file, the key, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, Field, field_validator
+
+from pampipe.errors import InputError
+from pampipe.io.pam_schema import PamSchema, resolve_pam
+from pampipe.io.routes import elbow_radius, listed_route, network_route
+from pampipe.io.schema_fields import (
+    Friction,
+    Incline,
+    Length,
+    Mass,
+    NonNegativeForce,
+    PositivePressure,
+    RouteLength,
+    relative,
+)
+from pampipe.io.yamlfile import load_mapping
+from pampipe.model.domain import check_kind
+from pampipe.runtime.collector import paused
+from pampipe.specs.mission import Mission, Segment, Steering
+from pampipe.specs.schema import Strict, quantity, validate
+
+
+class SegmentSchema(Strict):
+    name: str = Field(min_length=1)
+    pam: str | PamSchema
+    mass: Mass
+
+
+def _three_segments(segments: list) -> list:
+    if len(segments) != 3:
+        raise ValueError(f"needs exactly 3 segments (rear to front), got {len(segments)}")
+    return segments
+
+
+class SteeringSchema(Strict):
+    """``robot.steering``: extensile PAMs in parallel at ``radius`` from the axis (docs/physics.md §14.4)."""
+
+    pam: str | PamSchema
+    count: Literal[3] = 3
+    radius: Length
+
+
+class RobotSchema(Strict):
+    segments: Annotated[list[SegmentSchema], AfterValidator(_three_segments)]
+    payload: Mass = 0.0
+    steering: SteeringSchema | None = None
+    joint_angle: quantity("angle", gt=0, le=math.pi, unit="rad") | None = None  # largest joint deflection
+
+
+class BendSchema(Strict):
+    """``bend: {angle, radius, direction}`` at the end of a section (docs/formats.md §4)."""
+
+    angle: quantity("angle")
+    radius: str | float | int | None = None  # a length or a multiple of the bore, "1.5 D"; None: elbow_radius
+    direction: quantity("angle", ge=-2 * math.pi, le=2 * math.pi, unit="rad") = math.pi
+
+    @field_validator("angle")
+    @classmethod
+    def _turn(cls, value: float) -> float:
+        if not 0 <= value <= math.pi:
+            raise ValueError(f"{math.degrees(value):.6g} deg: a bend turns the route by 0 to 180 deg (the "
+                             "angle between the pipes' directions; which way it turns is 'direction')")
+        return value
+
+
+class UncertainFriction(Strict):
+    value: Friction
+    sd: quantity("dimensionless", ge=0, le=10) = 0.0
+
+
+#: A section's friction: a number, {value, sd}, or from_pam / absent: the PAM files' measured contact block.
+SectionFriction = Literal["from_pam"] | Friction | UncertainFriction | None
+
+
+class SectionSchema(Strict):
+    name: str = Field(min_length=1)
+    length: RouteLength
+    inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.specs.pipes.bore
+    incline: Incline = 0.0
+    friction: SectionFriction = None
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
+    bend: BendSchema | None = None
+
+
+class NetworkRouteSchema(Strict):
+    """``route: {network, from, to, friction}``: a path through a pipe network (docs/commands.md §7)."""
+
+    network: str = Field(min_length=1)
+    from_node: str | int | None = Field(default=None, alias="from")
+    to_node: str | int | None = Field(default=None, alias="to")
+    friction: SectionFriction = None
+    tolerance: str | float | int | None = None  # of every pipe's bore: a length or a percentage
+    sd: str | float | int | None = None  # standard deviation of every pipe's bore
+    pipe_material: str | None = Field(None, min_length=1, max_length=100)
+
+
+class MissionSchema(Strict):
+    robot: RobotSchema
+    supply_pressure: PositivePressure
+    safety_factor: quantity("dimensionless", ge=1, le=100) | None = None
+    load_path: Literal["through_anchor", "distributed", "none"] | None = None  # None: the PAMs' κ or through
+    tether_drag: NonNegativeForce = 0.0
+    route: Annotated[list[SectionSchema], Field(min_length=1)] | NetworkRouteSchema
+    gait: dict[str, Any] | None = None  # options of `gait`; validated there
+    elbow_radius: str | float | int = "1.5 D"  # default centreline radius of a bend: a length or "k D"
+    bend_model: Literal["rigid", "flexible"] = "rigid"
+
+
+#: The safety factor of a mission that gives none, and what the commands say about it.
+DEFAULT_SAFETY_FACTOR = 1.0
+NO_SAFETY_FACTOR = ("the mission gives no safety_factor, so 1 is used: the plan holds exactly the load, with "
+                    "no margin for friction, load or model error; write e.g. 'safety_factor: 1.5'.")
+
+
+def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
+    """Read and validate a mission file and the PAM files it names.
+
+    ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
+    """
+    with paused():  # a long route is millions of acyclic objects (pampipe.runtime.collector)
+        return _load_mission(Path(path), raw)
+
+
+def _load_mission(path: Path, raw: dict | None) -> Mission:
+    schema = validate(path, MissionSchema, load_mapping(path, what="mission file") if raw is None else raw)
+    segments = tuple(Segment(s.name, resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
+                             relative(path, s.pam) if isinstance(s.pam, str) else None)
+                     for i, s in enumerate(schema.robot.segments))
+    if len({s.name for s in segments}) != len(segments):
+        raise InputError(f"{path}: robot.segments: segment names must be unique, got "
+                         f"{[s.name for s in segments]}.")
+    warnings = ()
+    safety_factor = schema.safety_factor
+    if safety_factor is None:
+        safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (f"{path}: {NO_SAFETY_FACTOR}",)
+    for i, seg in enumerate(segments):
+        try:
+            check_kind(seg.pam.geometry, extensile=False, where=f"robot.segments[{i}].pam",
+                       role="an anchoring segment")
+        except InputError as exc:
+            raise InputError(f"{path}: {exc}") from None
+    steering = _steering(path, schema.robot.steering)
+    elbow = elbow_radius(path, schema.elbow_radius, "elbow_radius")
+    grip = MeasuredGrip(path, segments)
+    if isinstance(schema.route, NetworkRouteSchema):
+        route = network_route(path, schema.route, segments, grip.friction, elbow=elbow)
+        sections = [("route", schema.route.friction, schema.route.pipe_material)]
+    else:
+        route = listed_route(path, schema.route, grip.friction, elbow=elbow)
+        sections = [(f"route[{i}] ({s.name})", s.friction, s.pipe_material)
+                    for i, s in enumerate(schema.route)]
+    warnings += grip.material_warnings(sections) + grip.effective_warning(schema.load_path is not None)
+    load_path, kappa, kappa_sd = schema.load_path or "through_anchor", None, 0.0
+    if schema.load_path is None and grip.coupling() is not None:
+        load_path, (kappa, kappa_sd) = "from_pam", grip.coupling()
+    return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
+                   load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
+                   kappa_sd=kappa_sd, load_coupling=kappa, steering=steering, bend_model=schema.bend_model,
+                   joint_angle=schema.robot.joint_angle)
+
+
+def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:
+    """The steering module of ``robot.steering``: its PAM must be extensile."""
+    if schema is None:
+        return None
+    pam = resolve_pam(path, schema.pam, "robot.steering.pam")
+    try:
+        check_kind(pam.geometry, extensile=True, where="robot.steering.pam", role="a steering PAM")
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+    return Steering(pam, schema.count, schema.radius,
+                    relative(path, schema.pam) if isinstance(schema.pam, str) else None)
+
+
+class MeasuredGrip:
+    """The robot's measured wall contact (the PAM files' ``contact:`` blocks), checked to agree when used."""
+
+    def __init__(self, path: Path, segments):
+        self.path, self.segments, self.used = path, segments, False
+
+    def _common(self, what: str, where: str, value):
+        values = {seg.name: value(seg.pam.grip) if seg.pam.grip is not None else None
+                  for seg in self.segments}
+        missing = [name for name, v in values.items() if v is None]
+        if missing and what == "friction":
+            raise InputError(f"{self.path}: {where}: the friction is taken from the PAM files (from_pam "
+                             f"or absent), and the PAM of segment(s) {', '.join(missing)} has no contact: "
+                             "block; run `pampipe identify` on a slip test (kind: slip) with -o, or give the "
+                             "friction, e.g. 'friction: 0.3'.")
+        if missing:
+            return None
+        if len(set(values.values())) > 1:
+            shown = ", ".join(f"{name}: {v}" for name, v in values.items())
+            raise InputError(f"{self.path}: {where}: the segments' PAM files measured different {what} "
+                             f"({shown}); one section has one {what}: give it in the mission, or use PAM "
+                             "files that agree.")
+        return next(iter(values.values()))
+
+    def friction(self, where: str) -> tuple[float, float]:
+        """(μ, σ_μ) of every segment's PAM (they must agree)."""
+        self.used = True
+        return self._common("friction", where, lambda g: (g.friction, g.friction_sd))
+
+    def effective_warning(self, kappa_given: bool) -> tuple[str, ...]:
+        """What a measured friction means when its slip tests did not determine κ (one bore)."""
+        grip = self.segments[0].pam.grip
+        if not self.used or grip is None or grip.load_coupling is not None:
+            return ()
+        bores = ", ".join(f"{d * 1e3:.4g} mm" for d in grip.tested_diameters) or "the tested bore"
+        path = "the load path" if kappa_given else "load_path through_anchor (kappa = 1, the default)"
+        return (f"{self.path}: the PAM's friction {grip.friction:.4g} is the effective friction mu/(1 + "
+                f"kappa*mu*pi*A) of slip tests at {bores} only (kappa not determined); with {path} the "
+                "plan is conservative for any kappa in [0, 1] (docs/physics.md §13.3); slip tests at a "
+                "second bore would give mu and kappa.",)
+
+    def coupling(self) -> tuple[float, float] | None:
+        """(κ, σ_κ) when every segment's PAM measured the same κ, else None."""
+        if any(seg.pam.grip is None or seg.pam.grip.load_coupling is None for seg in self.segments):
+            return None
+        return self._common("load_coupling", "load_path", lambda g: (g.load_coupling, g.load_coupling_sd))
+
+    def material_warnings(self, sections) -> tuple[str, ...]:
+        """A warning for each section using the measured friction on another pipe material than tested."""
+        out = []
+        for where, friction, material in sections:
+            if friction not in (None, "from_pam") or material is None:
+                continue
+            tested = {seg.pam.grip.pipe_material for seg in self.segments if seg.pam.grip is not None}
+            if tested != {material}:
+                shown = ", ".join(sorted(t or "an unnamed material" for t in tested))
+                out.append(f"{self.path}: {where}: the friction comes from slip tests on {shown}, and this "
+                           f"section's pipe is {material}: friction differs between materials; test a "
+                           f"{material} pipe or give the friction.")
+        return tuple(out)

@@ -1,0 +1,71 @@
+"""The data of a confidence plan's sampling (docs/physics.md §15): the classes of alike sections and what
+every chunk of classes shares (:mod:`.sampling` samples them, :mod:`.evaluator` evaluates one class's draws).
+
+A **class** is the set of sections that state the same bores (range, and each segment's worst bore in it),
+bore sd, incline, friction and friction sd: they carry the same load and the same draws.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from pampipe.model.muscle import Structure
+from pampipe.planning.sources import MuscleUncertainty
+
+
+@dataclass(frozen=True)
+class Classes:
+    """The classes of alike sections: one row each, (C,) or (C, segments) arrays, SI."""
+
+    low: np.ndarray  # smallest bore of the range [m]
+    high: np.ndarray  # largest bore of the range [m]
+    worst: np.ndarray  # (C, segments) each segment's worst bore of the range [m]
+    valid: np.ndarray  # (C, segments) bool
+    bore_sd: np.ndarray  # [m]
+    mu: np.ndarray
+    mu_sd: np.ndarray
+    incline: np.ndarray  # [rad]
+
+    def __len__(self) -> int:
+        return self.low.size
+
+    def part(self, rows: slice) -> Classes:
+        return Classes(*(getattr(self, f.name)[rows] for f in dataclasses.fields(self)))
+
+
+def section_classes(route, elements) -> tuple[Classes, np.ndarray]:
+    """(the classes, the class of each section (S,))."""
+    valid = np.asarray(elements.valid, dtype=bool)
+    m = valid.shape[1]
+    columns = [route.diameter_low, route.diameter_high, elements.diameter, valid, route.diameter_sd,
+               route.friction, route.friction_sd, route.incline]
+    table = np.column_stack(columns).astype(float)
+    rows, inverse = np.unique(table, axis=0, return_inverse=True)
+    classes = Classes(rows[:, 0], rows[:, 1], rows[:, 2:2 + m], rows[:, 2 + m:2 + 2 * m] > 0.5,
+                      *(rows[:, 2 + 2 * m + k] for k in range(4)))
+    return classes, np.asarray(inverse).reshape(-1)
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What every chunk shares: the muscles' sources, the seed, the mission's constants (SI)."""
+
+    structures: tuple[Structure, ...]
+    uncertainties: tuple[MuscleUncertainty, ...]
+    samples: int
+    seed: int
+    level: float
+    active: tuple[str, ...]  # sources with a spread, in sources.SOURCES order
+    kappa: float
+    kappa_sd: float
+    safety_factor: float
+    total_mass: float  # [kg] robot and payload
+    masses: tuple[float, ...]  # [kg] per segment
+    tether_drag: float  # [N]
+    payload: float  # [kg]
+    supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
+    key: str  # draws_key of the muscles' sources, draws, seed and κ sd: names the draws in every process
+    twins: tuple[int, ...] = ()  # per segment, the first with the same inputs and draws (segment_twins)
