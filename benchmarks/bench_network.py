@@ -36,10 +36,10 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from pampipe.io.config import load_mission
+from pampipe.io.epanet import load_network
 from pampipe.planning import plan_mission
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.problem import mission_muscles
-from pampipe.io.epanet import load_network
 from pampipe.specs.network import route_sections, whole_network
 
 ROOT = Path(__file__).resolve().parent.parent
