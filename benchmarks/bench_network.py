@@ -35,11 +35,12 @@ from pathlib import Path
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from pampipe.io.epanet import load_network
 from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.problem import mission_muscles
-from pampipe.specs.network import load_network, route_sections, whole_network
+from pampipe.specs.network import route_sections, whole_network
 
 ROOT = Path(__file__).resolve().parent.parent
 MISSIONS = ROOT / "problems" / "missions"

@@ -19,7 +19,6 @@ shows the numbers of ``--json``:
 from __future__ import annotations
 
 import html
-import importlib
 import math
 from collections.abc import Callable, Mapping
 
@@ -29,13 +28,18 @@ REPR_LIMIT = 299  # characters of repr()
 HTML_ROWS = 40  # rows of the long table shown by _repr_html_
 
 
-def notebook(*, headline: tuple[str, ...] = (), plot: str | None = None, text: str | None = None):
+#: A function of no arguments that imports a view and returns it: the result module names its view with a
+#: plain import made when the view is first asked for, and the view never imports the result module.
+Loader = Callable[[], Callable]
+
+
+def notebook(*, headline: tuple[str, ...] = (), plot: Loader | None = None, text: Loader | None = None):
     """Class decorator: ``__repr__``, ``_repr_html_``, ``to_frame``, ``records``, ``plot``, ``to_text``.
 
     ``headline``: the document's top-level keys shown first in the repr (others follow while they
-    fit); ``plot``: ``"module:function"`` taking ``(result, folder)`` as the command's ``--plots``
-    does, whose first figure ``plot()`` returns; ``text``: ``"module:function"`` taking the result
-    and returning the command's text report (``to_text()`` and ``str()``).
+    fit); ``plot``: a :data:`Loader` of the function taking ``(result, folder)`` as the command's
+    ``--plots`` does, whose first figure ``plot()`` returns; ``text``: a :data:`Loader` of the function
+    taking the result and returning the command's text report (``to_text()`` and ``str()``).
     """
 
     def decorate(cls):
@@ -161,25 +165,23 @@ def frame(rows: list[dict]):
     return pandas.DataFrame.from_records(rows)
 
 
-def report_text(result, target: str, units: str | None) -> str:
-    """The text that ``target`` (``"module:function"``) writes of ``result``, in ``units`` (a --units
-    value; None: those of :func:`pampipe.units.display.set_units`)."""
+def report_text(result, text: Loader, units: str | None) -> str:
+    """The text that the view ``text()`` writes of ``result``, in ``units`` (a --units value; None: those
+    of :func:`pampipe.units.display.set_units`)."""
     from contextlib import nullcontext
 
     from pampipe.units import display
 
-    module, name = target.split(":")
-    build: Callable = getattr(importlib.import_module(module), name)
+    build = text()
     with nullcontext() if units is None else display.shown_in(units):
         return display.localize(build(result))
 
 
-def main_figure(result, target: str, ax=None):
-    """The first figure that ``target`` (``"module:function"``) draws for ``result``, into ``ax`` if given."""
+def main_figure(result, plot: Loader, ax=None):
+    """The first figure that the view ``plot()`` draws for ``result``, into ``ax`` if given."""
     from pampipe.views.tables import capture
 
-    module, name = target.split(":")
-    draw: Callable = getattr(importlib.import_module(module), name)
+    draw = plot()
     with capture(ax) as figures:
         draw(result, None)
     if not figures:

@@ -14,8 +14,9 @@ import yaml
 
 from pampipe.cli import main
 from pampipe.errors import InfeasibleError, InputError
+from pampipe.io.epanet import load_network
 from pampipe.io.mission_schema import load_mission
-from pampipe.specs.network import coverage, load_network, route_sections, whole_network
+from pampipe.specs.network import coverage, route_sections, whole_network
 from tests.conftest import PROBLEMS
 
 wntr = pytest.importorskip("wntr")
@@ -160,7 +161,7 @@ def test_whole_network_reports_absolute_inclines(ky4, ky4_model):
 
 def test_pipes_shorter_than_their_rise_are_taken_as_vertical():
     # ky10 has 4 pipes whose model length is shorter than the elevation difference of their nodes
-    every = whole_network("ky10", friction=0.3)
+    every = whole_network(load_network("ky10"), friction=0.3)
     assert sorted(every.name[every.clipped]) == ["P-238", "P-246", "P-344", "P-431"]
     np.testing.assert_array_equal(every.incline[every.clipped], math.pi / 2)
     assert (every.incline[~every.clipped] < math.pi / 2).all()

@@ -1,4 +1,5 @@
-"""The version is one number: `pampipe --version`, the package, CHANGELOG.md's newest release and CITATION.cff."""
+"""The version is one number: `pampipe --version`, the package, CHANGELOG.md's newest release and
+CITATION.cff."""
 
 from __future__ import annotations
 
@@ -14,7 +15,8 @@ def test_version_agrees_everywhere(cli):
 
     out = cli("--version")
     assert out.stdout.split()[-1] == __version__
-    released = re.findall(r"^## \[(\d+\.\d+\.\d+)\]", (ROOT / "CHANGELOG.md").read_text(encoding="utf-8"), re.M)
+    changelog = (ROOT / "CHANGELOG.md").read_text(encoding="utf-8")
+    released = re.findall(r"^## \[(\d+\.\d+\.\d+)\]", changelog, re.M)
     assert released and released[0] == __version__
     citation = yaml.safe_load((ROOT / "CITATION.cff").read_text(encoding="utf-8"))
     assert citation["version"] == __version__ and citation["cff-version"] == "1.2.0"

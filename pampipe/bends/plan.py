@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from pampipe.bends.geometry import (
+    chord_interval,
     elbow_radius_needed,
     flexible_bend_radius,
     rigid_passage,
@@ -71,6 +72,14 @@ class BendPlan:
     @property
     def passable(self) -> bool:
         return all(s.passable for s in self.segments) and self.joints_pass
+
+    @property
+    def binding_chord(self) -> tuple[float, float]:
+        """(τ_back, τ_front) [m]: where the limiting segment may lie along its binding direction ψ*, from
+        the inner wall's tangent point (:func:`pampipe.bends.geometry.chord_interval`)."""
+        s = self.limiting
+        return chord_interval(s.direction, bore=self.bore, radius=self.radius, angle=self.angle,
+                              diameter=s.diameter)
 
     def reason(self) -> str | None:
         """Why the robot cannot pass (None if it can): the bend, the segment, by how much, what would pass."""

@@ -1,4 +1,5 @@
-"""The CLI layer of each command: its arguments, the library call, and the text/JSON/plots it emits.
+"""The CLI layer of each command: its arguments and ``run``, which calls the library and emits the JSON, the
+text (rendered by :mod:`pampipe.views`) and the plots.
 
 Each module defines ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 Only :mod:`pampipe.cli` imports these modules.

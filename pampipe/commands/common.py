@@ -24,6 +24,17 @@ def quantity_type(dimension: str):
     return parse
 
 
+def probability(text: str) -> float:
+    """argparse type: a probability in [0.5, 1), as a number or a percentage ('0.95', '95 %')."""
+    try:
+        value = to_si(text, "dimensionless")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(f"{exc} Give a probability, e.g. 0.95 or '95 %'.") from None
+    if not 0.5 <= value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a probability in [0.5, 1), e.g. 0.95")
+    return value
+
+
 def integer_type(option: str, *, ge: int | None = None, le: int | None = None):
     """argparse type: a whole number within [ge, le], with a message naming ``option``."""
 

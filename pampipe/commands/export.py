@@ -7,13 +7,12 @@ import os
 from pathlib import Path
 
 from pampipe.api import export_mission, load_mission
-from pampipe.commands.common import add_output_options, add_units_option, emit
-from pampipe.commands.plan import probability
+from pampipe.commands.common import add_output_options, add_units_option, emit, probability
 from pampipe.errors import InputError
 from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_set, check_not_input
 from pampipe.runtime.progress import note
-from pampipe.views.tables import table
+from pampipe.views.export_text import written_text
 
 NAME = "export"
 HELP = ("write the mission's anchoring law and gait schedule as plain C99 (pampipe_plan.h/.c) and an "
@@ -68,25 +67,5 @@ def run(args: argparse.Namespace) -> int:
     export = export_mission(mission, sketch_name=sketch, confidence=args.confidence,
                             progress=note)  # quiet under --json and --quiet
     atomic_write_set(folder, export.files)  # the old set or the new one, never a mix
-    emit(args, export.to_dict(), _report(export, folder))
+    emit(args, export.to_dict(), written_text(export, folder))
     return 0
-
-
-def _report(export, folder: Path) -> str:
-    lines = [f"wrote {', '.join(str(folder / n) for n in sorted(export.files))}", result_text(export)]
-    if export.sketch != f"{folder.resolve().name}.ino":
-        lines.append(f"to open the sketch in the Arduino IDE, put the three files in a folder named "
-                     f"{export.sketch.removesuffix('.ino')}")
-    return "\n".join(lines)
-
-
-def result_text(export) -> str:
-    """The law and the gait table of an export (``str(export)``; the command adds where it wrote them)."""
-    law = export.law
-    rows = [(s.name, s.diameter * 1e3, s.reason.name.lower(), len(s.steps), s.cycle_time)
-            for s in export.sections]
-    lines = [f"pampipe_required_pressure: {law.function.n_instructions()} operations; anchoring needs "
-             f"{law.narrowest * 1e3:.4g} mm < D < {law.widest * 1e3:.4g} mm; "
-             f"supply {law.supply_pressure / 1e3:.4g} kPa",
-             table(["section", "D [mm]", "reason", "gait steps", "cycle [s]"], rows)]
-    return "\n".join(lines)

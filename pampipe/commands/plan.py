@@ -13,6 +13,7 @@ from pampipe.commands.common import (
     add_units_option,
     emit,
     emit_streamed,
+    probability,
     quantity_type,
     say,
     write_html_report,
@@ -20,11 +21,10 @@ from pampipe.commands.common import (
 )
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import Streamed, check_output
-from pampipe.units.quantities import to_si
+from pampipe.views.plan_text import FULL_TABLE
 
 NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"
-FULL_TABLE = 60  # sections the text report lists in full; longer routes are summarised
 
 
 EPILOG = """\
@@ -102,17 +102,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_report_option(parser)
 
 
-def probability(text: str) -> float:
-    """argparse type: a probability in [0.5, 1), as a number or a percentage ('0.95', '95 %')."""
-    try:
-        value = to_si(text, "dimensionless")
-    except InputError as exc:
-        raise argparse.ArgumentTypeError(f"{exc} Give a probability, e.g. 0.95 or '95 %'.") from None
-    if not 0.5 <= value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} must be a probability in [0.5, 1), e.g. 0.95")
-    return value
-
-
 def _count(text: str) -> int:
     """argparse type: a whole number of draws, at least 100."""
     try:
@@ -130,7 +119,7 @@ COMPACT_SECTIONS = 10_000
 
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
-    from pampipe.views.plan_text import SHOWN, plan_text
+    from pampipe.views.plan_text import infeasible_reason, plan_text
 
     mission = api.load_mission(args.mission)
     if args.output is not None:
@@ -183,20 +172,6 @@ def run(args: argparse.Namespace) -> int:
             raise InfeasibleError(f"no pipe of network {name} can be served; the coverage above says why.")
         return 0
     if not plan.feasible:
-        raise InfeasibleError(_infeasible(plan, SHOWN))
+        raise InfeasibleError(infeasible_reason(plan))
     return 0
 
-
-def _infeasible(plan, shown: int) -> str:
-    """How many sections and bends cannot be planned or passed, and which (``shown`` names at most)."""
-    parts = []
-    bad = plan.arrays.route.name[sorted(plan.arrays.reasons)].tolist()
-    if bad:
-        names = ", ".join(bad[:shown]) + (f" and {len(bad) - shown} more" if len(bad) > shown else "")
-        parts.append(f"{len(bad)} of {len(plan.arrays.route)} sections cannot be planned ({names})")
-    blocked = [b.after_section for b in plan.bends if not b.passable]
-    if blocked:
-        names = ", ".join(f"after {n!r}" for n in blocked[:shown])
-        more = f" and {len(blocked) - shown} more" if len(blocked) > shown else ""
-        parts.append(f"{len(blocked)} of {len(plan.bends)} bends cannot be passed ({names}{more})")
-    return "; ".join(parts) + "; the reasons are listed above."

@@ -51,8 +51,19 @@ def starts_document(run: MultiStart) -> dict:
                       "iterations": r.iterations, "wall_time_s": r.wall_time} for r in run.results]}
 
 
-@notebook(headline=("feasible", "objective", "binding"), plot="pampipe.views.plots.design:plot_design",
-          text="pampipe.commands.design:report")
+def _plot():
+    from pampipe.views.plots.design import plot_design
+
+    return plot_design
+
+
+def _text():
+    from pampipe.views.design_text import report
+
+    return report
+
+
+@notebook(headline=("feasible", "objective", "binding"), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class DesignResult:
     """The design of an inventory: one or K muscles, or the binding constraint where none exists.

@@ -93,8 +93,19 @@ def summarize(model, base_bic: float, data, cells, refitter) -> Summary:
                    model.bic - base_bic, tests, model.cv_rmse, fit.iterations, fit.wall_time, fit.status)
 
 
-@notebook(headline=("verdict", "reason"), plot="pampipe.views.plots.diagnose:plot_diagnosis",
-          text="pampipe.commands.diagnose:result_text")
+def _plot():
+    from pampipe.views.plots.diagnose import plot_diagnosis
+
+    return plot_diagnosis
+
+
+def _text():
+    from pampipe.views.diagnose_text import result_text
+
+    return result_text
+
+
+@notebook(headline=("verdict", "reason"), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class DiagnoseResult:
     source: Path

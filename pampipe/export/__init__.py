@@ -41,7 +41,13 @@ class Provenance:
     casadi: str = field(default_factory=lambda: ca.__version__)
 
 
-@notebook(headline=(), text="pampipe.commands.export:result_text")
+def _text():
+    from pampipe.views.export_text import result_text
+
+    return result_text
+
+
+@notebook(headline=(), text=_text)
 @dataclass(frozen=True)
 class Export:
     """The exported files (name → text) and what they contain."""

@@ -22,8 +22,19 @@ if TYPE_CHECKING:  # the slip package loads only for slip tests
     from pampipe.slip.result import SlipResult
 
 
-@notebook(headline=("success", "status"), plot="pampipe.views.plots.slip_tests:plot_grip",
-          text="pampipe.commands.identify:result_text")
+def _plot():
+    from pampipe.views.plots.slip_tests import plot_grip
+
+    return plot_grip
+
+
+def _text():
+    from pampipe.views.identify_text import grip_text
+
+    return grip_text
+
+
+@notebook(headline=("success", "status"), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class GripResult:
     """The outcome of `identify` on slip tests only: the stated muscle and :class:`SlipResult`."""

@@ -7,15 +7,42 @@ contact increments included).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from pampipe.identification.result import LevelFit, TestFit
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli, Pam
 from pampipe.specs.experiment import ExperimentData, TestData
 
 #: Rows evaluated at a time (the model's temporaries stay a few MB whatever the row count).
 CHUNK = 1 << 16
+
+
+@dataclass(frozen=True)
+class LevelFit:
+    pressure: float  # level pressure [Pa]
+    points: int
+    rmse: float  # [N]
+
+
+@dataclass(frozen=True)
+class TestFit:
+    """Fit quality of one test, from the exact (unsmoothed) model on every row it was fitted to.
+
+    ``levels`` is empty when the test has no pressure levels (a ramp); ``slack`` counts its rows
+    with force ≤ 0 (fitted as max(0, F) or excluded, see ``excluded``).
+    """
+
+    name: str
+    kind: str
+    points: int
+    rmse: float  # [N]
+    levels: tuple[LevelFit, ...]
+    moduli_block: str  # which fitted moduli the test used (theta, pipe<k>)
+    protocol: str = "isobaric"
+    slack: int = 0
+    excluded: int = 0
 
 
 def predict(pam: Pam, test: TestData) -> np.ndarray:

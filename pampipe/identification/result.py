@@ -15,6 +15,7 @@ from pampipe.identification.geometry import BlockedForce
 from pampipe.identification.model_error import ModelError
 from pampipe.identification.multistart import Search
 from pampipe.identification.options import FitOptions
+from pampipe.identification.predict import TestFit
 from pampipe.identification.quality import Quality
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
@@ -24,32 +25,6 @@ if TYPE_CHECKING:  # the slip package loads only for slip tests
     from pampipe.slip.result import SlipResult
 
 MPA = 1e6
-
-
-@dataclass(frozen=True)
-class LevelFit:
-    pressure: float  # level pressure [Pa]
-    points: int
-    rmse: float  # [N]
-
-
-@dataclass(frozen=True)
-class TestFit:
-    """Fit quality of one test, from the exact (unsmoothed) model on every row it was fitted to.
-
-    ``levels`` is empty when the test has no pressure levels (a ramp); ``slack`` counts its rows
-    with force ≤ 0 (fitted as max(0, F) or excluded, see ``excluded``).
-    """
-
-    name: str
-    kind: str
-    points: int
-    rmse: float  # [N]
-    levels: tuple[LevelFit, ...]
-    moduli_block: str  # which fitted moduli the test used (theta, pipe<k>)
-    protocol: str = "isobaric"
-    slack: int = 0
-    excluded: int = 0
 
 
 @dataclass(frozen=True)
@@ -102,8 +77,19 @@ class Calibration:
         return doc
 
 
-@notebook(headline=("success", "status", "sum_rmse_N"), plot="pampipe.views.plots.identify:plot_result",
-          text="pampipe.commands.identify:result_text")
+def _plot():
+    from pampipe.views.plots.identify import plot_result
+
+    return plot_result
+
+
+def _text():
+    from pampipe.views.identify_text import result_text
+
+    return result_text
+
+
+@notebook(headline=("success", "status", "sum_rmse_N"), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class IdentifyResult:
     """The outcome of :func:`pampipe.identification.identify`.
@@ -199,6 +185,13 @@ class IdentifyResult:
             lines.append("per_pipe: these are the muscle's (axial-test) moduli; the per-pipe sets are in the "
                          "JSON output")
         return lines
+
+    def curves(self, data):
+        """The fitted curves, residuals and Drucker map over ``data`` (the experiment fitted) that the
+        plots draw (:func:`pampipe.identification.curves.fit_curves`)."""
+        from pampipe.identification.curves import fit_curves
+
+        return fit_curves(data, self)
 
     def pam_for_pipe(self, base: Pam, pipe_diameter: float) -> Pam:
         """The muscle as used by the radial tests in ``pipe_diameter`` (per_pipe moduli if any)."""

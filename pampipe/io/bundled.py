@@ -60,3 +60,23 @@ def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> list[Pa
     for source, dest in pairs:
         atomic_write(dest, lambda tmp, source=source: shutil.copyfile(source, tmp), create_folder=True)
     return [dest for _, dest in pairs]
+
+
+def copy_example(name: str, target: Path, *, overwrite: bool = False) -> tuple[str, list[Path]]:
+    """Copy the bundled problem ``name`` with every file it uses (a mission's PAMs, an experiment's CSV data)
+    into ``target``: (its kind, such as ``missions``; the files written, the problem first)."""
+    from pampipe.io.experiment_schema import load_experiment
+    from pampipe.io.inventory_file import load_inventory
+    from pampipe.io.mission_schema import load_mission
+
+    source = find(name)
+    kind = source.parent.name
+    if kind == "missions":
+        files = load_mission(source).input_files
+    elif kind == "experiments":
+        files = load_experiment(source).input_files
+    elif kind == "inventories":
+        files = load_inventory(source).input_files
+    else:
+        files = [source]
+    return kind, copy(files, target, overwrite=overwrite)

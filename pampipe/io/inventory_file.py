@@ -196,7 +196,8 @@ def _listed_pipes(path: Path, pipes: list[PipeSchema]) -> Pipes:
 
 
 def _network_pipes(path: Path, spec: NetworkSchema) -> Pipes:
-    from pampipe.specs.network import load_network, whole_network
+    from pampipe.io.epanet import load_network
+    from pampipe.specs.network import whole_network
 
     try:
         sections = whole_network(load_network(spec.network, base=path.parent), friction=spec.friction)

@@ -145,7 +145,8 @@ def network_route(path: Path, spec, segments, measured=None, *, elbow: Radius | 
     """The route of ``{network, from, to, friction, tolerance, sd}`` (a ``NetworkRouteSchema``) for a robot
     of ``segments``: only pipes whose whole bore range lies inside the muscles' range are passed.
     """
-    from pampipe.specs.network import load_network, route_sections, whole_network
+    from pampipe.io.epanet import load_network
+    from pampipe.specs.network import route_sections, whole_network
 
     mu, mu_sd = _friction(spec.friction, measured, "route.friction")
     given = [spec.from_node is not None, spec.to_node is not None]

@@ -37,9 +37,19 @@ class StepState:
     slip_margins: dict[str, float]  # holding capacity / required hold of each anchor (≥ SF)
 
 
-@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"),
-plot="pampipe.views.plots.gait:plot_gait",
-          text="pampipe.commands.gait:section_text")
+def _plot():
+    from pampipe.views.plots.gait import plot_gait
+
+    return plot_gait
+
+
+def _text():
+    from pampipe.views.gait_text import section_text
+
+    return section_text
+
+
+@notebook(headline=("section", "kind", "cycle_time_s", "speed_m_per_s"), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class GaitResult:
     """One simulated gait cycle in one section: steps, timing, speed, and the dense trajectory."""

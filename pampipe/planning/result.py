@@ -155,8 +155,20 @@ class PlanArrays:
             return thin_contact(self.pressure, self.largest_bore_anchoring, np.max(self.contact_cost, axis=2))
 
 
-@notebook(headline=("mission", "feasible", "payload_kg", "supply_pressure_Pa", "safety_factor"),
-          plot="pampipe.views.plots.plan:plot_plan", text="pampipe.views.plan_text:result_text")
+def _plot():
+    from pampipe.views.plots.plan import plot_plan
+
+    return plot_plan
+
+
+def _text():
+    from pampipe.views.plan_text import result_text
+
+    return result_text
+
+
+@notebook(headline=("mission", "feasible", "payload_kg", "supply_pressure_Pa", "safety_factor"), plot=_plot,
+          text=_text)
 @dataclass(frozen=True)
 class MissionPlan:
     """The anchoring pressures of a whole mission; ``feasible`` only if every section is.

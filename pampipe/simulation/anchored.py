@@ -68,8 +68,20 @@ class Curves:
     amplification_factor: np.ndarray  # A(D) on that grid [-]
 
 
-@notebook(headline=("pam", "pipe_diameter_m", "axial_load_N", "anchoring_pressure_Pa"),
-          plot="pampipe.views.plots.simulate:plot_simulation", text="pampipe.commands.simulate:result_text")
+def _plot():
+    from pampipe.views.plots.simulate import plot_simulation
+
+    return plot_simulation
+
+
+def _text():
+    from pampipe.views.simulate_text import result_text
+
+    return result_text
+
+
+@notebook(headline=("pam", "pipe_diameter_m", "axial_load_N", "anchoring_pressure_Pa"), plot=_plot,
+          text=_text)
 @dataclass(frozen=True)
 class SimulateResult:
     """One muscle in one or more pipes and under one or more loads."""

@@ -1,8 +1,9 @@
-"""Routes through EPANET water networks (docs/commands.md §7), read with wntr.
+"""Routes through pipe networks (docs/commands.md §7): the network graph as columnar arrays, SI.
 
-:func:`load_network` reads a network once into columnar arrays. :func:`route_sections` gives the pipes of
-the shortest path by length through the pipes the robot can pass, :func:`whole_network` every pipe, and
-:func:`coverage` sums what a plan serves. Only pipes are ever passed: pumps and valves are not.
+:class:`Network` is a network's nodes and pipes (read from EPANET files by
+:func:`pampipe.io.epanet.load_network`). :func:`route_sections` gives the pipes of the shortest path by
+length through the pipes the robot can pass, :func:`whole_network` every pipe, and :func:`coverage` sums
+what a plan serves. Only pipes are ever passed: pumps and valves are not.
 
 Conventions:
 
@@ -12,15 +13,12 @@ Conventions:
   pipe is flagged in ``Sections.clipped``;
 * bends are plan-view deflections at the joints between consecutive pipes (0 = straight on), from the
   node coordinates and pipe vertices; NaN where the network has no coordinates. They are reported only.
-
-wntr takes about 2 s to import, so it is imported only when a network is read.
 """
 
 from __future__ import annotations
 
 import difflib
 import math
-import os
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -29,7 +27,6 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InfeasibleError, InputError
-from pampipe.io.paths import read_bounded
 
 #: |Δz| / length above 1 by more than this counts as impossible data (ft -> m rounding stays below).
 _CLIP_SLACK = 1e-9
@@ -116,109 +113,13 @@ class Coverage:
                 "reasons": dict(self.reasons)}
 
 
-def load_network(network: str | Path, *, base: Path | None = None) -> Network:
-    """Read a network shipped with wntr (``Net1``, ``Net3``, ``ky4``, ...) or an EPANET ``.inp`` file.
-
-    A value ending in ``.inp`` or containing a ``/`` is a file, relative to ``base`` (e.g. the mission's
-    folder) when given; any other value names a shipped network.
-    """
-    import wntr
-    from wntr.library import model_library
-
-    text = str(network)
-    if text.lower().endswith(".inp") or "/" in text or isinstance(network, Path):
-        path = Path(text) if base is None or Path(text).is_absolute() else Path(base) / text
-        if not os.path.exists(path):
-            raise InputError(f"network {text}: file {path} not found (a network is the name of one shipped "
-                             f"with wntr, {', '.join(sorted(model_library.model_name_list))}, or an "
-                             "EPANET .inp file).")
-        _check_unique_ids(path, read_bounded(path, what="EPANET .inp file", limit=INP_LIMIT))
-        name = path.stem
-    elif text in model_library.model_name_list:
-        path, name = Path(model_library.get_filepath(text)), text
-    else:
-        shipped = sorted(model_library.model_name_list)
-        near = difflib.get_close_matches(text, shipped, n=3, cutoff=0.3)
-        hint = f"did you mean {' or '.join(near)}? " if near else ""
-        raise InputError(f"network {text!r}: no network of that name ships with wntr; {hint}shipped: "
-                         f"{', '.join(shipped)}; or give the path of an EPANET .inp file.")
-    try:
-        model = wntr.network.WaterNetworkModel(str(path))
-    except Exception as exc:  # wntr raises many types for unreadable or malformed files
-        raise InputError(f"network {path}: cannot read it as an EPANET .inp file ({exc}).") from None
-    return _columns(model, name, path)
-
-
-#: Largest .inp file read [bytes].
-INP_LIMIT = 1 << 29
-#: The sections of an .inp file whose first field is an id: (namespace, what a row defines). Links
-#: (pipes, pumps, valves) share one namespace, nodes (junctions, reservoirs, tanks) another.
-_ID_SECTIONS = {"PIPES": ("link", "pipe"), "PUMPS": ("link", "pump"), "VALVES": ("link", "valve"),
-                "JUNCTIONS": ("node", "junction"), "RESERVOIRS": ("node", "reservoir"),
-                "TANKS": ("node", "tank")}
-
-
-def _check_unique_ids(path: Path, raw: bytes) -> None:
-    """Refuse an .inp file that defines one pipe (or node) id twice: wntr would keep only the last."""
-    seen: dict[tuple[str, str], tuple[int, str]] = {}
-    section = None
-    for number, line in enumerate(raw.decode("utf-8", "replace").splitlines(), start=1):
-        fields = line.split(";", 1)[0].split()
-        if not fields:
-            continue
-        if fields[0].startswith("["):
-            section = _ID_SECTIONS.get(fields[0].strip("[]").upper())
-        elif section is not None:
-            (space, what), key = section, (section[0], fields[0])
-            if key in seen:
-                first, before = seen[key]
-                raise InputError(f"network {path}: line {number} defines the {what} id {fields[0]!r}, which "
-                                 f"line {first} already gives to a {before}; every {space} needs its own id "
-                                 "(wntr would silently keep only the last).")
-            seen[key] = number, what
-
-
-def _columns(model, name: str, source: Path) -> Network:
-    """The wntr model's nodes and pipes as arrays."""
-    node_ids, elevation, xy = [], [], []
-    for node_id, node in model.nodes():
-        node_ids.append(node_id)
-        elevation.append(node.base_head if node.node_type == "Reservoir" else node.elevation)
-        # wntr keeps the default coordinates as the list [0, 0] and those read from the file as a tuple
-        xy.append(node.coordinates if isinstance(node.coordinates, tuple) else (math.nan, math.nan))
-    index = {node_id: i for i, node_id in enumerate(node_ids)}
-    xy = np.array(xy, dtype=float).reshape(-1, 2)
-    pipes = list(model.pipes())
-    start = np.array([index[p.start_node_name] for _, p in pipes], dtype=np.int64)
-    end = np.array([index[p.end_node_name] for _, p in pipes], dtype=np.int64)
-    after_start, before_end = xy[end].copy(), xy[start].copy()
-    for i, (_, pipe) in enumerate(pipes):
-        if pipe.vertices:
-            after_start[i], before_end[i] = pipe.vertices[0], pipe.vertices[-1]
-    net = Network(name, source, np.array(node_ids, dtype=str), np.array(elevation, dtype=float), xy,
-                  np.array([pipe_id for pipe_id, _ in pipes], dtype=str), start, end,
-                  np.array([p.length for _, p in pipes], dtype=float),
-                  np.array([p.diameter for _, p in pipes], dtype=float), after_start, before_end,
-                  model.num_pumps + model.num_valves)
-    for values, what in ((net.length, "length"), (net.diameter, "diameter")):
-        bad = ~(np.isfinite(values) & (values > 0))
-        if bad.any():
-            raise InputError(f"network {source}: pipe {net.pipe_ids[bad][0]} has {what} {values[bad][0]!r}; "
-                             f"every pipe {what} must be positive ({int(bad.sum())} pipes are not).")
-    if not np.isfinite(net.elevation).all():
-        raise InputError(f"network {source}: node {net.node_ids[~np.isfinite(net.elevation)][0]} has no "
-                         "finite elevation.")
-    return net
-
-
-def route_sections(network: Network | str | Path, from_node: str, to_node: str, *, friction: float,
+def route_sections(net: Network, from_node: str, to_node: str, *, friction: float,
                    passable: Callable[[float], bool] | None = None) -> Sections:
     """The pipes of the shortest path by length from ``from_node`` to ``to_node``, in travel order.
 
     Only pipes whose inner diameter [m] satisfies ``passable`` (default: all) are used. An unknown node is
     an :class:`InputError`; no path an :class:`InfeasibleError`.
     """
-    net = network if isinstance(network, Network) else load_network(network)
     a = net.node_index(from_node, role="from")
     b = net.node_index(to_node, role="to")
     if a == b:
@@ -244,13 +145,12 @@ def route_sections(network: Network | str | Path, from_node: str, to_node: str, 
                     bend, clipped)
 
 
-def whole_network(network: Network | str | Path, *, friction: float) -> Sections:
+def whole_network(net: Network, *, friction: float) -> Sections:
     """Every pipe as a section, in file order and direction as stored.
 
     The direction of travel is unknown, so ``incline`` is |asin(Δz / length)|: climbing and descending
     the same pipe need different pressures, and the planner must treat both signs. Bends are NaN.
     """
-    net = network if isinstance(network, Network) else load_network(network)
     incline, clipped = _incline(net.elevation[net.end] - net.elevation[net.start], net.length)
     n = len(net.pipe_ids)
     return Sections(net.name, net.pipe_ids, net.node_ids[net.start], net.node_ids[net.end], net.length,

@@ -11,10 +11,10 @@ import math
 
 import numpy as np
 
-from pampipe.commands.plan import FULL_TABLE
 from pampipe.units.quantities import to_si
 from pampipe.views.tables import table
 
+FULL_TABLE = 60  # sections the text report lists in full; longer routes are summarised
 SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
 INCH = 0.0254
 
@@ -269,3 +269,18 @@ def _reducers_text(reducers) -> str:
                                     "segment passes if it fits the smaller bore)")
         parts.append(f"after {r.after_section!r}{change}")
     return "; ".join(parts)
+
+
+def infeasible_reason(plan, shown: int = SHOWN) -> str:
+    """How many sections and bends cannot be planned or passed, and which (``shown`` names at most)."""
+    parts = []
+    bad = plan.arrays.route.name[sorted(plan.arrays.reasons)].tolist()
+    if bad:
+        names = ", ".join(bad[:shown]) + (f" and {len(bad) - shown} more" if len(bad) > shown else "")
+        parts.append(f"{len(bad)} of {len(plan.arrays.route)} sections cannot be planned ({names})")
+    blocked = [b.after_section for b in plan.bends if not b.passable]
+    if blocked:
+        names = ", ".join(f"after {n!r}" for n in blocked[:shown])
+        more = f" and {len(blocked) - shown} more" if len(blocked) > shown else ""
+        parts.append(f"{len(blocked)} of {len(plan.bends)} bends cannot be passed ({names}{more})")
+    return "; ".join(parts) + "; the reasons are listed above."

@@ -1,1 +1,1 @@
-"""Plots of each command (matplotlib, imported lazily by the command modules)."""
+"""Plots of each command (matplotlib imported lazily): each draws what its result carries."""

@@ -14,7 +14,6 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.bends.geometry import chord_interval
 from pampipe.views.tables import new_figure, save_figure
 
 
@@ -32,7 +31,7 @@ def tightest_bend(plan, folder: Path) -> Path | None:
         ax.plot(*_wall(radius + offset, theta, straight), color="k" if offset else "0.6",
                 lw=1.5 if offset else 0.8, ls="-" if offset else "-.")
     psi = s.direction
-    back, front = chord_interval(psi, bore=bend.bore, radius=radius, angle=theta, diameter=s.diameter)
+    back, front = bend.binding_chord
     middle = 0.5 * (back + front)
     too_long = s.length > s.longest
     for length, style, label in (

@@ -6,34 +6,33 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.locomotion.result import GaitResult
-from pampipe.locomotion.schedule import ANCHORS, STEPS
 from pampipe.views.tables import new_figure, save_figure
 
 COLORS = ("C0", "C1", "C2")
 
 
-def _step_marks(ax, result: GaitResult, *, label: bool) -> None:
+def _step_marks(ax, result, *, label: bool) -> None:
     """Vertical lines at the step ends, with the step names on top."""
     ends = result.trajectory.times[result.trajectory.boundaries]
     starts = np.concatenate([[0.0], ends[:-1]])
-    for start, end, step in zip(starts, ends, STEPS[1:], strict=True):
+    for start, end, step in zip(starts, ends, (s.step for s in result.steps[1:]), strict=True):
         ax.axvline(end, color="grey", lw=0.6, ls=":")
         if label:
             ax.annotate(step, ((start + end) / 2, 1.0), xycoords=("data", "axes fraction"),
                         ha="center", va="bottom", fontsize=8)
 
 
-def plot_gait(result: GaitResult, folder: Path) -> list[Path]:
-    """Write gait_pressures_<schedule>.png and gait_space_time_<schedule>.png into ``folder``."""
+def plot_gait(result, folder: Path) -> list[Path]:
+    """Write gait_pressures_<schedule>.png and gait_space_time_<schedule>.png into ``folder`` (``result``: a
+    :class:`pampipe.locomotion.GaitResult`)."""
     traj, names = result.trajectory, result.names
     written = []
     fig, axes = new_figure(3, 1, figsize=(8, 7.5), sharex=True)
     for i, (ax, need) in enumerate(zip(axes, result.needs, strict=True)):
         # shade the steps in which this segment is a designated anchor
         bounds = np.concatenate([[0.0], traj.times[traj.boundaries]])
-        for k in range(1, len(STEPS)):
-            if i in ANCHORS[k]:
+        for k, step in enumerate(result.steps[1:], start=1):
+            if need.name in step.anchored:
                 ax.axvspan(bounds[k - 1], bounds[k], color=COLORS[i], alpha=0.08, lw=0)
         ax.plot(traj.times, traj.pressures[:, i] / 1e3, color=COLORS[i], lw=1.6, label="pressure")
         ax.axhline(need.contact_pressure / 1e3, color="k", ls="--", lw=0.9,

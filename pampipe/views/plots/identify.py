@@ -6,7 +6,6 @@ from pathlib import Path
 
 import numpy as np
 
-from pampipe.identification.curves import fit_curves
 from pampipe.views.tables import new_figure, save_figure
 
 #: At most this many measured points per panel are drawn (a uniform subsample of the rows).
@@ -22,7 +21,7 @@ def plot_identification(data, result, folder: Path) -> list[Path]:
     against pressure, isometric tests), radial_fit.png, residuals.png and drucker_margin.png (those
     that apply)."""
     written = []
-    curves = fit_curves(data, result)
+    curves = result.curves(data)  # computed by the result; the plots only draw
     axial = [t for t in data.tests if t.kind == "axial" and t.protocol != "isometric"]
     isometric = [t for t in data.tests if t.kind == "axial" and t.protocol == "isometric"]
     radial = [t for t in data.tests if t.kind == "radial"]

@@ -10,100 +10,32 @@ returns a result whose ``.to_dict()`` is the command's ``--json`` document::
     print(plan.sections[0].segments[0].pressure)          # Pa
     plan.to_dict()["feasible"]
 
-The command-line interface is a thin layer over these functions.
+The command-line interface is a thin layer over these functions. :mod:`pampipe.api.arguments` checks and
+converts the arguments; :mod:`pampipe.api.files` holds the commands that write files (route, synth, example).
 """
 
 from __future__ import annotations
 
 import copy
 import hashlib
-import math
 import os
 import pickle
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
+from pampipe.api import arguments as arg
+from pampipe.api.arguments import Source
+from pampipe.api.files import CommandResult, example, route, synth
 from pampipe.results import notebook
-from pampipe.units.quantities import real_number, show, to_si
+from pampipe.units.quantities import show
 
-Source = str | os.PathLike | Mapping  # a file, or its content as a dict (or the loaded object itself)
+__all__ = ["CommandResult", "GaitReport", "Source", "design_inventory", "diagnose", "example",
+           "export_mission", "extension", "gait", "identify", "load_experiment", "load_inventory",
+           "load_mission", "load_pam", "plan", "route", "save_pam", "set_units", "simulate", "synth"]
+
 Progress = Callable[[str], None]
-
-
-def _file(source: Source, kind: str, base) -> tuple[Path, dict | None]:
-    """(path, raw): a path to read, or a stand-in path beside ``base`` for a dict's content."""
-    if isinstance(source, Mapping):
-        return Path(base or Path.cwd()) / f"<{kind} dict>", dict(source)
-    return Path(source), None
-
-
-def _si(value, dimension: str, name: str):
-    """SI float(s) of one value or a sequence of them (None stays None).
-
-    A value is anything :func:`pampipe.units.quantities.to_si` reads: a unit string, any real number (int,
-    float, Decimal, Fraction, numpy scalars and 0-d arrays) or a pint Quantity; a sequence is a list,
-    a tuple or a 1-d array (numpy, or a pint Quantity of one).
-    """
-    if value is None:
-        return None
-    if isinstance(value, list | tuple) or getattr(value, "ndim", 0) == 1:
-        return [to_si(v, dimension, where=f"{name}[{i}]") for i, v in enumerate(value)]
-    return to_si(value, dimension, where=name)
-
-
-def _number(value, name: str, allowed: str) -> float:
-    """A real number of any kind (:func:`pampipe.units.quantities.real_number`), else InputError naming
-    ``name``."""
-    from pampipe.errors import InputError
-
-    number = real_number(value, where=name)
-    if number is None:
-        raise InputError(f"{name}: {show(value)} is not a number; {allowed}.")
-    return number
-
-
-def _whole(value, name: str, *, least: int | None = None):
-    """A whole number (None stays None): any real number with no fraction, at least ``least``."""
-    from pampipe.errors import InputError
-
-    if value is None:
-        return None
-    allowed = "give a whole number" + (f" of at least {least}" if least is not None else "")
-    number = _number(value, name, allowed)
-    if not (math.isfinite(number) and number == int(number)) or (least is not None and number < least):
-        raise InputError(f"{name}: {show(value)} is not allowed; {allowed}.")
-    return int(number)
-
-
-def _flag(value, name: str) -> bool:
-    """True or False (a numpy bool too), else InputError."""
-    from pampipe.errors import InputError
-
-    if isinstance(value, bool) or type(value).__name__ == "bool_":
-        return bool(value)
-    raise InputError(f"{name}: {show(value)} is not allowed; give True or False.")
-
-
-def _choice(value, name: str, allowed: Sequence[str]):
-    """One of ``allowed`` (None stays None), else InputError listing them."""
-    from pampipe.errors import InputError
-
-    if value is None or (isinstance(value, str) and value in allowed):
-        return value
-    raise InputError(f"{name}: {show(value)} is not one of {', '.join(repr(a) for a in allowed)}.")
-
-
-def _names(value, name: str):
-    """A list of strings from one string or a sequence of them (None stays None)."""
-    from pampipe.errors import InputError
-
-    if value is None or isinstance(value, str):
-        return None if value is None else [value]
-    if isinstance(value, list | tuple) and all(isinstance(v, str) for v in value):
-        return list(value)
-    raise InputError(f"{name}: {show(value)} is not allowed; give a name or a list of names.")
 
 
 def load_pam(pam: Source, *, base=None):
@@ -113,7 +45,7 @@ def load_pam(pam: Source, *, base=None):
 
     if isinstance(pam, Pam):
         return pam
-    path, raw = _file(pam, "PAM", base)
+    path, raw = arg.source_file(pam, "PAM", base)
     return load(path, raw=raw)
 
 
@@ -127,7 +59,7 @@ def load_mission(mission: Source, *, base=None):
 
     if isinstance(mission, Mission):
         return mission
-    path, raw = _file(mission, "mission", base)
+    path, raw = arg.source_file(mission, "mission", base)
     if raw is None and (kept := cached("mission", path)) is not None:
         return kept  # read before, unchanged: no YAML parse, no schema library
     from pampipe.io.mission_schema import load_mission as load
@@ -143,7 +75,7 @@ def load_experiment(experiment: Source, *, base=None, progress: Progress | None 
     from pampipe.io.csvfile import load_experiment_data
     from pampipe.io.experiment_schema import load_experiment as load
 
-    path, raw = _file(experiment, "experiment", base)
+    path, raw = arg.source_file(experiment, "experiment", base)
     spec = load(path, raw=raw)
     return spec, load_experiment_data(spec, progress=progress)
 
@@ -159,13 +91,13 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
     from pampipe.simulation.anchored import PAPER_PRESSURES
     from pampipe.simulation.anchored import simulate as run
 
-    paper_literal = _flag(paper_literal, "paper_literal")
+    paper_literal = arg.flag(paper_literal, "paper_literal")
     model = load_pam(pam, base=base)
-    diameters = _as_list(_si(pipe_diameter, "length", "pipe_diameter"))
-    loads = _as_list(_si(axial_load, "force", "axial_load"))
-    pressures = _si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
+    diameters = arg.as_list(arg.si(pipe_diameter, "length", "pipe_diameter"))
+    loads = arg.as_list(arg.si(axial_load, "force", "axial_load"))
+    pressures = arg.si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
     try:
-        return run(model, pipe_diameters=diameters, axial_loads=loads, pressures=_as_list(pressures),
+        return run(model, pipe_diameters=diameters, axial_loads=loads, pressures=arg.as_list(pressures),
                    paper_literal=paper_literal)
     except InputError as exc:
         source = pam if not isinstance(pam, Mapping) else "PAM"
@@ -185,9 +117,9 @@ def extension(pam: Source, *, pressure=None, base=None):
     if not model.geometry.extensile:
         raise InputError(f"{source}: a contractile muscle is simulated in a pipe: give --pipe-diameter "
                          "(e.g. -d '3 in'); only an extensile muscle is simulated free, without a pipe.")
-    pressures = _si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
+    pressures = arg.si(pressure, "pressure", "pressure") or list(PAPER_PRESSURES)
     try:
-        return run(model, pressures=_as_list(pressures))
+        return run(model, pressures=arg.as_list(pressures))
     except InputError as exc:
         raise InputError(f"{source}: {exc}") from None
 
@@ -211,13 +143,13 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
         if isinstance(confidence, str):
             raise InputError(f"confidence: {show(confidence)} is text; give a probability in [0.5, 1) as a "
                              "number, e.g. 0.95.")
-        confidence = _number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
-    solver = _choice(solver, "solver", ("kkt", "ipopt"))
-    max_payload = _flag(max_payload, "max_payload")
-    payload = _si(payload, "mass", "payload")
+        confidence = arg.number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
+    solver = arg.choice(solver, "solver", ("kkt", "ipopt"))
+    max_payload = arg.flag(max_payload, "max_payload")
+    payload = arg.si(payload, "mass", "payload")
     if isinstance(payload, list):
         raise InputError("payload: give one mass, e.g. '3 kg', not a list.")
-    workers, scheduler = _where(workers, scheduler)
+    workers, scheduler = arg.where(workers, scheduler)
     started = time.perf_counter()
     prior = None if prior is None else load_pam(prior)
     result = plan_mission(load_mission(mission, base=base), payload=payload,
@@ -243,7 +175,7 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
     from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
     from pampipe.locomotion.optimal import problem_key
 
-    optimal = _flag(optimal, "optimal")
+    optimal = arg.flag(optimal, "optimal")
     if section is not None and not isinstance(section, str):
         raise InputError(f"section: {show(section)} is not allowed; give a section's name.")
     model = load_mission(mission, base=base)
@@ -315,11 +247,11 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
     from pampipe.identification import identify as run
     from pampipe.identification.options import fit_options
 
-    degree, max_iterations = _whole(degree, "degree"), _whole(max_iterations, "max_iterations")
-    average_legs = None if average_legs is None else _flag(average_legs, "average_legs")
-    calibrate = _names(calibrate, "calibrate")
+    degree, max_iterations = arg.whole(degree, "degree"), arg.whole(max_iterations, "max_iterations")
+    average_legs = None if average_legs is None else arg.flag(average_legs, "average_legs")
+    calibrate = arg.names(calibrate, "calibrate")
     spec, data = load_experiment(experiment, base=base, progress=progress)
-    diameters = _si(pipe_diameter, "length", "pipe_diameter")
+    diameters = arg.si(pipe_diameter, "length", "pipe_diameter")
     options = fit_options(spec.fit, {"mode": mode, "objective": objective, "degree": degree,
                                      "average_legs": average_legs, "drucker": drucker,
                                      "max_iterations": max_iterations, "slack": slack},
@@ -341,8 +273,8 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     from pampipe.diagnosis.selection import FOLDS
     from pampipe.diagnosis.workflow import diagnose as run
 
-    folds = FOLDS if folds is None else _whole(folds, "folds", least=2)
-    effect = _names(effect, "effect")
+    folds = FOLDS if folds is None else arg.whole(folds, "folds", least=2)
+    effect = arg.names(effect, "effect")
     _, data = load_experiment(experiment, base=base, progress=progress)
     return run(data, effects=list(effect) if effect else None, folds=folds, progress=progress)
 
@@ -397,7 +329,7 @@ def load_inventory(inventory: Source, *, base=None):
 
     if isinstance(inventory, Inventory):
         return inventory
-    path, raw = _file(inventory, "inventory", base)
+    path, raw = arg.source_file(inventory, "inventory", base)
     return load(path, raw=raw)
 
 
@@ -414,27 +346,16 @@ def design_inventory(inventory: Source, *, objective: str | None = None, sizes: 
     from pampipe.runtime.executors import executor
     from pampipe.specs.inventory import Objective
 
-    starts, seed, sizes = _whole(starts, "starts", least=1), _whole(seed, "seed", least=0), _whole(
+    starts, seed, sizes = arg.whole(starts, "starts", least=1), arg.whole(seed, "seed", least=0), arg.whole(
         sizes, "sizes", least=1)
-    workers, scheduler = _where(workers, scheduler)
+    workers, scheduler = arg.where(workers, scheduler)
     model = load_inventory(inventory, base=base)
     overrides = {"starts": starts, "seed": seed, "sizes": sizes,
-                 "objective": None if objective is None else _objective(objective, Objective)}
+                 "objective": None if objective is None else arg.objective(objective, Objective)}
     space = dataclasses.replace(model.space, **{k: v for k, v in overrides.items() if v is not None})
     model = dataclasses.replace(model, space=space)
     with executor(workers=workers, scheduler=scheduler) as pool:
         return solve_inventory(model, pool=pool)
-
-
-def _where(workers, scheduler) -> tuple[int | None, str | None]:
-    """Checked ``workers`` (a whole number ≥ 1) and ``scheduler`` (an address) for
-    :func:`pampipe.runtime.executors.executor`."""
-    from pampipe.errors import InputError
-
-    if scheduler is not None and not isinstance(scheduler, str):
-        raise InputError(f"scheduler: {show(scheduler)} is not allowed; give an address such as "
-                         "'tcp://host:8786'.")
-    return _whole(workers, "workers", least=1), scheduler
 
 
 def save_pam(pam, path, *, force: bool = False, comments: Sequence[str] = ()) -> Path:
@@ -458,58 +379,6 @@ def save_pam(pam, path, *, force: bool = False, comments: Sequence[str] = ()) ->
     return target
 
 
-def route(network: str | os.PathLike, *, from_node: str, to_node: str, **options) -> CommandResult:
-    """The shortest path through a water network as mission sections (`pampipe route`).
-
-    ``options`` are the command's long options with ``_`` for ``-``: ``output`` (a mission file to
-    write), ``friction``, ``template``, ``min_bore``, ``max_bore`` (unit strings accepted), ``force``.
-    """
-    return _command("route", [str(network), "--from", str(from_node), "--to", str(to_node)], options)
-
-
-def synth(out_dir: str | os.PathLike, **options) -> CommandResult:
-    """Write a synthetic experiment (YAML + CSV) of known moduli (`pampipe synth`);
-    ``to_dict()["experiment"]`` is the file to pass to :func:`identify`.
-
-    ``options`` are the command's long options with ``_`` for ``-``: ``pam``, ``name``, ``seed``,
-    ``force_noise`` ("2 N"), ``pressure_noise``, ``points_per_leg``, ``cycles``, ``radial_points``,
-    ``slip_pipe`` (a list of bores), ``friction``, ``load_coupling``, ``slip_scatter``, ``stick_slip``,
-    ``slip_pressure`` (a list), ``held_trial`` (a list), ``pipe_material``, ``slip_only``, ``force``.
-    """
-    return _command("synth", [str(out_dir)], options)
-
-
-def example(name: str | None = None, out_dir: str | os.PathLike | None = None, *,
-            force: bool = False) -> CommandResult:
-    """Copy a bundled problem (and the files it uses) into ``out_dir`` (`pampipe example`); without a
-    name, ``to_dict()["examples"]`` lists them."""
-    positional = [str(v) for v in (name, out_dir) if v is not None]
-    return _command("example", positional, {"force": force})
-
-
-@notebook(headline=("command",), text="pampipe.api:_command_text")
-@dataclass(frozen=True)
-class CommandResult:
-    """The outcome of a command that writes files (route, synth, example): its ``--json`` document
-    (``to_dict()``) and its text report (``str()``, ``to_text(units)``; ``render()`` writes it)."""
-
-    command: str
-    document: dict
-    render: Callable[[], str] = field(repr=False, compare=False)
-
-    def to_dict(self) -> dict:
-        return {"command": self.command, **self.document}
-
-    @property
-    def text(self) -> str:
-        """The text report in the units of :func:`pampipe.set_units`."""
-        return self.to_text()
-
-
-def _command_text(result: CommandResult) -> str:
-    return result.render()
-
-
 def set_units(name: str) -> None:
     """Show results in ``name`` from now on, in this process: ``str(result)``, ``result.to_text()`` and
     ``result.plot()``; a preset (``"si"``, ``"metric"``, ``"us"``) or a pressure unit (``"psi"``). A
@@ -519,65 +388,19 @@ def set_units(name: str) -> None:
     display.set_units(name)
 
 
-def _command(name: str, argv: list[str], options: Mapping) -> CommandResult:
-    """Run command ``name`` with ``argv`` and keyword ``options`` converted as its own parser converts
-    them (unit strings to SI, paths), without printing."""
-    import argparse
-    import importlib
+def _plot():
+    from pampipe.views.plots.gait import plot_report
 
-    from pampipe.errors import InputError
-
-    module = importlib.import_module(f"pampipe.commands.{name}")
-    parser = argparse.ArgumentParser(prog=f"pampipe.{name}", exit_on_error=False)
-    module.add_arguments(parser)
-    try:
-        args = parser.parse_args(argv)
-    except (argparse.ArgumentError, SystemExit) as exc:
-        raise InputError(f"pampipe.{name}: {exc}") from None
-    actions = {a.dest: a for a in parser._actions}
-    for key, value in options.items():
-        action = actions.get(key)
-        if action is None or key in {"json", "reproducible", "help"}:
-            allowed = sorted(d for d in actions if d not in {"help", "json", "reproducible", "debug"})
-            raise TypeError(f"pampipe.{name}() got an unexpected option {key!r}; allowed: "
-                            f"{', '.join(allowed)}")
-        setattr(args, key, _converted(action, value, name))
-    return CommandResult(name, *module.compute(args))
+    return plot_report
 
 
-def _converted(action, value, command: str):
-    """``value`` as the option's parser type makes it (each item of a repeatable option)."""
-    import argparse
+def _text():
+    from pampipe.views.gait_text import result_text
 
-    if action.type is None or value is None or isinstance(value, bool):
-        return value
-    if isinstance(value, list | tuple) and isinstance(action, argparse._AppendAction):
-        return [_converted_one(action, v, command) for v in value]
-    return _converted_one(action, value, command)
+    return result_text
 
 
-def _converted_one(action, value, command: str):
-    from pampipe.errors import InputError
-
-    if isinstance(value, float) or (isinstance(value, int) and action.type.__name__ != "integer"):
-        return value  # a number: SI already
-    try:
-        return action.type(str(value) if not isinstance(value, os.PathLike) else value)
-    except Exception as exc:  # argparse's types raise ArgumentTypeError or ValueError
-        raise InputError(f"pampipe.{command}({action.dest}={value!r}): {exc}") from None
-
-
-def _objective(name: str, kind):
-    from pampipe.errors import InputError
-
-    try:
-        return kind(name)
-    except ValueError:
-        raise InputError(f"objective: {name!r} is not one of {', '.join(k.value for k in kind)}.") from None
-
-
-@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot="pampipe.views.plots.gait:plot_report",
-          text="pampipe.commands.gait:result_text")
+@notebook(headline=("section", "cycle_time_s", "speed_gain"), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class GaitReport:
     """The sequential gait and, if asked for, the time-optimal one; ``to_dict()`` is `gait --json`."""
@@ -608,6 +431,3 @@ class GaitReport:
             document["bends"] = self.bends
         return document
 
-
-def _as_list(value) -> list:
-    return list(value) if isinstance(value, list | tuple) else [value]
