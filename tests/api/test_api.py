@@ -23,7 +23,8 @@ from pampipe import api
 from pampipe.io.config import load_pam
 from pampipe.io.files import to_json
 from pampipe.io.pamfile import write_pam
-from tests.conftest import PROBLEMS, ROOT, run_cli
+from tests.support.problems import PROBLEMS, ROOT
+from tests.support.processes import run_cli
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 PAM = PROBLEMS / "pams" / "paper-radial-pam.yaml"

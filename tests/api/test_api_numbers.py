@@ -16,7 +16,7 @@ import pytest
 
 import pampipe
 from pampipe.errors import InputError
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 PAM = PROBLEMS / "pams" / "paper-radial-pam.yaml"
@@ -54,7 +54,7 @@ def test_simulate_takes_arrays_and_quantities():
     (pampipe.plan, "payload", 1 + 2j), (pampipe.plan, "payload", np.nan), (pampipe.plan, "payload", 10**400),
     (pampipe.plan, "payload", [1, 2]), (pampipe.plan, "max_payload", "yes"), (pampipe.gait, "section", 3),
     (pampipe.gait, "optimal", "no"), (pampipe.export_mission, "sketch_name", "../evil"),
-    (pampipe.export_mission, "sketch_name", 5)], ids=repr)
+    (pampipe.export_mission, "sketch_name", 5)], ids=lambda v: getattr(v, "__name__", None) or repr(v))
 def test_bad_option_values_are_input_errors_naming_the_option(call, option, value):
     with pytest.raises(InputError) as error:
         call(MISSION, **{option: value})

@@ -16,7 +16,7 @@ import pampipe
 from pampipe import api
 from pampipe.io.config import load_mission
 from pampipe.locomotion import gait_options, optimal_gait, sequential_gait
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 

@@ -20,7 +20,7 @@ import yaml
 from pampipe import api
 from pampipe.model import effects as effect_model
 from pampipe.model.effects import LIBRARY
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 #: Effect values within the library's bounds, large enough to move the plan by > 1 kPa.
 VALUES = {"braid_friction": {"f0": "8 N", "f1": "20 N/MPa"},

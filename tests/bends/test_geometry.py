@@ -1,5 +1,5 @@
 """Passability of a rigid cylinder through an elbow against an independent 3-D brute-force search
-(tests/bend_check.py), closed forms and limit cases (docs/physics.md §14)."""
+(tests/support/bend_check.py), closed forms and limit cases (docs/physics.md §14)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,6 @@ import math
 
 import numpy as np
 import pytest
-from bend_check import longest_passing
 
 from pampipe.bends.geometry import (
     classical_chord,
@@ -15,6 +14,7 @@ from pampipe.bends.geometry import (
     flexible_bend_radius,
     rigid_passage,
 )
+from tests.support.bend_check import longest_passing
 
 BORE = 0.0762  # 3 in
 TOLERANCE = 0.5e-3  # [m]: the issue's agreement on the limiting length

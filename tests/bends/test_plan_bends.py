@@ -9,11 +9,11 @@ import math
 import numpy as np
 import pytest
 import yaml
-from conftest import PROBLEMS
 
 from pampipe.bends.steering import curvature_of_lengths
 from pampipe.io.config import load_pam
 from pampipe.model.muscle import Muscle
+from tests.support.problems import PROBLEMS
 
 INCH = 0.0254
 BORE = 3 * INCH

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import pytest
 
@@ -14,8 +13,9 @@ from pampipe.bends import steering
 from pampipe.bends.steering import curvature_of_lengths, steer
 from pampipe.io.config import load_pam
 from pampipe.model.muscle import Muscle
+from tests.support.problems import PROBLEMS
 
-PAM = Path(__file__).resolve().parents[1] / "problems" / "pams" / "extensile-steering.yaml"
+PAM = PROBLEMS / "pams" / "extensile-steering.yaml"
 RADIUS = 0.015
 
 

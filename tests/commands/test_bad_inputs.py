@@ -25,8 +25,9 @@ import pytest
 import yaml
 
 from pampipe.cli import main
+from tests.support.problems import BAD_INPUTS
 
-CORPUS = Path(__file__).resolve().parent / "bad_inputs"
+CORPUS = BAD_INPUTS
 CASES = sorted(p.name for p in CORPUS.iterdir() if (p / "case.yaml").is_file())
 #: The cases of bad input (exit 2); the others (exit 0 or 3) print their result document under --json.
 BAD = [name for name in CASES if yaml.safe_load((CORPUS / name / "case.yaml").read_text())["exit"] == 2]

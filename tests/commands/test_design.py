@@ -12,7 +12,7 @@ import pytest
 import yaml
 
 from pampipe.io.config import load_pam
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 INVENTORIES = PROBLEMS / "inventories"
 RISER = INVENTORIES / "riser.yaml"

@@ -2,7 +2,7 @@
 
 PAMPIPE_FUZZ_EXAMPLES cases in all (default 120, the quick profile of `make test`; `make fuzz` runs
 10⁴) are split over the commands in proportion to how cheap a case is. The property is in
-:func:`tests.fuzzing.probe`: exit 0, 2 or 3 with a message, never a traceback.
+:func:`tests.support.fuzzing.probe`: exit 0, 2 or 3 with a message, never a traceback.
 """
 
 from __future__ import annotations
@@ -19,8 +19,8 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tests.conftest import PROBLEMS
-from tests.fuzzing import NUMBERS, QUANTITIES, mutated, probe
+from tests.support.fuzzing import NUMBERS, QUANTITIES, mutated, probe
+from tests.support.problems import PROBLEMS
 
 # an overflow or NaN on an input that passed validation is a bug, not a warning (issue 7, item 3)
 pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
@@ -99,8 +99,8 @@ LAW_ROWS = int(os.environ.get("PAMPIPE_FUZZ_LAW_ROWS", "10000"))
 def law_drivers(tmp_path_factory):
     """mission name -> (mission, export, compiled C driver), for the C law's fuzzing."""
     from pampipe.io.config import load_mission
-    from tests import export_c
-    from tests.test_export import write_export
+    from tests.support import export_c
+    from tests.support.export_c import write_export
 
     if export_c.compiler() is None:
         pytest.skip("no host C compiler (gcc or cc) found")
@@ -113,7 +113,7 @@ def law_drivers(tmp_path_factory):
 
 
 def _law_unsafe(law_drivers, rows) -> int:
-    from tests import export_c, law_fuzz
+    from tests.support import export_c, law_fuzz
 
     unsafe = 0
     for mission, export, exe in law_drivers.values():
@@ -127,7 +127,7 @@ def _law_unsafe(law_drivers, rows) -> int:
 @pytest.mark.parametrize("count", [LAW_ROWS, pytest.param(100_000, marks=pytest.mark.slow)])
 def test_c_law_never_answers_ok_unsafely(law_drivers, count):
     """`count` random rows per mission, inside and far outside the domain (NaN, ±inf): 0 unsafe OK."""
-    from tests import law_fuzz
+    from tests.support import law_fuzz
 
     rng = np.random.default_rng(count)
     _, export, _ = law_drivers["vertical-climb-3in"]

@@ -7,7 +7,8 @@ import json
 import pytest
 import yaml
 
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 SURVEY = PROBLEMS / "missions" / "infeasible-survey.yaml"

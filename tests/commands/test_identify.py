@@ -10,7 +10,8 @@ import pytest
 
 from pampipe.cli import main
 from pampipe.io.config import load_pam
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 BUNDLED = PROBLEMS / "experiments" / "paper-protocol.yaml"
 

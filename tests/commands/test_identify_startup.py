@@ -12,7 +12,8 @@ import sys
 from importlib.metadata import version
 
 from pampipe import __version__
-from tests.conftest import PROBLEMS, ROOT, in_fresh_interpreter
+from tests.support.problems import PROBLEMS, ROOT
+from tests.support.processes import in_fresh_interpreter
 
 PRIOR = "pams/paper-radial-pam-uncertain.yaml"
 

@@ -10,7 +10,8 @@ import yaml
 
 from pampipe.io.config import load_mission
 from pampipe.model import forces
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 MISSIONS = PROBLEMS / "missions"
 DEMO = MISSIONS / "vertical-climb-3in.yaml"

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from pampipe.model.muscle import Muscle
-from tests.conftest import PROBLEMS, ROOT, in_fresh_interpreter, run_cli
+from tests.support.problems import PROBLEMS, ROOT
+from tests.support.processes import in_fresh_interpreter, run_cli
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 

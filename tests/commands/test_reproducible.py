@@ -12,7 +12,7 @@ import sys
 
 import pytest
 
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 COMMANDS = {

@@ -16,7 +16,7 @@ import sys
 import pytest
 
 from pampipe.cli import main
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 EXPERIMENT = PROBLEMS / "experiments" / "paper-protocol.yaml"

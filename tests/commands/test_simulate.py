@@ -12,7 +12,8 @@ import yaml
 from pampipe.errors import InputError
 from pampipe.model import braid, forces
 from pampipe.model.domain import check_length, check_pipe_diameter, check_pressure
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 RADIAL = PROBLEMS / "pams" / "paper-radial-pam.yaml"
 AXIAL = PROBLEMS / "pams" / "paper-axial-load-pam.yaml"

@@ -8,9 +8,10 @@ from __future__ import annotations
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
-CASE = Path(__file__).parent / "bad_inputs" / "identify-one-row-per-test-writes-no-pam"
+from tests.support.problems import BAD_INPUTS
+
+CASE = BAD_INPUTS / "identify-one-row-per-test-writes-no-pam"
 
 
 def test_numpy_floating_point_warnings_do_not_reach_the_user(tmp_path):

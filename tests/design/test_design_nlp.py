@@ -23,7 +23,7 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 from pampipe.runtime.executors import SerialExecutor
 from pampipe.specs.inventory import Objective, Pipes
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 RISER = PROBLEMS / "inventories" / "riser.yaml"
 #: Central differences with h = 1e-6 in the scaled variables (each in [0, 1]): truncation ~h²·|L'''| ≈ 1e-12,

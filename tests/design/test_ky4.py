@@ -9,7 +9,8 @@ import json
 import pytest
 import yaml
 
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 KY4 = PROBLEMS / "inventories" / "ky4.yaml"
 SAME = 1e-10  # the same closed form on the same numbers; JSON keeps 12 digits

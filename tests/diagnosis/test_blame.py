@@ -152,7 +152,7 @@ def test_assumed_floors_give_cannot_judge_end_to_end():
 
 def _pam():
     from pampipe.io.config import load_pam
-    from tests.conftest import PROBLEMS
+    from tests.support.problems import PROBLEMS
 
     return load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
 

@@ -1,4 +1,4 @@
-"""The hidden-effect suites of `diagnose` (slow), on the TEST set of tests/diagnose_suite.py.
+"""The hidden-effect suites of `diagnose` (slow), on the TEST set of tests/support/diagnose_suite.py.
 
 Acceptance (issue 13), every case generated from known parameters with σ = 2 N white force noise:
 
@@ -12,7 +12,7 @@ Acceptance (issue 13), every case generated from known parameters with σ = 2 N 
 * binned cells (dense data, issue 17): the same verdicts and named sets as unbinned cells.
 
 The TEST set's seeds and magnitudes were not used to choose any threshold (the TUNING set was).
-Run with ``pytest -m slow tests/test_diagnose_slow.py`` (≈ 25 min on 2 cores).
+Run with ``pytest -m slow tests/diagnosis/test_hidden_effect_suites.py`` (≈ 25 min on 2 cores).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ import pytest
 from pampipe.diagnosis.hidden import MAGNITUDES, hidden_experiment, hidden_protocol, hidden_tests
 from pampipe.diagnosis.workflow import diagnose
 from pampipe.io.pamfile import write_experiment
-from tests.conftest import run_cli
-from tests.diagnose_suite import held_out_cases, outcome_class, run_case
+from tests.support.diagnose_suite import held_out_cases, outcome_class, run_case
+from tests.support.processes import run_cli
 
 SIGMA = 2.0
 

@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from tests.support.problems import ROOT
+
 DOCS = ROOT / "docs"
 PAGES = ("physics", "formats", "commands", "workflows")
 #: Where citations are looked for, and which files there are text worth scanning.

@@ -9,8 +9,9 @@ import pytest
 
 import pampipe
 from pampipe.results import REPR_LIMIT, records
+from tests.support.problems import ROOT
 
-DOC = Path(__file__).resolve().parents[1] / "docs" / "notebook.md"
+DOC = ROOT / "docs" / "notebook.md"
 
 
 def test_walkthrough_runs_in_order(tmp_path, monkeypatch):

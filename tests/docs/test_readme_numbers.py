@@ -13,7 +13,7 @@ import re
 
 import pytest
 
-from tests.conftest import ROOT
+from tests.support.problems import ROOT
 
 BENCHMARKS = ROOT / "benchmarks"
 SCRIPT = re.compile(r"`(bench_\w+\.py)`")

@@ -4,7 +4,7 @@ The tools come from Debian's packages, which .ci/run installs in CI:
 
 * avr-gcc + simavr (``apt-get install gcc-avr avr-libc simavr``): the exported C is built for the
   ATmega2560 in float, one call runs in the simulator at 16 MHz, and the answer is compared with
-  `plan` (1e-4 relative, the float tolerance of tests/test_export.py). Timer 1 counts the call's
+  `plan` (1e-4 relative, the float tolerance of tests/export/test_export.py). Timer 1 counts the call's
   cycles; flash and RAM come from avr-size. The numbers are printed (``pytest -s``).
 * arduino-builder + arduino-core-avr (``apt-get install arduino-builder arduino-core-avr
   arduino-ctags``): the example sketch compiles for the Mega.
@@ -26,7 +26,7 @@ import pytest
 from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
 from pampipe.planning import plan_mission
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 AVR_FLAGS = ["-mmcu=atmega2560", "-Os", "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror",

@@ -29,14 +29,14 @@ import yaml
 
 import pampipe
 from pampipe.cli import main
-from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
 from pampipe.io.files import to_json
 from pampipe.planning import plan_mission
 from pampipe.planning.checks import PRESSURE_FLOOR
 from pampipe.specs.mission import Section
-from tests import export_c
-from tests.conftest import PROBLEMS
+from tests.support import export_c
+from tests.support.export_c import write_export
+from tests.support.problems import PROBLEMS
 
 pytestmark = pytest.mark.skipif(export_c.compiler() is None, reason="no host C compiler (gcc or cc) found")
 
@@ -88,14 +88,6 @@ def thin_cubic_mission(folder):
     path = folder / "thin-cubic.yaml"
     path.write_text(yaml.safe_dump(mission))
     return path
-
-
-def write_export(mission, folder):
-    export = generate(mission, provenance=Provenance(str(mission.source), ()))
-    folder.mkdir(parents=True, exist_ok=True)
-    for name, text in export.files.items():
-        (folder / name).write_text(text)
-    return export
 
 
 def plan_codes(plan) -> np.ndarray:
@@ -224,7 +216,8 @@ def test_gait_table_equals_gait_json(exports, capsys, name):
             assert [n for n, a in zip(names, step["anchored"], strict=True) if a] == want["anchored"]
             assert step["duration_s"] == pytest.approx(want["duration_s"], rel=1e-11, abs=1e-300)
             # the table holds the levels the schedule fills or vents to (the plan's pressure or the vented
-            # one, tests/test_gait_table.py); gait simulates them, to CVODES' ~1e-10 (and 1e-5 Pa at 500 Pa)
+            # one, tests/locomotion/test_gait_table.py); gait simulates them, to CVODES' ~1e-10 (and 1e-5 Pa
+            # at 500 Pa)
             assert step["pressures_Pa"] == pytest.approx([want["pressures_Pa"][n] for n in names], rel=1e-9,
                                                          abs=1e-4)
             planned = [s["planned_pressure_Pa"] for s in document["segments"]]

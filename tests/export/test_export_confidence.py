@@ -8,7 +8,7 @@ import pytest
 from pampipe import api
 from pampipe.io.config import load_mission
 from pampipe.planning import plan_mission
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 UNCERTAIN = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
 

@@ -1,11 +1,11 @@
 """The exported source and the example sketch refuse a header of another export (issue 27).
 
 Two missions are exported into two folders. pampipe_plan.c is compiled by the host's gcc (the
-strict flags of tests/export_c.py) against its own header and against the other export's. The
+strict flags of tests/support/export_c.py) against its own header and against the other export's. The
 sketch (an Arduino .ino, C++) is compiled by g++ as C++ with a stub of the few Arduino names it uses
 (``-include`` of :data:`ARDUINO_STUB`, ``-fsyntax-only``): this checks the preprocessor's hash test and
 that the sketch is valid C++ against those declarations, not that it builds with the real Arduino
-core (tests/test_export_avr.py does that where arduino-builder is installed).
+core (tests/export/test_avr.py does that where arduino-builder is installed).
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import pytest
 
 from pampipe.export import Provenance, generate
 from pampipe.io.config import load_mission
-from tests import export_c
-from tests.conftest import PROBLEMS
+from tests.support import export_c
+from tests.support.problems import PROBLEMS
 
 ARDUINO_STUB = """\
 #include <stdint.h>

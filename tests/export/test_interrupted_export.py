@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 import yaml
 
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 FILES = ("pampipe_plan.h", "pampipe_plan.c", "firmware.ino")
 MOMENTS = ("progress", "staging", "staging_header", "swapped")

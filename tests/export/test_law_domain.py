@@ -1,6 +1,6 @@
 """The exported law trusts no sensor (issue 27): every argument checked, in C and in Python.
 
-The reference for safety is `plan`'s own model (:func:`tests.law_fuzz.unsafe_ok`): an OK answer must
+The reference for safety is `plan`'s own model (:func:`tests.support.law_fuzz.unsafe_ok`): an OK answer must
 press the muscle on the wall and hold the load with the safety factor. The issue's replay: incline
 3.0 rad (cos φ < 0) made the load negative and the C law answered OK with 116.4 kPa, below the
 117.0 kPa at which the muscle first touches a 3 in pipe.
@@ -16,9 +16,9 @@ import pytest
 from pampipe.export import cgen
 from pampipe.export.law import Reason
 from pampipe.io.config import load_mission
-from tests import export_c, law_fuzz
-from tests.conftest import PROBLEMS
-from tests.test_export import write_export
+from tests.support import export_c, law_fuzz
+from tests.support.export_c import write_export
+from tests.support.problems import PROBLEMS
 
 pytestmark = pytest.mark.skipif(export_c.compiler() is None, reason="no host C compiler (gcc or cc) found")
 

@@ -13,7 +13,7 @@ from scipy.optimize import least_squares, lsq_linear
 
 from pampipe.identification import FitOptions, identify
 from pampipe.model import forces
-from tests.lab_data import axial, experiment, force_map, truth
+from tests.support.lab_data import axial, experiment, force_map, truth
 
 MPA = 1e6
 

@@ -20,7 +20,7 @@ from pampipe.model import bladder, braid
 from pampipe.model.pam import Moduli, Pam
 from pampipe.simulation.synthetic import Protocol, generate
 from pampipe.specs.experiment import ExperimentData, make_test_data
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 SIGMA = 2.0  # [N] force noise of the generated data
 BUNDLED = PROBLEMS / "experiments" / "paper-protocol.yaml"

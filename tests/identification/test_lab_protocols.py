@@ -1,6 +1,6 @@
 """identify on data that look like a lab's: calibration, slack rows, protocols, hysteresis, row order.
 
-All data come from :mod:`tests.lab_data` with known parameters: the paper's radial-test muscle and its
+All data come from :mod:`tests.support.lab_data` with known parameters: the paper's radial-test muscle and its
 demo moduli (docs/physics.md §7), forces with Gaussian noise of known σ, and what real data add
 (slack zeros, pressure hysteresis, a geometry stated wrongly) written out explicitly there.
 
@@ -27,7 +27,7 @@ from pampipe.model import braid
 from pampipe.model.effects import LIBRARY
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
-from tests.lab_data import (
+from tests.support.lab_data import (
     axial,
     experiment,
     force_map,

@@ -1,7 +1,7 @@
 """identify, round 2 of real muscles (issue 23): documented keys work, direction columns are read as
 they are coded, no silent bad fit, the slack hinge in the fit, a global calibration.
 
-Data come from tests/lab_data.py with known parameters (the paper's radial-test muscle, σ = 1 N),
+Data come from tests/support/lab_data.py with known parameters (the paper's radial-test muscle, σ = 1 N),
 shaped like a lab's protocols: force maps with slack cells and few pressures stopping short of L₀,
 isometric ramps with transients and a 1/2-coded state column, split-pipe steps.
 
@@ -17,7 +17,6 @@ import json
 import math
 import re
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,9 +29,8 @@ from pampipe.io.config import load_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
-from tests import lab_data as lab
-
-ROOT = Path(__file__).resolve().parents[1]
+from tests.support import lab_data as lab
+from tests.support.problems import ROOT
 
 
 def _formats_fit_block() -> dict:

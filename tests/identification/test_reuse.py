@@ -15,7 +15,7 @@ from pampipe.io.csvfile import load_experiment_data
 from pampipe.model.pam import Pam
 from pampipe.simulation.synthetic import Protocol, generate
 from pampipe.specs.experiment import ExperimentData, make_test_data
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 
 @pytest.fixture(scope="module")

@@ -23,7 +23,8 @@ from pampipe.io.yamlfile import load_mapping
 from pampipe.model.pam import Pam
 from pampipe.simulation.synthetic import Protocol, generate
 from pampipe.specs.experiment import ExperimentData, make_test_data
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 SIGMA = 2.0  # [N]
 BORE = 0.0762  # 3 in [m]

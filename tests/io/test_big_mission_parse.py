@@ -9,7 +9,7 @@ from unittest import mock
 import pytest
 
 from pampipe.io import yamlfile
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 BORES = ["3 in", "3.5 in", "80 mm", "{nps: 3, schedule: 40, tolerance: 1 %}", "{dn: 110, sdr: 26}"]
 

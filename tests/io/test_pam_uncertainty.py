@@ -12,7 +12,7 @@ from pampipe.errors import InputError
 from pampipe.io.config import load_pam
 from pampipe.io.pamfile import write_pam
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 UNCERTAIN = PROBLEMS / "pams" / "paper-radial-pam-uncertain.yaml"
 

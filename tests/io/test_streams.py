@@ -15,7 +15,7 @@ import yaml
 
 from pampipe.cli import main
 from pampipe.io.streams import safe_text
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 

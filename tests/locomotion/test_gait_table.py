@@ -34,7 +34,7 @@ from pampipe.pneumatics.timing import (
     pressure_rate,
     transition_times,
 )
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 ATM = 101325.0
 

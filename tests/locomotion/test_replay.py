@@ -15,7 +15,7 @@ from pampipe.locomotion.requirements import section_needs
 from pampipe.locomotion.schedule import ControlPlan, lengths, positions
 from pampipe.pneumatics.options import GaitOptions, Gas, Valve
 from pampipe.pneumatics.timing import GAS_CONSTANT, ISO_DENSITY, ISO_TEMPERATURE, Chamber
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 ATM = 101325.0
 VALVE = Valve(sonic_conductance=5e-9, critical_pressure_ratio=0.3)

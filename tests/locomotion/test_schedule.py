@@ -12,7 +12,7 @@ from pampipe.locomotion import gait_options, optimal_gait, schedule, sequential_
 from pampipe.locomotion.optimal import _problem
 from pampipe.locomotion.schedule import ANCHORS
 from pampipe.pneumatics import timing as pneumatics
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 DOWNHILL = PROBLEMS / "missions" / "downhill-drain.yaml"

@@ -20,7 +20,7 @@ from pampipe.model.effects import (
 )
 from pampipe.model.muscle import Muscle
 from pampipe.simulation.anchored import simulate_anchored
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 PRESSURES = np.linspace(0.0, 689e3, 12)
 LENGTHS = np.linspace(0.215, 0.31, 9)

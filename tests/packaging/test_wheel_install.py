@@ -20,7 +20,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from tests.conftest import ROOT
+from tests.support.problems import ROOT
 
 SOURCES = ("pampipe", "problems", "setup.py", "pyproject.toml", "README.md", "LICENSE")
 
@@ -105,7 +105,8 @@ def test_copied_examples_plan_synth_identify_and_simulate(installed):
 
 @pytest.mark.slow
 def test_every_readme_command_runs_with_the_wheel(installed, tmp_path):
-    """The README's commands (tests/test_docs_run.py's convention) with the wheel's `pampipe` (≈ 60 s)."""
-    from tests.test_docs_run import commands, run_docs
+    """The README's commands (the convention of tests/support/doc_commands.py) with the wheel's `pampipe`
+    (≈ 60 s)."""
+    from tests.support.doc_commands import commands, run_docs
 
     run_docs(installed.bin, tmp_path, commands(["README.md"]))

@@ -26,30 +26,19 @@ import numpy as np
 import pytest
 
 from pampipe.io.config import load_mission
-from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Moduli
 from pampipe.planning import plan_mission
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.problem import mission_muscles
 from pampipe.specs.mission import Section
-from tests.conftest import PROBLEMS
+from tests.support.bore_scan import SCAN, scan_maximum
+from tests.support.problems import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
-SCAN = 20_001  # points of the brute-force scan of each range
 RELATIVE = 1e-6  # the issue's tolerance (see the module docstring)
 #: Hoop law that stiffens then softens [MPa]: a hump in the anchoring pressure (see the module docstring).
 SOFTENING = [0.5343, -1.6844, 1.9533, -1.0704, -0.0862, -0.2331, -0.3913, 0.0276,
              1.8362, -5.8004, 6.9788, -1.9128, -0.1049, 0.0327, 0.1581, 0.3864]
-
-
-def scan_maximum(muscle: Muscle, low: float, high: float, load: float, *, kappa, friction, safety_factor,
-                 points: int = SCAN):
-    """(max P*, argmax D) over ``points`` evenly spaced bores of [low, high]."""
-    bores = np.linspace(low, high, points)
-    pressure = muscle.least_holding_pressure(bores, load, kappa=kappa, friction=friction,
-                                             safety_factor=safety_factor)
-    k = int(np.argmax(pressure))
-    return float(pressure[k]), float(bores[k])
 
 
 def check_against_scan(mission, plan, points: int = SCAN) -> None:

@@ -12,7 +12,7 @@ from pampipe.io.config import load_mission
 from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.planning import plan_mission
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 UNCERTAIN = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"

@@ -20,7 +20,7 @@ from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.quantiles import order_statistics
 from pampipe.planning.sampling import muscle_draws
 from pampipe.planning.sources import keyed_normal
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 RISER = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
 BORES = ("3 in", "{value: 3.5 in, sd: 0.4 mm}", "{nps: 3, schedule: 40, tolerance: 1 %}", "80 mm")

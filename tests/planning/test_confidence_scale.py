@@ -24,7 +24,7 @@ from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.quantiles import order_statistics, share_at_most
 from pampipe.planning.sampling import chunk_classes, muscle_draws
 from pampipe.planning.sources import keyed_normal
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 UNCERTAIN = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
 BORES = ("3 in", "{value: 3.5 in, sd: 0.4 mm}", "{nps: 3, schedule: 40, tolerance: 1 %}")

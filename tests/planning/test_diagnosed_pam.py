@@ -16,7 +16,7 @@ from pampipe.cli import main
 from pampipe.io.config import load_mission
 from pampipe.model import braid, forces, no_slip
 from pampipe.planning import max_payload, plan_mission
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 SECTIONS = [
     {"name": "riser", "length": "3 m", "inner_diameter": "3 in", "incline": "90 deg", "friction": 0.3},

@@ -12,7 +12,7 @@ from pampipe.planning import plan_mission, problem
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.solve import solve
 from pampipe.specs.mission import Section
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 FIELDS = ("diameter", "length", "volume", "load", "load_per_payload", "friction", "anchoring",
           "free_anchoring", "valid", "least_pressure")

@@ -14,7 +14,7 @@ from pampipe.planning.evaluator import draws_key
 from pampipe.planning.law import per_class, per_draw, raw_least, settle
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.quantiles import order_statistics
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

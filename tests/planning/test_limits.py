@@ -11,7 +11,8 @@ import pytest
 
 from pampipe.io.yamlfile import load_mapping
 from pampipe.io.yamlwrite import write
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 RISER, RUN = 0.0762, 0.0889  # [m]
 
@@ -64,7 +65,7 @@ def test_max_contraction_rules_out_the_wider_bore(tmp_path):
 def test_export_obeys_the_rating_and_the_contraction(tmp_path):
     """The exported C law answers as plan does: the 3.5 in run is above PAM1's 150 kPa rating (code 4),
     the riser is not; with max_contraction between the two bores' contractions the run is too wide (2)."""
-    from tests.export_c import build, compiler, run_law
+    from tests.support.export_c import build, compiler, run_law
 
     (tmp_path / "rated").mkdir()
     rated = _mission(tmp_path / "rated", max_pressure="150 kPa")

@@ -2,7 +2,7 @@
 
 Independent answers: wntr's own model of ky4 (read here, not through pampipe.specs.network), networkx for the
 shortest path, the closed form of the anchoring pressure (docs/physics.md §7, pampipe.model.forces) for
-the contact margins, and a dense scan of each bore range (tests/test_plan_bores.py) for the worst bore.
+the contact margins, and a dense scan of each bore range (tests/planning/test_bores.py) for the worst bore.
 """
 
 from __future__ import annotations
@@ -19,8 +19,8 @@ from pampipe import api
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.model import forces
 from pampipe.planning.problem import mission_muscles
-from tests.conftest import PROBLEMS
-from tests.test_plan_bores import scan_maximum
+from tests.support.bore_scan import scan_maximum
+from tests.support.problems import PROBLEMS
 
 wntr = pytest.importorskip("wntr")
 nx = pytest.importorskip("networkx")
@@ -87,7 +87,7 @@ def test_route_is_the_networkx_path_through_the_pipes_the_robot_passes(route_pla
 def test_route_plan_holds_in_the_worst_bore_with_contact_margins_and_coverage(route_plan):
     model, plan = route_plan
     doc = plan.to_dict()
-    # every section is planned; the plan as a whole fails only on the elbows (tests/test_plan_bends.py)
+    # every section is planned; the plan as a whole fails only on the elbows (tests/bends/test_plan_bends.py)
     assert all(sec["feasible"] for sec in doc["sections"]) and not plan.arrays.reasons
     assert plan.feasible == all(b["passable"] for b in doc["bends"])
     muscles = mission_muscles(model)
@@ -98,7 +98,7 @@ def test_route_plan_holds_in_the_worst_bore_with_contact_margins_and_coverage(ro
         assert sec["pipe"] == sec["name"] and sec["length_m"] > 0 and sec["friction"] == 0.3
         assert sec["incline_deg"] == pytest.approx(math.degrees(model.route.incline[s]), rel=1e-15)
         for i, seg in enumerate(sec["segments"]):
-            # worst bore: a scan of the range (tolerance 1e-6, see tests/test_plan_bores.py)
+            # worst bore: a scan of the range (tolerance 1e-6, see tests/planning/test_bores.py)
             best, _ = scan_maximum(muscles[i], low, high, seg["required_hold_N"], kappa=1.0, friction=0.3,
                                    safety_factor=1.5, points=2001)
             assert seg["pressure_Pa"] == pytest.approx(best, rel=1e-6)

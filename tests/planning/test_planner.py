@@ -22,7 +22,7 @@ from pampipe.model.pam import Moduli
 from pampipe.planning import max_payload, plan_mission
 from pampipe.planning.solve import block_solver
 from pampipe.specs.mission import Mission, Section, Segment
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 INCH = 0.0254

@@ -19,7 +19,7 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Geometry
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
 from pampipe.planning import plan_mission
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 UNCERTAIN_PAM = PROBLEMS / "pams" / "paper-radial-pam-uncertain.yaml"

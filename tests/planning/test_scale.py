@@ -20,7 +20,7 @@ from pampipe.io.config import load_mission
 from pampipe.planning import plan_mission
 from pampipe.specs import mission as mission_module
 from pampipe.specs.mission import Route
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 BORES = ("3 in", "3.5 in", "80 mm", "{nps: 3, schedule: 40, tolerance: 1 %}", "{dn: 110, sdr: 26}")
 

@@ -18,7 +18,7 @@ from pampipe.cli import main
 from pampipe.errors import InputError
 from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 MISSIONS = PROBLEMS / "missions"
 DEMO = MISSIONS / "vertical-climb-3in.yaml"

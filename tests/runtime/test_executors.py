@@ -16,7 +16,7 @@ from pampipe.design import solve_inventory
 from pampipe.errors import InputError
 from pampipe.io.inventory_file import load_inventory
 from pampipe.runtime.executors import SerialExecutor, executor, run_all
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 RISER = PROBLEMS / "inventories" / "riser.yaml"
 PLANT = PROBLEMS / "inventories" / "plant.yaml"

@@ -18,7 +18,7 @@ import time
 
 import pytest
 
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 INVENTORY = PROBLEMS / "inventories" / "ky4.yaml"
 

@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 
 @pytest.fixture(scope="module")

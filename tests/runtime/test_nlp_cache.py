@@ -15,7 +15,7 @@ import casadi as ca
 import pytest
 
 from pampipe.runtime import ipopt as nlp
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 
 def _square_plus_sine():

@@ -8,7 +8,7 @@ import sys
 
 from pampipe.runtime import progress
 from pampipe.runtime.executors import SerialExecutor, run_all
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 
 class Terminal(io.StringIO):

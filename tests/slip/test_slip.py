@@ -1,5 +1,6 @@
-"""Slip tests (issue 24): detection, μ and κ against data generated apart from pampipe (tests/slip_data.py),
-what one bore can and cannot say, the contact block in the PAM file and the plan that uses it."""
+"""Slip tests (issue 24): detection, μ and κ against data generated apart from pampipe
+(tests/support/slip_data.py), what one bore can and cannot say, the contact block in the PAM file and the plan
+that uses it."""
 
 from __future__ import annotations
 
@@ -16,8 +17,8 @@ from pampipe.slip import fit_slip
 from pampipe.slip.detect import detect
 from pampipe.specs.experiment import TestSpec as Spec
 from pampipe.specs.experiment import make_slip_data
-from tests import slip_data
-from tests.conftest import PROBLEMS
+from tests.support import slip_data
+from tests.support.problems import PROBLEMS
 
 MU, KAPPA = 0.3, 0.8
 BORES = (0.0635, 0.0889)  # 2.5 in and 3.5 in: A = 0.75 and 1.20

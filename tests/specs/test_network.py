@@ -16,7 +16,7 @@ from pampipe.cli import main
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.config import load_mission
 from pampipe.specs.network import coverage, load_network, route_sections, whole_network
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 wntr = pytest.importorskip("wntr")
 nx = pytest.importorskip("networkx")

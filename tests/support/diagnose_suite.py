@@ -9,7 +9,7 @@
 
 Run a whole set and print its confusion matrices (2 worker processes):
 
-  .venv/bin/python -m tests.diagnose_suite test
+  .venv/bin/python -m tests.support.diagnose_suite test
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def run_case(case: Case) -> dict:
     from pampipe.diagnosis.hidden import hidden_experiment
     from pampipe.diagnosis.workflow import diagnose
     from pampipe.io.config import load_pam
-    from tests.conftest import PROBLEMS
+    from tests.support.problems import PROBLEMS
 
     pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
     started = time.perf_counter()

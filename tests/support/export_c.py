@@ -1,4 +1,5 @@
-"""Helpers of the export tests: a C driver for the exported files, built with the host's compiler.
+"""Helpers of the export tests: the exported files written to a folder, and a C driver for them, built with
+the host's compiler.
 
 The driver reads "D incline friction payload" lines on stdin and prints "code P1 P2 P3" (``law``), or
 prints the gait table (``table``): one "S" line per section (reason, cycle time, stride, the name's
@@ -12,6 +13,8 @@ import subprocess
 from pathlib import Path
 
 import numpy as np
+
+from pampipe.export import Export, Provenance, generate
 
 #: The brief's warnings, plus (float) every implicit float→double promotion and double→float narrowing.
 FLAGS = ["-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror"]
@@ -71,6 +74,15 @@ int main(int argc, char **argv)
     return 0;
 }
 """
+
+
+def write_export(mission, folder: Path) -> Export:
+    """Export ``mission`` (a loaded Mission) and write its files into ``folder``; returns the Export."""
+    export = generate(mission, provenance=Provenance(str(mission.source), ()))
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, text in export.files.items():
+        (folder / name).write_text(text)
+    return export
 
 
 def compiler() -> str | None:

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from pampipe.units.display import column, localize, shown_in
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 INCH = 0.0254  # m, exact
 LBF = 0.45359237 * 9.80665  # N: pound-mass times standard gravity, exact

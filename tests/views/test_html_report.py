@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")

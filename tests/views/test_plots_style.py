@@ -12,7 +12,7 @@ import pytest
 
 import pampipe
 from pampipe.views.tables import capture
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 UNIT = re.compile(r"\[[^\]]+\]|\(network units\)")
 
