@@ -45,7 +45,7 @@ lock: | $(BIN)/python  ## refresh requirements.lock, the tested versions that ev
 
 fuzz: $(STAMP)  ## long property-based fuzzing profile: 10^4 mutated problem files through the CLI
 	PAMPIPE_FUZZ_EXAMPLES=$${PAMPIPE_FUZZ_EXAMPLES:-10000} PAMPIPE_FUZZ_RANDOM=1 \
-		$(BIN)/python -m pytest tests/test_fuzz.py -q -p no:cacheprovider
+		$(BIN)/python -m pytest tests/commands/test_fuzz.py -q -p no:cacheprovider
 
 lint: $(STAMP)
 	$(BIN)/ruff check pampipe tests benchmarks

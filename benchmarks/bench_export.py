@@ -11,7 +11,7 @@ payload), in the same run:
 3. the CasADi SX function the C is generated from, mapped over the sections (CasADi's virtual machine).
 
 Also: the time to generate the export (law and C text; the gait table is timed apart). On the chip
-itself see tests/test_export_avr.py (cycles on the ATmega2560).
+itself see tests/export/test_avr.py (cycles on the ATmega2560).
 
 Scale (issue 27): `pampipe plan` and `pampipe export` of the demo robot on ``--distinct`` sections whose
 bore, incline and friction all differ (so every section has its own gait and its own chamber fits), each

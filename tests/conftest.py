@@ -1,39 +1,23 @@
-"""Shared fixtures: the bundled problem files and a CLI runner."""
+"""Shared fixtures (the bundled muscles, an in-process CLI runner) and the session's hooks.
+
+Helpers that tests import live in tests/support/."""
 
 from __future__ import annotations
 
 import os
 import shutil
-import subprocess
-import sys
 import tempfile
-from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, settings
 
 from pampipe.io.pam_schema import load_pam
+from tests.support.problems import PROBLEMS
 
 #: No test depends on the machine's speed: hypothesis neither times examples nor calls slow data generation
 #: an error (both fail on a busy machine, e.g. with two test runs at once). Tests' own settings build on this.
 settings.register_profile("pampipe", deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile("pampipe")
-
-ROOT = Path(__file__).resolve().parent.parent
-PROBLEMS = ROOT / "problems"
-
-
-def in_fresh_interpreter(argv: list[str], watched: set[str], cache, cwd=ROOT):
-    """(exit code, stdout, which of the top-level modules ``watched`` were loaded) of `pampipe ARGV` run in a
-    fresh interpreter with the cache folder ``cache`` (or ``off``)."""
-    code = ("import sys\nfrom pampipe.cli import main\n"
-            f"code = main({argv!r})\n"
-            f"loaded = sorted({{m.split('.')[0] for m in sys.modules}} & {set(watched)!r})\n"
-            "print('LOADED', *loaded, file=sys.stderr)\nsys.exit(code)\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=cwd,
-                         env={**os.environ, "PAMPIPE_NLP_CACHE": str(cache)}, timeout=300)
-    loaded = next(line for line in out.stderr.splitlines() if line.startswith("LOADED")).split()[1:]
-    return out.returncode, out.stdout, loaded
 
 
 @pytest.fixture(scope="session")
@@ -64,12 +48,6 @@ def cli(capsys):
     return run
 
 
-def run_cli(*args: str, cwd: Path | None = None, timeout: float = 300) -> subprocess.CompletedProcess:
-    """Run ``python -m pampipe ARGS`` in a subprocess, as a user would."""
-    return subprocess.run([sys.executable, "-m", "pampipe", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd or ROOT, timeout=timeout)
-
-
 def pytest_configure(config):
     """The on-disk NLP cache of the test run lives in a temporary folder (inherited by the CLI
     subprocesses), never in the user's ~/.cache; a cache the caller chose is kept."""
@@ -87,7 +65,7 @@ def pytest_unconfigure(config):
 
 def pytest_terminal_summary(terminalreporter):
     """Report how many fuzz cases ran and how the CLI answered (issue 7)."""
-    from tests.fuzzing import OUTCOMES
+    from tests.support.fuzzing import OUTCOMES
 
     if OUTCOMES:
         total = sum(OUTCOMES.values())

@@ -1,7 +1,7 @@
 """Moduli identification (docs/physics.md §6): `identify(data, options) -> IdentifyResult`.
 
 Modules: :mod:`.options` (the ``fit:`` block), :mod:`.statistics` (data → sufficient statistics),
-:mod:`.nlp` (the cached IPOPT problem), :mod:`.uncertainty`, :mod:`.predict` (model forces and
+:mod:`.fit_nlp` (the cached IPOPT problem), :mod:`.covariance`, :mod:`.predict` (model forces and
 residuals for recorded rows), :mod:`.result` (frozen results), :mod:`.fit` (the orchestration).
 """
 

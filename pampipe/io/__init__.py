@@ -6,8 +6,8 @@
 * :mod:`.csvfile`: CSV data → SI arrays;
 * :mod:`.pamfile`: a :class:`~pampipe.model.pam.Pam` → PAM file;
 * :mod:`.files`: atomic writes, input protection and deterministic JSON.
-* :mod:`.cache`: the user's on-disk cache folder; :mod:`.validated`: validated missions and experiments kept
-  there.
+* :mod:`.validated`: validated missions and experiments kept in the user's cache
+  (:mod:`pampipe.runtime.cache`).
 
 The science packages (identify, plan, gait, diagnose, synth) never import this layer; the Python
 API (:mod:`pampipe.api`) and the command modules do.

@@ -1,0 +1,100 @@
+"""Passability of a rigid cylinder through an elbow against an independent 3-D brute-force search
+(tests/support/bend_check.py), closed forms and limit cases (docs/physics.md §14)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pampipe.bends.geometry import (
+    classical_chord,
+    elbow_radius_needed,
+    flexible_bend_radius,
+    rigid_passage,
+)
+from tests.support.bend_check import longest_passing
+
+BORE = 0.0762  # 3 in
+TOLERANCE = 0.5e-3  # [m]: the issue's agreement on the limiting length
+
+
+def _bends(count: int, seed: int):
+    """(angle [deg], radius [D], diameter [D]) spread over 15–180°, 1–5 D and tight to loose fits."""
+    rng = np.random.default_rng(seed)
+    angles = np.concatenate([[15, 180], rng.uniform(15, 180, count - 2)])
+    radii = np.concatenate([[1, 5], rng.uniform(1, 5, count - 2)])
+    fits = rng.uniform(0.4, 0.95, count)
+    return list(zip(angles.tolist(), radii.tolist(), fits.tolist(), strict=True))
+
+
+def _compare(angle_deg, radius_d, fit_d):
+    theta, radius, diameter = math.radians(angle_deg), radius_d * BORE, fit_d * BORE
+    exact = rigid_passage(bore=BORE, radius=radius, angle=theta, diameter=diameter).longest
+    check = longest_passing(bore=BORE, radius=radius, angle=theta, diameter=diameter)
+    return exact, check
+
+
+@pytest.mark.parametrize("bend", [(15, 1.0, 0.75), (90, 1.5, 0.75), (180, 2.0, 0.9)])
+def test_agrees_with_brute_force_search(bend):
+    exact, check = _compare(*bend)
+    assert abs(exact - check) <= TOLERANCE
+
+
+@pytest.mark.slow
+def test_agrees_on_fifty_bends_passable_and_not():
+    """≥ 50 bends, angles 15–180°, radii 1–5 D: |L* − L_check| ≤ 0.5 mm; the paper's segment (L₀ = 314 mm)
+    passes some of them and not others, and the verdicts agree."""
+    length = 0.314325
+    verdicts = []
+    worst = 0.0
+    for bend in _bends(52, seed=28):
+        exact, check = _compare(*bend)
+        worst = max(worst, abs(exact - check))
+        verdicts.append((exact >= length, check >= length))
+    assert worst <= TOLERANCE
+    assert all(a == b for a, b in verdicts)
+    assert any(a for a, _ in verdicts) and not all(a for a, _ in verdicts)
+
+
+def test_long_bend_gives_the_classical_chord():
+    """Where the bend holds the whole chord, L* = 2√(R_o² − (R_i + d)²), computed by hand here."""
+    radius, d = 1.5 * BORE, 0.75 * BORE
+    by_hand = 2 * math.sqrt((radius + BORE / 2) ** 2 - (radius - BORE / 2 + d) ** 2)
+    assert by_hand == pytest.approx(classical_chord(bore=BORE, radius=radius, diameter=d))
+    passage = rigid_passage(bore=BORE, radius=radius, angle=math.pi / 2, diameter=d)
+    assert passage.longest == pytest.approx(by_hand, rel=1e-9)
+    assert passage.where == "mid-bend, ends on the arc"
+
+
+def test_short_bend_is_roomier_than_the_classical_chord():
+    """At 15° the chord's ends lie in the straight pipes: by hand, 2(R_o − h cos(θ/2))/sin(θ/2)."""
+    radius, d, theta = BORE, 0.75 * BORE, math.radians(15)
+    h = radius - BORE / 2 + d
+    by_hand = 2 * (radius + BORE / 2 - h * math.cos(theta / 2)) / math.sin(theta / 2)
+    passage = rigid_passage(bore=BORE, radius=radius, angle=theta, diameter=d)
+    assert passage.longest == pytest.approx(by_hand, rel=1e-6)
+    assert passage.longest > 2 * classical_chord(bore=BORE, radius=radius, diameter=d)
+    assert passage.where == "mid-bend, ends in the straight pipes"
+
+
+def test_limits():
+    assert rigid_passage(bore=BORE, radius=BORE, angle=1.0, diameter=BORE).longest == 0.0
+    wide = rigid_passage(bore=BORE, radius=50 * BORE, angle=math.pi / 2, diameter=0.5 * BORE).longest
+    tight = rigid_passage(bore=BORE, radius=BORE, angle=math.pi / 2, diameter=0.5 * BORE).longest
+    assert wide > tight
+
+
+def test_elbow_radius_needed_passes_and_is_least():
+    d, length, theta = 0.75 * BORE, 0.25, math.pi / 2
+    needed = elbow_radius_needed(bore=BORE, angle=theta, diameter=d, length=length)
+    assert rigid_passage(bore=BORE, radius=needed, angle=theta, diameter=d).longest >= length
+    assert rigid_passage(bore=BORE, radius=0.99 * needed, angle=theta, diameter=d).longest < length
+
+
+def test_flexible_radius_stretches_the_outer_side_to_the_braid_length():
+    """At ρ_min the outer side, L₀(1 + D₀/(2ρ)), is exactly B = L₀/cos α₀."""
+    l0, d0, alpha = 0.314325, 0.05715, math.radians(24.08)
+    rho = flexible_bend_radius(rest_length=l0, rest_diameter=d0, braid_length=l0 / math.cos(alpha))
+    assert l0 * (1 + d0 / 2 / rho) == pytest.approx(l0 / math.cos(alpha))

@@ -1,0 +1,46 @@
+"""The example commands of README.md and docs/workflows.md run as written (issue 21).
+
+What a doc's ```sh block may assume is the convention in tests/support/doc_commands.py.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.support.doc_commands import DOCS, Command, commands, run_docs
+
+
+def test_the_docs_have_commands_to_run():
+    steps = commands()
+    assert {s.doc for s in steps} == set(DOCS)
+    assert all(not s.text.lstrip().startswith("make ") for s in steps)
+    assert any(s.text.startswith("pampipe plan") for s in steps)
+
+
+def test_parser_reads_continuations_expectations_and_skips(tmp_path):
+    (tmp_path / "d.md").write_text(
+        "text\n```sh\nmake demo\n# a comment\necho a \\\n  b\nfalse   # exits 1\n```\n```\nnot run\n```\n"
+        "```yaml\nkey: 1\n```\n```sh\ntrue\ncat > f.yaml <<'EOF'  # exits 0\na: 1\n```\nEOF\n```\n")
+    steps = commands(["d.md"], tmp_path)
+    assert [(s.line, s.block_line, s.text, s.expected) for s in steps] == [
+        (5, 2, "echo a \\\n  b", 0), (7, 2, "false   # exits 1", 1), (16, 15, "true", 0),
+        (17, 15, "cat > f.yaml <<'EOF'  # exits 0\na: 1\n```\nEOF", 0)]
+
+
+def test_a_wrong_exit_code_names_the_doc_line_and_command(tmp_path):
+    steps = [Command("X.md", 3, 4, "cd problems", 0), Command("X.md", 3, 5, "ls pams > /dev/null", 0),
+             Command("X.md", 3, 6, "(exit 5)   # exits 5", 5), Command("X.md", 7, 8, "false", 0),
+             Command("X.md", 7, 9, "true", 0)]
+    with pytest.raises(pytest.fail.Exception) as info:
+        run_docs(Path("/nonexistent"), tmp_path, steps)
+    message = str(info.value)
+    assert message.startswith("X.md:8 (```sh block at line 7) exited 1, the doc expects 0")
+    assert "\n  false\n" in message
+
+
+def test_every_doc_command_runs_in_order_in_one_shell(tmp_path):
+    """README.md then docs/workflows.md, as a reader would type them (the convention above)."""
+    run_docs(Path(sys.executable).parent, tmp_path)

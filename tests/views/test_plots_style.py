@@ -1,0 +1,147 @@
+"""Every plot is fit to print: labelled axes with units, no legend entry without a drawn artist (issue 26),
+and --plot-format writes the format asked for."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import pampipe
+from pampipe.views.tables import capture
+from tests.support.problems import PROBLEMS, ROOT
+
+UNIT = re.compile(r"\[[^\]]+\]|\(network units\)")
+
+
+def _figures(draw, *args) -> list:
+    with capture() as figures:
+        draw(*args, None)
+    assert figures
+    return figures
+
+
+def _drawn(artist) -> bool:
+    """The artist shows something: a line with a finite point, a patch, a non-empty collection."""
+    from matplotlib.collections import Collection
+    from matplotlib.lines import Line2D
+
+    if isinstance(artist, Line2D):
+        x, y = (np.asarray(v, dtype=float) for v in artist.get_data())
+        return bool(np.any(np.isfinite(x) & np.isfinite(y)))
+    if isinstance(artist, Collection):
+        return len(artist.get_paths()) > 0
+    return artist.get_visible()
+
+
+def check(fig) -> None:
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    for ax in panels:
+        title = ax.get_title() or fig.texts
+        assert UNIT.search(ax.get_ylabel()), (title, ax.get_ylabel())
+        handles, labels = ax.get_legend_handles_labels()
+        for artist, label in zip(handles, labels, strict=True):
+            assert _drawn(artist), f"{title}: legend entry {label!r} has nothing drawn"
+    assert any(UNIT.search(ax.get_xlabel()) for ax in panels), [ax.get_xlabel() for ax in panels]
+
+
+@pytest.fixture(scope="module")
+def plan():
+    return pampipe.plan(PROBLEMS / "missions" / "vertical-climb-3in.yaml", payload="3 kg")
+
+
+def test_plan_plots(plan):
+    from pampipe.views.plots.plan import plot_plan
+
+    for fig in _figures(plot_plan, plan):
+        check(fig)
+
+
+def test_plan_draws_identical_segments_as_one_line(plan):
+    """The three PAMs of the demo share their pressures: one line, named after all three."""
+    fig = plan.plot()
+    labels = fig.axes[0].get_legend_handles_labels()[1]
+    planned = [label for label in labels if "planned pressure" in label]
+    assert planned == ["PAM1, PAM2, PAM3: planned pressure"]
+    assert "red band" not in fig.axes[0].get_title()
+
+
+def test_network_route_plots_and_colour_span():
+    from pampipe.views.plots.plan import plot_plan
+
+    plan = pampipe.plan(PROBLEMS / "missions" / "ky4-route.yaml")
+    figures = _figures(plot_plan, plan)
+    for fig in figures:
+        check(fig)
+    bars = [image for fig in figures for ax in fig.axes for image in ax.collections
+            if image.get_array() is not None and ax.get_label() != "<colorbar>"]
+    for image in bars:
+        low, high = image.get_clim()
+        assert high - low >= 0.05 * plan.supply_pressure / 1e3 - 1e-9
+
+
+def test_simulate_and_gait_plots():
+    from pampipe.views.plots.gait import plot_report
+    from pampipe.views.plots.simulate import plot_simulation
+
+    pam = PROBLEMS / "pams" / "paper-radial-pam.yaml"
+    simulation = pampipe.simulate(pam, pipe_diameter=["3 in", "3.5 in"])
+    for fig in _figures(plot_simulation, simulation):
+        check(fig)
+    for fig in _figures(plot_report, pampipe.gait(PROBLEMS / "missions" / "vertical-climb-3in.yaml")):
+        check(fig)
+
+
+@pytest.mark.parametrize("kind", ["svg", "pdf"])
+def test_plot_format(kind, tmp_path):
+    pam = PROBLEMS / "pams" / "paper-radial-pam.yaml"
+    out = subprocess.run([sys.executable, "-m", "pampipe", "simulate", str(pam), "--pipe-diameter", "3 in",
+                          "--plots", str(tmp_path), "--plot-format", kind],
+                         capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert out.returncode == 0, out.stderr
+    written = sorted(p.name for p in tmp_path.iterdir())
+    names = ("radial_force", "free_contraction", "amplification")
+    assert written == sorted(f"{name}.{kind}" for name in names)
+    head = (tmp_path / f"radial_force.{kind}").read_bytes()[:5]
+    assert head == (b"<?xml" if kind == "svg" else b"%PDF-")
+
+
+def test_a_figure_legend_is_shown_in_the_users_units():
+    """A legend of the whole figure (the Drucker map's, below the axes) is converted like the axes' own;
+    the control: the axis legend next to it."""
+    from matplotlib.figure import Figure
+
+    from pampipe.units.display import shown_in
+    from pampipe.views.plots.display_units import localize_figure
+
+    fig = Figure()
+    ax = fig.add_subplot()
+    ax.plot([0, 1], [0, 1], label="exact minimum 0.00263 MPa (axial)")
+    ax.legend()
+    fig.legend(loc="outside lower center")
+    with shown_in("us"):
+        localize_figure(fig)
+    texts = [t.get_text() for legend in (ax.get_legend(), *fig.legends) for t in legend.get_texts()]
+    assert texts == ["exact minimum 0.381 psi (axial)"] * 2, texts
+
+
+def test_a_log_axis_gets_decades_of_the_users_unit():
+    """Under us, a log axis in N is ticked at 1, 10, 100 lbf (not at N decades relabelled 2.248, 22.48)."""
+    from matplotlib.figure import Figure
+
+    from pampipe.units.display import shown_in
+    from pampipe.views.plots.display_units import localize_figure
+
+    fig = Figure()
+    ax = fig.add_subplot()
+    ax.semilogy([0, 1], [5.0, 5000.0])
+    ax.set_ylabel("holding capacity [N]")
+    with shown_in("us"):
+        localize_figure(fig)
+    lbf = 4.4482216152605  # N
+    ticks = [t * (1 / lbf) for t in ax.yaxis.get_major_locator().tick_values(5.0, 5000.0)]
+    inside = [t for t in ticks if 5.0 / lbf <= t <= 5000.0 / lbf]
+    assert inside and all(abs(t - round(t)) < 1e-9 and str(round(t)).strip("0") == "1" for t in inside), ticks
