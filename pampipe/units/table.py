@@ -2,8 +2,8 @@
 
 A dimension is a tuple of exponents of (length, mass, time, temperature, angle). Unlike pint, the
 angle is a dimension of its own, so that an angle can never be read as a plain number or a percent.
-Every factor here is checked against pint in ``tests/units/test_quantities.py``; names not listed are looked up
-in pint (imported only then, it costs 0.4 s).
+Every factor here is checked against pint in ``tests/units/test_quantities.py``; names not listed are
+looked up in pint (imported only then, it costs 0.4 s).
 """
 
 from __future__ import annotations
