@@ -63,7 +63,7 @@ def main(folder: str, only: str = "") -> int:
             if (Path(work) / "c").is_dir():  # export: the C files, not the temporary path
                 for f in sorted((Path(work) / "c").iterdir()):
                     (target / f"{name}.{f.name}").write_bytes(f.read_bytes())
-        (target / f"{name}.json").write_bytes(done.stdout)
+        (target / f"{name}.json").write_bytes(done.stdout.replace(work.encode(), b"{tmp}"))
         (target / f"{name}.rc").write_text(f"{done.returncode}\n")
         print(f"{name}: exit {done.returncode}, {len(done.stdout)} bytes", flush=True)
     return 0
