@@ -13,6 +13,7 @@ import hashlib
 import json
 import os
 import pickle
+import shutil
 import stat
 import subprocess
 import sys
@@ -55,9 +56,24 @@ class _Planted:
         return open, (str(self.path), "w")
 
 
-def _warm(cache: Path, mission: str = DEMO) -> Path:
-    """Run `plan` once so that ``mission`` is kept; its entry."""
-    assert _plan(mission, cache).returncode == 0
+@pytest.fixture(scope="module")
+def warm(tmp_path_factory) -> Path:
+    """A cache where `plan` kept DEMO and OTHER (each test works on a copy)."""
+    folder = tmp_path_factory.mktemp("warm") / "cache"
+    for mission in (DEMO, OTHER):
+        assert _plan(mission, folder).returncode == 0
+    return folder
+
+
+@pytest.fixture()
+def cache(tmp_path, warm) -> Path:
+    """A copy of the warm cache, owned by the test."""
+    shutil.copytree(warm, tmp_path / "cache")
+    return tmp_path / "cache"
+
+
+def _entry(cache: Path, mission: str = DEMO) -> Path:
+    """The entry of ``mission`` in ``cache``."""
     (entry,) = [p for p in cache.glob("mission-*") if _stands_for(p, mission)]
     return entry
 
@@ -86,9 +102,9 @@ def _legacy_entry(cache: Path, mission: str) -> Path:
     return cache / f"mission-{hashlib.sha256(key.encode()).hexdigest()[:32]}"
 
 
-def test_a_planted_pickle_never_runs_and_never_replaces_the_plan(tmp_path, uncached):
-    cache, ran = tmp_path / "cache", tmp_path / "the-pickle-ran"
-    entry = _warm(cache)
+def test_a_planted_pickle_never_runs_and_never_replaces_the_plan(tmp_path, cache, uncached):
+    ran = tmp_path / "the-pickle-ran"
+    entry = _entry(cache)
     planted = pickle.dumps((_Planted(ran), "a plan of someone else's"))
     _rewrite(entry, "loaded.json", planted)  # in the entry read now, with a matching manifest
     legacy = _legacy_entry(cache, DEMO)  # and where the former reader unpickled it
@@ -104,11 +120,10 @@ def test_a_planted_pickle_never_runs_and_never_replaces_the_plan(tmp_path, uncac
 
 
 @pytest.mark.parametrize("inputs", ["none", "the other mission's"])
-def test_a_swapped_entry_never_replaces_the_plan(tmp_path, uncached, inputs):
+def test_a_swapped_entry_never_replaces_the_plan(cache, uncached, inputs):
     """The entry of OTHER holding DEMO's mission, with no inputs (or DEMO's own, all unchanged) and a matching
     manifest: an entry stands only for a file it names and hashes, so OTHER is planned from its file."""
-    cache = tmp_path / "cache"
-    demo, other = _warm(cache, DEMO), _warm(cache, OTHER)
+    demo, other = _entry(cache, DEMO), _entry(cache, OTHER)
     swapped = json.loads((demo / "loaded.json").read_bytes())
     if inputs == "none":
         swapped["inputs"] = []
@@ -121,7 +136,7 @@ def test_a_swapped_entry_never_replaces_the_plan(tmp_path, uncached, inputs):
 def _swap_in(cache: Path, entry: Path) -> None:
     """Put OTHER's mission in ``entry`` (DEMO's) with DEMO's inputs and a matching manifest: used, it would
     plan OTHER for DEMO, so a plan equal to DEMO's shows the entry was not."""
-    swapped = json.loads((_warm(cache, OTHER) / "loaded.json").read_bytes())
+    swapped = json.loads((_entry(cache, OTHER) / "loaded.json").read_bytes())
     swapped["inputs"] = json.loads((entry / "loaded.json").read_bytes())["inputs"]
     _rewrite(entry, "loaded.json", json.dumps(swapped).encode())
 
@@ -132,9 +147,8 @@ def _said(stderr: str, what: str) -> list[str]:
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0,
                     reason="giving the cache folder to another uid needs root (os.chown)")
-def test_a_foreign_owned_cache_folder_is_skipped_with_one_message(tmp_path, uncached):
-    cache = tmp_path / "cache"
-    _swap_in(cache, _warm(cache))
+def test_a_foreign_owned_cache_folder_is_skipped_with_one_message(cache, uncached):
+    _swap_in(cache, _entry(cache))
     for path in [cache, *cache.rglob("*")]:
         os.chown(path, FOREIGN_UID, FOREIGN_UID)
     before = sorted(p.name for p in cache.rglob("*"))
@@ -148,9 +162,8 @@ def test_a_foreign_owned_cache_folder_is_skipped_with_one_message(tmp_path, unca
 
 @pytest.mark.skipif(not hasattr(os, "geteuid") or os.geteuid() != 0,
                     reason="giving a cache entry to another uid needs root (os.chown)")
-def test_a_foreign_owned_entry_is_skipped_with_one_message(tmp_path, uncached):
-    cache = tmp_path / "cache"
-    entry = _warm(cache)
+def test_a_foreign_owned_entry_is_skipped_with_one_message(cache, uncached):
+    entry = _entry(cache)
     _swap_in(cache, entry)
     for path in [entry, *entry.iterdir()]:
         os.chown(path, FOREIGN_UID, FOREIGN_UID)
@@ -162,9 +175,8 @@ def test_a_foreign_owned_entry_is_skipped_with_one_message(tmp_path, uncached):
 
 
 @pytest.mark.parametrize("where", ["folder", "entry", "file"])
-def test_a_group_writable_cache_is_skipped_with_one_message(tmp_path, uncached, where):
-    cache = tmp_path / "cache"
-    entry = _warm(cache)
+def test_a_group_writable_cache_is_skipped_with_one_message(cache, uncached, where):
+    entry = _entry(cache)
     _swap_in(cache, entry)
     loose = {"folder": cache, "entry": entry, "file": entry / "loaded.json"}[where]
     os.chmod(loose, stat.S_IMODE(loose.stat().st_mode) | stat.S_IWGRP)
