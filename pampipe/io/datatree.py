@@ -22,6 +22,7 @@ import dataclasses
 import importlib
 import json
 import math
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -100,7 +101,7 @@ class _Encoder:
     def dataclass(self, value):
         kind = type(value)
         _class(kind.__module__, kind.__qualname__)  # one of pampipe's, importable by name
-        names = [f.name for f in dataclasses.fields(value)]
+        names = _names(kind)
         extra = set(getattr(value, "__dict__", {})) - set(names)
         if extra:  # state beyond the fields (a cached property) would be lost
             raise TreeError(f"{kind.__qualname__} holds {sorted(extra)} beyond its fields")
@@ -163,8 +164,8 @@ class _Decoder:
         out = object.__new__(kind)  # as pickle: no __init__, no __post_init__
         self.made[number] = out
         given = value["f"]
-        names = [f.name for f in dataclasses.fields(kind)]
-        if type(given) is not dict or sorted(given) != sorted(names):
+        names = _names(kind)
+        if type(given) is not dict or given.keys() != set(names):
             raise TreeError(f"the fields of {name} are not {names}")
         for field_name in names:
             object.__setattr__(out, field_name, self.node(given[field_name]))
@@ -174,6 +175,13 @@ class _Decoder:
 _PENDING = object()
 
 
+@cache
+def _names(kind: type) -> tuple[str, ...]:
+    """The field names of the dataclass ``kind``, in order."""
+    return tuple(f.name for f in dataclasses.fields(kind))
+
+
+@cache
 def _class(module: str, name: str) -> type:
     """The dataclass ``name`` of pampipe's module ``module``: nothing else is ever imported or built."""
     if not module.startswith("pampipe.") or "__main__" in module or not name.isidentifier():
