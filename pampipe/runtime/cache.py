@@ -112,8 +112,9 @@ def _refuse(folder: Path, why: str) -> None:
     key = f"refused:{folder}"
     if key not in _said:
         _said.add(key)
-        print(f"pampipe: not using the cache folder {folder} ({CACHE_VARIABLE}): {why}; running without the "
-              f"cache. Point {CACHE_VARIABLE} at a folder only you can write, or set it to 'off'.",
+        given = CACHE_VARIABLE if os.environ.get(CACHE_VARIABLE) else f"the default, {CACHE_VARIABLE} unset"
+        print(f"pampipe: not using the cache folder {folder} ({given}): {why}; running without the cache. "
+              f"Point {CACHE_VARIABLE} at a folder only you can write, or set it to 'off'.",
               file=sys.stderr, flush=True)
     return None
 
@@ -132,8 +133,7 @@ def _create(folder: Path) -> bool:
             except FileExistsError:  # another process made it meanwhile
                 continue
             os.chmod(place, 0o700)  # whatever the umask
-    except OSError as exc:
-        _refuse(folder, f"it cannot be created ({exc.strerror or exc})")
+    except OSError:  # a read-only home: skipped silently, as an unwritable cache always was
         return False
     return _adopt(folder)
 
