@@ -19,7 +19,7 @@ import warnings
 from pampipe._version import __version__
 from pampipe.errors import InputError, PampipeError, StreamError
 from pampipe.io import streams
-from pampipe.io.files import forget_written, written
+from pampipe.io.files import check_distinct_outputs, forget_written, written
 from pampipe.runtime import interrupts, progress
 from pampipe.units import display
 
@@ -137,6 +137,7 @@ def _run(argv: list[str]) -> int:
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
         command = f"pampipe {args.command}"
+        check_distinct_outputs(args)  # before any work: -o x.html --report x.html would keep one of them
         if getattr(args, "plot_format", None):
             from pampipe.views.tables import set_plot_format
 

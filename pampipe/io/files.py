@@ -9,7 +9,9 @@ The policy every command follows (docs/commands.md §1.2):
 * a file is written to a temporary name beside the target and renamed over it, so a crash or an
   interrupt leaves the old file or the new one, never half of one. The new file gets the mode of the
   file it replaces, or the mode the umask allows (0644 under umask 022);
-* the output folder of ``-o`` must exist; ``--plots DIR`` and ``synth OUT_DIR`` create theirs.
+* the output folder of ``-o`` must exist; ``--plots DIR`` and ``synth OUT_DIR`` create theirs;
+* two outputs of one command never share a path (``-o x.html --report x.html``: one would replace the
+  other), :func:`check_distinct_outputs`.
 
 :func:`written` lists the files this process has written, so an interrupt can say truthfully which
 outputs exist.
@@ -52,6 +54,29 @@ def check_not_input(target: Path, inputs: Iterable[Path], *, option: str) -> Non
                              "choose another output path.")
         if target.resolve() == source.resolve():
             raise InputError(f"{option} {target}: refusing to write over the input file {source}.")
+
+
+#: The options naming a command's outputs (argparse ``dest`` → the flag as messages show it).
+OUTPUT_OPTIONS = {"output": "-o", "report": "--report", "plots": "--plots"}
+
+
+def check_distinct_outputs(args) -> None:
+    """Refuse (exit 2) two output options of ``args`` (:data:`OUTPUT_OPTIONS`) that name the same path: the
+    same text once made absolute, or the same file or folder on disk (a link, another spelling)."""
+    given = [(flag, Path(path)) for dest, flag in OUTPUT_OPTIONS.items()
+             if (path := getattr(args, dest, None)) is not None]
+    for i, (flag, path) in enumerate(given):
+        for other_flag, other in given[:i]:
+            if os.path.abspath(path) == os.path.abspath(other) or _same_file(path, other):
+                raise InputError(f"{other_flag} {other} and {flag} {path} are the same path, so one output "
+                                 "would replace the other; give each its own path.")
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist yet
+        return False
 
 
 def check_overwrite(targets: Iterable[Path], *, force: bool) -> None:

@@ -10,18 +10,16 @@ from __future__ import annotations
 
 import hashlib
 import re
-import shutil
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass
 from functools import cache
-from pathlib import Path
 
 import casadi as ca
 
 from pampipe.errors import SolverError
 from pampipe.runtime import interrupts
-from pampipe.runtime.cache import CACHE_VARIABLE, cache_folder, source_digest, store  # noqa: F401 (CACHE_VARIABLE re-exported)
+from pampipe.runtime.cache import CACHE_VARIABLE, cache_root, load, source_digest, store  # noqa: F401 (CACHE_VARIABLE re-exported)
 
 #: IPOPT options every pampipe NLP starts from (quiet; bounds are not relaxed, so a solution
 #: never leaves the physical box it was given; a NaN or infinity in a constraint Jacobian or the
@@ -129,33 +127,30 @@ def cached_functions(name: str, key: str, build: Callable[[], dict[str, ca.Funct
                      ) -> tuple[dict[str, ca.Function], str]:
     """(functions, "disk" | "built"): ``build()`` once per key, kept across processes on disk.
 
-    The entry's name hashes ``name``, ``key`` (the problem structure), the CasADi version and the
-    source of the package's model and NLP code, so any change to the code that builds the
-    functions makes a new entry. CasADi's serialisation stores them in one file, their labels first,
-    so that the graph they share is read once (identify's five functions load in 63 ms instead of
-    86 ms from five files). An unreadable or unwritable cache is skipped silently: the functions are
-    then built.
+    The entry's key hashes ``name``, ``key`` (the problem structure), the CasADi version and the
+    source of the package, so any change to the code that builds the functions makes a new entry.
+    CasADi's serialisation stores them in one file, their labels first, so that the graph they share is
+    read once (identify's five functions load in 63 ms instead of 86 ms from five files). The file is
+    deserialised only after the cache has checked its owner, permissions, length and SHA-256
+    (:func:`pampipe.runtime.cache.load`): CasADi trusts what it reads, and a damaged file could crash it.
+    A damaged entry is built again and replaced; an unreadable or unwritable cache is skipped.
     """
-    folder = cache_folder()
-    if folder is None:
+    root = cache_root()
+    if root is None:
         return build(), "built"
     digest = hashlib.sha256("\0".join([name, key, ca.__version__, source_digest()]).encode()).hexdigest()
-    entry = folder / f"{name}-{digest[:32]}"
-    if entry.is_dir():
+    files = load(root, name, digest)
+    if files is not None and FUNCTIONS in files:
         try:
-            stream = ca.FileDeserializer(str(entry / FUNCTIONS))
+            stream = ca.StringDeserializer(files[FUNCTIONS].decode("ascii"))
             labels = stream.unpack()
             return {label: stream.unpack() for label in labels}, "disk"
-        except Exception:  # a damaged entry is removed and rebuilt
-            shutil.rmtree(entry, ignore_errors=True)
+        except Exception:  # checked, so not damaged: of a CasADi that reads it otherwise; built again
+            pass
     functions = build()
-
-    def write(staging: Path) -> None:
-        stream = ca.FileSerializer(str(staging / FUNCTIONS))
-        stream.pack(list(functions))
-        for function in functions.values():
-            stream.pack(function)
-        del stream  # closes the file
-
-    store(folder, entry, write)
+    stream = ca.StringSerializer()
+    stream.pack(list(functions))
+    for function in functions.values():
+        stream.pack(function)
+    store(root, name, digest, {FUNCTIONS: stream.encode().encode("ascii")})
     return functions, "built"
