@@ -14,7 +14,7 @@ import pytest
 
 from pampipe.io import datatree
 from pampipe.io.datatree import TreeError, decode, encode
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 
 def _difference(a, b, where: str, pairs: dict[int, int]) -> str | None:

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT
+from tests.support.problems import ROOT
 
 DEMO = "problems/missions/vertical-climb-3in.yaml"
 OTHER = "problems/missions/downhill-drain.yaml"

@@ -17,7 +17,7 @@ import time
 import pytest
 
 from pampipe.runtime import cache as disk
-from tests.conftest import ROOT
+from tests.support.problems import ROOT
 
 DEMO = "problems/missions/vertical-climb-3in.yaml"
 

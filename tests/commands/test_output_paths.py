@@ -7,7 +7,8 @@ import os
 
 import pytest
 
-from tests.conftest import PROBLEMS, run_cli
+from tests.support.problems import PROBLEMS
+from tests.support.processes import run_cli
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 EXPERIMENT = PROBLEMS / "experiments" / "paper-protocol.yaml"

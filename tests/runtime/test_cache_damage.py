@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import PROBLEMS, ROOT
+from tests.support.problems import PROBLEMS, ROOT
 
 DAMAGES = 20
 DEMO = "problems/missions/vertical-climb-3in.yaml"
