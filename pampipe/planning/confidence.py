@@ -11,7 +11,8 @@ C-quantile of P*_k (the least P that holds in at least a share C of the draws), 
 ``contact_probability`` the share in which the unloaded muscle touches the largest bore.
 
 The draws are the same for every section and segment where they are in reality (one fit per PAM file,
-one muscle per segment, one κ, one friction draw per wall material) and keyed by the bore's statement
+one muscle per ``unit: lot`` segment, one for the ``unit: tested`` segments of a PAM file, one κ, one
+friction draw per wall material) and keyed by the bore's statement
 (:mod:`pampipe.planning.sources`). Sections alike in every input form one class, sampled once, in chunks of
 bounded memory on any executor (:mod:`pampipe.planning.sampling`); the closed forms run vectorised over
 draws × classes through one :class:`Muscle` whose fields are arrays (20× faster than a mapped CasADi
@@ -72,6 +73,7 @@ class Confidence:
     undetermined: dict[int, tuple[int, Direction, float]] = field(default_factory=dict)  # s → (i, d, ΔP)
     prior: bool = False  # some margin rests on a prior (--prior-from or stated sds)
     payload: np.ndarray | None = None  # [kg], element payload held with probability C at supply
+    units: tuple[str, ...] = ()  # per segment, the muscle each probability is for: "tested" | "lot"
 
     def dominant(self) -> list[dict]:
         """Sources by the largest pressure they add alone, over the feasible elements, largest first."""
@@ -88,13 +90,14 @@ class Confidence:
                 "prior": self.prior}
 
     def element_document(self, s: int, i: int) -> dict:
-        """The keys one segment of one section gains (docs/commands.md §4.5); where an undetermined
-        direction moves the section's hold there is no probability: null, and ``undetermined`` true."""
+        """The keys one segment of one section gains (docs/commands.md §4.5): ``unit``, the muscle its
+        probabilities are for; where an undetermined direction moves the section's hold there is no
+        probability: null, and ``undetermined`` true."""
         if s in self.undetermined:
-            return {"holding_probability": None, "holding_probability_se": None,
+            return {"unit": self.units[i], "holding_probability": None, "holding_probability_se": None,
                     "contact_probability": None, "pressure_at_Pa": dict.fromkeys(self.pressure_at),
                     "pressure_ci95_Pa": None, "undetermined": True}
-        return {"holding_probability": float(self.holding_probability[s, i]),
+        return {"unit": self.units[i], "holding_probability": float(self.holding_probability[s, i]),
                 "holding_probability_se": float(self.holding_se[s, i]),
                 "contact_probability": float(self.contact_probability[s, i]),
                 "pressure_at_Pa": {k: float(v[s, i]) for k, v in self.pressure_at.items()},
@@ -189,4 +192,4 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
         {k: joined(lambda r, k=k: r.shifts[k]) for k in problem.active},
         {k: joined(lambda r, k=k: r.low_shifts[k]) for k in problem.active},
         joined(lambda r: r.certain), undetermined, used_prior,
-        joined(lambda r: r.payload) if with_payload else None)
+        joined(lambda r: r.payload) if with_payload else None, tuple(u.unit for u in uncertainties))
