@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from pampipe.errors import InputError
-from pampipe.io.config import load_mission
+from pampipe.io.mission_schema import load_mission
 from pampipe.planning import plan_mission
 from pampipe.planning.confidence import sampling_problem
 from pampipe.planning.problem import build_elements, mission_muscles

@@ -199,7 +199,7 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
         if not a.complete[s]:
             continue
         for i, name in enumerate(a.segment_names):
-            if s in c.undetermined:
+            if c.is_stopped(s, i):
                 out.append((a.route.name[s], name, c.units[i], "-", "undetermined", "-",
                             *["-"] * len(levels)))
                 continue
