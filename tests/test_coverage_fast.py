@@ -1,6 +1,6 @@
 """A fast version of benchmarks/bench_coverage.py: tested muscles drawn from the stated tolerance, fitted from
 the stated geometry, planned at C = 0.95 on an untested bore with `unit: tested` and `unit: lot`, judged by
-closed form of the tested muscle (tested) and of a sibling per segment (lot).
+the closed form of the tested muscle (tested) and of a sibling per segment (lot).
 
 Four seeded trials cannot measure a 95 % coverage; they can fail where the chain is broken (a plan below the
 true minimum in most trials, or a margin far beyond what the tolerance explains). The full study (≥ 30 trials)
