@@ -37,6 +37,7 @@ from pampipe.errors import SolverError
 from pampipe.model.braid import diameter_at_length, length_at_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.planning.problem import Elements
+from pampipe.planning.sampling import OPEN_SHARE
 from pampipe.planning.solve import Solution
 
 
@@ -218,8 +219,6 @@ def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None
     """Add (in place) the ``undetermined`` reason of every section where an unresolved direction stops a
     segment: covering its open width moves the segment's C-quantile by more than ``OPEN_SHARE`` of its
     margin to its pressure limit (:func:`pampipe.planning.sampling.stop_open`)."""
-    from pampipe.planning.sampling import OPEN_SHARE
-
     r = mission.route
     limits = pressure_limits(mission)
     for s, (i, direction, delta, margin) in sampled.undetermined.items():
