@@ -129,10 +129,13 @@ def test_tested_needs_a_fitted_pam(tmp_path):
         plan_mission(mission, confidence=0.95, samples=500)
 
 
-def test_the_json_and_the_text_name_the_unit_of_each_probability(tmp_path, cli):
+def test_the_json_the_text_and_the_html_report_name_the_unit_of_each_probability(tmp_path, cli):
     (tmp_path / "mission.yaml").write_text(json.dumps(write_fitted(tmp_path)))
-    out = cli("plan", tmp_path / "mission.yaml", "--confidence", "0.9", "--samples", "500", "--json")
+    out = cli("plan", tmp_path / "mission.yaml", "--confidence", "0.9", "--samples", "500", "--json",
+              "--report", tmp_path / "plan.html")
     assert out.returncode == 0, out.stderr
+    report = (tmp_path / "plan.html").read_text()
+    assert "<th>unit</th>" in report and "<td>tested</td>" in report and "<td>lot</td>" in report
     segments = json.loads(out.stdout)["sections"][0]["segments"]
     assert [s["unit"] for s in segments] == ["tested", "lot", "tested"]
     rows = [line.split() for line in out.stderr.splitlines() if line.strip().startswith("riser")]
