@@ -16,7 +16,8 @@ import math
 import numpy as np
 import pytest
 
-from pampipe.io.config import load_mission, load_pam
+from pampipe.io.mission_schema import load_mission
+from pampipe.io.pam_schema import load_pam
 from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.model.uncertainty import ParameterUncertainty, moduli_names
