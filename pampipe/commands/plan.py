@@ -38,8 +38,10 @@ where a bore 1 mm wider or a braid angle 1 deg off would cost more than that mar
 With --confidence C the plan samples every stated uncertainty (the PAM's fit covariance, model error
 and geometry sds, the bores', friction and kappa sds) and plans the least pressure that holds in a share
 C of the draws, with the holding and contact probabilities, the pressures at 0.9, 0.99 and 0.999 and
-the source that dominates. A direction that the muscle's test data leave undetermined and that moves a
-section's holding force makes that section infeasible (exit 3), naming the test that would fix it.
+the source that dominates, for the muscle each segment's `unit:` says (tested, or another of its lot). A
+direction the muscle's test data leave undetermined is covered over its open width; where that moves a
+segment's plan by more than a tenth of its margin to the supply, the section is infeasible (exit 3),
+naming the test that would fix it.
 A route may be a path through a pipe network (route: {network: ky4,
 from: J-315, to: J-897, friction: 0.3}) or, without from/to, every pipe of it, with the coverage.
 
@@ -90,8 +92,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--prior-from", type=Path, default=None, metavar="PAM.yaml",
                         help="with --confidence: a PAM file whose moduli and uncertainty serve as the prior "
                              "along the directions the muscle's own fit leaves undetermined (otherwise "
-                             "those sections exit 3 naming the test to run); the report says the margin "
-                             "rests on a prior")
+                             "they are covered over their open width, or exit 3 where that costs more than "
+                             "a tenth of the margin); the report says the margin rests on a prior")
     parser.add_argument("--solver", choices=("kkt", "ipopt"), default="kkt",
                         help="kkt: Newton on the NLP's KKT conditions (default, fast); ipopt: the same "
                              "NLP solved by IPOPT")

@@ -38,6 +38,7 @@ class SegmentSchema(Strict):
     name: str = Field(min_length=1)
     pam: str | PamSchema
     mass: Mass
+    unit: Literal["tested", "lot"] = "lot"  # which muscle it carries (docs/physics.md §15)
 
 
 def _three_segments(segments: list) -> list:
@@ -138,7 +139,7 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
 def _load_mission(path: Path, raw: dict | None) -> Mission:
     schema = validate(path, MissionSchema, load_mapping(path, what="mission file") if raw is None else raw)
     segments = tuple(Segment(s.name, resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
-                             relative(path, s.pam) if isinstance(s.pam, str) else None)
+                             relative(path, s.pam) if isinstance(s.pam, str) else None, s.unit)
                      for i, s in enumerate(schema.robot.segments))
     if len({s.name for s in segments}) != len(segments):
         raise InputError(f"{path}: robot.segments: segment names must be unique, got "

@@ -69,3 +69,4 @@ class Problem:
     supply: tuple[float, ...] | None  # [Pa] per segment, the pressure of the payload at confidence (or None)
     key: str  # draws_key of the muscles' sources, draws, seed and κ sd: names the draws in every process
     twins: tuple[int, ...] = ()  # per segment, the first with the same inputs and draws (segment_twins)
+    limits: tuple[float, ...] = ()  # [Pa] per segment, its pressure limit (supply or rating)

@@ -11,7 +11,8 @@ C-quantile of P*_k (the least P that holds in at least a share C of the draws), 
 ``contact_probability`` the share in which the unloaded muscle touches the largest bore.
 
 The draws are the same for every section and segment where they are in reality (one fit per PAM file,
-one muscle per segment, one κ, one friction draw per wall material) and keyed by the bore's statement
+one muscle per ``unit: lot`` segment, one for the ``unit: tested`` segments of a PAM file, one κ, one
+friction draw per wall material) and keyed by the bore's statement
 (:mod:`pampipe.planning.sources`). Sections alike in every input form one class, sampled once, in chunks of
 bounded memory on any executor (:mod:`pampipe.planning.sampling`); the closed forms run vectorised over
 draws × classes through one :class:`Muscle` whose fields are arrays (20× faster than a mapped CasADi
@@ -69,9 +70,17 @@ class Confidence:
     shifts: dict[str, np.ndarray]  # source → C-quantile with that source alone − the certain P* [Pa]
     low_shifts: dict[str, np.ndarray]  # source → (1 − C)-quantile with that source alone − the certain P*
     certain: np.ndarray  # [Pa] P* with every source at its nominal value (max over the range's bores)
-    undetermined: dict[int, tuple[int, Direction, float]] = field(default_factory=dict)  # s → (i, d, ΔP)
+    # s → (i, d, ΔP, margin [Pa]): the first segment an undetermined direction stops there (exit 3)
+    undetermined: dict[int, tuple[int, Direction, float, float]] = field(default_factory=dict)
     prior: bool = False  # some margin rests on a prior (--prior-from or stated sds)
     payload: np.ndarray | None = None  # [kg], element payload held with probability C at supply
+    units: tuple[str, ...] = ()  # per segment, the muscle each probability is for: "tested" | "lot"
+    open_shift: np.ndarray | None = None  # [Pa] what covering the undetermined directions adds (NaN: none)
+    stopped: np.ndarray | None = None  # bool, the elements an undetermined direction stops (exit 3)
+
+    def is_stopped(self, s: int, i: int) -> bool:
+        """True where an undetermined direction stops segment i in section s: no number is given."""
+        return self.stopped is not None and bool(self.stopped[s, i])
 
     def dominant(self) -> list[dict]:
         """Sources by the largest pressure they add alone, over the feasible elements, largest first."""
@@ -88,17 +97,22 @@ class Confidence:
                 "prior": self.prior}
 
     def element_document(self, s: int, i: int) -> dict:
-        """The keys one segment of one section gains (docs/commands.md §4.5); where an undetermined
-        direction moves the section's hold there is no probability: null, and ``undetermined`` true."""
-        if s in self.undetermined:
-            return {"holding_probability": None, "holding_probability_se": None,
-                    "contact_probability": None, "pressure_at_Pa": dict.fromkeys(self.pressure_at),
-                    "pressure_ci95_Pa": None, "undetermined": True}
-        return {"holding_probability": float(self.holding_probability[s, i]),
+        """The keys one segment of one section gains (docs/commands.md §4.5): ``unit``, the muscle its
+        probabilities are for; where its fit leaves directions undetermined, ``undetermined`` (stopped or
+        not) and ``undetermined_shift_Pa``, what covering them adds; a stopped segment has no pressure and
+        no probability: null."""
+        shift = math.nan if self.open_shift is None else float(self.open_shift[s, i])
+        opened = {} if math.isnan(shift) else {"undetermined": self.is_stopped(s, i),
+                                                "undetermined_shift_Pa": shift}
+        if self.is_stopped(s, i):
+            return {"unit": self.units[i], "pressure_Pa": None, "holding_probability": None,
+                    "holding_probability_se": None, "contact_probability": None,
+                    "pressure_at_Pa": dict.fromkeys(self.pressure_at), "pressure_ci95_Pa": None, **opened}
+        return {"unit": self.units[i], "holding_probability": float(self.holding_probability[s, i]),
                 "holding_probability_se": float(self.holding_se[s, i]),
                 "contact_probability": float(self.contact_probability[s, i]),
                 "pressure_at_Pa": {k: float(v[s, i]) for k, v in self.pressure_at.items()},
-                "pressure_ci95_Pa": [float(x) for x in self.pressure_ci95[s, i]]}
+                "pressure_ci95_Pa": [float(x) for x in self.pressure_ci95[s, i]], **opened}
 
 
 def check_uncertainty(mission, uncertainties) -> None:
@@ -149,7 +163,8 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
                       key)
     twins = segment_twins(problem, draws, np.asarray(elements.diameter), np.asarray(elements.valid))
     classes, inverse = section_classes(route, elements)
-    return dataclasses.replace(problem, twins=twins), classes, inverse
+    limits = tuple(float(x) for x in pressure_limits(mission))
+    return dataclasses.replace(problem, twins=twins, limits=limits), classes, inverse
 
 
 def plan_confidence(mission, muscles, elements, confidence: float, *, samples: int = DEFAULT_SAMPLES,
@@ -175,11 +190,14 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     def joined(get):
         return np.concatenate([get(r) for r in parts])[inverse]
 
+    shift, stopped = joined(lambda r: r.open_shift), joined(lambda r: r.stopped)
+    base, which = joined(lambda r: r.open_base), joined(lambda r: r.open_direction)
     undetermined = {}
-    flagged = joined(lambda r: r.undetermined)
-    for s in np.flatnonzero(flagged[:, 0] >= 0).tolist():
-        i, k, moved = int(flagged[s, 0]), int(flagged[s, 1]), float(flagged[s, 2])
-        undetermined[s] = (i, uncertainties[i].unresolved[k], moved)
+    for s in np.flatnonzero(stopped.any(axis=1)).tolist():
+        i = int(np.argmax(stopped[s]))
+        margin = problem.limits[i] - base[s, i]
+        direction = uncertainties[i].unresolved[int(which[s, i])]
+        undetermined[s] = (i, direction, float(shift[s, i]), float(margin))
     holding = joined(lambda r: r.holding)
     used_prior = any(u.undetermined and not u.unresolved for u in uncertainties)
     return Confidence(
@@ -189,4 +207,5 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
         {k: joined(lambda r, k=k: r.shifts[k]) for k in problem.active},
         {k: joined(lambda r, k=k: r.low_shifts[k]) for k in problem.active},
         joined(lambda r: r.certain), undetermined, used_prior,
-        joined(lambda r: r.payload) if with_payload else None)
+        joined(lambda r: r.payload) if with_payload else None, tuple(u.unit for u in uncertainties),
+        shift, stopped)

@@ -314,15 +314,6 @@ class Evaluator:
             sizes.append(k.size)
         return Anchored(None, *(_joined([getattr(c, name) for c in parts], sizes) for name in USED))
 
-    def moves(self, direction) -> np.ndarray:
-        """Change of the certain P* [Pa] per class across ± the width the data leave open along
-        ``direction`` (inf where P* stops existing on either side)."""
-        step = direction.scale * direction.step
-        out = [self.evaluate((), nominal=self.nominal + sign * step)[0][0] for sign in (1.0, -1.0)]
-        with np.errstate(invalid="ignore"):
-            delta = out[0] - out[1]
-        return np.where(np.isfinite(delta), delta, np.inf)
-
 
 def _groups(bore: np.ndarray, statement: tuple) -> tuple:
     """(the distinct (bore, its statement) columns (4, G), each class's group (C,), each group's first

@@ -16,8 +16,9 @@ brackets, counted by a whole-network plan's coverage):
    [``above_supply``], or the muscle's rated pressure (``max_pressure`` of its PAM file, when below the
    supply) [``above_rating``];
 7. with ``--confidence``: a direction of the muscle's parameters that the test data leave undetermined
-   moves the least holding pressure here, so no probability can be given [``undetermined``]; this
-   reason replaces the others, since it names the test to run first.
+   moves a segment's C-quantile here by more than a tenth of its margin to its pressure limit, so no
+   pressure and no probability can be given [``undetermined``]; this reason replaces the others, since it
+   names the test to run first.
 
 A segment's pressure limit is the supply, or its PAM's ``max_pressure`` when lower (:func:`pressure_limits`):
 no plan asks more, and a margin that exists only above the rating is no margin.
@@ -36,6 +37,7 @@ from pampipe.errors import SolverError
 from pampipe.model.braid import diameter_at_length, length_at_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.planning.problem import Elements
+from pampipe.planning.sampling import OPEN_SHARE
 from pampipe.planning.solve import Solution
 
 
@@ -214,18 +216,22 @@ def _free_diameter(muscle: Muscle, supply: float) -> str:
 
 
 def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None:
-    """Add (in place) the ``undetermined`` reason of every section an unresolved direction moves."""
+    """Add (in place) the ``undetermined`` reason of every section where an unresolved direction stops a
+    segment: covering its open width moves the segment's C-quantile by more than ``OPEN_SHARE`` of its
+    margin to its pressure limit (:func:`pampipe.planning.sampling.stop_open`)."""
     r = mission.route
-    for s, (i, direction, delta) in sampled.undetermined.items():
+    limits = pressure_limits(mission)
+    for s, (i, direction, delta, margin) in sampled.undetermined.items():
         pipe, _ = _pipe(r, s)
         bore = _mm(r.diameter_high[s])
         suggested = f" (the fit's own words: {direction.test})" if direction.test else ""
         pam = mission.segments[i].pam
+        limit = "rating" if limits[i] < mission.supply_pressure else "supply"
         codes[s] = "undetermined"
         sentences[s] = (
             f"{mission.segments[i].name}'s fit ({pam.name}) leaves a direction of its parameters "
-            f"undetermined that moves its least holding pressure in {pipe} (by "
-            f"{abs(delta) / 1e3:.3g} kPa across what the data allow), "
-            f"so no holding probability can be given. A radial test at the {bore} bore, or a slip test in "
-            f"this pipe, would determine it{suggested}; or plan with --prior-from PAM (or a geometry "
-            "'{value, sd}' in the PAM file) to rest the margin on a prior.")
+            f"undetermined that moves its {sampled.level:.3g} quantile in {pipe} by {delta / 1e3:.3g} kPa "
+            f"across what the data allow, more than {OPEN_SHARE * 100:g} % of its {margin / 1e3:.3g} kPa "
+            f"margin to the {limit}, so no pressure and no holding probability can be given. A radial test "
+            f"at the {bore} bore, or a slip test in this pipe, would determine it{suggested}; or plan with "
+            "--prior-from PAM (or a geometry '{value, sd}' in the PAM file) to rest the margin on a prior.")

@@ -64,7 +64,7 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     reasons, codes = section_reasons(mission, muscles, elements, solution, payloads, confidence=confidence)
     if sampled is not None:
         undetermined_reasons(mission, sampled, reasons, codes)
-    arrays = _arrays(mission, muscles, elements, solution, reasons, codes, nominal)
+    arrays = _arrays(mission, muscles, elements, solution, reasons, codes, nominal, sampled)
     limit = payload_limit(mission, payloads) if with_max_payload else None
     served = None if mission.route.origin is None else route_coverage(mission.route, codes)
     bends, reducers = plan_bends(mission)
@@ -77,7 +77,8 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
                        coverage=served, bends=bends, reducers=reducers, uncertainty=sampled)
 
 
-def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, nominal) -> PlanArrays:
+def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, nominal,
+            sampled) -> PlanArrays:
     pressure = np.where(np.isfinite(solution.pressure) & e.valid, solution.pressure, 0.0)
     capacity, radial, contact = (np.stack(c, axis=1) for c in zip(*(
         _evaluate(m, e, pressure[:, i], i) for i, m in enumerate(muscles)), strict=True))
@@ -87,7 +88,7 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
         loaded_anchoring_pressure=e.anchoring,
         required_hold=e.load, holding_capacity=capacity, radial_force=radial, contact_pressure=contact,
         air_volume=e.volume, anchored_length=e.length, slip_active=solution.slip_active,
-        feasible=plan_feasible(mission, e, solution) & _determined(codes, e.valid.shape),
+        feasible=plan_feasible(mission, e, solution) & _determined(sampled, e.valid.shape),
         complete=complete,
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=reasons, diameter=np.array(e.diameter),
@@ -103,8 +104,8 @@ def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
     return capacity, radial, muscle.contact_pressure(radial, d)
 
 
-def _determined(codes: dict[int, str], shape) -> np.ndarray:
-    """False in the rows of sections that an undetermined direction makes infeasible."""
-    out = np.ones(shape, dtype=bool)
-    out[[s for s, code in codes.items() if code == "undetermined"]] = False
-    return out
+def _determined(sampled, shape) -> np.ndarray:
+    """False where an undetermined direction stops the element (``sampled``: the confidence plan, or None)."""
+    if sampled is None or sampled.stopped is None:
+        return np.ones(shape, dtype=bool)
+    return ~sampled.stopped

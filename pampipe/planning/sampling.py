@@ -34,8 +34,11 @@ MEMORY_BUDGET = 64 << 20
 #: range's bores, the sorted copies): the peak resident memory grew by 137–167 B per draw and class for
 #: chunks of 21 and 180 classes at 10⁴ draws (the riser robot, 180 kinds of section).
 BYTES_PER_DRAW = 200
-#: An undetermined direction "moves" a hold when ± its open width moves P* by more than this [Pa] (1 kPa).
-MOVES = 1e3
+#: The share of a segment's margin to its pressure limit (the supply, or its PAM's rating), limit − P_C, that
+#: covering the undetermined directions may add to its C-quantile P_C before the segment is stopped (exit 3,
+#: docs/physics.md §15): within it, even a truth ten open widths out along a direction (linearly) still holds
+#: at the limit, so the direction cannot turn a plan that holds at the supply into one that does not.
+OPEN_SHARE = 0.1
 
 
 _DRAWS: dict[str, MuscleDraws] = {}
@@ -76,7 +79,10 @@ class ChunkResult:
     shifts: dict[str, np.ndarray]
     low_shifts: dict[str, np.ndarray]
     payload: np.ndarray | None
-    undetermined: np.ndarray  # (C, 3): segment, index in its ``unresolved``, ΔP [Pa]; segment −1: none
+    open_base: np.ndarray  # [Pa] P_C without the undetermined directions (NaN: none open)
+    open_shift: np.ndarray  # [Pa] what covering the undetermined directions adds to P_C (NaN: none open)
+    open_direction: np.ndarray  # the direction (index in ``unresolved``) that adds most alone (−1: none)
+    stopped: np.ndarray  # bool: the open directions move P_C by more than OPEN_SHARE of its margin
 
 
 def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
@@ -101,7 +107,8 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
                       np.full(shape, np.nan), {k: np.full(shape, np.nan) for k in problem.active},
                       {k: np.full(shape, np.nan) for k in problem.active},
                       None if problem.supply is None else np.full(shape, -np.inf),
-                      np.tile([-1.0, -1.0, 0.0], (count, 1)))
+                      np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, -1),
+                      np.zeros(shape, dtype=bool))
     half = 1.959964 * math.sqrt(n * problem.level * (1 - problem.level))
     band = [max(math.floor(n * problem.level - half) - 1, 0),
             min(math.ceil(n * problem.level + half) - 1, n - 1)]
@@ -117,9 +124,16 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         ev = Evaluator(problem, draws, classes, i, rows, bore[take].T, friction[take].T)
         supply = None if problem.supply is None else problem.supply[i]
         least, touch, held = ev.evaluate(problem.active, supply, raw=True)
+        base = None
+        if problem.uncertainties[i].unresolved:
+            least, touch, held, base, which = cover_open(problem, ev, least, touch, held, supply)
+            out.open_direction[rows, i] = which
         (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True, overwrite=True,
                                                                   settle=settle)
         out.pressure[rows, i] = planned
+        if base is not None:
+            out.open_base[rows, i] = base
+            out.open_shift[rows, i], out.stopped[rows, i] = stop_open(planned, base, problem.limits[i])
         out.contact[rows, i] = share_at_most(touch, planned)
         out.band[rows, i] = np.stack(rest[:2], axis=1)
         for key, value in zip(out.levels, rest[2:], strict=True):
@@ -133,12 +147,40 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
             high, low = ev.alone(name, alone_ranks)
             out.shifts[name][rows, i] = high - certain
             out.low_shifts[name][rows, i] = low - certain
-        for k, direction in enumerate(problem.uncertainties[i].unresolved):
-            moved = ev.moves(direction)
-            new = (np.abs(moved) > MOVES) & (out.undetermined[rows, 0] < 0)
-            out.undetermined[rows[new]] = np.column_stack([np.full(new.sum(), i), np.full(new.sum(), k),
-                                                           moved[new]])
     return out
+
+
+def cover_open(problem: Problem, ev: Evaluator, least, touch, held, supply):
+    """The draws held over the open width of every undetermined direction (docs/physics.md §15): per draw,
+    the worst of the muscle at q̂ and at q̂ ± s·v for each unresolved direction v on its own (s its open
+    width). Returns (raw P* (n, C), touch (n, C), payload (n, C) or None, P_C without the open directions
+    (C,) [Pa], the direction whose cover alone adds most to P_C (C,))."""
+    rank = [upper_rank(problem.samples, problem.level)]
+    base = order_statistics(least, rank, settle=settle)[0]  # a copy: ``least`` keeps its order
+    covered = np.array(least)
+    most, which = np.full(base.shape, -np.inf), np.full(base.shape, -1)
+    for k, direction in enumerate(problem.uncertainties[ev.i].unresolved):
+        one = np.array(least)
+        for sign in (1.0, -1.0):
+            shifted, t, h = ev.evaluate(problem.active, supply, nominal=ev.nominal + sign * direction.scale
+                                        * direction.step, raw=True)
+            np.maximum(one, shifted, out=one)  # NaN (does not hold) stays NaN: the worst
+            touch = np.maximum(touch, t)  # touching the largest bore at every point of the width
+            held = None if held is None else np.minimum(held, h)
+        np.maximum(covered, one, out=covered)
+        alone = order_statistics(one, rank, settle=settle, overwrite=True)[0]
+        more = alone > most
+        most[more], which[more] = alone[more], k
+    return covered, touch, held, base, which
+
+
+def stop_open(planned: np.ndarray, base: np.ndarray, limit: float) -> tuple[np.ndarray, np.ndarray]:
+    """(ΔP = P_C covered − P_C without the open directions [Pa], stopped): a segment whose plan without them
+    is within its pressure ``limit`` [Pa] stops where ΔP exceeds OPEN_SHARE of its margin limit − P_C
+    (ΔP = inf, a muscle that no longer holds somewhere in the width, always does)."""
+    with np.errstate(invalid="ignore"):
+        shift = planned - base
+        return shift, (base <= limit) & ~(shift <= OPEN_SHARE * (limit - base))
 
 
 def _copy(out: ChunkResult, j: int, i: int) -> None:

@@ -5,11 +5,13 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
 
 * ``moduli``: the moduli θ and every geometry entry ``identify`` calibrated, jointly Gaussian with the
   covariance of the PAM's ``uncertainty:`` block (``Pam.uncertainty``, or the moduli-only
-  ``Pam.covariance`` [Pa²] of older files). One muscle type, one fit: segments that share a PAM file
-  share this draw, in every section.
-* ``geometry``: the stated tolerances of the PAM file (``Pam.geometry_sd``: ``{value, sd}`` geometry
-  entries) of the entries the fit did not calibrate; independent per segment (each segment is its own
-  muscle), the same in every section.
+  ``Pam.covariance`` [Pa²] of older files): what the fit leaves open of the TESTED muscle. One fit per
+  PAM file: segments that share a PAM file share this draw, in every section.
+* ``geometry``: the lot spread, for a segment of ``unit: lot`` (another muscle of the tested one's lot):
+  every geometry entry with a stated sd (``Pam.geometry_sd``, the ``{value, sd}`` entries), calibrated
+  ones included, drawn around the fitted geometry; independent per segment (each its own muscle), the
+  same in every section. A segment of ``unit: tested`` carries the tested muscle: nothing is drawn here
+  (the fit absorbed the stated sds), and every tested segment of a PAM file is that one muscle.
 * ``model_error``: a shift e ~ N(0, σ_m²) [N] of the axial force F_ax at the anchored length, σ_m the
   PAM's ``model_error`` (the residual spread beyond the noise); per segment.
 * ``bore``: a shift δ ~ N(0, sd²) [m] of the bore of each section (its ``sd``); the tolerance range is
@@ -39,7 +41,7 @@ from pampipe.model.uncertainty import scaled_unit
 SOURCES = ("moduli", "geometry", "model_error", "bore", "friction", "kappa", "prior")
 #: What each source is, for reports.
 SOURCE_WORDS = {"moduli": "moduli and calibrated geometry (identify's covariance)",
-                "geometry": "stated geometry tolerances (PAM file sd)",
+                "geometry": "lot spread of the geometry (PAM file sd; unit: lot segments)",
                 "model_error": "model error (axial force residual beyond noise)",
                 "bore": "bore sd", "friction": "wall friction sd", "kappa": "load coupling kappa sd",
                 "prior": "prior along undetermined directions"}
@@ -66,12 +68,13 @@ class MuscleUncertainty:
 
     nominal: np.ndarray  # (size,)
     fit: np.ndarray  # (size, size) covariance of the fit (moduli and calibrated geometry)
-    tolerance: np.ndarray  # (size,) sds of the stated, uncalibrated geometry
+    tolerance: np.ndarray  # (size,) sds of the lot spread (the stated geometry sds; zero for unit: tested)
     model_error: float  # [N]
     undetermined: tuple[Direction, ...] = ()
     prior_shift: tuple[float, ...] = ()  # per undetermined direction, vᵀ(q_prior − q̂) [scaled units]
     prior_sd: tuple[float, ...] = ()  # per undetermined direction, √(vᵀΣ_q,prior v) (0: no prior)
     fit_key: object = None  # segments with equal keys share the fit draw
+    unit: str = "lot"  # "tested": the fitted muscle itself (one per fit_key); "lot": another of its lot
 
     @property
     def unresolved(self) -> tuple[Direction, ...]:
@@ -118,15 +121,23 @@ def _covariance(pam, structure, where: str) -> np.ndarray:
 
 
 def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> MuscleUncertainty:
-    """The sources of one segment's muscle, from its PAM (and the ``prior`` PAM, if any)."""
+    """The sources of one segment's muscle, from its PAM (and the ``prior`` PAM, if any) and its ``unit``:
+    ``lot`` draws every stated geometry sd as the lot spread, ``tested`` none (docs/physics.md §15)."""
     pam, structure = segment.pam, muscle.structure
     fit = _covariance(pam, structure, where)
     stated = np.zeros(structure.size)  # every stated geometry sd, the prior of undetermined directions
     given = getattr(pam, "geometry_sd", None) or {}
     for name, k in zip(given, _names_index(given, structure, where), strict=True):
         stated[k] = float(given[name])
-    tolerance = np.where(np.diag(fit) > 0, 0.0, stated)  # a calibrated entry's spread is the fit's
     u = getattr(pam, "uncertainty", None)
+    unit = getattr(segment, "unit", "lot")
+    if unit == "tested" and u is None and pam.covariance is None:
+        raise InputError(f"{where}: 'unit: tested' says the segment carries the very muscle the PAM file was "
+                         f"fitted to, but the PAM '{pam.name}' has no 'uncertainty:' block (written by "
+                         "`pampipe identify -o`): nothing describes that muscle's fit. Say 'unit: lot' (the "
+                         "stated geometry sds are then drawn as the lot spread), or give the PAM written by "
+                         "identify.")
+    tolerance = np.zeros(structure.size) if unit == "tested" else stated
     error = float(getattr(u, "model_error", 0.0) or 0.0)
     units = np.array([scaled_unit(name) for name in structure.names()])
     directions = []
@@ -140,7 +151,7 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
     shift, sds = _prior(directions, muscle, stated, prior, where)
     key = segment.pam_file if segment.pam_file is not None else id(pam)
     return MuscleUncertainty(muscle.parameter_vector(), fit, tolerance, error, tuple(directions),
-                             shift, sds, key)
+                             shift, sds, key, unit)
 
 
 def _prior(directions, muscle: Muscle, stated: np.ndarray, prior, where: str):
@@ -199,11 +210,13 @@ def _gaussian(rng, cov: np.ndarray, n: int) -> np.ndarray:
 
 def draw_muscles(muscles: list[MuscleUncertainty], n: int, seed: int, kappa_sd: float) -> MuscleDraws:
     """``n`` joint draws of the muscles' sources (one stream seeded by ``seed``, in segment order) and of κ
-    (its own keyed stream): equal seeds give equal draws, in any process."""
+    (its own keyed stream): equal seeds give equal draws, in any process. The tested segments of one PAM
+    file are one muscle: they take the first one's draws (prior, model error; no lot spread)."""
     rng = np.random.default_rng(seed)
     fits, params = {}, {"moduli": [], "geometry": [], "prior": []}
     errors = []
-    for m in muscles:
+    tested: dict = {}  # fit key → the first tested segment of that PAM file
+    for i, m in enumerate(muscles):
         if m.fit_key not in fits:
             fits[m.fit_key] = _gaussian(rng, m.fit, n)
         params["moduli"].append(fits[m.fit_key])
@@ -213,6 +226,11 @@ def draw_muscles(muscles: list[MuscleUncertainty], n: int, seed: int, kappa_sd: 
             prior += np.outer(shift + sd * rng.standard_normal(n), d.step)
         params["prior"].append(prior)
         errors.append(rng.standard_normal(n) * m.model_error)
+        if m.unit == "tested":  # the stream is drawn as for any segment: the others' draws do not move
+            first = tested.setdefault(m.fit_key, i)
+            for key in params:
+                params[key][i] = params[key][first]
+            errors[i] = errors[first]
     kappa = keyed_normal(seed, "kappa", (), n) * kappa_sd if kappa_sd > 0 else np.zeros(n)
     return MuscleDraws(n, params, errors, kappa)
 

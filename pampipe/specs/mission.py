@@ -21,12 +21,17 @@ LOAD_PATH_KAPPA = {"through_anchor": 1.0, "distributed": 0.5, "none": 0.0}
 
 @dataclass(frozen=True)
 class Segment:
-    """One segment of the robot (rear to front): its muscle and its mass."""
+    """One segment of the robot (rear to front): its muscle and its mass.
+
+    ``unit`` says which muscle it carries: ``"tested"``, the very muscle its PAM file was fitted to, or
+    ``"lot"``, another muscle of the same lot (docs/physics.md §15: what `plan --confidence` draws).
+    """
 
     name: str
     pam: Pam
     mass: float  # [kg]
     pam_file: Path | None = None  # the PAM file it names (None for an inline PAM)
+    unit: str = "lot"  # "tested" | "lot"
 
 
 @dataclass(frozen=True)

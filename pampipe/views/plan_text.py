@@ -192,17 +192,18 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
     """The sampled plan: probabilities and pressures per element, then the sources by influence."""
     c, a = plan.uncertainty, plan.arrays
     levels = list(c.pressure_at)
-    headers = ["section", "segment", f"P [{unit}]", "P(hold)", "P(contact)",
+    headers = ["section", "segment", "unit", f"P [{unit}]", "P(hold)", "P(contact)",
                *(f"P@{k} [{unit}]" for k in levels)]
     out = []
     for s in rows.tolist():
         if not a.complete[s]:
             continue
         for i, name in enumerate(a.segment_names):
-            if s in c.undetermined:
-                out.append((a.route.name[s], name, "-", "undetermined", "-", *["-"] * len(levels)))
+            if c.is_stopped(s, i):
+                out.append((a.route.name[s], name, c.units[i], "-", "undetermined", "-",
+                            *["-"] * len(levels)))
                 continue
-            out.append((a.route.name[s], name, a.pressure[s, i] / scale,
+            out.append((a.route.name[s], name, c.units[i], a.pressure[s, i] / scale,
                         f"{c.holding_probability[s, i]:.4f} ± {c.holding_se[s, i]:.4f}",
                         f"{c.contact_probability[s, i]:.4f}",
                         *(float(c.pressure_at[k][s, i] / scale) for k in levels)))
@@ -211,7 +212,8 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
             " "
             "P is the least pressure that holds in that share of the draws (P(hold) ± its Monte Carlo "
             "error; holding includes touching the wall: P(contact) is the share in which the unloaded "
-            "muscle touches the largest bore):", table(headers, out),
+            "muscle touches the largest bore; unit: the muscle it holds for, 'tested' the one its PAM file "
+            "was fitted to, 'lot' another of its lot):", table(headers, out),
             f"what each source adds alone (its {c.level:.3g} quantile with the others at their nominal "
             "values, the worst element):", table(["source", "what", f"adds [{unit}]"], sources)]
     if c.prior:

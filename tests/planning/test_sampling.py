@@ -152,10 +152,11 @@ def test_same_seed_same_plan_and_seed_changes_within_the_band():
 
 
 def _undetermined_pam(radial_pam):
-    """The demo muscle, its hoop.a0 left undetermined by (say) axial-only data."""
+    """The demo muscle, its hoop.a0 left undetermined by (say) axial-only data, open over ± 2 MPa: enough to
+    move the plan by more than a tenth of its margin to the supply (exit 3)."""
     vector = np.zeros(16)
     vector[8] = 1.0  # hoop.a0
-    direction = UndeterminedDirection(vector, 1.0, {}, "a radial test at 76.2 mm (3 in)")
+    direction = UndeterminedDirection(vector, 2.0, {}, "a radial test at 76.2 mm (3 in)")
     cov = np.diag(np.r_[np.full(8, 0.05e6), np.zeros(8)] ** 2)
     u = ParameterUncertainty(moduli_names(3), cov, 0.0, (direction,))
     return dataclasses.replace(radial_pam, name="axial-only").with_uncertainty(u)
@@ -228,7 +229,7 @@ def test_a_stated_geometry_sd_is_the_prior_of_an_undetermined_geometry_direction
     names = (*moduli_names(3), "braid_angle")
     vector = np.zeros(17)
     vector[16] = 1.0
-    direction = UndeterminedDirection(vector, 2.0, {}, "a radial test at 76.2 mm (3 in)")
+    direction = UndeterminedDirection(vector, 4.0, {}, "a radial test at 76.2 mm (3 in)")  # ± 4°: stops one
     cov = np.diag(np.r_[np.full(16, 0.05e6), 0.0] ** 2)
     u = ParameterUncertainty(names, cov, 0.0, (direction,))
     pam = radial_pam.with_uncertainty(u)
