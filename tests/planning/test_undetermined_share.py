@@ -19,7 +19,7 @@ from pampipe.io.pamfile import write_pam
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
 from pampipe.planning import plan_mission
 from pampipe.planning.sampling import OPEN_SHARE
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 DEMO = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
 HOOP_A0 = 8  # index of hoop.a0 in the moduli vector

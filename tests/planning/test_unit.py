@@ -21,7 +21,7 @@ from pampipe.planning import plan_mission
 from pampipe.planning.confidence import sampling_problem
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.sampling import muscle_draws
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 #: A PAM as `identify -o` writes it after calibrating the braid angle (its variance in the uncertainty
 #: block, (0.01°)²), with the lot's stated sds on D₀ (0.5 mm) and on the braid angle (1°).

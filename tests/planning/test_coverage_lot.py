@@ -22,7 +22,7 @@ from pampipe.model import no_slip
 from pampipe.model.muscle import Muscle
 from pampipe.model.uncertainty import ParameterUncertainty, moduli_names
 from pampipe.planning import plan_mission
-from tests.conftest import PROBLEMS
+from tests.support.problems import PROBLEMS
 
 LOT_SD = {"initial_length": 1e-3, "initial_diameter": 0.5e-3, "braid_angle": math.radians(1.0),
           "bladder_thickness": 0.25e-3}
