@@ -199,4 +199,6 @@ def _infeasible(plan, shown: int) -> str:
         names = ", ".join(f"after {n!r}" for n in blocked[:shown])
         more = f" and {len(blocked) - shown} more" if len(blocked) > shown else ""
         parts.append(f"{len(blocked)} of {len(plan.bends)} bends cannot be passed ({names}{more})")
+    if plan.tether is not None and plan.tether.reason() is not None:
+        parts.append(plan.tether.reason().rstrip("."))
     return "; ".join(parts) + "; the reasons are listed above."

@@ -14,6 +14,7 @@ import numpy as np
 from pampipe.commands.plan import FULL_TABLE
 from pampipe.units.quantities import to_si
 from pampipe.views.tables import table
+from pampipe.views.tether_text import tether_text
 
 SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
 INCH = 0.0254
@@ -52,6 +53,8 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
               "P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
               "P - P_anchor (thin: below what a 1 mm wider bore or a 1 deg braid angle error costs); "
               "margin = capacity / W (the safety factor where no slip sets the pressure)."]
+    if plan.tether is not None:
+        parts.append(tether_text(plan, rows))
     if plan.uncertainty is not None:
         parts += _confidence_text(plan, rows, unit, scale)
     if plan.bends:
