@@ -18,6 +18,7 @@ tether_drag + T: worst bores and effects included), and x = (T* − T_in)/k exac
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -27,6 +28,7 @@ from scipy.optimize import brentq
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.problem import build_elements
 from pampipe.planning.tension import tension_slope, tensions
+from pampipe.specs.tether import Tether
 
 #: Reasons of the plan whose stop point is searched inside the section (the tension may be the cause).
 PRESSURE_REASONS = ("above_supply", "above_rating")
@@ -48,19 +50,19 @@ class Reach:
         return {"reachable": self.reachable, "distance_m": self.distance, "section": self.section,
                 "limit": self.limit, "tension_N": self.tension, "reason": self.reason}
 
-    def sentence(self) -> str:
-        """The reach in words."""
+    def sentence(self, *, tether: bool = True) -> str:
+        """The reach in words (``tether``: with the tension there)."""
         where = f"{self.distance:.6g} m from the entry, in section {self.section!r}"
         if self.reachable:
-            return (f"reach: the whole route, {self.distance:.6g} m (tether tension at the end "
-                    f"{self.tension:.4g} N)")
+            return f"reach: the whole route, {self.distance:.6g} m" + (
+                f" (tether tension at the end {self.tension:.4g} N)" if tether else "")
         why = {"supply": "the least holding pressure reaches the supply",
                "rating": "the least holding pressure reaches a muscle's rated pressure",
                "tether_length": "the tether on the reel runs out"}.get(self.limit or "")
         if why is None:
             why = ("the robot cannot pass the bend at its end" if self.reason == "bend"
                    else f"the plan cannot cross it ({self.reason})")
-        return f"reach: {where}: {why} (tether tension {self.tension:.4g} N)"
+        return f"reach: {where}: {why}" + (f" (tether tension {self.tension:.4g} N)" if tether else "")
 
 
 @dataclass(frozen=True)
@@ -101,6 +103,14 @@ def plan_tether(mission, muscles, arrays, bends) -> TetherPlan:
                     index=len(route) - 1)
         return TetherPlan(t_in, t_out, end, mission.tether.length)
     return TetherPlan(t_in, t_out, min(stops, key=lambda r: r.distance), mission.tether.length)
+
+
+def route_reach(mission, muscles, arrays, bends) -> TetherPlan:
+    """:func:`plan_tether`, also for a mission without a tether: no tension, an endless reel, so the reach is
+    the first section the plan cannot cross or the first bend the robot cannot pass."""
+    if mission.tether is None:
+        mission = dataclasses.replace(mission, tether=Tether(0.0, 0.0, 0.0, math.inf))
+    return plan_tether(mission, muscles, arrays, bends)
 
 
 def _entries(route) -> np.ndarray:
