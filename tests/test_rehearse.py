@@ -100,6 +100,22 @@ def test_a_negligible_hose_is_the_valve_and_a_long_one_agrees_with_fluids():
     assert valve_flow == pytest.approx(long(chamber_pressure), rel=2e-3)
 
 
+def test_many_hose_lengths_read_a_grid_of_curves_within_its_interpolation_error():
+    from pampipe.pneumatics.hose import SupplyCurves
+
+    valve, gas, hose = Valve(), Gas(), Hose(0.006, 1.5e-6)
+    lengths = np.linspace(10.0, 100.0, 120)
+    curves = SupplyCurves(hose, lengths, supply=689e3, valve=valve, gas=gas)
+    assert len(curves.curves) < lengths.size  # a grid, not a curve per length
+    pressure = np.tile([500.0, 1e5, 3e5, 5e5], (3, 1))
+    which = np.array([7, 60, 113])
+    exact = np.stack([supply_curve(hose, lengths[k], supply=689e3, valve=valve, gas=gas)(pressure[0])
+                      for k in which])
+    assert curves.flow(pressure, which) == pytest.approx(exact, rel=2e-4)
+    few = SupplyCurves(hose, lengths[:3], supply=689e3, valve=valve, gas=gas)  # one curve per length
+    assert len(few.curves) == 3 and np.all(few.weight == 0)
+
+
 def _hose_end(flow: float, inlet: float, hose, gas) -> float:
     """The outlet pressure at which the hose passes ``flow`` (bisection on :func:`hose_flow`)."""
     low, high = 1.0, inlet

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -81,13 +82,54 @@ class SupplyCurve:
     pressure: np.ndarray  # gauge, ascending: the first where the valve (or hose) chokes, the last the supply
     flow: np.ndarray  # [kg/s], falling to 0 at the supply
 
-    def __call__(self, pressure) -> np.ndarray:
+    @cached_property
+    def _curve(self):
         from scipy.interpolate import PchipInterpolator
 
+        return PchipInterpolator(self.pressure, self.flow, extrapolate=False)
+
+    def __call__(self, pressure) -> np.ndarray:
         p = np.asarray(pressure, dtype=float)
-        curve = PchipInterpolator(self.pressure, self.flow, extrapolate=False)
         inside = np.clip(p, self.pressure[0], self.pressure[-1])
-        return np.where(p <= self.pressure[0], self.flow[0], np.maximum(curve(inside), 0.0))
+        return np.where(p <= self.pressure[0], self.flow[0], np.maximum(self._curve(inside), 0.0))
+
+
+#: Largest ratio between neighbouring hose lengths of a :class:`SupplyCurves` grid: a flow read between two is
+#: interpolated linearly in log L, within about (ln 1.05)²/32 ≈ 1e-4 of its own curve (ṁ ~ L^(-1/2)).
+GRID_RATIO = 1.05
+
+
+class SupplyCurves:
+    """The supply curves of many hose lengths: one per length where they are few, else one per point of a
+    geometric grid spanning them (ratio :data:`GRID_RATIO`), a length between two read linearly in log L."""
+
+    def __init__(self, hose, lengths, *, supply: float, valve: Valve, gas: Gas):
+        lengths = np.asarray(lengths, dtype=float)
+        low, high = float(lengths.min()), float(lengths.max())
+        grid = np.unique(lengths)
+        if high > low and grid.size > 1 + math.log(high / low) / math.log(GRID_RATIO):
+            grid = np.geomspace(low, high, 2 + int(math.log(high / low) / math.log(GRID_RATIO)))
+        self.curves = [supply_curve(hose, float(length), supply=supply, valve=valve, gas=gas)
+                       for length in grid]
+        self.below = np.clip(np.searchsorted(grid, lengths, side="right") - 1, 0, grid.size - 1)
+        above = np.minimum(self.below + 1, grid.size - 1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            weight = np.log(lengths / grid[self.below]) / np.log(grid[above] / grid[self.below])
+        self.weight = np.where(above > self.below, weight, 0.0)
+
+    def flow(self, pressure: np.ndarray, which: np.ndarray) -> np.ndarray:
+        """ṁ [kg/s] at gauge ``pressure`` (rows, ...) for the lengths ``which`` (rows,) index."""
+        out = np.empty_like(pressure)
+        below, weight = self.below[which], self.weight[which]
+        for k in np.unique(below).tolist():
+            mine = below == k
+            value = self.curves[k](pressure[mine])
+            upper = weight[mine] > 0
+            if upper.any():
+                t = weight[mine][upper][:, None]
+                value[upper] = (1 - t) * value[upper] + t * self.curves[k + 1](pressure[mine][upper])
+            out[mine] = value
+        return out
 
 
 def supply_curve(hose, length: float, *, supply: float, valve: Valve, gas: Gas,

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.locomotion.table import VALVES, sequential_table
-from pampipe.pneumatics.hose import supply_curve
+from pampipe.pneumatics.hose import SupplyCurves
 from pampipe.pneumatics.timing import GAS_CONSTANT, ISO_DENSITY, Chamber, transition_times
 
 #: Gauss–Legendre nodes and weights over a section's walked part (weights summing to 1).
@@ -133,19 +133,13 @@ def _hose_cycles(mission, options, table, target, lengths) -> np.ndarray:
     """(k, nodes) [s] the cycle time of each walked section with the hose deployed to ``lengths`` (k, nodes):
     the table's phases, its fills replaced by fills through the hose (:mod:`pampipe.pneumatics.hose`)."""
     supply = mission.supply_pressure
-    unique, which = np.unique(lengths, return_inverse=True)
-    curves = [supply_curve(mission.tether.hose, float(length), supply=supply, valve=options.valve,
-                           gas=options.gas) for length in unique]
+    curves = SupplyCurves(mission.tether.hose, lengths.ravel(), supply=supply, valve=options.valve,
+                          gas=options.gas)
     shape = (*lengths.shape, target.shape[1])  # (k, nodes, segments)
-    curve_of_row = np.broadcast_to(which.reshape(lengths.shape)[..., None], shape).ravel()
+    length_of_row = np.broadcast_to(np.arange(lengths.size).reshape(lengths.shape)[..., None], shape).ravel()
 
     def fill_flow(pressure, at):
-        flow = np.empty_like(pressure)
-        index = curve_of_row[at]
-        for c in np.unique(index).tolist():
-            mine = index == c
-            flow[mine] = curves[c](pressure[mine])
-        return flow
+        return curves.flow(pressure, length_of_row[at])
 
     c = table.chamber
     fields = [np.broadcast_to(np.asarray(f)[:, None, :], shape) for f in
