@@ -12,6 +12,8 @@
 
 from __future__ import annotations
 
+import math
+
 from pampipe.locomotion import gait_options
 from pampipe.planning import plan_mission
 from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
@@ -32,13 +34,13 @@ def rehearse_mission(mission, *, optimal: bool = False, confidence: float | None
     plan = plan_mission(mission, confidence=confidence, samples=samples, seed=seed)
     options = gait_options(mission.gait, source=mission.source)
     tether = plan.tether or route_reach(mission, plan.muscles, plan.arrays, plan.bends)
-    end = tether.reach.distance
+    end = math.inf if tether.reach.reachable else tether.reach.distance  # reachable: every section whole
     ratios = None
     if optimal:
         rows = walked_sections(mission, plan, end)
         ratios = optimal_ratios(mission, plan, options, rows, progress=progress)
     if progress is not None:
-        progress(f"walking {end:.6g} m of the route ...")
+        progress(f"walking {tether.reach.distance:.6g} m of the route ...")
     walk = walk_route(mission, plan, options, end, ratios=ratios)
     result = Rehearsal(str(mission.source), "optimal" if optimal else "sequential", walk, tether, plan,
                        mission.tether, options.gas)
