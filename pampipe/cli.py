@@ -25,7 +25,7 @@ from pampipe.units import display
 
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
-            "export")
+            "export", "rehearse")
 #: Exit codes of an interrupted run: 128 + SIGINT, 128 + SIGTERM.
 INTERRUPTED = (130, 143)
 #: Exit code of an unexpected internal error (a bug).

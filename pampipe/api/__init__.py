@@ -205,6 +205,31 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
     return GaitReport(sequential, best, bends)
 
 
+def rehearse(mission: Source, *, optimal: bool = False, confidence: float | None = None,
+             samples: int | None = None, seed: int | None = None, base=None,
+             progress: Progress | None = None):
+    """The whole route in time (`pampipe rehearse`): per section the gait's cycles, time and free air, the
+    tether, the supply hose and the compressor, the reach; with ``confidence`` C (``samples`` draws seeded by
+    ``seed``) the chance of completing the route. Returns a :class:`pampipe.rehearsal.Rehearsal`
+    (``to_dict()``: the JSON document)."""
+    from pampipe.errors import InputError
+    from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
+    from pampipe.rehearsal import rehearse_mission
+
+    optimal = arg.flag(optimal, "optimal")
+    if confidence is not None:
+        if isinstance(confidence, str):
+            raise InputError(f"confidence: {show(confidence)} is text; give a probability in [0.5, 1) as a "
+                             "number, e.g. 0.95.")
+        confidence = arg.number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
+    samples = DEFAULT_SAMPLES if samples is None else arg.whole(samples, "samples", least=100)
+    seed = DEFAULT_SEED if seed is None else arg.whole(seed, "seed", least=0)
+    started = time.perf_counter()
+    result = rehearse_mission(load_mission(mission, base=base), optimal=optimal, confidence=confidence,
+                              samples=samples, seed=seed, progress=progress)
+    return result.timed(time.perf_counter() - started)
+
+
 #: Structures whose last optimal-gait solution :func:`gait` keeps to start the next solve from (and
 #: inputs whose sequential schedule it keeps).
 WARM_STARTS_KEPT = 8

@@ -90,6 +90,11 @@ def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKET
     if not is_sketch_name(sketch_name):
         raise InputError(f"sketch_name: {sketch_name!r} is not an Arduino sketch name: 1 to 63 ASCII "
                          "letters, digits, '_', '.' or '-', starting with a letter or digit.")
+    if getattr(mission, "tether", None) is not None:
+        raise InputError(f"{mission.source}: tether: the exported law takes the bore, incline, friction and "
+                         "payload only, and a tether's tension grows along the route (docs/physics.md §16); "
+                         "export the mission without its tether: block, with tether_drag set to the largest "
+                         "tension `pampipe plan` reports.")
     margins = () if confidence is None else confidence_margins(mission, confidence, **sampling)
     law = mission_law(mission, confidence=confidence, margins=margins)
     gaits = section_gaits(mission, law, progress=progress)

@@ -27,6 +27,7 @@ from pampipe.io.schema_fields import (
     RouteLength,
     relative,
 )
+from pampipe.io.tether_schema import TetherSchema, build_tether
 from pampipe.io.yamlfile import load_mapping
 from pampipe.model.domain import check_kind
 from pampipe.runtime.collector import paused
@@ -119,6 +120,7 @@ class MissionSchema(Strict):
     gait: dict[str, Any] | None = None  # options of `gait`; validated there
     elbow_radius: str | float | int = "1.5 D"  # default centreline radius of a bend: a length or "k D"
     bend_model: Literal["rigid", "flexible"] = "rigid"
+    tether: TetherSchema | None = None  # the tether, hose and compressor (pampipe.io.tether_schema)
 
 
 #: The safety factor of a mission that gives none, and what the commands say about it.
@@ -171,7 +173,7 @@ def _load_mission(path: Path, raw: dict | None) -> Mission:
     return Mission(path, segments, schema.robot.payload, schema.supply_pressure, safety_factor,
                    load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
                    kappa_sd=kappa_sd, load_coupling=kappa, steering=steering, bend_model=schema.bend_model,
-                   joint_angle=schema.robot.joint_angle)
+                   joint_angle=schema.robot.joint_angle, tether=build_tether(schema.tether))
 
 
 def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:

@@ -41,6 +41,7 @@ class SequentialTable:
     pressures: np.ndarray  # (n, 7, 3) [Pa] gauge at the end of steps I … VII
     cycle_time: np.ndarray  # (n,) [s]
     stride: np.ndarray  # (n,) [m]
+    chamber: Chamber | None = None  # (n, 3) fields: each segment's chamber in each section
 
 
 def _muscle_key(muscle) -> tuple:
@@ -102,4 +103,4 @@ def sequential_table(mission, plan, options: GaitOptions, sections) -> Sequentia
     middle = plan.muscles[MIDDLE]
     anchored = a.anchored_length[sections, MIDDLE]
     stride = np.maximum(float(middle.free_length(max(vented, 0.0))[0]), anchored) - anchored
-    return SequentialTable(sections, durations, np.stack(pressures, axis=1), cycle, stride)
+    return SequentialTable(sections, durations, np.stack(pressures, axis=1), cycle, stride, chamber)

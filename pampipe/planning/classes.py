@@ -28,24 +28,34 @@ class Classes:
     mu: np.ndarray
     mu_sd: np.ndarray
     incline: np.ndarray  # [rad]
+    drag: np.ndarray | None = None  # [N] the constant load of each class (None: the mission's tether_drag)
+    drag_draws: np.ndarray | None = None  # (C, n) [N] that load in each draw of the tether's friction
 
     def __len__(self) -> int:
         return self.low.size
 
     def part(self, rows: slice) -> Classes:
-        return Classes(*(getattr(self, f.name)[rows] for f in dataclasses.fields(self)))
+        return Classes(*(None if getattr(self, f.name) is None else getattr(self, f.name)[rows]
+                         for f in dataclasses.fields(self)))
 
 
-def section_classes(route, elements) -> tuple[Classes, np.ndarray]:
-    """(the classes, the class of each section (S,))."""
+def section_classes(route, elements, drag=None, drag_draws=None) -> tuple[Classes, np.ndarray]:
+    """(the classes, the class of each section (S,)). With a tether, ``drag`` [N] (S,) is each section's
+    constant load (:func:`~pampipe.planning.tension.section_drag`), a column of the classes; with its
+    ``drag_draws`` (S, n) every section is a class of its own (its tension draws are its own)."""
     valid = np.asarray(elements.valid, dtype=bool)
     m = valid.shape[1]
     columns = [route.diameter_low, route.diameter_high, elements.diameter, valid, route.diameter_sd,
                route.friction, route.friction_sd, route.incline]
+    tethered = np.ndim(drag) == 1
+    if tethered:
+        columns += [drag] + ([np.arange(len(route))] if drag_draws is not None else [])
     table = np.column_stack(columns).astype(float)
-    rows, inverse = np.unique(table, axis=0, return_inverse=True)
+    rows, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)
     classes = Classes(rows[:, 0], rows[:, 1], rows[:, 2:2 + m], rows[:, 2 + m:2 + 2 * m] > 0.5,
-                      *(rows[:, 2 + 2 * m + k] for k in range(4)))
+                      *(rows[:, 2 + 2 * m + k] for k in range(4)),
+                      drag=rows[:, 2 + 2 * m + 4] if tethered else None,
+                      drag_draws=None if drag_draws is None else drag_draws[first])
     return classes, np.asarray(inverse).reshape(-1)
 
 

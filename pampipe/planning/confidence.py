@@ -40,6 +40,7 @@ from pampipe.planning.sources import (
     muscle_sources,
     muscle_uncertainty,
 )
+from pampipe.planning.tension import drawn_drag, section_drag
 from pampipe.runtime.executors import executor, run_all
 
 METHOD = "monte_carlo"
@@ -126,8 +127,9 @@ def check_uncertainty(mission, uncertainties) -> None:
     route = mission.route
     muscle_sources = any(np.any(u.fit) or np.any(u.tolerance) or u.model_error > 0 or u.undetermined
                          for u in uncertainties)
+    tether = getattr(mission, "tether", None)
     if not (muscle_sources or np.any(route.friction_sd > 0) or np.any(route.diameter_sd > 0)
-            or getattr(mission, "kappa_sd", 0.0) > 0):
+            or getattr(mission, "kappa_sd", 0.0) > 0 or (tether is not None and tether.friction_sd > 0)):
         raise InputError(
             f"{mission.source}: --confidence needs an uncertainty: no PAM file has an 'uncertainty:' "
             "block (written by `pampipe identify`) or a geometry '{value, sd}', and no route section gives "
@@ -153,6 +155,8 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
     active = muscle_sources(draws)
     active += [name for name, sd in (("bore", route.diameter_sd), ("friction", route.friction_sd))
                if np.any(np.asarray(sd) > 0)]
+    drag, drag_draws = section_drag(mission), drawn_drag(mission, samples, seed)
+    active += ["tether"] if drag_draws is not None else []
     problem = Problem(tuple(m.structure for m in muscles), tuple(uncertainties), samples, seed, confidence,
                       tuple(s for s in SOURCES if s in active), float(mission.kappa), kappa_sd,
                       float(mission.safety_factor),
@@ -162,7 +166,7 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
                       tuple(float(x) for x in pressure_limits(mission)) if with_payload else None,
                       key)
     twins = segment_twins(problem, draws, np.asarray(elements.diameter), np.asarray(elements.valid))
-    classes, inverse = section_classes(route, elements)
+    classes, inverse = section_classes(route, elements, drag, drag_draws)
     limits = tuple(float(x) for x in pressure_limits(mission))
     return dataclasses.replace(problem, twins=twins, limits=limits), classes, inverse
 

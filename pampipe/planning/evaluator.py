@@ -114,9 +114,11 @@ class Evaluator:
         self.groups = [_groups(b, statement) for b in self.bores]
         incline = classes.incline[rows]
         self.rise, self.run = np.abs(np.sin(incline)), np.cos(incline)
+        self.drag = None if classes.drag is None else classes.drag[rows]  # a tether (docs/physics.md §16)
+        self.drag_draws = None if classes.drag_draws is None else classes.drag_draws[rows]
         self.affine = not (self.structure.contact or self.structure.effects)  # :mod:`law`'s affine form
-        self._loads: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
-        self._per_class: dict[bool, tuple[np.ndarray, np.ndarray]] = {}
+        self._loads: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+        self._per_class: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
     def inputs(self, sources, nominal=None, drawn_scalar=None) -> tuple:
         """(p (R, size), δ (C, R), μ (C, R), κ (R,), e (R,)) with only ``sources`` drawn around ``nominal``
@@ -148,26 +150,30 @@ class Evaluator:
         p.flags.writeable = False
         return p
 
-    def friction_load(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+    def friction_load(self, drawn: bool, tether: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """(μ (C, n or 1), the anchor's load W(μ) [N] (C, n or 1)) with or without the friction draw, once
         per evaluator (the full draw and friction alone share them), by its affine form in μ
-        (:func:`pampipe.model.no_slip.incline_load_affine`)."""
-        if drawn not in self._loads:
+        (:func:`pampipe.model.no_slip.incline_load_affine`); with a tether its tension per class, in each
+        draw of its friction where ``tether``."""
+        key = (drawn, tether and self.drag_draws is not None)
+        if key not in self._loads:
             pr = self.problem
             mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))
             slope, at_zero = incline_load_affine(pr.total_mass, pr.masses[self.i], self.rise, self.run,
-                                                 pr.tether_drag)
+                                                 pr.tether_drag if self.drag is None else 0.0)
             load = np.multiply(mu, slope[:, None])
             load += at_zero[:, None]
-            self._loads[drawn] = mu, load
-        return self._loads[drawn]
+            if self.drag is not None:
+                load = load + (self.drag_draws if key[1] else self.drag[:, None])
+            self._loads[key] = mu, load
+        return self._loads[key]
 
-    def per_class(self, drawn: bool) -> tuple[np.ndarray, np.ndarray]:
+    def per_class(self, drawn: bool, tether: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """:func:`law.per_class` (W, W/μ [N]) of :meth:`friction_load`, once per evaluator."""
-        if drawn not in self._per_class:
-            mu, load = self.friction_load(drawn)
-            self._per_class[drawn] = per_class(load, mu)
-        return self._per_class[drawn]
+        if (drawn, tether) not in self._per_class:
+            mu, load = self.friction_load(drawn, tether)
+            self._per_class[drawn, tether] = per_class(load, mu)
+        return self._per_class[drawn, tether]
 
     def monotone(self, name: str) -> int:
         """+1 (−1) where P* is non-decreasing (non-increasing) in the one drawn source ``name``, in floating
@@ -212,7 +218,7 @@ class Evaluator:
             return (least if raw else settle(least)).T, touch.T, None
         pr = self.problem
         p, bore, mu, kappa, error = self.inputs(sources, nominal, drawn_scalar)
-        load = self.friction_load("friction" in sources)[1]
+        load = self.friction_load("friction" in sources, "tether" in sources)[1]
         columns = p.T[:, None, :]  # (size, 1, n or 1)
         least = held = touch = None
         for group, c in self._in_bores(p, bore, sources, nominal):
@@ -242,7 +248,7 @@ class Evaluator:
         (:func:`law.raw_least`, four passes per bore), run by run of classes in one bore (the classes come
         sorted by bore), with each bore's :class:`law.Terms` kept per process (:meth:`_terms`)."""
         p, bore, _, kappa, error = self.inputs(sources, nominal, drawn_scalar)
-        w, per_mu = self.per_class("friction" in sources)
+        w, per_mu = self.per_class("friction" in sources, "tether" in sources)
         shape = np.broadcast_shapes(w.shape, (1, p.shape[0]), (1, bore.shape[1]), (1, kappa.size),
                                     (1, error.size))
         spare, least = np.empty(shape), None

@@ -15,6 +15,7 @@ from pampipe.planning.contact import contact_costs
 from pampipe.planning.feasibility import plan_feasible, section_reasons, undetermined_reasons
 from pampipe.planning.payload import element_payloads, payload_limit
 from pampipe.planning.problem import Elements, build_elements, mission_muscles
+from pampipe.planning.reach import plan_tether
 from pampipe.planning.result import MissionPlan, PlanArrays
 from pampipe.planning.solve import Solution, solve
 from pampipe.planning.warnings import plan_warnings, route_coverage
@@ -68,13 +69,15 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
     limit = payload_limit(mission, payloads) if with_max_payload else None
     served = None if mission.route.origin is None else route_coverage(mission.route, codes)
     bends, reducers = plan_bends(mission)
-    return MissionPlan(feasible=not reasons and all(b.passable for b in bends), arrays=arrays,
+    tether = None if mission.tether is None else plan_tether(mission, muscles, arrays, bends)
+    return MissionPlan(feasible=not reasons and all(b.passable for b in bends)
+                       and (tether is None or tether.reason() is None), arrays=arrays,
                        mission=str(mission.source), supply_pressure=mission.supply_pressure,
                        safety_factor=mission.safety_factor, load_path=mission.load_path,
                        payload=mission.payload, method=solution.method, iterations=solution.iterations,
                        checks=checks, confidence=confidence, max_payload=limit, muscles=muscles,
                        kappa=elements.kappa, warnings=plan_warnings(mission, arrays, confidence),
-                       coverage=served, bends=bends, reducers=reducers, uncertainty=sampled)
+                       coverage=served, bends=bends, reducers=reducers, uncertainty=sampled, tether=tether)
 
 
 def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, nominal,

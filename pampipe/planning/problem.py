@@ -5,7 +5,8 @@ I…VII, the segments {2}, {1,2}, {1}, {1,3}, {3}, {2,3}, {2}: every segment is 
 some step, so in every section each segment must hold the section's whole load alone.
 
 * Load on the single anchor i in section s (incline φ, wall friction μ, M = segment masses + payload):
-  W = g·(M·|sin φ| + μ·cos φ·(M − m_i)) + tether_drag  [N]  (:func:`pampipe.model.no_slip.incline_load`).
+  W = g·(M·|sin φ| + μ·cos φ·(M − m_i)) + tether_drag  [N]  (:func:`pampipe.model.no_slip.incline_load`),
+  plus the tether's largest tension in the section where the mission has one (docs/physics.md §16).
 * No slip: μπF_r(P, D_s, κW) ≥ SF·W, asked of the segment's :class:`~pampipe.model.muscle.Muscle`.
 * Contact: P ≥ max(P_a(κW), 0), the pressure at which the loaded muscle presses on the wall.
 * A bore range [D_low, D_high] (a tolerance): each element is planned in its worst bore, the D of the
@@ -24,6 +25,7 @@ import numpy as np
 from pampipe.model.muscle import Muscle
 from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.bores import worst_bores
+from pampipe.planning.tension import section_drag
 
 #: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
 #: table itself, linear in elements (benchmarks/bench_plan.py).
@@ -125,9 +127,11 @@ def route_columns(route) -> RouteColumns:
 
 
 def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | None = None,
-                   route=None) -> Elements:
+                   route=None, drag=None) -> Elements:
     """Evaluate the muscles once per element for ``mission`` (payload [kg] overrides the mission's;
-    ``route``, columns as :func:`route_columns` reads them, overrides its route).
+    ``route``, columns as :func:`route_columns` reads them, overrides its route; ``drag`` [N], a number or
+    one per section, the constant load added to every anchor's, overrides the mission's
+    :func:`~pampipe.planning.tension.section_drag`: ``tether_drag``, plus the tether's largest tension).
 
     A muscle without effects is evaluated once per element (:meth:`Muscle.affine_coefficients`), and
     the loaded anchoring pressure and the least holding pressure (the NLP's KKT point,
@@ -136,6 +140,7 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
     a bore range are first searched for their worst bore (:func:`~pampipe.planning.bores.worst_bores`).
     """
     payload = mission.payload if payload is None else float(payload)
+    drag = section_drag(mission) if drag is None else drag
     r = route_columns(mission.route if route is None else route)
     count, segments = r.diameter.shape[0], len(muscles)
     total_mass = sum(seg.mass for seg in mission.segments) + payload
@@ -157,7 +162,8 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
         per_kg[part] = STANDARD_GRAVITY * (rise + mu * run)
         for i, (seg, muscle) in enumerate(zip(mission.segments, muscles, strict=True)):
             g = muscle.geometry
-            load = incline_load(total_mass, seg.mass, rise, run, mu, mission.tether_drag)
+            load = incline_load(total_mass, seg.mass, rise, run, mu,
+                                drag if np.ndim(drag) == 0 else drag[part])
             if shared_diameter:
                 safe = high = r.diameter[part]
             else:

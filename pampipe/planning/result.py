@@ -197,6 +197,7 @@ class MissionPlan:
     bends: tuple = ()  # pampipe.bends.plan.BendPlan per bend, in travel order
     reducers: tuple = ()  # pampipe.bends.plan.ReducerPlan per change of bore
     uncertainty: object | None = field(default=None, repr=False)  # planning.confidence.Confidence (sampled)
+    tether: object | None = field(default=None, repr=False)  # planning.reach.TetherPlan: tensions, reach
 
     def timed(self, wall_time: float) -> MissionPlan:
         """A copy that reports ``wall_time`` [s]."""
@@ -262,8 +263,9 @@ class MissionPlan:
     @property
     def reasons(self) -> list[str]:
         """'section: reason' for every infeasible section, then the reason of every impassable bend."""
+        reel = [] if self.tether is None or self.tether.reason() is None else [self.tether.reason()]
         return ([f"{self.arrays.route.name[s]}: {r}" for s, r in sorted(self.arrays.reasons.items())]
-                + [b.reason() for b in self.bends if not b.passable])
+                + [b.reason() for b in self.bends if not b.passable] + reel)
 
     def section_documents(self):
         """The documents of the sections one at a time (their uncertainty entries included)."""
@@ -272,6 +274,8 @@ class MissionPlan:
             if self.uncertainty is not None:
                 for i, segment in enumerate(doc["segments"]):
                     segment.update(self.uncertainty.element_document(s, i))
+            if self.tether is not None:
+                doc["tether"] = self.tether.section_document(s)
             yield doc
 
     def as_document(self, *, sections=None, reducers=None) -> dict:
@@ -302,6 +306,8 @@ class MissionPlan:
                             "excluded_pipes": origin.excluded}
         if self.coverage is not None:
             doc["coverage"] = {**self.coverage.as_document(), "scope": "network" if origin.whole else "route"}
+        if self.tether is not None:
+            doc["reach"] = self.tether.reach.as_document()
         return doc
 
 

@@ -92,15 +92,7 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
     retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.runtime.heap)
     draws = muscle_draws(problem)
     n, count, m = problem.samples, len(classes), len(problem.structures)
-    bore = np.zeros((count, n))  # a class's draws are a row; the evaluator takes (n, C) views
-    friction = np.zeros((count, n))
-    for c in range(count):
-        if classes.bore_sd[c] > 0:
-            statement = (classes.low[c], classes.high[c], classes.bore_sd[c])
-            bore[c] = keyed_normal(problem.seed, "bore", statement, n) * classes.bore_sd[c]
-        if classes.mu_sd[c] > 0:
-            statement = (classes.mu[c], classes.mu_sd[c])
-            friction[c] = keyed_normal(problem.seed, "friction", statement, n) * classes.mu_sd[c]
+    bore, friction = class_deviations(problem, classes)
     shape = (count, m)
     out = ChunkResult(np.full(shape, np.inf), np.zeros(shape), np.zeros(shape),
                       {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}, np.full((*shape, 2), np.inf),
@@ -181,6 +173,22 @@ def stop_open(planned: np.ndarray, base: np.ndarray, limit: float) -> tuple[np.n
     with np.errstate(invalid="ignore"):
         shift = planned - base
         return shift, (base <= limit) & ~(shift <= OPEN_SHARE * (limit - base))
+
+
+def class_deviations(problem: Problem, classes: Classes) -> tuple[np.ndarray, np.ndarray]:
+    """(bore δ [m], friction δ) (C, n): each class's draws of its bore and friction statements, a row
+    each (the evaluator takes (n, C) views)."""
+    n, count = problem.samples, len(classes)
+    bore = np.zeros((count, n))
+    friction = np.zeros((count, n))
+    for c in range(count):
+        if classes.bore_sd[c] > 0:
+            statement = (classes.low[c], classes.high[c], classes.bore_sd[c])
+            bore[c] = keyed_normal(problem.seed, "bore", statement, n) * classes.bore_sd[c]
+        if classes.mu_sd[c] > 0:
+            statement = (classes.mu[c], classes.mu_sd[c])
+            friction[c] = keyed_normal(problem.seed, "friction", statement, n) * classes.mu_sd[c]
+    return bore, friction
 
 
 def _copy(out: ChunkResult, j: int, i: int) -> None:

@@ -38,13 +38,14 @@ from pampipe.errors import InputError
 from pampipe.model.muscle import Muscle
 from pampipe.model.uncertainty import scaled_unit
 
-SOURCES = ("moduli", "geometry", "model_error", "bore", "friction", "kappa", "prior")
+SOURCES = ("moduli", "geometry", "model_error", "bore", "friction", "kappa", "prior", "tether")
 #: What each source is, for reports.
 SOURCE_WORDS = {"moduli": "moduli and calibrated geometry (identify's covariance)",
                 "geometry": "lot spread of the geometry (PAM file sd; unit: lot segments)",
                 "model_error": "model error (axial force residual beyond noise)",
                 "bore": "bore sd", "friction": "wall friction sd", "kappa": "load coupling kappa sd",
-                "prior": "prior along undetermined directions"}
+                "prior": "prior along undetermined directions",
+                "tether": "tether friction sd (its tension, docs/physics.md §16)"}
 
 
 @dataclass(frozen=True)
@@ -236,7 +237,7 @@ def draw_muscles(muscles: list[MuscleUncertainty], n: int, seed: int, kappa_sd: 
 
 
 #: Stream tags of the keyed draws (a stream is the seed, a tag and the statement's numbers).
-_TAGS = {"bore": 1, "friction": 2, "kappa": 3}
+_TAGS = {"bore": 1, "friction": 2, "kappa": 3, "tether": 4}
 
 
 def keyed_normal(seed: int, tag: str, statement, n: int) -> np.ndarray:

@@ -202,17 +202,21 @@ def mass_flow(upstream, downstream, valve: Valve, gas: Gas):
             * flow_function(downstream / upstream, valve))
 
 
-def pressure_rate(pressure, command, chamber: Chamber, *, supply: float, valve: Valve, gas: Gas):
+def pressure_rate(pressure, command, chamber: Chamber, *, supply: float, valve: Valve, gas: Gas,
+                  supplied=None):
     """ṗ [Pa/s] of a chamber at gauge pressure P under valve command u ∈ [−1, 1].
 
     u > 0 opens the valve towards the supply (gauge ``supply``) by the fraction u, u < 0 towards
     the atmosphere: ṁ = u⁺·ṁ(p_s → p) − u⁻·ṁ(p → p_atm), ṗ = n·R·T·ṁ / (V + n·p·V′).
     The command's sign must be known for symbolic use: pass ``command`` as (fill, vent) ≥ 0 then.
+    ``supplied`` [kg/s]: the filling mass flow when the supply reaches the valve through a hose
+    (:mod:`pampipe.pneumatics.hose`), in place of the valve's ṁ(p_s → p).
     """
     atm = gas.atmospheric_pressure
     absolute = pressure + atm
     fill, vent = command if isinstance(command, tuple) else (_fmax(command, 0), _fmax(-command, 0))
-    flow = (fill * mass_flow(supply + atm, absolute, valve, gas)
+    inflow = mass_flow(supply + atm, absolute, valve, gas) if supplied is None else supplied
+    flow = (fill * inflow
             - vent * mass_flow(absolute, atm, valve, gas))
     n = gas.polytropic_index
     capacity = chamber.volume(pressure) + n * absolute * chamber.compliance(pressure)
@@ -246,14 +250,17 @@ def _cuts(start, target, anchoring, *, supply: float, valve: Valve, gas: Gas) ->
     return np.sort(np.clip(cuts, lo[:, None], hi[:, None]), axis=1)
 
 
-def transition_times(chamber: Chamber, start, target, *, supply: float, valve: Valve, gas: Gas) -> np.ndarray:
+def transition_times(chamber: Chamber, start, target, *, supply: float, valve: Valve, gas: Gas,
+                     fill_flow=None) -> np.ndarray:
     """Times [s] to go from gauge ``start`` to ``target`` with the valve fully open (u = ±1), one per row.
 
     ``chamber``'s fields, ``start`` and ``target`` broadcast together (the answer is flat, in that
     order). Filling when target > start (target must be below the supply), venting otherwise:
     t = ∫ dP/|ṗ(P)| over the span, by composite Gauss–Legendre on the panels of :func:`_cuts`
     (vectorised over rows: the gait of every section in one pass). Agrees with an adaptive
-    quadrature (QUADPACK at 2e-14) to ~1e-15.
+    quadrature (QUADPACK at 2e-14) to ~1e-15. ``fill_flow(pressure, rows)`` [kg/s], if given, is the
+    filling mass flow at the gauge pressures ``pressure`` of the filling ``rows`` (a supply hose,
+    :mod:`pampipe.pneumatics.hose`), in place of the valve's own from the supply.
     """
     start, target, *fields = (np.ravel(v) for v in np.broadcast_arrays(
         *(np.asarray(v, dtype=float) for v in (start, target, chamber.anchored_volume, chamber.rest_volume,
@@ -276,9 +283,14 @@ def transition_times(chamber: Chamber, start, target, *, supply: float, valve: V
     pressure = (0.5 * (low + high))[:, None] + half[:, None] * nodes[None, :]
     at = row[:, None]
     panel_chamber = Chamber(*(f[at] for f in fields[:3]), tuple(f[at] for f in fields[3:]))
+    supplied = None
+    if fill_flow is not None:
+        supplied, filling = np.zeros_like(pressure), fill[row]
+        if filling.any():
+            supplied[filling] = fill_flow(pressure[filling], row[filling])
     with np.errstate(divide="ignore", invalid="ignore"):
         rate = np.abs(pressure_rate(pressure, np.where(fill, 1.0, -1.0)[at], panel_chamber, supply=supply,
-                                    valve=valve, gas=gas))
+                                    valve=valve, gas=gas, supplied=supplied))
         panels = half * (weights[None, :] / rate).sum(axis=1)
     times = np.bincount(row, weights=panels, minlength=start.size)
     if not np.all(np.isfinite(times)):

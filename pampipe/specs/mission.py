@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from pampipe.model.pam import Pam
+from pampipe.specs.tether import Tether
 
 #: κ of the no-slip condition for each load path (docs/physics.md §8).
 LOAD_PATH_KAPPA = {"through_anchor": 1.0, "distributed": 0.5, "none": 0.0}
@@ -203,6 +204,7 @@ class Mission:
     steering: Steering | None = None
     bend_model: str = "rigid"  # rigid | flexible (docs/physics.md §14)
     joint_angle: float | None = None  # [rad] the largest angle a joint between segments allows (None: free)
+    tether: Tether | None = None  # the tether dragged behind (docs/physics.md §16; None: tether_drag only)
 
     def __post_init__(self):
         if not isinstance(self.route, Route):

@@ -38,7 +38,8 @@ _TOKEN = re.compile(r"\s*(?:(\*\*|\^)\s*(-?\d)(?!\d)|([*/·()])|([²³])|(1)(?=\
 _QUOTES = "\"'″′”’“‘"
 _EXAMPLES = {"length": "3 in", "pressure": "689 kPa", "force": "1024.74 N", "mass": "2.5 kg",
              "angle": "65.92 deg", "time": "2 s", "dimensionless": "0.3", "temperature": "293 K",
-             "sonic conductance": "0.5 dm^3/(s*bar)", "area": "0.5 N/MPa", "compliance": "1e-6 1/N"}
+             "sonic conductance": "0.5 dm^3/(s*bar)", "area": "0.5 N/MPa", "compliance": "1e-6 1/N",
+             "force per length": "0.8 N/m", "mass per length": "80 g/m", "volume flow": "300 L/min"}
 
 
 class _Refused(ValueError):

@@ -27,6 +27,9 @@ DIMENSIONS: dict[str, Dimension] = {
     "pressure": (-1, 1, -2, 0, 0),
     "sonic conductance": (4, -1, 1, 0, 0),  # ISO 6358 C: m³/(s·Pa), volume flow per upstream pressure
     "compliance": (-1, -1, 2, 0, 0),  # 1/N: fibre strain per newton (docs/physics.md §9b)
+    "force per length": (0, 1, -2, 0, 0),  # N/m: a tether's weight per metre (docs/physics.md §16)
+    "mass per length": (-1, 1, 0, 0, 0),  # kg/m: its mass per metre
+    "volume flow": (3, 0, -1, 0, 0),  # m³/s: a compressor's free-air delivery
 }
 
 _L, _M, _T, _K, _A = (tuple(int(i == j) for j in range(5)) for i in range(5))

@@ -13,6 +13,7 @@ import numpy as np
 
 from pampipe.units.quantities import to_si
 from pampipe.views.tables import table
+from pampipe.views.tether_text import tether_text
 
 FULL_TABLE = 60  # sections the text report lists in full; longer routes are summarised
 SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
@@ -52,6 +53,8 @@ def plan_text(plan, *, unit: str = "kPa", all_sections: bool = False) -> str:
               "P_anchor: where the unloaded muscle first touches the largest bore; contact margin = "
               "P - P_anchor (thin: below what a 1 mm wider bore or a 1 deg braid angle error costs); "
               "margin = capacity / W (the safety factor where no slip sets the pressure)."]
+    if plan.tether is not None:
+        parts.append(tether_text(plan, rows))
     if plan.uncertainty is not None:
         parts += _confidence_text(plan, rows, unit, scale)
     if plan.bends:
@@ -285,4 +288,6 @@ def infeasible_reason(plan, shown: int = SHOWN) -> str:
         names = ", ".join(f"after {n!r}" for n in blocked[:shown])
         more = f" and {len(blocked) - shown} more" if len(blocked) > shown else ""
         parts.append(f"{len(blocked)} of {len(plan.bends)} bends cannot be passed ({names}{more})")
+    if plan.tether is not None and plan.tether.reason() is not None:
+        parts.append(plan.tether.reason().rstrip("."))
     return "; ".join(parts) + "; the reasons are listed above."

@@ -15,7 +15,8 @@ MAX_CURVES = 8  # sections drawn in the capacity plot (the first ones with a pla
 def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
     """Write required_pressure.png and holding_capacity.png into ``folder``, pressures in ``unit``; for a
     route read from a network also network_pressure.png, and for any route but a whole network
-    route_profile.png (:mod:`pampipe.views.plots.network`); with ``--confidence`` confidence_tornado.png
+    route_profile.png (:mod:`pampipe.views.plots.network`); with a tether tether_profile.png
+    (:mod:`pampipe.views.plots.tether`); with ``--confidence`` confidence_tornado.png
     (:mod:`pampipe.views.plots.tornado`).
 
     Every number drawn comes from ``plan`` (a :class:`pampipe.planning.MissionPlan`), curves included.
@@ -28,6 +29,10 @@ def plot_plan(plan, folder: Path, *, unit: str = "kPa") -> list[Path]:
     origin = plan.arrays.route.origin
     if origin is None or not origin.whole:
         paths.append(route_profile(plan, folder, unit, scale))
+    if plan.tether is not None:
+        from pampipe.views.plots.tether import tether_profile
+
+        paths.append(tether_profile(plan, folder, unit, scale))
     if origin is not None:
         drawn = network_pressure(plan, folder, unit, scale)
         paths += [drawn] if drawn is not None else []
