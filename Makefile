@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 LOCK   := requirements.lock
 LATEST := .venv-latest
 
-.PHONY: demo test test-slow test-latest lock lint bench fuzz clean
+.PHONY: demo test test-slow test-latest lock lint bench fuzz mutate clean
 
 # pip shows errors only: a build log would hide what the target is for
 PIP    := -m pip install -qq --disable-pip-version-check
@@ -46,6 +46,9 @@ lock: | $(BIN)/python  ## refresh requirements.lock, the tested versions that ev
 fuzz: $(STAMP)  ## long property-based fuzzing profile: 10^4 mutated problem files through the CLI
 	PAMPIPE_FUZZ_EXAMPLES=$${PAMPIPE_FUZZ_EXAMPLES:-10000} PAMPIPE_FUZZ_RANDOM=1 \
 		$(BIN)/python -m pytest tests/commands/test_fuzz.py -q -p no:cacheprovider
+
+mutate: $(STAMP)  ## mutation testing of the safety modules (scripts/mutate.py; MUTATE_ARGS="--sample 40")
+	$(BIN)/python scripts/mutate.py $(MUTATE_ARGS)
 
 lint: $(STAMP)
 	$(BIN)/ruff check pampipe tests benchmarks

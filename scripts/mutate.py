@@ -1,0 +1,181 @@
+"""Mutation testing of the modules that decide a plan's safety (``make mutate``).
+
+Each mutant changes one thing in one module — an arithmetic or comparison operator, a numeric
+constant, ``min``↔``max``, ``all``↔``any``, ``and``↔``or`` — and runs that module's tests against it
+(in a fresh interpreter, stopping at the first failure). A mutant is *killed* when a test fails or the
+run times out, *survives* when every test passes. Mutants judged equivalent (no input can tell them
+from the original) are listed with the reason in ``scripts/mutants-equivalent.txt`` as
+``module:line:column:description  # why`` and left out of the score.
+
+    python scripts/mutate.py                      # every target, every mutant
+    python scripts/mutate.py --sample 40 --seed 1 # 40 mutants drawn per module
+    python scripts/mutate.py --module pampipe/slip/law.py --list
+
+Prints killed, survived and the score per module, and each survivor (the line to write a test for).
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import os
+import random
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+EQUIVALENT = ROOT / "scripts" / "mutants-equivalent.txt"
+
+#: module -> the tests that guard it (paths relative to the repository)
+TARGETS: dict[str, tuple[str, ...]] = {
+    "pampipe/model/forces.py": ("tests/model/test_identities.py", "tests/model/test_published.py",
+                                "tests/model/test_paths.py"),
+    "pampipe/model/muscle.py": ("tests/model/test_identities.py", "tests/model/test_paths.py",
+                                "tests/planning/test_planner.py", "tests/api/test_one_door.py"),
+    "pampipe/planning/law.py": ("tests/planning/test_evaluator.py",),
+    "pampipe/planning/evaluator.py": ("tests/planning/test_evaluator.py",
+                                      "tests/planning/test_confidence.py"),
+    "pampipe/planning/solve.py": ("tests/planning/test_sections.py", "tests/planning/test_limits.py"),
+    "pampipe/export/law.py": ("tests/export/test_export.py", "tests/export/test_law_domain.py"),
+    "pampipe/export/cgen.py": ("tests/export/test_export.py",),
+    "pampipe/slip/law.py": ("tests/slip/test_slip.py",),
+    "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
+}
+
+SWAPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,
+         ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt, ast.Eq: ast.NotEq,
+         ast.NotEq: ast.Eq, ast.And: ast.Or, ast.Or: ast.And}
+NAMES = {"min": "max", "max": "min", "all": "any", "any": "all"}
+
+
+@dataclass(frozen=True)
+class Mutant:
+    line: int
+    column: int
+    description: str
+    source: str  # the whole mutated module
+
+    def key(self, module: str) -> str:
+        return f"{module}:{self.line}:{self.column}:{self.description}"
+
+
+def _docstring_nodes(tree: ast.AST) -> set[int]:
+    out = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                out.add(id(first.value))
+    return out
+
+
+def mutants(source: str) -> list[Mutant]:
+    """Every single-point mutant of ``source`` (each re-parsed from the original, changed at one node)."""
+    tree = ast.parse(source)
+    points = []
+    skip = _docstring_nodes(tree)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp | ast.AugAssign) and type(node.op) in SWAPS:
+            points.append((node, "op"))
+        elif isinstance(node, ast.BoolOp) and type(node.op) in SWAPS:
+            points.append((node, "bool"))
+        elif isinstance(node, ast.Compare):
+            points += [(node, ("cmp", i)) for i, op in enumerate(node.ops) if type(op) in SWAPS]
+        elif isinstance(node, ast.Name) and node.id in NAMES and isinstance(node.ctx, ast.Load):
+            points.append((node, "name"))
+        elif (isinstance(node, ast.Constant) and type(node.value) in (int, float) and id(node) not in skip
+              and not isinstance(node.value, bool)):
+            points.append((node, "const"))
+    out = []
+    for index, (_, kind) in enumerate(points):
+        copy = ast.parse(source)
+        target = [n for n in ast.walk(copy)][[id(n) for n in ast.walk(tree)].index(id(points[index][0]))]
+        if kind in ("op", "bool"):
+            old = type(target.op).__name__
+            target.op = SWAPS[type(target.op)]()
+            text = f"{old}->{type(target.op).__name__}"
+        elif kind == "name":
+            text = f"{target.id}->{NAMES[target.id]}"
+            target.id = NAMES[target.id]
+        elif kind == "const":
+            value = target.value
+            target.value = value + 1 if isinstance(value, int) else (value * 1.01 if value else 1e-3)
+            text = f"{value!r}->{target.value!r}"
+        else:
+            i = kind[1]
+            old = type(target.ops[i]).__name__
+            target.ops[i] = SWAPS[type(target.ops[i])]()
+            text = f"{old}->{type(target.ops[i]).__name__}"
+        out.append(Mutant(target.lineno, target.col_offset, text, ast.unparse(copy)))
+    return out
+
+
+def equivalents() -> set[str]:
+    if not EQUIVALENT.exists():
+        return set()
+    lines = (line.split("#")[0].strip() for line in EQUIVALENT.read_text().splitlines())
+    return {line for line in lines if line}
+
+
+def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
+    """Run ``tests`` with ``module`` replaced by the mutant, in a copy of the package on PYTHONPATH."""
+    with tempfile.TemporaryDirectory() as work:
+        copy = Path(work) / "pampipe"
+        subprocess.run(["cp", "-r", str(ROOT / "pampipe"), str(copy)], check=True)
+        for cache in copy.rglob("__pycache__"):
+            subprocess.run(["rm", "-rf", str(cache)], check=True)
+        (Path(work) / module).write_text(mutant.source, encoding="utf-8")
+        env = {**os.environ, "PYTHONPATH": work + os.pathsep + str(ROOT), "PYTHONDONTWRITEBYTECODE": "1"}
+        try:
+            done = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
+                                   "-m", "not slow", *tests], cwd=ROOT, env=env, capture_output=True,
+                                  timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return True
+        return done.returncode != 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--module", action="append", help="only this target module (repeatable)")
+    parser.add_argument("--sample", type=int, help="at most this many mutants per module, drawn with --seed")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--timeout", type=float, default=600, help="seconds per mutant run (a hang: killed)")
+    parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
+    args = parser.parse_args(argv)
+    skip = equivalents()
+    total_kill = total_live = 0
+    for module, tests in TARGETS.items():
+        if args.module and module not in args.module:
+            continue
+        found = [m for m in mutants((ROOT / module).read_text(encoding="utf-8")) if m.key(module) not in skip]
+        if args.sample and len(found) > args.sample:
+            found = sorted(random.Random(f"{args.seed}:{module}").sample(found, args.sample),
+                           key=lambda m: (m.line, m.column))
+        if args.list:
+            for m in found:
+                print(m.key(module))
+            continue
+        survivors = []
+        for i, m in enumerate(found, 1):
+            print(f"\r{module}: {i}/{len(found)}", end="", file=sys.stderr, flush=True)
+            if not killed(module, m, tests, args.timeout):
+                survivors.append(m)
+        print(file=sys.stderr)
+        kill = len(found) - len(survivors)
+        total_kill, total_live = total_kill + kill, total_live + len(survivors)
+        score = kill / len(found) if found else 1.0
+        print(f"{module}: {kill} killed, {len(survivors)} survived of {len(found)}: score {score:.0%}")
+        for m in survivors:
+            print(f"  survived {m.key(module)}")
+    if not args.list and total_kill + total_live:
+        score = total_kill / (total_kill + total_live)
+        print(f"all: {total_kill} killed, {total_live} survived: score {score:.0%}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
