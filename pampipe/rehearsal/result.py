@@ -11,8 +11,20 @@ from pampipe.pneumatics.timing import GAS_CONSTANT, ISO_DENSITY
 from pampipe.results import notebook
 
 
+def _plot():
+    from pampipe.views.plots.rehearse import plot_rehearsal
+
+    return plot_rehearsal
+
+
+def _text():
+    from pampipe.views.rehearse_text import result_text
+
+    return result_text
+
+
 @notebook(headline=("mission", "completed", "time_s", "free_air_m3", "walked_m", "completion_probability"),
-          plot="pampipe.views.plots.rehearse:plot_rehearsal", text="pampipe.views.rehearse_text:result_text")
+          plot=_plot, text=_text)
 @dataclass(frozen=True)
 class Rehearsal:
     """The whole route in time: the walk section by section, the tether, the supply and the totals."""
