@@ -94,7 +94,8 @@ def main() -> None:
         text, json_cpu = cpu["pampipe plan (text report)"], cpu["pampipe plan --json"]
         ratios = sorted(j / t for (j, _), (t, _) in zip(runs["pampipe plan --json"],
                                                         runs["pampipe plan (text report)"], strict=True))
-        print(f"text report: {text:.2f} s CPU (goal 2.5 s: {'met' if text <= 2.5 else 'NOT met'}; {load})")
+        verdict = ("met" if text <= 2.5 else "NOT met") if args.sections == 100_000 else "not judged"
+        print(f"text report: {text:.2f} s CPU (goal 2.5 s at 10⁵ sections: {verdict}; {load})")
         print(f"--json / text report: {json_cpu / text:.2f}x CPU (round by round "
               f"{ratios[0]:.2f}-{ratios[-1]:.2f}x; goal 1.5x: "
               f"{'met' if json_cpu / text <= 1.5 else 'NOT met'}; {load})")
