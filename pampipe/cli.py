@@ -65,8 +65,14 @@ def _suggestion(parser: argparse.ArgumentParser, message: str) -> str:
     return ""
 
 
-def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParser:
-    """The argument parser with the given command modules registered (all by default)."""
+def build_parser(commands: tuple[str, ...] = COMMANDS, *, arguments: bool = True) -> argparse.ArgumentParser:
+    """The argument parser with the given command modules registered (all by default).
+
+    With ``arguments=False`` each command is listed by its name and help only (enough for ``--help``,
+    ``--version`` and a misspelt command): its ``add_arguments`` is not called, so nothing it needs for its
+    options is imported. A command module's top level imports only light argument-definition code; its
+    ``run`` imports the science (CasADi, pydantic, …) when the command runs.
+    """
     parser = _Parser(
         prog="pampipe",
         description="Plan the inflation pressures of a pneumatic-muscle pipe-crawling robot.",
@@ -84,9 +90,10 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
                 raise
             continue
         command = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
-        module.add_arguments(command)
-        command.set_defaults(run=module.run)
-        parser.commands[name] = command
+        if arguments:
+            module.add_arguments(command)
+            command.set_defaults(run=module.run)
+            parser.commands[name] = command
     return parser
 
 
@@ -132,7 +139,8 @@ def _run(argv: list[str]) -> int:
     chosen = next((a for a in argv if not a.startswith("-")), None)
     try:
         try:
-            parser = build_parser((chosen,) if chosen in COMMANDS else COMMANDS)
+            parser = (build_parser((chosen,)) if chosen in COMMANDS  # a command: only its module
+                      else build_parser(COMMANDS, arguments=False))  # --help, --version, a misspelt command
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)

@@ -295,7 +295,7 @@ def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: 
     Returns a :class:`pampipe.diagnosis.result.DiagnoseResult`; ``augmented_pam()`` is the muscle
     with its effects.
     """
-    from pampipe.diagnosis.selection import FOLDS
+    from pampipe.diagnosis.candidates import FOLDS
     from pampipe.diagnosis.workflow import diagnose as run
 
     folds = FOLDS if folds is None else arg.whole(folds, "folds", least=2)

@@ -9,8 +9,6 @@ from pathlib import Path
 from pampipe.commands.common import add_output_options, add_parallel_options, add_units_option, emit, say
 from pampipe.errors import InfeasibleError
 from pampipe.io.files import check_not_input
-from pampipe.io.inventory_file import load_inventory
-from pampipe.io.pamfile import write_pam
 from pampipe.views.design_text import MAX_PIPE_ROWS, pam_comments, report
 
 NAME = "design"
@@ -56,6 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
+    from pampipe.io.inventory_file import load_inventory
+    from pampipe.io.pamfile import write_pam
 
     inventory = load_inventory(args.inventory)
     if args.output is not None:

@@ -14,20 +14,16 @@ from pampipe.commands.common import (
     say,
     write_html_report,
 )
-from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, GEOMETRY
-from pampipe.diagnosis.selection import FOLDS
-from pampipe.io.csvfile import load_experiment_data
-from pampipe.io.experiment_schema import load_experiment
 from pampipe.io.files import check_output
-from pampipe.io.pamfile import write_pam
-from pampipe.model.effects import LIBRARY
-from pampipe.views.diagnose_text import result_text
 
 NAME = "diagnose"
 HELP = "name the effect missing from the model of an experiment, refit with it, show the gap shrink"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from pampipe.diagnosis.candidates import CANDIDATES, DEFAULT, FOLDS, GEOMETRY
+    from pampipe.model.effects import LIBRARY
+
     parser.add_argument("experiment", type=Path, metavar="EXPERIMENT.yaml",
                         help="experiment file (docs/formats.md §3): a PAM and its axial and radial tests")
     parser.add_argument("-o", "--output", type=Path, metavar="PAM_OUT.yaml",
@@ -51,6 +47,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pampipe.diagnosis.workflow import diagnose
+    from pampipe.io.csvfile import load_experiment_data
+    from pampipe.io.experiment_schema import load_experiment
+    from pampipe.io.pamfile import write_pam
+    from pampipe.views.diagnose_text import result_text
+
     experiment = load_experiment(args.experiment)
     if args.output is not None:
         check_output(args.output, experiment.input_files, option="-o")

@@ -6,13 +6,10 @@ import argparse
 import os
 from pathlib import Path
 
-from pampipe.api import export_mission, load_mission
 from pampipe.commands.common import add_output_options, add_units_option, emit, probability
 from pampipe.errors import InputError
-from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
 from pampipe.io.files import atomic_write_set, check_not_input
 from pampipe.runtime.progress import note
-from pampipe.views.export_text import written_text
 
 NAME = "export"
 HELP = ("write the mission's anchoring law and gait schedule as plain C99 (pampipe_plan.h/.c) and an "
@@ -51,6 +48,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pampipe.api import export_mission, load_mission
+    from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
+    from pampipe.views.export_text import written_text
+
     mission = load_mission(args.mission)
     inputs = list(dict.fromkeys(Path(p) for p in mission.input_files))
     folder = args.output

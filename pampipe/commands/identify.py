@@ -15,14 +15,8 @@ from pampipe.commands.common import (
     write_html_report,
 )
 from pampipe.errors import InputError
-from pampipe.identification import identify
-from pampipe.identification.grip import GripResult
-from pampipe.identification.options import fit_options, parse_fit_options
-from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.files import check_output
-from pampipe.runtime.heap import retain_freed_memory
 from pampipe.runtime.progress import deferred, note
-from pampipe.views.identify_text import fit_report, grip_report
 
 NAME = "identify"
 HELP = ("fit the bladder moduli to axial and radial test data (IPOPT, Drucker-stable, with uncertainty), and "
@@ -72,6 +66,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pampipe.identification import identify
+    from pampipe.identification.grip import GripResult
+    from pampipe.identification.options import fit_options
+    from pampipe.io.csvfile import load_experiment_data
+    from pampipe.runtime.heap import retain_freed_memory
+    from pampipe.views.identify_text import fit_report, grip_report
+
     experiment, options = validated(args.experiment)
     flags = {key: getattr(args, key) for key in FLAGS}
     if args.calibrate or args.pipe_diameter or any(value is not None for value in flags.values()):
@@ -129,6 +130,7 @@ def validated(path: Path):
     kept = cached("experiment", path)
     if kept is not None:
         return kept
+    from pampipe.identification.options import parse_fit_options
     from pampipe.io.experiment_schema import load_experiment
 
     experiment = load_experiment(path)
@@ -142,6 +144,8 @@ def _check_determined(result, source, output) -> None:
     pressure (e.g. one row per test). Its moduli are any of a family that fits as well, and `simulate`
     would print one of them as if measured (before: an anchoring pressure of -5830 kPa). Slip tests alone
     fit no moduli (the stated PAM's are written back with the grip), so there is nothing to check."""
+    from pampipe.identification.grip import GripResult
+
     if isinstance(result, GripResult):
         return
     u = result.uncertainty

@@ -21,7 +21,7 @@ from pampipe.commands.common import (
 )
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import Streamed, check_output
-from pampipe.views.plan_text import FULL_TABLE
+from pampipe.views.tables import FULL_TABLE
 
 NAME = "plan"
 HELP = "minimum anchoring pressure per route section and segment, with reasons where none exists"

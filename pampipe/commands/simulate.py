@@ -7,7 +7,6 @@ from pathlib import Path
 
 from pampipe import api
 from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type, say
-from pampipe.views.simulate_text import extension_text, result_text
 
 NAME = "simulate"
 HELP = "anchoring pressure, anchored length, amplification and radial force of a PAM in a pipe"
@@ -33,6 +32,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from pampipe.views.simulate_text import result_text
+
     if not args.pipe_diameter:
         return _extension(args)
     result = api.simulate(args.pam, pipe_diameter=args.pipe_diameter, axial_load=args.axial_load or [0.0],
@@ -48,6 +49,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _extension(args: argparse.Namespace) -> int:
     """An extensile PAM: free length, extension and diameter against pressure (no pipe)."""
+    from pampipe.views.simulate_text import extension_text
+
     result = api.extension(args.pam, pressure=args.pressure)
     emit(args, result.to_dict(), extension_text(result))
     if args.plots:

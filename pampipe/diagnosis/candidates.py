@@ -77,6 +77,8 @@ GEOMETRY: dict[str, GeometryCandidate] = {c.name: c for c in (
                       False, ()),
 )}
 
+#: Cross-validation folds across pressure levels (`diagnose --folds`'s default).
+FOLDS = 5
 #: Every candidate, in the order of every build and report.
 CANDIDATES: tuple[str, ...] = (*LIBRARY, *GEOMETRY)
 #: The candidates `diagnose` tries by default. The bladder thickness is asked for by name only

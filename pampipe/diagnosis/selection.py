@@ -15,10 +15,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from pampipe.diagnosis.candidates import FOLDS
 from pampipe.diagnosis.refit import Fit, Refitter, effect_parameters
 from pampipe.errors import SolverError
-
-FOLDS = 5
 
 
 def sse(fit: Fit, cells) -> float:

@@ -190,24 +190,87 @@ WALL_CLOCK_SUFFIX = "wall_time_s"
 def _clean(value, parent: tuple = (), timings: bool = True):
     """JSON-ready copy of ``value``; a NaN or infinite number is an error, never printed.
 
+    Every float is rounded to :data:`JSON_DIGITS` significant digits, ``float(f"{x:.12g}")``.
     With ``timings=False`` every ``*wall_time_s`` entry (a wall-clock measurement) is written as 0.
-    ``parent`` is the key path, spelled out only in the error message.
+    ``parent`` is the key path of ``value``, spelled out only in the error message (the path inside
+    ``value`` is found again when a non-finite number is met: the fast walk builds no paths).
     """
-    if type(value) is float:
-        if not math.isfinite(value):
-            raise SolverError(f"{_path(parent)} came out as {value}: the computation left the model's valid "
-                              "domain; please report the input that caused it", status="non_finite")
-        return float(f"{value:.{JSON_DIGITS}g}")
+    try:
+        return _cleaned(value, timings)
+    except _NonFinite:
+        inner, bad = _non_finite(value, parent, timings)
+        raise SolverError(f"{_path(inner)} came out as {bad}: the computation left the model's valid "
+                          "domain; please report the input that caused it", status="non_finite") from None
+
+
+class _NonFinite(Exception):
+    """A NaN or infinite float met by :func:`_cleaned` (its path is found by :func:`_non_finite`)."""
+
+
+#: Floats rounded before, and their rounding: a document repeats its values (bores, loads, pressures of
+#: alike sections), and a lookup costs a tenth of the formatting and parsing. Cleared when it is full.
+_ROUNDED: dict[float, float] = {}
+ROUNDED_KEPT = 1 << 16
+
+#: Types written as they are (bool and int are exact; str and None have no digits).
+_PLAIN = frozenset({str, int, bool, type(None)})
+
+
+def _cleaned(value, timings: bool):
+    """:func:`_clean` without the key path: dispatch on the exact type first (the common case: dicts,
+    lists and builtin floats, ints and strings), subclasses and numpy scalars after."""
+    kind = type(value)
+    if kind is float:
+        rounded = _ROUNDED.get(value)
+        if rounded is None:
+            if value - value != 0.0:  # inf - inf and nan - nan are nan
+                raise _NonFinite
+            if value == 0.0:  # 0.0 and -0.0 (equal as keys): each its own rounding
+                return value
+            if len(_ROUNDED) >= ROUNDED_KEPT:
+                _ROUNDED.clear()
+            rounded = _ROUNDED[value] = float(f"{value:.{JSON_DIGITS}g}")
+        return rounded
+    if kind in _PLAIN:
+        return value
+    if kind is dict:
+        if timings:
+            return {k if type(k) is str else str(k): v if type(v) in _PLAIN else _cleaned(v, timings)
+                    for k, v in value.items()}
+        return {str(k): 0.0 if str(k).endswith(WALL_CLOCK_SUFFIX) else _cleaned(v, timings)
+                for k, v in value.items()}
+    if kind is list or kind is tuple:
+        return [v if type(v) in _PLAIN else _cleaned(v, timings) for v in value]
     if isinstance(value, dict):
-        return {str(k): 0.0 if not timings and str(k).endswith(WALL_CLOCK_SUFFIX)
-                else _clean(v, (parent, k), timings) for k, v in value.items()}
+        return _cleaned(dict(value), timings)
     if isinstance(value, list | tuple):
-        return [_clean(v, (parent, i), timings) for i, v in enumerate(value)]
+        return _cleaned(list(value), timings)
     if isinstance(value, float):  # a float subclass
-        return _clean(float(value), parent, timings)
+        return _cleaned(float(value), timings)
     if hasattr(value, "item") and hasattr(value, "dtype"):  # numpy scalar
-        return _clean(value.item(), parent, timings)
+        return _cleaned(value.item(), timings)
     return value
+
+
+def _non_finite(value, parent: tuple, timings: bool):
+    """(key path, value) of the first NaN or infinite float in ``value`` that :func:`_cleaned` writes
+    (None if there is none)."""
+    if isinstance(value, float) or (hasattr(value, "item") and hasattr(value, "dtype")):
+        number = float(value)
+        return None if math.isfinite(number) else (parent, number)
+    if isinstance(value, dict):
+        items = ((k, v) for k, v in value.items() if timings or not str(k).endswith(WALL_CLOCK_SUFFIX))
+    elif isinstance(value, list | tuple):
+        items = enumerate(value)
+    else:
+        return None
+    for key, item in items:
+        if isinstance(item, bool | int | str) or item is None:
+            continue
+        found = _non_finite(item, (parent, key), timings)
+        if found is not None:
+            return found
+    return None
 
 
 def _path(parent: tuple) -> str:

@@ -23,7 +23,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.problem import build_elements
@@ -165,6 +164,8 @@ def _stop(mission, muscles, arrays, t_in, t_out) -> Reach | None:
     margin = _margin(mission, muscles, s, limits)
     x, tension = 0.0, float(t_in[s])
     if margin(0.0) <= 0 < margin(largest) and t_out[s] > t_in[s]:
+        from scipy.optimize import brentq  # only here: SciPy's import would double a plan's start-up
+
         crossing = brentq(margin, 0.0, largest, xtol=1e-12 * max(largest, 1.0), rtol=4 * np.finfo(float).eps)
         if crossing > t_in[s]:
             length = float(route.length[s])

@@ -56,7 +56,8 @@ def executor(*, workers: int | None = None, scheduler: str | None = None) -> Ite
         except BaseException:  # an error or Ctrl-C: stop the workers now, wait for nothing queued
             _stop(pool)
             raise
-        pool.shutdown()
+        pool.shutdown()  # the workers joined
+        _stop_resource_tracker()
     else:
         if workers is not None and workers < 1:
             raise InputError(f"--workers: {workers} must be at least 1.")
@@ -85,6 +86,18 @@ def _quiet_resource_tracker() -> None:
         os.dup2(saved, 2)
         os.close(saved)
         os.close(null)
+
+
+def _stop_resource_tracker() -> None:
+    """End multiprocessing's resource tracker (started for the pool's semaphores) and wait for it: left
+    running, it outlives the command for a moment, a process of pampipe's after pampipe exited. The
+    next pool starts another. Not after an interrupt: the killed workers' semaphores are still to be
+    finalized at exit, and a tracker ended before them would have unlinked them first (tracebacks)."""
+    from multiprocessing import resource_tracker
+
+    stop = getattr(resource_tracker._resource_tracker, "_stop", None)  # CPython ≥ 3.8; private
+    if stop is not None:
+        stop()
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:

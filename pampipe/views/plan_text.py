@@ -12,10 +12,9 @@ import math
 import numpy as np
 
 from pampipe.units.quantities import to_si
-from pampipe.views.tables import table
+from pampipe.views.tables import FULL_TABLE, table
 from pampipe.views.tether_text import tether_text
 
-FULL_TABLE = 60  # sections the text report lists in full; longer routes are summarised
 SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
 INCH = 0.0254
 

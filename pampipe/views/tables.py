@@ -8,6 +8,9 @@ from pathlib import Path
 
 from pampipe.io.files import atomic_write
 
+#: Sections a text report lists in full (`plan`, `rehearse`); longer routes are summarised.
+FULL_TABLE = 60
+
 
 def table(headers: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     """A plain aligned text table; floats are shown with 4 significant digits. Columns whose header names a

@@ -60,8 +60,9 @@ def _untimed(stdout: str) -> dict:
 
 
 def _plan_in_fresh_interpreter(mission, cache, cwd=ROOT):
-    """(exit code, stdout, names of casadi/pydantic modules loaded) of `pampipe plan MISSION --json`."""
-    return in_fresh_interpreter(["plan", str(mission), "--json"], {"casadi", "pydantic"}, cache, cwd)
+    """(exit code, stdout, names of casadi/pydantic/scipy modules loaded) of `pampipe plan MISSION --json`
+    (SciPy's import alone costs more than the whole demo plan)."""
+    return in_fresh_interpreter(["plan", str(mission), "--json"], {"casadi", "pydantic", "scipy"}, cache, cwd)
 
 
 def test_demo_plan_read_before_loads_neither_casadi_nor_pydantic(tmp_path):

@@ -1,6 +1,7 @@
-"""Every performance figure in README.md comes from a script in benchmarks/ that still prints it (issue 25).
+"""Every performance figure in docs/performance.md (and README.md's summary of it) comes from a script in
+benchmarks/ that still prints it (issues 25, 39).
 
-A row of the Performance table names its script (`bench_x.py`) and quotes, in double quotes, the label
+A row of the performance tables names its script (`bench_x.py`) and quotes, in double quotes, the label
 that script prints next to the figure; every paragraph of the section names a script and quotes a label
 likewise. The check is that the script exists and that the quoted label is still in its source: the
 README follows the scripts' current output format (the timing values themselves change run to run and
@@ -61,9 +62,15 @@ def problems(section: str) -> list[str]:
     return found
 
 
-def test_every_readme_performance_figure_quotes_a_script_that_prints_it():
+def test_every_performance_figure_quotes_a_script_that_prints_it():
+    page = (ROOT / "docs" / "performance.md").read_text(encoding="utf-8")
+    assert len(claims(page)) >= 4
+    assert problems(page) == []
+
+
+def test_the_readme_summarises_and_links_the_performance_page():
     section = performance_section((ROOT / "README.md").read_text(encoding="utf-8"))
-    assert len(claims(section)) >= 8
+    assert "(docs/performance.md)" in section
     assert problems(section) == []
 
 

@@ -36,6 +36,54 @@ def test_run_all_keeps_task_order_on_every_local_executor():
             assert run_all(_square, range(7), pool) == [0, 1, 4, 9, 16, 25, 36]
 
 
+def _processes_marked(mark: str) -> list[str]:
+    """Command lines of the processes whose environment holds R39_MARK=``mark`` (Linux /proc)."""
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open(f"/proc/{pid}/environ", "rb") as environ, open(f"/proc/{pid}/cmdline", "rb") as cmd:
+                if f"R39_MARK={mark}".encode() in environ.read().split(b"\0"):
+                    found.append(cmd.read().replace(b"\0", b" ").decode(errors="replace"))
+        except OSError:  # ended meanwhile, or not ours to read
+            continue
+    return found
+
+
+def test_a_pool_leaves_no_process_behind():
+    """After the pool's block: no worker and no resource tracker is left (after an error: no worker)."""
+    from multiprocessing import active_children, resource_tracker
+
+    with executor(workers=2) as pool:
+        assert run_all(_square, range(3), pool) == [0, 1, 4]
+    assert active_children() == []
+    assert resource_tracker._resource_tracker._pid is None  # ended and waited for
+    with pytest.raises(ValueError, match="failed"), executor(workers=2) as pool:
+        run_all(_fail, range(3), pool)
+    assert active_children() == []
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="lists processes through /proc")
+def test_plan_with_two_workers_leaves_no_process_behind_at_exit():
+    mark = f"{os.getpid()}-workers"
+    mission = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
+    out = subprocess.run([sys.executable, "-m", "pampipe", "plan", str(mission), "--confidence", "0.95",
+                          "--samples", "400", "--workers", "2"], capture_output=True, text=True, cwd=ROOT,
+                         env={**os.environ, "R39_MARK": mark}, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert _processes_marked(mark) == []
+
+
+def test_the_process_check_can_fail():
+    mark = f"{os.getpid()}-sleeper"
+    sleeper = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"],
+                               env={**os.environ, "R39_MARK": mark})
+    try:
+        assert len(_processes_marked(mark)) == 1
+    finally:
+        sleeper.kill()
+        sleeper.wait()
+
+
 def test_errors_reach_the_caller():
     with pytest.raises(ValueError, match="task 3 failed"):
         run_all(_fail, [3], SerialExecutor())
