@@ -9,6 +9,7 @@ the value, what is allowed, a did-you-mean for misspelt keys, at most :data:`MAX
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -101,7 +102,8 @@ def _relevant(errors: list[dict], raw: Any, tags: set[str]) -> list[dict]:
     """Drop the errors of union members the input cannot be meant for.
 
     A mapping given for ``friction: 0.3 | {value, sd}`` is meant for the mapping form, so the number
-    form's complaint ("not a number") is noise, and the reverse for a scalar.
+    form's complaint ("not a number") is noise, and the reverse for a scalar; a value that is not text
+    is not meant for a word (``'from_pam'``): that member's complaint is noise too.
     """
     kept = [err for err in errors if _consistent(err["loc"], raw, tags)]
     return kept or errors
@@ -111,7 +113,9 @@ def _consistent(loc: tuple, raw: Any, tags: set[str]) -> bool:
     node = raw
     for part in loc:
         if _is_union_tag(part, tags):
-            if (part not in _SCALAR_TAGS and "[" not in part) != isinstance(node, dict):
+            if _mapping_member(part, tags) != isinstance(node, dict):
+                return False
+            if part.startswith("literal[") and not isinstance(node, str):
                 return False
             continue
         try:
@@ -163,6 +167,14 @@ _MESSAGES = {
 
 
 _SCALAR_TAGS = {"str", "float", "int", "bool", "list", "dict", "none"}
+
+
+def _mapping_member(part: str, tags: set[str]) -> bool:
+    """True if the union member tagged ``part`` takes a mapping: a schema class, also behind validators
+    (``function-after[_inside(), UncertainFriction]``)."""
+    if part.startswith("function-"):
+        part = re.findall(r"[A-Za-z_]\w*", part)[-1]
+    return part not in _SCALAR_TAGS and "[" not in part and part in tags
 
 
 def _is_union_tag(part, tags: set[str]) -> bool:

@@ -89,10 +89,15 @@ def real_number(value: object, *, where: str | None = None) -> float | None:
 
     Any :class:`numbers.Real` (int, float, Fraction, numpy integers and floats), a numpy 0-d array of
     reals and :class:`decimal.Decimal`; not bool, str or complex. A value beyond the float range
-    raises InputError (named by ``where``); NaN and ±inf come back as they are.
+    raises InputError (named by ``where``); NaN and ±inf come back as they are; so does a masked value
+    (``numpy.ma.masked``): it has no number (numpy would read it as 0).
     """
     if type(value) is float:  # the common case first
         return value
+    prefix = f"{where}: " if where else ""
+    if _is_masked(value):
+        raise InputError(f"{prefix}the value is masked (numpy.ma.masked): a masked entry has no number; give "
+                         "the value itself, or leave the option out.")
     import numbers
     from decimal import Decimal
 
@@ -102,13 +107,20 @@ def real_number(value: object, *, where: str | None = None) -> float | None:
         value = value.item()  # a numpy scalar or 0-d array
     if not isinstance(value, numbers.Real | Decimal) or isinstance(value, bool):
         return None
-    prefix = f"{where}: " if where else ""
     try:
         return float(value)
     except OverflowError:  # a huge int or Fraction
         raise InputError(f"{prefix}{show(value)} is beyond the float range (about ±1.8e308).") from None
     except ValueError:  # Decimal('sNaN')
         raise InputError(f"{prefix}{show(value)} is not a finite number.") from None
+
+
+def _is_masked(value: object) -> bool:
+    """True for a numpy masked array or constant with any entry masked (numpy is not imported)."""
+    mask = getattr(value, "mask", None)
+    if mask is None or not hasattr(value, "filled"):
+        return False
+    return bool(mask.any()) if hasattr(mask, "any") else bool(mask)
 
 
 def _is_pint(value: object) -> bool:

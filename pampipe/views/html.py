@@ -55,6 +55,9 @@ def sha256(path: Path) -> str:
 def svg_figures(draw: Callable[[], object]) -> list[str]:
     """The figures that ``draw()`` makes (plot functions under :func:`pampipe.views.tables.capture`) as
     SVG."""
+    import matplotlib
+
+    from pampipe.views.plots.style import PLAIN
     from pampipe.views.tables import capture
 
     with capture() as figures:
@@ -62,7 +65,8 @@ def svg_figures(draw: Callable[[], object]) -> list[str]:
     texts = []
     for fig in figures:
         buffer = io.StringIO()
-        fig.savefig(buffer, format="svg")
+        with matplotlib.rc_context(PLAIN):  # names as text, never mathtext (the texts: save_figure)
+            fig.savefig(buffer, format="svg")
         svg = buffer.getvalue()
         texts.append(svg[svg.index("<svg"):])  # drop the XML prolog and DOCTYPE (an external DTD)
     return texts

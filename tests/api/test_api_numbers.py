@@ -66,3 +66,19 @@ def test_diagnose_options(option, value):
     with pytest.raises(InputError) as error:
         pampipe.diagnose(PROBLEMS / "experiments" / "paper-protocol.yaml", **{option: value})
     assert option in str(error.value)
+
+
+@pytest.mark.parametrize("value", [np.ma.masked, np.ma.array(2.0, mask=True)])
+def test_masked_value_is_refused(value):
+    """Issue 38: pampipe.plan(M, payload=np.ma.masked) planned 0 kg (numpy reads a masked value as 0)."""
+    with pytest.raises(InputError, match="payload: the value is masked"):
+        pampipe.plan(MISSION, payload=value)
+
+
+def test_masked_entry_of_a_list_is_refused():
+    with pytest.raises(InputError, match=r"pipe_diameter\[1\]: the value is masked"):
+        pampipe.simulate(PAM, pipe_diameter=np.ma.array([0.08, 0.09], mask=[False, True]))
+
+
+def test_unmasked_masked_array_is_its_number(reference):
+    assert pampipe.plan(MISSION, payload=np.ma.array(2.0)).to_dict()["sections"] == reference
