@@ -183,7 +183,7 @@ def _read_open(path, blocks, required, progress, size, parse) -> dict[str, np.nd
     first, chunk = next(blocks, (1, b""))
     _decode(path, chunk, first)  # a binary file fails here, before its "header" is judged
     header, _, rest = chunk.partition(b"\n")
-    header = header.decode("utf-8")
+    header = header.decode("utf-8").removeprefix("\ufeff")  # a byte-order mark, as spreadsheets write
     if not header.strip():
         raise InputError(f"{path}: the file is empty; expected a header row such as "
                          f"'{', '.join(_example_header(required))}' followed by data rows.")

@@ -24,7 +24,7 @@ from pampipe.specs.pipes import BoreSpec, bore
 from pampipe.units.quantities import to_si
 
 #: "1.5 D": an elbow radius as a multiple of the bore.
-_MULTIPLE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
+_MULTIPLE = re.compile(r"^\s*([+-]?[0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
 #: The largest centreline radius of a bend [m]: a wider one is a straight pipe for any robot (a 1 m muscle
 #: deflects by 0.1 mm over it); beyond it the bend's geometry leaves the float range (1e300 m overflowed).
 LARGEST_RADIUS = 1000.0
@@ -61,8 +61,11 @@ def elbow_radius(path: Path, value, where: str) -> Radius:
     """A :class:`Radius` from a length (``"114 mm"``, a number in m) or a multiple of the bore ("1.5 D")."""
     if isinstance(value, str):
         found = _MULTIPLE.match(value)
-        if found:
+        if found and float(found.group(1)) > 0:
             return Radius(float(found.group(1)), True, value)
+        if found:
+            raise InputError(f"{path}: {where}: {value!r} must be a positive length or a positive multiple "
+                             "of the bore ('1.5 D').")
     try:
         radius = to_si(value, "length", where=where)
     except InputError as exc:
