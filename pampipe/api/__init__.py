@@ -38,14 +38,15 @@ __all__ = ["CommandResult", "GaitReport", "Source", "design_inventory", "diagnos
 Progress = Callable[[str], None]
 
 
-def load_pam(pam: Source, *, base=None):
-    """A :class:`~pampipe.model.pam.Pam` from a PAM file or dict (docs/formats.md §2); a Pam passes."""
+def load_pam(pam: Source, *, base=None, name: str = "pam"):
+    """A :class:`~pampipe.model.pam.Pam` from a PAM file or dict (docs/formats.md §2); a Pam passes
+    (``name``: the option that gave it, for messages)."""
     from pampipe.io.pam_schema import load_pam as load
     from pampipe.model.pam import Pam
 
     if isinstance(pam, Pam):
         return pam
-    path, raw = arg.source_file(pam, "PAM", base)
+    path, raw = arg.source_file(pam, "PAM", base, name=name)
     return load(path, raw=raw)
 
 
@@ -139,19 +140,15 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
     from pampipe.planning import plan_mission
     from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
 
-    if confidence is not None:
-        if isinstance(confidence, str):
-            raise InputError(f"confidence: {show(confidence)} is text; give a probability in [0.5, 1) as a "
-                             "number, e.g. 0.95.")
-        confidence = arg.number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
-    solver = arg.choice(solver, "solver", ("kkt", "ipopt"))
+    confidence = arg.probability(confidence)
+    solver = arg.choice(solver, "solver", ("kkt", "ipopt"), optional=False)
     max_payload = arg.flag(max_payload, "max_payload")
     payload = arg.si(payload, "mass", "payload")
     if isinstance(payload, list):
         raise InputError("payload: give one mass, e.g. '3 kg', not a list.")
     workers, scheduler = arg.where(workers, scheduler)
     started = time.perf_counter()
-    prior = None if prior is None else load_pam(prior)
+    prior = None if prior is None else load_pam(prior, name="prior")
     result = plan_mission(load_mission(mission, base=base), payload=payload,
                           confidence=confidence, method=solver, with_max_payload=max_payload,
                           samples=DEFAULT_SAMPLES if samples is None else samples,
@@ -212,16 +209,11 @@ def rehearse(mission: Source, *, optimal: bool = False, confidence: float | None
     tether, the supply hose and the compressor, the reach; with ``confidence`` C (``samples`` draws seeded by
     ``seed``) the chance of completing the route. Returns a :class:`pampipe.rehearsal.Rehearsal`
     (``to_dict()``: the JSON document)."""
-    from pampipe.errors import InputError
     from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
     from pampipe.rehearsal import rehearse_mission
 
     optimal = arg.flag(optimal, "optimal")
-    if confidence is not None:
-        if isinstance(confidence, str):
-            raise InputError(f"confidence: {show(confidence)} is text; give a probability in [0.5, 1) as a "
-                             "number, e.g. 0.95.")
-        confidence = arg.number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
+    confidence = arg.probability(confidence)
     samples = DEFAULT_SAMPLES if samples is None else arg.whole(samples, "samples", least=100)
     seed = DEFAULT_SEED if seed is None else arg.whole(seed, "seed", least=0)
     started = time.perf_counter()
@@ -341,6 +333,8 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
                 inputs.append((_relative(path, folder), hashlib.sha256(path.read_bytes()).hexdigest()))
             except OSError as exc:
                 raise InputError(f"{path}: cannot read it to record its hash ({exc.strerror}).") from None
+    confidence = arg.probability(confidence)
+    samples, seed = arg.whole(samples, "samples", least=100), arg.whole(seed, "seed", least=0)
     sampling = {k: v for k, v in (("samples", samples), ("seed", seed)) if v is not None}
     provenance = Provenance(Path(model.source).name, tuple(inputs))
     return generate(model, provenance=provenance, sketch_name=sketch_name,

@@ -16,10 +16,14 @@ from pampipe.units.quantities import real_number, show, to_si
 Source = str | os.PathLike | Mapping  # a file, or its content as a dict (or the loaded object itself)
 
 
-def source_file(source: Source, kind: str, base) -> tuple[Path, dict | None]:
-    """(path, raw): a path to read, or a stand-in path beside ``base`` for a dict's content."""
+def source_file(source: Source, kind: str, base, *, name: str | None = None) -> tuple[Path, dict | None]:
+    """(path, raw): a path to read, or a stand-in path beside ``base`` for a dict's content; InputError
+    naming the option ``name`` (else ``kind``) for anything else."""
     if isinstance(source, Mapping):
         return Path(base or Path.cwd()) / f"<{kind} dict>", dict(source)
+    if not isinstance(source, str | os.PathLike):
+        raise InputError(f"{name or kind}: {show(source)} is not allowed; give the path of a {kind} file or "
+                         "its content as a dict.")
     return Path(source), None
 
 
@@ -33,6 +37,8 @@ def si(value, dimension: str, name: str):
     if value is None:
         return None
     if isinstance(value, list | tuple) or getattr(value, "ndim", 0) == 1:
+        if len(value) == 0:
+            raise InputError(f"{name}: an empty list; give one value or a list of at least one.")
         return [to_si(v, dimension, where=f"{name}[{i}]") for i, v in enumerate(value)]
     return to_si(value, dimension, where=name)
 
@@ -69,11 +75,22 @@ def flag(value, name: str) -> bool:
     raise InputError(f"{name}: {show(value)} is not allowed; give True or False.")
 
 
-def choice(value, name: str, allowed: Sequence[str]):
-    """One of ``allowed`` (None stays None), else InputError listing them."""
-    if value is None or (isinstance(value, str) and value in allowed):
+def choice(value, name: str, allowed: Sequence[str], *, optional: bool = True):
+    """One of ``allowed`` (None stays None where ``optional``), else InputError listing them."""
+    if (value is None and optional) or (isinstance(value, str) and value in allowed):
         return value
     raise InputError(f"{name}: {show(value)} is not one of {', '.join(repr(a) for a in allowed)}.")
+
+
+def probability(value, name: str = "confidence") -> float | None:
+    """A confidence level C as a real number (None stays None; text is refused: '0.95' is not 0.95); its
+    range [0.5, 1) is checked where it is used."""
+    if value is None:
+        return None
+    if isinstance(value, str):
+        raise InputError(f"{name}: {show(value)} is text; give a probability in [0.5, 1) as a number, e.g. "
+                         "0.95.")
+    return number(value, name, "give a probability in [0.5, 1), e.g. 0.95")
 
 
 def names(value, name: str):

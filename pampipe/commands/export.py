@@ -6,7 +6,7 @@ import argparse
 import os
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, add_units_option, emit, probability
+from pampipe.commands.common import add_output_options, add_units_option, emit, integer_type, probability
 from pampipe.errors import InputError
 from pampipe.io.files import atomic_write_set, check_not_input
 from pampipe.runtime.progress import note
@@ -43,6 +43,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="export a law that plans at confidence C: each segment's pressure gains the "
                              "margin `pampipe plan --confidence C` needs over the mission's sections, stated "
                              "in the header")
+    parser.add_argument("--samples", type=integer_type("--samples", ge=100), default=None, metavar="N",
+                        help="draws of the uncertain inputs for --confidence (default 4000, as `plan`); "
+                             "N(1 - C) must be at least 10")
     add_output_options(parser, plots=False)
     add_units_option(parser)
 
@@ -52,6 +55,8 @@ def run(args: argparse.Namespace) -> int:
     from pampipe.export import DEFAULT_SKETCH, HEADER, SOURCE, is_sketch_name
     from pampipe.views.export_text import written_text
 
+    if args.samples is not None and args.confidence is None:
+        raise InputError("--samples only applies with --confidence C.")
     mission = load_mission(args.mission)
     inputs = list(dict.fromkeys(Path(p) for p in mission.input_files))
     folder = args.output
@@ -66,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"-o {folder}: {', '.join(existing)} already exist(s); pass --force to overwrite, "
                          "or choose another folder.")
     export = export_mission(mission, sketch_name=sketch, confidence=args.confidence,
-                            progress=note)  # quiet under --json and --quiet
+                            samples=args.samples, progress=note)  # quiet under --json and --quiet
     atomic_write_set(folder, export.files)  # the old set or the new one, never a mix
     emit(args, export.to_dict(), written_text(export, folder))
     return 0

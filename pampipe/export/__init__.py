@@ -96,7 +96,7 @@ def generate(mission, *, provenance: Provenance, sketch_name: str = DEFAULT_SKET
                          "export the mission without its tether: block, with tether_drag set to the largest "
                          "tension `pampipe plan` reports.")
     margins = () if confidence is None else confidence_margins(mission, confidence, **sampling)
-    law = mission_law(mission, confidence=confidence, margins=margins)
+    law = mission_law(mission, confidence=confidence, margins=margins, samples=sampling.get("samples"))
     gaits = section_gaits(mission, law, progress=progress)
     files = stamped({HEADER: header(law, gaits, provenance), SOURCE: source(law, gaits, provenance),
                      f"{sketch_name}.ino": sketch(law, gaits, provenance, sketch_name)})

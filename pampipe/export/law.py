@@ -90,6 +90,7 @@ class Law:
     pressure_limits: tuple[float, ...] = ()  # per segment [Pa]: the supply, or its max_pressure if lower
     confidence: float | None = None  # C of the margins (None: the nominal law)
     margins: tuple[float, ...] = ()  # ΔP_i [Pa] added to each segment's pressure (empty: none)
+    samples: int | None = None  # the draws the margins were sampled with (None: the default)
 
     @property
     def limits(self) -> np.ndarray:
@@ -138,9 +139,11 @@ def confidence_margins(mission, confidence: float, **sampling) -> tuple[float, .
     return tuple(float(max(g, 0.0)) for g in np.max(gap, axis=0))
 
 
-def mission_law(mission, *, confidence: float | None = None, margins: tuple[float, ...] = ()) -> Law:
+def mission_law(mission, *, confidence: float | None = None, margins: tuple[float, ...] = (),
+                samples: int | None = None) -> Law:
     """Build the anchoring law of ``mission`` (InputError if a PAM's effects have no closed form), with
-    ``margins`` [Pa] per segment added at ``confidence`` (see :func:`confidence_margins`)."""
+    ``margins`` [Pa] per segment added at ``confidence`` (see :func:`confidence_margins`; ``samples``
+    its draws, when given)."""
     muscles = mission_muscles(mission)
     refused = [(seg, name, why) for seg, m in zip(mission.segments, muscles, strict=True)
                for name, why in m.closed_form_refusals().items()]
@@ -171,7 +174,7 @@ def mission_law(mission, *, confidence: float | None = None, margins: tuple[floa
                mission.tether_drag, mission.payload,
                {seg.name: seg.pam.effects for seg in mission.segments if seg.pam.effects},
                tuple(float(v) for v in pressure_limits(mission)), confidence=confidence,
-               margins=tuple(margins))
+               margins=tuple(margins), samples=samples)
 
 
 def _widest(pam) -> float:

@@ -11,6 +11,7 @@ import numpy as np
 from pampipe.export import cgen, templates
 from pampipe.export.gait_table import SectionGait
 from pampipe.export.law import DOMAIN, FRICTION_MIN, INPUTS, Law, Reason
+from pampipe.planning.quantiles import level_text
 
 REASONS = {
     Reason.NARROW: "PAMPIPE_NARROW",
@@ -247,11 +248,12 @@ def _confidence_doc(law: Law) -> list[str]:
     """The header's statement of the confidence margins (none for a nominal law)."""
     if law.confidence is None:
         return []
+    samples = "" if law.samples is None else f" --samples {law.samples}"
     added = ", ".join(f"{name} +{m / 1e3:.4g} kPa" for name, m in zip(law.segments, law.margins, strict=True))
     return ["",
-            f"CONFIDENCE {law.confidence:g}: each pressure includes a margin, the largest that",
-            f"`pampipe plan --confidence {law.confidence:g}` needs over this mission's sections, so that",
-            "the law plans at that confidence there:",
+            f"CONFIDENCE {level_text(law.confidence)}: each pressure includes a margin, the largest that",
+            f"`pampipe plan --confidence {level_text(law.confidence)}{samples}` needs over this mission's",
+            "sections, so that the law plans at that confidence there:",
             f"  {added}",
             "Sections unlike those (other bores, inclines, friction) are not covered by it: plan them with",
             "pampipe first."]

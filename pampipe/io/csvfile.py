@@ -38,6 +38,7 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.io.files import atomic_write
 from pampipe.io.paths import open_input
+from pampipe.runtime.memory import check_fits
 from pampipe.specs.experiment import (
     DIRECTION_WORDS,
     Experiment,
@@ -116,13 +117,7 @@ def check_memory(path: Path, size: int, line_bytes: int) -> None:
 def check_rows(rows: float, *, where: str, advice: str) -> None:
     """InputError when ``rows`` data rows would need more than the available memory
     (:data:`BYTES_PER_ROW` a row); skipped where the OS does not say how much is available."""
-    try:
-        available = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return
-    if rows * BYTES_PER_ROW > available:
-        raise InputError(f"{where} {rows:,.0f} data rows would need {rows * BYTES_PER_ROW / 2**30:.3g} GB of "
-                         f"memory and {available / 2**30:.3g} GB are available; {advice}.")
+    check_fits(rows * BYTES_PER_ROW, what=f"{where} {rows:,.0f} data rows", advice=advice)
 
 
 def _numpy_block(chunk: bytes) -> np.ndarray:
@@ -188,7 +183,7 @@ def _read_open(path, blocks, required, progress, size, parse) -> dict[str, np.nd
     first, chunk = next(blocks, (1, b""))
     _decode(path, chunk, first)  # a binary file fails here, before its "header" is judged
     header, _, rest = chunk.partition(b"\n")
-    header = header.decode("utf-8")
+    header = header.decode("utf-8").removeprefix("\ufeff")  # a byte-order mark, as spreadsheets write
     if not header.strip():
         raise InputError(f"{path}: the file is empty; expected a header row such as "
                          f"'{', '.join(_example_header(required))}' followed by data rows.")

@@ -12,7 +12,7 @@ import math
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, Field, field_validator
+from pydantic import AfterValidator, Field
 
 from pampipe.errors import InputError
 from pampipe.io.pam_schema import PamSchema, resolve_pam
@@ -66,17 +66,11 @@ class RobotSchema(Strict):
 class BendSchema(Strict):
     """``bend: {angle, radius, direction}`` at the end of a section (docs/formats.md §4)."""
 
-    angle: quantity("angle")
+    angle: quantity("angle", ge=0, le=math.pi, unit="rad",
+                    hint="a bend turns the route by 0 to 180 deg (the angle between the pipes' directions; "
+                         "which way it turns is 'direction')")
     radius: str | float | int | None = None  # a length or a multiple of the bore, "1.5 D"; None: elbow_radius
     direction: quantity("angle", ge=-2 * math.pi, le=2 * math.pi, unit="rad") = math.pi
-
-    @field_validator("angle")
-    @classmethod
-    def _turn(cls, value: float) -> float:
-        if not 0 <= value <= math.pi:
-            raise ValueError(f"{math.degrees(value):.6g} deg: a bend turns the route by 0 to 180 deg (the "
-                             "angle between the pipes' directions; which way it turns is 'direction')")
-        return value
 
 
 class UncertainFriction(Strict):

@@ -16,7 +16,7 @@ from pydantic import Field, model_validator
 from pampipe.errors import InputError
 from pampipe.io.schema_fields import Angle, Coefficient, Length, NonNegativeForce, PositivePressure, relative
 from pampipe.io.yamlfile import load_mapping
-from pampipe.model.domain import check_geometry
+from pampipe.model.domain import check_geometry, check_spread
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import Geometry, Grip, Moduli, Pam
 from pampipe.model.uncertainty import (
@@ -195,6 +195,13 @@ def build_pam(schema: PamSchema) -> Pam:
     geometry = Geometry(values["initial_length"], values["initial_diameter"], values["braid_angle"],
                         values["bladder_thickness"], g.wall)
     check_geometry(geometry)
+    for key, name in (("initial_length", "initial_length"), ("initial_diameter", "initial_diameter"),
+                      ("braid_angle_from_axis", "braid_angle"),
+                      ("braid_angle_from_transverse", "braid_angle"),
+                      ("bladder_thickness", "bladder_thickness")):
+        if getattr(g, key) is not None and name in sd:
+            check_spread(geometry, name, sd[name], where=f"geometry.{key}",
+                         transverse=key == "braid_angle_from_transverse")
     moduli = uncertainty = None
     if schema.moduli is not None:
         m = schema.moduli

@@ -24,7 +24,10 @@ from pampipe.specs.pipes import BoreSpec, bore
 from pampipe.units.quantities import to_si
 
 #: "1.5 D": an elbow radius as a multiple of the bore.
-_MULTIPLE = re.compile(r"^\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
+_MULTIPLE = re.compile(r"^\s*([+-]?[0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
+#: The largest centreline radius of a bend [m]: a wider one is a straight pipe for any robot (a 1 m muscle
+#: deflects by 0.1 mm over it); beyond it the bend's geometry leaves the float range (1e300 m overflowed).
+LARGEST_RADIUS = 1000.0
 #: Joints of a network route that turn by less than this [rad] are not listed as bends (0.5°).
 LEAST_NETWORK_BEND = math.radians(0.5)
 
@@ -38,8 +41,14 @@ class Radius:
     text: str
 
     def at(self, diameter: float, *, path: Path, where: str) -> float:
-        """The radius [m] in a pipe of ``diameter``; smaller than half the bore is an InputError."""
+        """The radius [m] in a pipe of ``diameter``; smaller than half the bore or larger than
+        :data:`LARGEST_RADIUS` is an InputError."""
         radius = self.value * diameter if self.of_bore else self.value
+        if radius > LARGEST_RADIUS:
+            raise InputError(
+                f"{path}: {where}: {self.text!r} gives a centreline radius of {radius:.4g} m; a bend's "
+                f"radius must be at most {LARGEST_RADIUS:g} m (wider, the pipe is straight for the robot: "
+                "leave the bend out).")
         if not radius >= diameter / 2:
             raise InputError(
                 f"{path}: {where}: {self.text!r} gives a centreline radius of {radius * 1e3:.4g} mm in a "
@@ -52,8 +61,11 @@ def elbow_radius(path: Path, value, where: str) -> Radius:
     """A :class:`Radius` from a length (``"114 mm"``, a number in m) or a multiple of the bore ("1.5 D")."""
     if isinstance(value, str):
         found = _MULTIPLE.match(value)
-        if found:
+        if found and float(found.group(1)) > 0:
             return Radius(float(found.group(1)), True, value)
+        if found:
+            raise InputError(f"{path}: {where}: {value!r} must be a positive length or a positive multiple "
+                             "of the bore ('1.5 D').")
     try:
         radius = to_si(value, "length", where=where)
     except InputError as exc:

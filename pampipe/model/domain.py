@@ -41,6 +41,63 @@ def check_geometry(geometry: Geometry, *, where: str = "geometry") -> None:
             f"the rest radius {geometry.initial_diameter * 500:.4g} mm.")
 
 
+#: The largest share of a stated geometry sd's normal that may fall outside the physical domain.
+OUTSIDE_SHARE = 1e-6
+#: The z of :data:`OUTSIDE_SHARE` on one side: an sd may be at most (distance to the edge)/this.
+OUTSIDE_Z = 4.753424
+
+
+def entry_domain(geometry: Geometry, name: str) -> tuple[float, float]:
+    """(low, high) of one geometry entry with the others at their values [m or rad]: L₀ > 0, D₀ > 2t,
+    0 < t < D₀/2, and the braid angle from the axis on its side of the neutral angle (contractile or
+    extensile)."""
+    neutral = math.radians(NEUTRAL_ANGLE_DEG)
+    return {"initial_length": (0.0, math.inf),
+            "initial_diameter": (2 * geometry.bladder_thickness, math.inf),
+            "bladder_thickness": (0.0, geometry.initial_diameter / 2),
+            "braid_angle": (neutral, math.pi / 2) if geometry.extensile else (0.0, neutral)}[name]
+
+
+def check_spread(geometry: Geometry, name: str, sd: float, *, where: str, transverse: bool = False) -> None:
+    """InputError when a normal of sd ``sd`` [m or rad] around the entry ``name`` (an attribute of
+    :class:`Geometry`) puts more than :data:`OUTSIDE_SHARE` of its draws outside :func:`entry_domain` (a
+    draw there is no muscle). ``where`` names the entry; an angle is shown from the transverse plane where
+    ``transverse`` (the file's convention), lengths in mm."""
+    if not sd > 0:
+        return
+    value = float(getattr(geometry, name))
+    low, high = entry_domain(geometry, name)
+    root2 = sd * math.sqrt(2)
+    share = 0.5 * (math.erfc((value - low) / root2) + math.erfc((high - value) / root2))
+    if share <= OUTSIDE_SHARE:
+        return
+    largest = min(value - low, high - value) / OUTSIDE_Z
+    if name == "braid_angle":
+        unit, scale = "deg", math.degrees(1)
+        shown = sorted(90 - math.degrees(x) if transverse else math.degrees(x) for x in (low, high))
+        domain, value = f"between {shown[0]:.4g} and {shown[1]:.4g} deg", math.degrees(value)
+        value = 90 - value if transverse else value
+    else:
+        unit, scale = "mm", 1e3
+        domain = (f"above {low * 1e3:.4g} mm" if math.isinf(high)
+                  else f"between {low * 1e3:.4g} and {high * 1e3:.4g} mm")
+        value *= 1e3
+    raise InputError(
+        f"{where}: sd {sd * scale:.4g} {unit} puts {share:.3g} of the draws outside what a muscle can be "
+        f"(its value {value:.6g} {unit} must stay {domain}); an sd may put at most {OUTSIDE_SHARE:g} "
+        f"outside: give an sd of at most {largest * scale:.3g} {unit}.")
+
+
+def outside_domain(p: np.ndarray, nominal: np.ndarray) -> np.ndarray:
+    """Rows of parameter draws ``p`` (n, size; L₀, D₀, α, t first) that are no muscle: outside
+    :func:`entry_domain` in any entry (NaN included), the braid angle on the side of ``nominal``'s."""
+    length, diameter, angle, thickness = (p[:, k] for k in range(4))
+    neutral = math.radians(NEUTRAL_ANGLE_DEG)
+    extensile = nominal[2] > neutral
+    side = (angle > neutral) & (angle < math.pi / 2) if extensile else (angle > 0) & (angle < neutral)
+    return ~((length > 0) & (thickness > 0) & (diameter > 2 * thickness) & side)
+
+
 def check_kind(geometry: Geometry, *, extensile: bool, where: str, role: str) -> None:
     """The muscle is of the kind its role needs: contractile to anchor, extensile to steer."""
     if geometry.extensile == extensile:

@@ -127,7 +127,10 @@ class Muscle:
     # ------------------------------------------------------------------------------ construction
     @classmethod
     def from_pam(cls, pam: Pam, *, where: str | None = None) -> Muscle:
-        """The muscle of a PAM with identified moduli (InputError if it has none)."""
+        """The muscle of a PAM with identified moduli (InputError if it has none, or is no Pam)."""
+        if not isinstance(pam, Pam):
+            raise InputError(f"{where or 'pam'}: a {type(pam).__name__} is not a PAM; give a "
+                             "pampipe.model.pam.Pam, e.g. pampipe.load_pam('PAM.yaml').")
         if pam.moduli is None:
             raise InputError(f"{where or 'PAM file'}: the PAM '{pam.name}' has no 'moduli:' block; run "
                              "`pampipe identify EXPERIMENT.yaml -o PAM.yaml` first, or add the block by "

@@ -32,7 +32,15 @@ from pampipe.errors import InputError
 from pampipe.planning.classes import Classes, Problem, section_classes
 from pampipe.planning.evaluator import draws_key
 from pampipe.planning.feasibility import pressure_limits
-from pampipe.planning.sampling import MEMORY_BUDGET, chunk_classes, drawn_muscles, sample_chunk, segment_twins
+from pampipe.planning.quantiles import level_text, tail
+from pampipe.planning.sampling import (
+    BYTES_PER_DRAW,
+    MEMORY_BUDGET,
+    chunk_classes,
+    drawn_muscles,
+    sample_chunk,
+    segment_twins,
+)
 from pampipe.planning.sources import (
     SOURCE_WORDS,
     SOURCES,
@@ -42,17 +50,46 @@ from pampipe.planning.sources import (
 )
 from pampipe.planning.tension import drawn_drag, section_drag
 from pampipe.runtime.executors import executor, run_all
+from pampipe.runtime.memory import check_fits
 
 METHOD = "monte_carlo"
 DEFAULT_SAMPLES = 4000
 DEFAULT_SEED = 22
 
 
+#: The fewest draws expected not to hold at the plan, N(1 − C): with fewer the C-quantile is one of the
+#: largest few draws, and the plan and its P(hold) say more than the draws can resolve.
+FAILING_DRAWS = 10
+
+
 def z_value(confidence: float) -> float:
     """Check 0.5 ≤ C < 1 (InputError otherwise) and return C."""
     if not (0.5 <= confidence < 1):
-        raise InputError(f"--confidence: {confidence!r} must be a probability in [0.5, 1), e.g. 0.95.")
+        raise InputError(f"--confidence: {level_text(confidence)} must be a probability in [0.5, 1), e.g. "
+                         "0.95.")
     return confidence
+
+
+def check_resolution(confidence: float, samples: int) -> None:
+    """InputError unless N(1 − C) ≥ :data:`FAILING_DRAWS`: the draws must resolve the C-quantile."""
+    share = tail(confidence)
+    expected = samples * share
+    if expected < FAILING_DRAWS * (1 - 1e-12):
+        need = math.ceil(FAILING_DRAWS / share * (1 - 1e-12))
+        most = math.floor((1 - FAILING_DRAWS / samples) * 1e6) / 1e6
+        raise InputError(
+            f"--confidence {level_text(confidence)} with --samples {samples}: only {expected:.3g} of the "
+            f"draws would be expected not to hold, too few to resolve the {level_text(confidence)} quantile "
+            f"(the plan would be one of the largest draws and P(hold) 1); N(1 - C) must be at least "
+            f"{FAILING_DRAWS}: give --samples {need} or more, or --confidence {level_text(most)} or less.")
+
+
+def check_draws_fit(structures, samples: int) -> None:
+    """InputError when the draws of ``samples`` would not fit in the available memory (before allocating):
+    each segment's three parameter blocks and model error, and one class's chunk arrays."""
+    per_draw = BYTES_PER_DRAW + sum(8 * (3 * s.size + 2) for s in structures)
+    check_fits(samples * per_draw, what=f"--samples {samples}: the draws",
+               advice="give fewer draws (N(1 - C) of 10 to 100 resolves the quantile; 4000 by default)")
 
 
 @dataclass(frozen=True)
@@ -92,16 +129,22 @@ class Confidence:
             rows.append({"source": name, "what": SOURCE_WORDS[name], "pressure_shift_Pa": worst})
         return sorted(rows, key=lambda r: -r["pressure_shift_Pa"])
 
+    def as_document_rows(self) -> list[dict]:
+        """:meth:`dominant` for the document: a source alone whose C-quantile no pressure reaches (it
+        holds in fewer than a share C of the draws at any pressure) adds ``null``."""
+        return [{**r, "pressure_shift_Pa": _finite(r["pressure_shift_Pa"])} for r in self.dominant()]
+
     def as_document(self) -> dict:
         return {"level": self.level, "method": METHOD, "samples": self.samples, "seed": self.seed,
-                "dominant": [r["source"] for r in self.dominant()], "sources": self.dominant(),
+                "dominant": [r["source"] for r in self.dominant()], "sources": self.as_document_rows(),
                 "prior": self.prior}
 
     def element_document(self, s: int, i: int) -> dict:
         """The keys one segment of one section gains (docs/commands.md §4.5): ``unit``, the muscle its
         probabilities are for; where its fit leaves directions undetermined, ``undetermined`` (stopped or
         not) and ``undetermined_shift_Pa``, what covering them adds; a stopped segment has no pressure and
-        no probability: null."""
+        no probability: null; a pressure no draw reaches in the share asked (a quantile beyond what
+        holds) is null too."""
         shift = math.nan if self.open_shift is None else float(self.open_shift[s, i])
         opened = {} if math.isnan(shift) else {"undetermined": self.is_stopped(s, i),
                                                 "undetermined_shift_Pa": shift}
@@ -112,8 +155,14 @@ class Confidence:
         return {"unit": self.units[i], "holding_probability": float(self.holding_probability[s, i]),
                 "holding_probability_se": float(self.holding_se[s, i]),
                 "contact_probability": float(self.contact_probability[s, i]),
-                "pressure_at_Pa": {k: float(v[s, i]) for k, v in self.pressure_at.items()},
-                "pressure_ci95_Pa": [float(x) for x in self.pressure_ci95[s, i]], **opened}
+                "pressure_at_Pa": {k: _finite(v[s, i]) for k, v in self.pressure_at.items()},
+                "pressure_ci95_Pa": [_finite(x) for x in self.pressure_ci95[s, i]], **opened}
+
+
+def _finite(value) -> float | None:
+    """A pressure [Pa] for a document: None where it is infinite (no pressure holds in that share)."""
+    value = float(value)
+    return value if math.isfinite(value) else None
 
 
 def check_uncertainty(mission, uncertainties) -> None:
@@ -144,6 +193,8 @@ def sampling_problem(mission, muscles, elements, confidence: float, *, samples: 
         raise InputError(f"--samples: {samples!r} must be a whole number of at least 100 draws.")
     if not (isinstance(seed, int) and seed >= 0):
         raise InputError(f"--seed: {seed!r} must be a whole number of at least 0, e.g. 22.")
+    check_resolution(confidence, samples)
+    check_draws_fit([m.structure for m in muscles], samples)
     uncertainties = [muscle_uncertainty(seg, m, where=f"{mission.source}: robot.segments[{i}].pam",
                                         prior=prior)
                      for i, (seg, m) in enumerate(zip(mission.segments, muscles, strict=True))]

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pampipe.model.domain import outside_domain
 from pampipe.model.muscle import Anchored, Muscle, Structure
 from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load_affine
 from pampipe.model.pam import Geometry
@@ -147,6 +148,8 @@ class Evaluator:
         p = np.broadcast_to(nominal, (d.n if drawn else 1, nominal.size)).copy()
         for key in drawn:
             p += d.params[key][self.i]
+        if drawn:  # a draw outside the physical domain is no muscle: it does not hold (NaN → P* = inf)
+            p[outside_domain(p, nominal)] = np.nan
         p.flags.writeable = False
         return p
 

@@ -37,6 +37,7 @@ from pampipe.errors import SolverError
 from pampipe.model.braid import diameter_at_length, length_at_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.planning.problem import Elements
+from pampipe.planning.quantiles import level_text, tail
 from pampipe.planning.sampling import OPEN_SHARE
 from pampipe.planning.solve import Solution
 
@@ -190,12 +191,17 @@ def _loaded_reason(mission, muscles, s: int, e: Elements, solution: Solution, pa
     stuck = ~np.isfinite(pressure)
     if stuck.any():
         i = int(np.argmax(stuck))
+        sampled = "" if confidence is None else (
+            f" in a share {level_text(confidence)} of the draws (in more than {level_text(tail(confidence))} "
+            "of them it holds at no pressure: a friction at or below 0, or a muscle outside the model's "
+            "domain)")
         return "cannot_hold", (f"{_names(mission, stuck)} cannot hold the {e.load[s, i]:.4g} N load at any "
-                               f"pressure up to 100 MPa in this pipe{worst.rstrip(',')}.")
+                               f"pressure up to 100 MPa in this pipe{worst.rstrip(',')}{sampled}.")
     i = int(np.argmax(pressure / limits))
     hold = (f"{mission.segments[i].name} needs {pressure[i] / 1e3:.4g} kPa{worst} to hold "
             f"{e.load[s, i]:.4g} N with safety factor {mission.safety_factor:g}"
-            f"{'' if confidence is None else f' at {confidence:.3g} confidence'}, more than {limit(i)}")
+            f"{'' if confidence is None else f' at {level_text(confidence)} confidence'}, "
+            f"more than {limit(i)}")
     code = "above_rating" if limits[i] < supply else "above_supply"
     if confidence is not None:
         return code, hold + "."
@@ -230,7 +236,8 @@ def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None
         codes[s] = "undetermined"
         sentences[s] = (
             f"{mission.segments[i].name}'s fit ({pam.name}) leaves a direction of its parameters "
-            f"undetermined that moves its {sampled.level:.3g} quantile in {pipe} by {delta / 1e3:.3g} kPa "
+            f"undetermined that moves its {level_text(sampled.level)} quantile in {pipe} by "
+            f"{delta / 1e3:.3g} kPa "
             f"across what the data allow, more than {OPEN_SHARE * 100:g} % of its {margin / 1e3:.3g} kPa "
             f"margin to the {limit}, so no pressure and no holding probability can be given. A radial test "
             f"at the {bore} bore, or a slip test in this pipe, would determine it{suggested}; or plan with "

@@ -7,6 +7,7 @@ are found by numpy partitions, not a sort, and P(hold) at a pressure is the shar
 from __future__ import annotations
 
 import math
+from decimal import Decimal
 
 import numpy as np
 
@@ -55,3 +56,19 @@ def share_at_most(values: np.ndarray, limits: np.ndarray) -> np.ndarray:
     if values.shape[1] > 1 and values.strides[1] == 0:
         return np.searchsorted(np.sort(values[:, 0]), limits, side="right") / values.shape[0]
     return np.mean(values <= limits, axis=0)
+
+
+def level_text(level: float) -> str:
+    """C with every digit it was given (0.9999999999, not 1): 15 significant digits, trailing zeros cut."""
+    return f"{level:.15g}"
+
+
+def probability_places(level: float) -> int:
+    """Decimal places that show a probability near C apart from 1: two significant digits of 1 − C, and at
+    least 4 (0.95 → 4, 0.99999 → 6)."""
+    return max(4, 1 - math.floor(math.log10(tail(level))))
+
+
+def tail(level: float) -> float:
+    """1 − C as C was written (:func:`level_text`): 1 − 0.95 is 0.05, not 0.050000000000000044."""
+    return float(1 - Decimal(level_text(level)))

@@ -8,6 +8,7 @@ from functools import cached_property
 
 import numpy as np
 
+from pampipe.errors import InputError
 from pampipe.planning.payload import PayloadLimit
 from pampipe.results import notebook
 
@@ -208,8 +209,15 @@ class MissionPlan:
         return self.as_document()
 
     def capacity_curve(self, section: int, segment: int, pressures) -> np.ndarray:
-        """μπF_r(P, D, κW) [N] of one segment in one section (its worst bore) over ``pressures``."""
+        """μπF_r(P, D, κW) [N] of one segment in one section (its worst bore) over ``pressures``
+        (InputError for an index out of range)."""
         a = self.arrays
+        for name, index, count in (("section", section, len(a.route)),
+                                   ("segment", segment, len(self.muscles))):
+            whole = isinstance(index, int | np.integer) and not isinstance(index, bool)
+            if not (whole and 0 <= index < count):
+                raise InputError(f"capacity_curve: {name} {index!r} is not allowed; give a whole number "
+                                 f"from 0 to {count - 1}.")
         load = a.required_hold[section, segment]
         capacity = self.muscles[segment].holding_capacity(
             np.asarray(pressures, dtype=float), a.diameter[section, segment], load, kappa=self.kappa,

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import multiprocessing
 import signal
+import socket
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, Future, ProcessPoolExecutor, wait
 from contextlib import contextmanager
@@ -142,6 +143,29 @@ def run_all(fn: Callable, tasks: Iterable, pool: Executor, *, what: str | None =
                           "without --workers.", status="worker_died") from None
 
 
+def _check_reachable(address: str) -> None:
+    """InputError unless ``address`` names a host and port (``tcp://host:port``, ``host:port``) that
+    accepts a connection, checked before a Dask ``Client`` is made: a Client that fails to connect is
+    closed by the garbage collector, which prints a traceback 20 s after the message."""
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    scheme, location = parse_address(address)
+    try:
+        host, port = parse_host_port(location)
+    except ValueError:
+        host = port = None
+    if not host or not port:
+        raise InputError(f"--scheduler {address!r}: not an address of a Dask scheduler; give its host and "
+                         "port, e.g. tcp://127.0.0.1:8786.")
+    if scheme in ("tcp", "tls"):
+        try:
+            socket.create_connection((host, port), timeout=10).close()
+        except OSError as exc:
+            why = exc.strerror or exc
+            raise InputError(f"--scheduler {address}: cannot reach a Dask scheduler there ({why}); give its "
+                             "address, e.g. tcp://127.0.0.1:8786.") from None
+
+
 @contextmanager
 def _dask(address: str) -> Iterator[Executor]:
     try:
@@ -149,6 +173,7 @@ def _dask(address: str) -> Iterator[Executor]:
     except ImportError:
         raise InputError(f"--scheduler {address}: Dask is not installed; install the optional extra with "
                          "`pip install pampipe[dask]`, or use --workers N for local processes.") from None
+    _check_reachable(address)
     try:
         client = Client(address, timeout=10, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as exc:

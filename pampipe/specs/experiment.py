@@ -185,7 +185,8 @@ def make_slip_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> SlipData:
     """Validate a slip test's SI columns and split them into trials (InputError names file and column).
 
     Columns ``time``, ``pressure``, ``axial_load``, ``displacement``. Refused: a negative gauge
-    pressure, an axial load that never rises above its noise, a trial with fewer than
+    pressure, an axial load of the wrong sign (further below 0 than above it), one that never rises above
+    its noise, a trial with fewer than
     :data:`MIN_TRIAL_ROWS` rows, time that is not increasing.
     """
     where = f"{spec.data}"
@@ -203,6 +204,12 @@ def make_slip_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> SlipData:
         raise InputError(f"{where}: column 'pressure', data row {i + 1}: "
                          f"{pressure[negative[0]] / 1e3:.6g} kPa is negative; a slip test holds the muscle "
                          "at a gauge pressure >= 0 (the anchoring pressure or above).")
+    if load.size and -load.min() > max(load.max(), 0.0):
+        i = int(order[int(np.argmin(load))])
+        raise InputError(f"{where}: column 'axial_load', data row {i + 1}: the load reaches "
+                         f"{load.min():.6g} N and at most {max(load.max(), 0.0):.6g} N; a slip test pulls "
+                         "the muscle along the pipe with a positive load (tension, in N). Was the load "
+                         "cell's sign reversed? Negate the column.")
     trials = split_trials(load)
     if not trials:
         raise InputError(f"{where}: column 'axial_load': the load never rises (it spans "

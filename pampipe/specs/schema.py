@@ -9,11 +9,13 @@ the value, what is allowed, a did-you-mean for misspelt keys, at most :data:`MAX
 from __future__ import annotations
 
 import math
+import operator
+import re
 from pathlib import Path
 from typing import Annotated, Any
 
 import pydantic
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict
+from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from pampipe.errors import InputError
 from pampipe.units.quantities import show, to_si
@@ -24,6 +26,11 @@ MAX_CONVERTED = 10_000
 MAX_PROBLEMS = 10
 
 
+#: Each kind of bound: (the test a value passes, its words in a message).
+_BOUNDS = {"gt": (operator.gt, "greater than"), "ge": (operator.ge, "at least"),
+           "lt": (operator.lt, "less than"), "le": (operator.le, "at most")}
+
+
 class Strict(BaseModel):
     """Base of every schema: unknown keys are errors, values are not coerced, objects are frozen."""
 
@@ -31,10 +38,16 @@ class Strict(BaseModel):
 
 
 def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,
-             lt: float | None = None, le: float | None = None, unit: str = ""):
-    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked."""
+             lt: float | None = None, le: float | None = None, unit: str = "", hint: str = ""):
+    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked.
+
+    A value out of range is answered in the unit it was given ("720 deg must be at most 360 deg", not
+    "12.5664 rad must be at most 6.28319 rad"; :func:`given_unit`), a number without one in ``unit``, the
+    SI unit; ``hint`` follows the message (what the value means)."""
 
     converted: dict[str, float] = {}  # quantity string -> SI value: a route repeats its "3 in"
+    bounds = [(kind, bound) for kind, bound in (("gt", gt), ("ge", ge), ("lt", lt), ("le", le))
+              if bound is not None]
 
     def convert(value: Any) -> float:
         if type(value) is not str:
@@ -46,21 +59,17 @@ def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None
                 converted[value] = number
         return number
 
-    def check(value: float) -> float:
-        suffix = f" {unit}" if unit else ""
-        shown = f"{value:.6g}{suffix}"
-        if gt is not None and not value > gt:
-            raise ValueError(f"{shown} must be greater than {gt:g}{suffix}")
-        if ge is not None and not value >= ge:
-            if not _within_rounding(value, ge):
-                raise ValueError(f"{shown} must be at least {ge:g}{suffix}")
-            value = ge
-        if lt is not None and not value < lt:
-            raise ValueError(f"{shown} must be less than {lt:g}{suffix}")
-        if le is not None and not value <= le:
-            if not _within_rounding(value, le):
-                raise ValueError(f"{shown} must be at most {le:g}{suffix}")
-            value = le
+    def read(given: Any) -> float:
+        value = convert(given)
+        for kind, bound in bounds:
+            if _BOUNDS[kind][0](value, bound):
+                continue
+            if kind in ("ge", "le") and _within_rounding(value, bound):
+                value = bound
+                continue
+            shown, scale, text = given_unit(given, value, unit)
+            raise ValueError(f"{shown} must be {_BOUNDS[kind][1]} {bound / scale:.6g}{text}"
+                             + (f": {hint}" if hint else ""))
         return value
 
     def _within_rounding(value: float, bound: float) -> bool:
@@ -68,7 +77,19 @@ def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None
         rounded up by the conversion (100·π/200 = 1.5707963267948968 > π/2)."""
         return dimension == "angle" and abs(value - bound) <= math.ulp(bound)
 
-    return Annotated[float, BeforeValidator(convert), AfterValidator(check)]
+    return Annotated[float, BeforeValidator(read)]
+
+
+def given_unit(given: Any, value: float, unit: str) -> tuple[str, float, str]:
+    """(the value as given, SI per given unit, " unit") for a message: a quantity string in its own unit
+    ("180.0001 deg", π/180, " deg"), anything else as ``value`` in the SI ``unit`` (scale 1)."""
+    suffix = f" {unit}" if unit else ""
+    if isinstance(given, str):
+        found = re.match(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$", given)
+        number = float(found.group(1)) if found else 0.0
+        if found and found.group(2) and number != 0 and math.isfinite(value) and value != 0:
+            return f"{found.group(1)} {found.group(2)}", value / number, f" {found.group(2)}"
+    return f"{value:.6g}{suffix}", 1.0, suffix
 
 
 def validate(path: Path | str, schema_cls: type[BaseModel], raw: Any, *,
@@ -101,7 +122,8 @@ def _relevant(errors: list[dict], raw: Any, tags: set[str]) -> list[dict]:
     """Drop the errors of union members the input cannot be meant for.
 
     A mapping given for ``friction: 0.3 | {value, sd}`` is meant for the mapping form, so the number
-    form's complaint ("not a number") is noise, and the reverse for a scalar.
+    form's complaint ("not a number") is noise, and the reverse for a scalar; a value that is not text
+    is not meant for a word (``'from_pam'``): that member's complaint is noise too.
     """
     kept = [err for err in errors if _consistent(err["loc"], raw, tags)]
     return kept or errors
@@ -111,7 +133,9 @@ def _consistent(loc: tuple, raw: Any, tags: set[str]) -> bool:
     node = raw
     for part in loc:
         if _is_union_tag(part, tags):
-            if (part not in _SCALAR_TAGS and "[" not in part) != isinstance(node, dict):
+            if _mapping_member(part, tags) != isinstance(node, dict):
+                return False
+            if part.startswith("literal[") and not isinstance(node, str):
                 return False
             continue
         try:
@@ -163,6 +187,14 @@ _MESSAGES = {
 
 
 _SCALAR_TAGS = {"str", "float", "int", "bool", "list", "dict", "none"}
+
+
+def _mapping_member(part: str, tags: set[str]) -> bool:
+    """True if the union member tagged ``part`` takes a mapping: a schema class, also behind validators
+    (``function-after[_inside(), UncertainFriction]``)."""
+    if part.startswith("function-"):
+        part = re.findall(r"[A-Za-z_]\w*", part)[-1]
+    return part not in _SCALAR_TAGS and "[" not in part and part in tags
 
 
 def _is_union_tag(part, tags: set[str]) -> bool:

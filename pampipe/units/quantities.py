@@ -89,10 +89,15 @@ def real_number(value: object, *, where: str | None = None) -> float | None:
 
     Any :class:`numbers.Real` (int, float, Fraction, numpy integers and floats), a numpy 0-d array of
     reals and :class:`decimal.Decimal`; not bool, str or complex. A value beyond the float range
-    raises InputError (named by ``where``); NaN and ±inf come back as they are.
+    raises InputError (named by ``where``); NaN and ±inf come back as they are; so does a masked value
+    (``numpy.ma.masked``): it has no number (numpy would read it as 0).
     """
     if type(value) is float:  # the common case first
         return value
+    prefix = f"{where}: " if where else ""
+    if _is_masked(value):
+        raise InputError(f"{prefix}the value is masked (numpy.ma.masked): a masked entry has no number; give "
+                         "the value itself, or leave the option out.")
     import numbers
     from decimal import Decimal
 
@@ -102,13 +107,20 @@ def real_number(value: object, *, where: str | None = None) -> float | None:
         value = value.item()  # a numpy scalar or 0-d array
     if not isinstance(value, numbers.Real | Decimal) or isinstance(value, bool):
         return None
-    prefix = f"{where}: " if where else ""
     try:
         return float(value)
     except OverflowError:  # a huge int or Fraction
         raise InputError(f"{prefix}{show(value)} is beyond the float range (about ±1.8e308).") from None
     except ValueError:  # Decimal('sNaN')
         raise InputError(f"{prefix}{show(value)} is not a finite number.") from None
+
+
+def _is_masked(value: object) -> bool:
+    """True for a numpy masked array or constant with any entry masked (numpy is not imported)."""
+    mask = getattr(value, "mask", None)
+    if mask is None or not hasattr(value, "filled"):
+        return False
+    return bool(mask.any()) if hasattr(mask, "any") else bool(mask)
 
 
 def _is_pint(value: object) -> bool:
@@ -120,7 +132,7 @@ def _from_pint(value, prefix: str) -> tuple[float, Dimension]:
     """(SI value, dimension) of a scalar pint Quantity; InputError for arrays and odd units."""
     try:
         base = value.to_base_units()
-        dimension = _dimension_of(base)
+        dimension = _dimension_of(base, f"{value.units:~}")
     except _Refused as exc:
         raise InputError(f"{prefix}{show(value)}: {exc}") from None
     except Exception as exc:  # pint's own errors
@@ -338,18 +350,22 @@ def _pint_quantity(number: float, text: str, unknown: list[str] | None = None):
         raise _Refused(f"unknown unit '{names[0]}'{hint}") from None
 
 
-def _dimension_of(quantity) -> Dimension:
+def _dimension_of(quantity, text: str) -> Dimension:
+    """The dimension of a pint quantity in base units; ``text``, the unit as the user wrote it, names a
+    unit of another kind (pint's own base units, 'ampere * meter * second' for 'D', are not shown)."""
     dims = [0] * 5
     for unit, exponent in quantity.unit_items():
         if unit not in _BASE or exponent != int(exponent):
-            raise _Refused(f"the unit '{quantity.units}' is not a mechanical unit pampipe reads.")
+            raise _Refused(f"the unit '{text.strip()}' is not a mechanical unit pampipe reads (a length, "
+                           "pressure, force, mass, angle, time or a combination); known units include "
+                           f"{', '.join(_COMMON)}.")
         dims[_BASE[unit]] = int(exponent)
     return tuple(dims)
 
 
 def _pint_unit(text: str, unknown: list[str]) -> tuple[float, Dimension]:
     quantity = _pint_quantity(1.0, text, unknown)
-    return float(quantity.magnitude), _dimension_of(quantity)
+    return float(quantity.magnitude), _dimension_of(quantity, text)
 
 
 def _offset_unit(text: str) -> bool:
@@ -359,7 +375,7 @@ def _offset_unit(text: str) -> bool:
 
 def _pint_offset(number: float, text: str) -> tuple[float, Dimension]:
     quantity = _pint_quantity(number, text.replace("°C", "degC").replace("°F", "degF"))
-    return float(quantity.magnitude), _dimension_of(quantity)
+    return float(quantity.magnitude), _dimension_of(quantity, text)
 
 
 _COMMON = ("mm", "in", "ft", "kPa", "MPa", "bar", "psi", "N", "lbf", "kg", "lb", "deg", "rad", "s", "%")

@@ -11,12 +11,15 @@ from __future__ import annotations
 import hashlib
 import html
 import io
+import os
+import urllib.parse
 from collections.abc import Callable, Iterable, Sequence
 from datetime import datetime, timezone
 from pathlib import Path
 
 from pampipe._version import __version__
 from pampipe.io.files import atomic_write_text
+from pampipe.io.streams import safe_text
 from pampipe.results import HTML_ROWS, records
 
 DOCS = Path(__file__).resolve().parents[2] / "docs"
@@ -55,6 +58,9 @@ def sha256(path: Path) -> str:
 def svg_figures(draw: Callable[[], object]) -> list[str]:
     """The figures that ``draw()`` makes (plot functions under :func:`pampipe.views.tables.capture`) as
     SVG."""
+    import matplotlib
+
+    from pampipe.views.plots.style import PLAIN
     from pampipe.views.tables import capture
 
     with capture() as figures:
@@ -62,7 +68,8 @@ def svg_figures(draw: Callable[[], object]) -> list[str]:
     texts = []
     for fig in figures:
         buffer = io.StringIO()
-        fig.savefig(buffer, format="svg")
+        with matplotlib.rc_context(PLAIN):  # names as text, never mathtext (the texts: save_figure)
+            fig.savefig(buffer, format="svg")
         svg = buffer.getvalue()
         texts.append(svg[svg.index("<svg"):])  # drop the XML prolog and DOCTYPE (an external DTD)
     return texts
@@ -74,12 +81,24 @@ def _anchor(heading: str) -> str:
     return kept.replace(" ", "-")
 
 
-def _assumption(text: str, doc: str, heading: str) -> str:
+def _assumption(text: str, doc: str, heading: str, folder: Path | None) -> str:
     where = DOCS / doc
     label = f"docs/{doc} §{heading}"
-    link = (f"<a href='{html.escape(where.as_uri())}#{_anchor(heading)}'>{html.escape(label)}</a>"
-            if where.is_file() else html.escape(label))
-    return f"<li>{html.escape(text)} ({link})</li>"
+    link = (f"<a href='{_esc(_relative_uri(where, folder))}#{_anchor(heading)}'>{_esc(label)}</a>"
+            if where.is_file() and folder is not None else _esc(label))
+    return f"<li>{_esc(text)} ({link})</li>"
+
+
+def _relative_uri(target: Path, folder: Path) -> str:
+    """``target`` as a URI reference relative to ``folder`` (the report's): no absolute path of the
+    installation in a report that is sent on."""
+    return urllib.parse.quote(Path(os.path.relpath(target, folder.resolve())).as_posix())
+
+
+def _esc(text) -> str:
+    """``text`` for HTML: markup escaped, and control and bidi characters (U+202A-202E, U+2066-2069, ...)
+    shown as ``\\u202e`` (:func:`pampipe.io.streams.safe_text`), so a name cannot reorder what is shown."""
+    return html.escape(safe_text(str(text)))
 
 
 def _long_table(document: dict) -> str:
@@ -89,8 +108,8 @@ def _long_table(document: dict) -> str:
     columns = list(dict.fromkeys(k for row in rows for k in row))
     if len(rows) > 1:  # what every row shares is in the report above
         columns = [c for c in columns if len({repr(row.get(c)) for row in rows}) > 1 or c == "name"]
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(_cell(row.get(c)))}</td>" for c in columns) + "</tr>"
+    head = "".join(f"<th>{_esc(c)}</th>" for c in columns)
+    body = "".join("<tr>" + "".join(f"<td>{_esc(_cell(row.get(c)))}</td>" for c in columns) + "</tr>"
                    for row in rows[:HTML_ROWS])
     more = f"<p>{len(rows) - HTML_ROWS} more rows in the JSON document.</p>" if len(rows) > HTML_ROWS else ""
     return f"<h2>Results table</h2><div class='wide'><table><tr>{head}</tr>{body}</table></div>{more}"
@@ -111,15 +130,17 @@ th{background:#f2f2f2}pre{background:#f8f8f8;padding:0.8em;overflow-x:auto;font-
 
 
 def render(command: str, *, title: str, inputs: Iterable[Path], text: str, document: dict,
-           warnings: Sequence[str] = (), reasons: Sequence[str] = (), figures: Sequence[str] = ()) -> str:
-    """The report as one HTML text."""
-    esc = html.escape
+           warnings: Sequence[str] = (), reasons: Sequence[str] = (), figures: Sequence[str] = (),
+           folder: Path | None = None) -> str:
+    """The report as one HTML text; its links to the docs are relative to ``folder``, the report's (none
+    without it)."""
+    esc = _esc
     files = "".join(f"<tr><td style='text-align:left'>{esc(str(p))}</td><td><code>{sha256(p)}</code></td>"
                     "</tr>" for p in dict.fromkeys(Path(p) for p in inputs) if Path(p).is_file())
     warned = "".join(f"<li class='warn'>{esc(w)}</li>" for w in warnings) or "<li>none</li>"
     why = "".join(f"<li>{esc(r)}</li>" for r in reasons)
     plots = "".join(f"<figure>{svg}</figure>" for svg in figures)
-    assumptions = "".join(_assumption(*a) for a in ASSUMPTIONS.get(command, []))
+    assumptions = "".join(_assumption(*a, folder) for a in ASSUMPTIONS.get(command, []))
     stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     return (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'><title>{esc(title)}</title>"
             f"<style>{STYLE}</style></head><body><h1>{esc(title)}</h1>"
@@ -134,5 +155,5 @@ def render(command: str, *, title: str, inputs: Iterable[Path], text: str, docum
 
 def write_report(target: Path, command: str, **parts) -> Path:
     """Write :func:`render` to ``target`` atomically; return it."""
-    atomic_write_text(Path(target), render(command, **parts))
+    atomic_write_text(Path(target), render(command, folder=Path(target).parent, **parts))
     return Path(target)

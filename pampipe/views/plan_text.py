@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from pampipe.planning.quantiles import level_text, probability_places
 from pampipe.units.quantities import to_si
 from pampipe.views.tables import FULL_TABLE, table
 from pampipe.views.tether_text import tether_text
@@ -112,7 +113,7 @@ def _header(plan, unit: str, scale: float) -> str:
     given = "" if not any("safety_factor" in w for w in plan.warnings) else " (none given: default)"
     return (f"plan for {plan.mission}: supply {plan.supply_pressure / scale:.4g} {unit}, payload "
             f"{plan.payload:.4g} kg, safety factor {plan.safety_factor:g}{given}, load path {plan.load_path}"
-            + (f", confidence {plan.confidence:.3g}" if plan.confidence is not None else ""))
+            + (f", confidence {level_text(plan.confidence)}" if plan.confidence is not None else ""))
 
 
 def _network_line(plan) -> str:
@@ -194,6 +195,7 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
     """The sampled plan: probabilities and pressures per element, then the sources by influence."""
     c, a = plan.uncertainty, plan.arrays
     levels = list(c.pressure_at)
+    places = probability_places(c.level)
     headers = ["section", "segment", "unit", f"P [{unit}]", "P(hold)", "P(contact)",
                *(f"P@{k} [{unit}]" for k in levels)]
     out = []
@@ -206,18 +208,18 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
                             *["-"] * len(levels)))
                 continue
             out.append((a.route.name[s], name, c.units[i], a.pressure[s, i] / scale,
-                        f"{c.holding_probability[s, i]:.4f} ± {c.holding_se[s, i]:.4f}",
-                        f"{c.contact_probability[s, i]:.4f}",
+                        f"{c.holding_probability[s, i]:.{places}f} ± {c.holding_se[s, i]:.{places}f}",
+                        f"{c.contact_probability[s, i]:.{places}f}",
                         *(float(c.pressure_at[k][s, i] / scale) for k in levels)))
     sources = [(r["source"], r["what"], r["pressure_shift_Pa"] / scale) for r in c.dominant()]
-    text = [f"confidence {c.level:.3g}: {c.samples} seeded draws (seed {c.seed}) of every stated uncertainty;"
-            " "
+    text = [f"confidence {level_text(c.level)}: {c.samples} seeded draws (seed {c.seed}) of every stated "
+            "uncertainty; "
             "P is the least pressure that holds in that share of the draws (P(hold) ± its Monte Carlo "
             "error; holding includes touching the wall: P(contact) is the share in which the unloaded "
             "muscle touches the largest bore; unit: the muscle it holds for, 'tested' the one its PAM file "
             "was fitted to, 'lot' another of its lot):", table(headers, out),
-            f"what each source adds alone (its {c.level:.3g} quantile with the others at their nominal "
-            "values, the worst element):", table(["source", "what", f"adds [{unit}]"], sources)]
+            f"what each source adds alone (its {level_text(c.level)} quantile with the others at their "
+            "nominal values, the worst element):", table(["source", "what", f"adds [{unit}]"], sources)]
     if c.prior:
         text.append("note: part of this margin rests on a prior (--prior-from or a stated geometry sd) "
                     "along directions the muscle's own test data leave undetermined.")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pampipe.planning.quantiles import level_text
 from pampipe.views.tables import table
 
 #: Sections listed in full; longer routes list the slowest ones (and the one the walk stops in).
@@ -118,12 +119,14 @@ def _supply_lines(result) -> list[str]:
 
 def _completion_lines(result) -> list[str]:
     c, route = result.completion, result.route
-    lines = [f"confidence {c.level:.3g}: {c.samples} seeded draws of {', '.join(c.sources)}; the robot walks "
-             f"at the plan's pressures and stops at its first slip: completes the route with probability "
+    lines = [f"confidence {level_text(c.level)}: {c.samples} seeded draws of {', '.join(c.sources)}; the "
+             "robot walks at the plan's pressures and stops at its first slip: completes the route with "
+             f"probability "
              f"{c.probability:.4f} ± {c.standard_error:.4f}"]
     slips = np.flatnonzero(c.first_slip > 0)
     if slips.size:
         top = slips[np.argsort(-c.first_slip[slips], kind="stable")][:5]
         lines.append("first slip: " + ", ".join(f"{route.name[s]} ({c.first_slip[s]:.3g})" for s in top))
-    lines.append(f"at the {c.level:.3g} quantile: time {duration(c.time)}, free air {c.free_air:.4g} m^3")
+    lines.append(f"at the {level_text(c.level)} quantile: time {duration(c.time)}, "
+                 f"free air {c.free_air:.4g} m^3")
     return lines

@@ -90,10 +90,13 @@ def new_figure(nrows: int = 1, ncols: int = 1, **kwargs):
 def save_figure(fig, folder: Path, name: str) -> Path | None:
     """Save ``fig`` as ``folder/name`` atomically, its suffix that of ``--plot-format``, and return the
     path; while :func:`capture` is on, collect it instead (and return None)."""
+    import matplotlib
+
     from pampipe.views.plots.display_units import localize_figure
-    from pampipe.views.plots.style import DPI
+    from pampipe.views.plots.style import DPI, PLAIN, plain_text
 
     localize_figure(fig)  # --units
+    plain_text(fig)  # names as text, never mathtext
     if fig.get_layout_engine() is None:  # a figure of the caller's (plot(ax=...))
         fig.tight_layout()
     if _plotting["captured"] is not None:
@@ -101,5 +104,6 @@ def save_figure(fig, folder: Path, name: str) -> Path | None:
         return None
     kind = _plotting["format"]
     target = (Path(folder) / name).with_suffix(f".{kind}")
-    atomic_write(target, lambda tmp: fig.savefig(tmp, format=kind, dpi=DPI), create_folder=True)
+    with matplotlib.rc_context(PLAIN):
+        atomic_write(target, lambda tmp: fig.savefig(tmp, format=kind, dpi=DPI), create_folder=True)
     return target

@@ -54,7 +54,11 @@ def test_simulate_takes_arrays_and_quantities():
     (pampipe.plan, "payload", 1 + 2j), (pampipe.plan, "payload", np.nan), (pampipe.plan, "payload", 10**400),
     (pampipe.plan, "payload", [1, 2]), (pampipe.plan, "max_payload", "yes"), (pampipe.gait, "section", 3),
     (pampipe.gait, "optimal", "no"), (pampipe.export_mission, "sketch_name", "../evil"),
-    (pampipe.export_mission, "sketch_name", 5)], ids=lambda v: getattr(v, "__name__", None) or repr(v))
+    (pampipe.export_mission, "sketch_name", 5),
+    # issue 38: raw ValueError, TypeError
+    (pampipe.plan, "solver", None), (pampipe.plan, "prior", 3),
+    (pampipe.export_mission, "confidence", "0.95"), (pampipe.export_mission, "samples", 10.5),
+    (pampipe.export_mission, "seed", -1)], ids=lambda v: getattr(v, "__name__", None) or repr(v))
 def test_bad_option_values_are_input_errors_naming_the_option(call, option, value):
     with pytest.raises(InputError) as error:
         call(MISSION, **{option: value})
@@ -66,3 +70,43 @@ def test_diagnose_options(option, value):
     with pytest.raises(InputError) as error:
         pampipe.diagnose(PROBLEMS / "experiments" / "paper-protocol.yaml", **{option: value})
     assert option in str(error.value)
+
+
+@pytest.mark.parametrize("value", [np.ma.masked, np.ma.array(2.0, mask=True)])
+def test_masked_value_is_refused(value):
+    """Issue 38: pampipe.plan(M, payload=np.ma.masked) planned 0 kg (numpy reads a masked value as 0)."""
+    with pytest.raises(InputError, match="payload: the value is masked"):
+        pampipe.plan(MISSION, payload=value)
+
+
+def test_masked_entry_of_a_list_is_refused():
+    with pytest.raises(InputError, match=r"pipe_diameter\[1\]: the value is masked"):
+        pampipe.simulate(PAM, pipe_diameter=np.ma.array([0.08, 0.09], mask=[False, True]))
+
+
+def test_unmasked_masked_array_is_its_number(reference):
+    assert pampipe.plan(MISSION, payload=np.ma.array(2.0)).to_dict()["sections"] == reference
+
+
+def test_empty_pipe_diameter_list_names_the_option():
+    """Issue 38: pipe_diameter=[] was "ValueError: max() arg is an empty sequence"."""
+    with pytest.raises(InputError, match="pipe_diameter: an empty list"):
+        pampipe.simulate(PAM, pipe_diameter=[])
+
+
+@pytest.mark.parametrize(("section", "segment", "name"), [(9, 0, "section"), (0, 9, "segment"),
+                                                          (-1, 0, "section"), (0, 1.0, "segment")])
+def test_capacity_curve_index_out_of_range(section, segment, name):
+    """Issue 38: capacity_curve(9, 9, [1e5]) was an IndexError."""
+    plan = pampipe.plan(MISSION)
+    with pytest.raises(InputError, match=f"capacity_curve: {name}"):
+        plan.capacity_curve(section, segment, [1e5])
+    assert plan.capacity_curve(np.int64(0), 0, [4e5])[0] > 0
+
+
+def test_muscle_from_something_that_is_no_pam():
+    """Issue 38: Muscle.from_pam(None) was "AttributeError: 'NoneType' object has no attribute 'moduli'"."""
+    from pampipe.model.muscle import Muscle
+
+    with pytest.raises(InputError, match="pam: a NoneType is not a PAM"):
+        Muscle.from_pam(None)

@@ -178,3 +178,13 @@ def test_an_unreachable_scheduler_is_an_input_error():
                           "tcp://127.0.0.1:9"], capture_output=True, text=True, cwd=ROOT, timeout=600)
     assert out.returncode == 2, out.stderr
     assert "cannot reach a Dask scheduler" in out.stderr and "Traceback" not in out.stderr
+
+
+@pytest.mark.parametrize("address", ["", "bogus", "tcp://", "tcp://127.0.0.1:1"])
+def test_a_bad_scheduler_address_makes_no_client(address, monkeypatch):
+    """Issue 38: `--scheduler ''` printed a distributed `Client.__del__` traceback 20 s after the message (the
+    half-made Client closed by the garbage collector): the address is checked before any Client is made."""
+    distributed = pytest.importorskip("distributed")
+    monkeypatch.setattr(distributed, "Client", lambda *a, **k: pytest.fail("a Client was made"))
+    with pytest.raises(InputError, match="--scheduler"), executor(scheduler=address):
+        pass

@@ -94,3 +94,21 @@ def test_identify_report_hashes_the_data(tmp_path):
     for data in sorted((PROBLEMS / "experiments" / "data" / "paper-protocol").glob("*.csv")):
         assert hashlib.sha256(data.read_bytes()).hexdigest() in text, data.name
     assert text.count("<svg") >= 2 and "6. Identification NLP" in text
+
+
+def test_bidi_controls_are_shown_not_obeyed_and_docs_links_are_relative(tmp_path):
+    """Issue 38: a name with U+202E showed reversed in the report, and the assumptions linked to the
+    installation's absolute docs/ (file:///…): the controls are written as \\u202e, the links relative."""
+    from pampipe.views.html import write_report
+
+    names = ["\u202eevil", "a\u2066b\u2069c", "x\u202ay\u202c"]
+    (tmp_path / "sub").mkdir()
+    target = write_report(tmp_path / "sub" / "plan.html", "plan", title="plan " + names[0], inputs=[],
+                          text="\n".join(names), document={"sections": [{"name": n} for n in names]},
+                          warnings=[names[1]], reasons=[names[2]])
+    text = target.read_text(encoding="utf-8")
+    assert not any(chr(c) in text for c in [*range(0x202A, 0x202F), *range(0x2066, 0x206A)])
+    assert "\\u202eevil" in text and "a\\u2066b\\u2069c" in text
+    links = re.findall(r"href='([^']*)'", text)
+    assert links and all(not link.startswith(("file:", "/")) for link in links)
+    assert all((target.parent / link.split("#")[0]).resolve().is_file() for link in links)

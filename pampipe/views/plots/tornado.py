@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pampipe.planning.quantiles import level_text
 from pampipe.views.tables import new_figure, save_figure
 
 
@@ -32,7 +33,8 @@ def plot_tornado(plan, folder: Path, unit: str, scale: float) -> Path | None:
                label=f"planned, all sources ({a.pressure[s, i] / scale:.4g} {unit})")
     ax.set_yticks(range(len(rows)), rows)
     ax.set(xlabel=f"least holding pressure [{unit}] (gauge)", ylabel="source of uncertainty (alone)",
-           title=f"{a.route.name[s]}, {a.segment_names[i]}: {1 - c.level:.3g} to {c.level:.3g} quantiles, "
+           title=f"{a.route.name[s]}, {a.segment_names[i]}: {level_text(1 - c.level)} to "
+                 f"{level_text(c.level)} quantiles, "
                  "one source at a time")
     left, right = ax.get_xlim()
     ax.set_xlim(left, right + 0.15 * (right - left))
