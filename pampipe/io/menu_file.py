@@ -89,15 +89,15 @@ def levels(value, where: str, default: tuple[float, ...]) -> tuple[float, ...]:
     return tuple(sorted(out))
 
 
-def load_menu(path: str | Path, pam, *, pam_where: str = "PAM file") -> Menu:
+def load_menu(path: str | Path, pam, *, pam_where: str = "PAM file", raw: dict | None = None) -> Menu:
     """Read and validate a MENU file against the ``pam`` (a :class:`~pampipe.model.pam.Pam` with moduli and
-    an ``uncertainty:`` block) whose next test it lists."""
+    an ``uncertainty:`` block) whose next test it lists; ``raw``: the file's content as a mapping instead."""
     path = Path(path)
     if getattr(pam, "uncertainty", None) is None:
         raise InputError(f"{pam_where}: the PAM '{pam.name}' has no 'uncertainty:' block: next-test needs "
                          "what its fit leaves uncertain (the joint covariance, model error and undetermined "
                          "directions that `pampipe identify -o` writes). Give the PAM file identify wrote.")
-    raw = load_mapping(path, what="menu file")
+    raw = load_mapping(path, what="menu file") if raw is None else raw
     unknown = sorted(set(raw) - {"tests", "pressures"})
     if unknown:
         raise InputError(f"{path}: unknown key(s) {', '.join(unknown)}; allowed: tests, pressures.")
