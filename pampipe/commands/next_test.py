@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import argparse
-import shlex
 from pathlib import Path
 
 from pampipe.commands.common import (
@@ -64,12 +63,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_output_options(parser)
     add_units_option(parser)
     add_report_option(parser)
-
-
-def command_line(pam, mission, menu, confidence: float) -> str:
-    """The `pampipe next-test` command line that ranks ``menu``'s tests for ``mission``."""
-    return (f"pampipe next-test {shlex.quote(str(pam))} {shlex.quote(str(mission))} --menu "
-            f"{shlex.quote(str(menu))} --confidence {confidence:g}")
 
 
 def run(args: argparse.Namespace) -> int:
