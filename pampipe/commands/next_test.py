@@ -17,7 +17,7 @@ from pampipe.commands.common import (
     write_html_report,
 )
 from pampipe.commands.plan import probability
-from pampipe.io.files import check_output
+from pampipe.io.files import check_not_input, check_output
 
 NAME = "next-test"
 HELP = ("rank the tests a lab can run (a MENU file with their costs) by how much each lowers the mission's "
@@ -55,6 +55,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="what a test should lower: the largest planned pressure (default) or the "
                              "air-weighted mean")
     parser.add_argument("--pairs", action="store_true", help="rank every pair of tests too")
+    parser.add_argument("-o", "--output", type=Path, metavar="DIR",
+                        help="write the best test as an experiment skeleton into DIR: the PAM, the "
+                             "experiment file (the old fit as prior) and a CSV of the rows to measure, for "
+                             "identify")
     parser.add_argument("--samples", type=integer_type("--samples", ge=100), default=None, metavar="N",
                         help="draws of each plan (default 10000)")
     parser.add_argument("--seed", type=integer_type("--seed", ge=0), default=None, metavar="S",
@@ -69,14 +73,28 @@ def run(args: argparse.Namespace) -> int:
     from pampipe import api
     from pampipe.views.nexttest_text import result_text
 
+    inputs = [args.pam, args.mission, args.menu]
     if args.report is not None:
-        check_output(args.report, [args.pam, args.mission, args.menu], option="--report")
+        check_output(args.report, inputs, option="--report")
+    if args.output is not None:
+        for name in ("pam.yaml", "next-test.yaml"):
+            check_not_input(args.output / name, inputs, option="-o")
     result = api.next_test(args.pam, args.mission, menu=args.menu, confidence=args.confidence,
                            objective=args.objective, pairs=args.pairs, samples=args.samples, seed=args.seed,
                            workers=args.workers, scheduler=args.scheduler)
     text = result_text(result)
     document = result.to_dict()
     emit(args, document, text)
+    if args.output is not None:
+        from pampipe.io.skeleton import write_skeleton
+        from pampipe.model.muscle import Muscle
+
+        pam = api.load_pam(args.pam)
+        for test in result.best.tests:
+            folder = args.output if len(result.best.tests) == 1 else args.output / f"test-{test.entry}"
+            note = f"The test `pampipe next-test` ranked first: {test.describe()}."
+            for path in write_skeleton(folder, pam, test, Muscle.from_pam(pam), comments=[note]):
+                say(args, f"wrote {path}")
     if args.plots:
         from pampipe.views.plots.nexttest import plot_next_test
 

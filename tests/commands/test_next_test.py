@@ -40,3 +40,36 @@ def test_text_and_api():
     text = str(result)
     assert "D-optimal pick" in text and "rank" in text
     assert repr(result).startswith("<NextTest ")
+
+
+def test_skeleton_identify_reads_once_filled(tmp_path, capsys):
+    """-o DIR: the best test as an experiment; its rows filled with the true muscle's forces (and 2 N noise),
+    identify reads it, with the old fit as its prior."""
+    import numpy as np
+
+    from pampipe.io.pam_schema import load_pam
+    from pampipe.model.muscle import Muscle
+
+    out = tmp_path / "next"
+    assert main(["next-test", str(PAM), str(MISSION), "--menu", str(MENU), "--samples", "500", "-o",
+                 str(out)]) == 0
+    capsys.readouterr()
+    experiment = out / "next-test.yaml"
+    assert (out / "pam.yaml").is_file() and experiment.is_file()
+    csv = next((out / "data").glob("*.csv"))
+    header, *rows = csv.read_text().splitlines()
+    # isometric 250 mm is ranked first
+    assert header == "pressure [kPa],length [mm],force [N]" and len(rows) == 10
+    truth = Muscle.from_pam(load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml"))
+    rng = np.random.default_rng(2)
+    filled = [header]
+    for row in rows:
+        pressure, length, force = row.split(",")
+        assert force == "" and float(length) == 250
+        for _ in range(20):
+            f = float(truth.axial_force(float(pressure) * 1e3, 0.25)) + 2 * rng.standard_normal()
+            filled.append(f"{pressure},{length},{f:.4f}")
+    csv.write_text("\n".join(filled) + "\n")
+    assert main(["identify", str(experiment), "-o", str(tmp_path / "refit.yaml")]) == 0
+    refit = load_pam(tmp_path / "refit.yaml")
+    assert refit.uncertainty is not None and refit.moduli is not None
