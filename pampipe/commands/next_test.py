@@ -31,11 +31,14 @@ planned again at C (plan's own sampled quantile, the same seeded draws for every
 ranked by the predicted drop of the largest planned pressure (--objective air: the air-weighted mean) per
 unit cost. Each row says which undetermined directions the test closes and whether plan's exit 3 would go
 away. The D-optimal pick (largest log det of the information gain per unit cost) is shown beside it.
+The top --check N tests (default 3) are then checked: truths drawn from the fit, the test's data synthesised,
+refitted with identify and planned again (the mean over --truths K, on --workers/--scheduler).
 
 examples:
   pampipe next-test problems/pams/paper-radial-pam-uncertain.yaml \\
       problems/missions/riser-uncertain-friction.yaml --menu problems/menus/radial-menu.yaml
   pampipe next-test PAM.yaml MISSION.yaml --menu MENU.yaml --confidence 0.99 --pairs --json
+  pampipe next-test PAM.yaml MISSION.yaml --menu MENU.yaml --check 3 --workers 2 -o next/
 
 exit codes: 0 ranked; 2 bad input."""
 
@@ -63,7 +66,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="draws of each plan (default 10000)")
     parser.add_argument("--seed", type=integer_type("--seed", ge=0), default=None, metavar="S",
                         help="seed of the draws (default 22)")
-    add_parallel_options(parser, "the plans")
+    parser.add_argument("--check", type=integer_type("--check", ge=0), default=3, metavar="N",
+                        help="the preposterior check of the top N tests: truths drawn from the fit, the "
+                             "test's data synthesised, refitted and planned again (default 3; 0: none)")
+    parser.add_argument("--truths", type=integer_type("--truths", ge=2), default=None, metavar="K",
+                        help="truths per checked test (default 8)")
+    add_parallel_options(parser, "the preposterior check")
     add_output_options(parser)
     add_units_option(parser)
     add_report_option(parser)
@@ -81,7 +89,8 @@ def run(args: argparse.Namespace) -> int:
             check_not_input(args.output / name, inputs, option="-o")
     result = api.next_test(args.pam, args.mission, menu=args.menu, confidence=args.confidence,
                            objective=args.objective, pairs=args.pairs, samples=args.samples, seed=args.seed,
-                           workers=args.workers, scheduler=args.scheduler)
+                           check=args.check, truths=args.truths, workers=args.workers,
+                           scheduler=args.scheduler)
     text = result_text(result)
     document = result.to_dict()
     emit(args, document, text)

@@ -16,6 +16,7 @@ it, the D-optimal pick: the largest log det(I + Σ₀F) per unit cost (:func:`.p
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import itertools
 import math
@@ -79,7 +80,7 @@ class Planner:
     """The mission with the tested PAM's uncertainty replaced, planned at C on fixed seeded draws."""
 
     def __init__(self, mission, pam, pam_file, confidence: float, *, objective: str = "pressure",
-                 samples: int = DEFAULT_DRAWS, seed: int = DEFAULT_SEED, workers=None, scheduler=None):
+                 samples: int = DEFAULT_DRAWS, seed: int = DEFAULT_SEED):
         if objective not in OBJECTIVES:
             raise InputError(f"--objective: {objective!r} is not one of {', '.join(OBJECTIVES)}.")
         self.carriers = [i for i, seg in enumerate(mission.segments) if _same(seg, pam, pam_file)]
@@ -89,19 +90,33 @@ class Planner:
                              "the muscle the mission plans with; give a PAM file one of its segments names.")
         self.mission, self.pam, self.confidence = mission, pam, confidence
         self.objective, self.samples, self.seed = objective, samples, seed
-        self.workers, self.scheduler = workers, scheduler
         self.muscles = mission_muscles(mission)
         self.elements = build_elements(mission, self.muscles)
         self.muscle = Muscle.from_pam(pam)
 
-    def plan(self, uncertainty):
-        """plan_confidence with the carriers' PAM holding ``uncertainty``."""
-        pam = self.pam.with_uncertainty(uncertainty)
+    def carrying(self, pam):
+        """The mission with the carriers' PAM replaced by ``pam``."""
         segments = tuple(dataclasses.replace(seg, pam=pam) if i in self.carriers else seg
                          for i, seg in enumerate(self.mission.segments))
-        mission = dataclasses.replace(self.mission, segments=segments)
+        return dataclasses.replace(self.mission, segments=segments)
+
+    def plan(self, uncertainty):
+        """plan_confidence (serial: each plan is short) with the carriers' PAM holding ``uncertainty``."""
+        mission = self.carrying(self.pam.with_uncertainty(uncertainty))
         return plan_confidence(mission, self.muscles, self.elements, self.confidence, samples=self.samples,
-                               seed=self.seed, workers=self.workers, scheduler=self.scheduler)
+                               seed=self.seed)
+
+    def refitted(self, pam) -> tuple[float, bool]:
+        """(J [Pa], plan stops) with the carriers' muscle refitted to ``pam`` (its nominal moved too): J on
+        the prior along the directions its fit leaves open, as :meth:`outcome`."""
+        other = copy.copy(self)
+        other.pam, other.mission = pam, self.carrying(pam)
+        other.muscles = mission_muscles(other.mission)
+        other.elements = build_elements(other.mission, other.muscles)
+        u = pam.uncertainty
+        value = other.value(other.plan(planned_uncertainty(u, posterior(u, np.zeros((len(u.names),) * 2)),
+                                                           on_prior=True)))[0]
+        return value, _stops(other.plan(u))
 
     def value(self, sampled) -> tuple[float, float]:
         """(J [Pa], its Monte Carlo sd [Pa]) of a sampled plan (module docstring)."""

@@ -14,8 +14,9 @@ MENU = PROBLEMS / "menus" / "radial-menu.yaml"
 
 
 def test_json_keys_and_order(capsys):
-    code = main(["next-test", str(PAM), str(MISSION), "--menu", str(MENU), "--samples", "1000", "--json",
-                 "--reproducible"])
+    code = main(["next-test", str(PAM), str(MISSION), "--menu", str(MENU), "--samples", "1000", "--check",
+                 "0",
+                 "--json", "--reproducible"])
     assert code == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["current"]["pressure_Pa"] > 0
@@ -51,8 +52,8 @@ def test_skeleton_identify_reads_once_filled(tmp_path, capsys):
     from pampipe.model.muscle import Muscle
 
     out = tmp_path / "next"
-    assert main(["next-test", str(PAM), str(MISSION), "--menu", str(MENU), "--samples", "500", "-o",
-                 str(out)]) == 0
+    assert main(["next-test", str(PAM), str(MISSION), "--menu", str(MENU), "--samples", "500", "--check", "0",
+                 "-o", str(out)]) == 0
     capsys.readouterr()
     experiment = out / "next-test.yaml"
     assert (out / "pam.yaml").is_file() and experiment.is_file()
