@@ -17,13 +17,14 @@ A test of rank k changes at most k of these ratios.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from pampipe.identification.covariance import IDENTIFIABLE, Z95
-from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection
+from pampipe.model.uncertainty import GEOMETRY_NAMES, ParameterUncertainty, UndeterminedDirection
 
 
 @dataclass(frozen=True)
@@ -95,3 +96,25 @@ def information_gain(u: ParameterUncertainty, information: np.ndarray) -> float:
     """log det(I + Σ₀F) = log det Σ₀ − log det Σ₁: the D-optimal criterion [nats]."""
     prior = prior_covariance(u)
     return float(np.linalg.slogdet(np.eye(prior.shape[0]) + prior @ information)[1])
+
+
+def extended(pam, tested: bool) -> ParameterUncertainty:
+    """The PAM's ``uncertainty:`` with, for a tested muscle (every segment that carries it ``unit: tested``),
+    each geometry entry the PAM states with an sd (``{value, sd}``) that its fit did not calibrate, as a
+    further parameter of variance sd² and no correlation: the fit did not measure it, so this muscle's own
+    value is known only to its tolerance (a ``unit: lot`` plan draws it as the lot spread already)."""
+    u = pam.uncertainty
+    stated = pam.geometry_sd or {}
+    extra = [n for n in GEOMETRY_NAMES if tested and n not in u.names and stated.get(n, 0.0) > 0]
+    if not extra:
+        return u
+    size = len(u.names) + len(extra)
+    cov = np.zeros((size, size))
+    cov[:len(u.names), :len(u.names)] = u.covariance
+    cov[len(u.names):, len(u.names):] = np.diag([stated[n] ** 2 for n in extra])
+
+    def padded(directions):
+        return tuple(dataclasses.replace(d, vector=np.r_[d.vector, np.zeros(len(extra))]) for d in directions)
+
+    return ParameterUncertainty((*u.names, *extra), cov, u.model_error, padded(u.undetermined),
+                                padded(u.prior_determined))

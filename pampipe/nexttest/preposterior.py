@@ -40,9 +40,9 @@ DEFAULT_TRUTHS = 8
 CHECKED_KINDS = ("radial", "axial", "isometric")
 
 
-def truth(pam, seed: int, k: int):
-    """Truth k: the PAM with its moduli (and calibrated geometry) drawn from N(θ̂, Σ₀) (module docstring)."""
-    u = pam.uncertainty
+def truth(pam, u, seed: int, k: int):
+    """Truth k: the PAM with its moduli (and geometry) drawn from N(θ̂, Σ₀) over the names of ``u`` (its
+    uncertainty, :func:`.posterior.extended`) (module docstring)."""
     rng = np.random.default_rng([seed, k])
     cov = prior_covariance(u)
     values, vectors = np.linalg.eigh(cov)
@@ -88,17 +88,19 @@ def synthesise(truth_pam, test, seed: int) -> list:
 KNOWN = 1e3
 
 
-def refit(pam, tests):
+def refit(pam, u, tests):
     """identify of ``tests`` from the PAM's moduli, with what the plan knows of them as the Gaussian prior:
     the moduli block of Σ₀ (:func:`.posterior.prior_covariance`, in Pa²), :data:`KNOWN` on a coefficient of
-    no variance there; returns the refitted PAM."""
-    u = pam.uncertainty
+    no variance there; the braid angle calibrated where a radial test and its stated sd allow; returns the
+    refitted PAM."""
     units = u.scaled_units()
     n = u.moduli_count
     cov = (prior_covariance(u) * np.outer(units, units))[:n, :n]
     cov[np.diag_indices(n)] = np.where(np.diag(cov) > 0, np.diag(cov), KNOWN**2)
     prior = {"mean": pam.moduli.as_vector().tolist(), "covariance": cov.tolist()}
     options = parse_fit_options({"degree": pam.moduli.degree, "prior": prior}, source="next-test check")
+    if "braid_angle" in u.names and any(t.kind == "radial" for t in tests):
+        options = options.calibrating("braid_angle")
     data = ExperimentData(Path("next-test-check.yaml"), pam, tuple(tests), {})
     result = identify(data, options)
     return dataclasses.replace(result.fitted_pam(pam), geometry_sd=dict(pam.geometry_sd or {}))
@@ -108,10 +110,10 @@ def check_task(task) -> tuple[float, bool]:
     """(J [Pa] after the refit, plan still stops) of one candidate (a test, or a pair) and truth k (module
     docstring; a picklable task)."""
     planner, tests, seed, k = task
-    drawn = truth(planner.pam, seed, k)
+    drawn = truth(planner.pam, planner.uncertainty, seed, k)
     try:  # a truth whose moduli never balance the pressure (no free length), or a refit IPOPT cannot finish
         data = [d for j, t in enumerate(tests) for d in synthesise(drawn, t, (seed * 1000 + k) * 10 + j)]
-        fitted = refit(planner.pam, data)
+        fitted = refit(planner.pam, planner.uncertainty, data)
     except SolverError:
         return math.nan, True
     return planner.refitted(fitted)

@@ -27,7 +27,7 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.model.muscle import Muscle
 from pampipe.nexttest.information import fisher
-from pampipe.nexttest.posterior import information_gain, planned_uncertainty, posterior
+from pampipe.nexttest.posterior import extended, information_gain, planned_uncertainty, posterior
 from pampipe.planning.confidence import DEFAULT_SEED, plan_confidence
 from pampipe.planning.problem import build_elements, mission_muscles
 
@@ -93,6 +93,8 @@ class Planner:
         self.muscles = mission_muscles(mission)
         self.elements = build_elements(mission, self.muscles)
         self.muscle = Muscle.from_pam(pam)
+        self.tested = all(mission.segments[i].unit == "tested" for i in self.carriers)
+        self.uncertainty = extended(pam, self.tested)
 
     def carrying(self, pam):
         """The mission with the carriers' PAM replaced by ``pam``."""
@@ -113,10 +115,10 @@ class Planner:
         other.pam, other.mission = pam, self.carrying(pam)
         other.muscles = mission_muscles(other.mission)
         other.elements = build_elements(other.mission, other.muscles)
-        u = pam.uncertainty
+        other.uncertainty = u = extended(pam, self.tested)
         value = other.value(other.plan(planned_uncertainty(u, posterior(u, np.zeros((len(u.names),) * 2)),
                                                            on_prior=True)))[0]
-        return value, _stops(other.plan(u))
+        return value, _stops(other.plan(pam.uncertainty))
 
     def value(self, sampled) -> tuple[float, float]:
         """(J [Pa], its Monte Carlo sd [Pa]) of a sampled plan (module docstring)."""
@@ -136,7 +138,7 @@ class Planner:
 
     def outcome(self, tests: tuple, stopped_now: bool) -> Outcome:
         """A candidate's predicted plan (module docstring); no tests: today's, on the prior."""
-        u = self.pam.uncertainty
+        u = self.uncertainty
         information = sum((fisher(self.muscle, u, t) for t in tests), np.zeros((len(u.names),) * 2))
         post = posterior(u, information)
         value, sd = self.value(self.plan(planned_uncertainty(u, post, on_prior=True)))

@@ -108,3 +108,20 @@ def test_below_contact_a_radial_test_says_nothing():
     value, jac, _ = predictions(muscle, test)
     assert np.all(value == 0) and not np.any(jac)
     assert isinstance(PAM, Pam)
+
+
+def test_a_tested_muscle_adds_its_uncalibrated_stated_geometry():
+    """unit: tested: the stated braid-angle sd the fit did not calibrate is one more parameter (variance sd²,
+    uncorrelated); a radial test informs it."""
+    from pampipe.nexttest.information import fisher
+    from pampipe.nexttest.posterior import extended
+
+    sd = np.radians(1.0)
+    pam = dataclasses.replace(PAM, geometry_sd={"braid_angle": sd})
+    u = extended(pam, True)
+    assert u.names[-1] == "braid_angle" and u.covariance[-1, -1] == pytest.approx(sd**2)
+    assert np.all(u.covariance[-1, :-1] == 0) and extended(pam, False) is pam.uncertainty
+    muscle = Muscle.from_pam(pam)
+    radial = fisher(muscle, u, MenuTest("radial", 1, LEVELS, pipe_diameter=0.0762, axial_load=0.0))
+    assert radial[-1, -1] > 0
+    assert posterior(u, radial).covariance[-1, -1] < 0.5 * (sd / np.radians(1.0)) ** 2  # in deg²
