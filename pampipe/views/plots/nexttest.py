@@ -27,7 +27,7 @@ def plot_next_test(result, folder: Path | None) -> list[Path]:
         ax.axvline(today / 1e3, color="k", ls="--", lw=1, label="today")
     ax.set_yticks(y, labels, fontsize=8)
     ax.set(xlabel="planned pressure after the test [kPa]",
-           title=f"next test (best first; green: the D-optimal pick), confidence {doc['confidence']:g}")
+           title=f"next test, best first (green: D-optimal), C = {doc['confidence']:g}")
     finite = after[np.isfinite(after)]
     if finite.size:
         ax.set_xlim(0.95 * min(finite.min(), today / 1e3 if today else finite.min()), None)
