@@ -14,7 +14,7 @@ from pampipe._version import __version__
 
 _API = ("simulate", "identify", "plan", "gait", "diagnose", "design_inventory", "export_mission", "load_pam",
         "load_mission", "load_experiment", "load_inventory", "extension", "save_pam", "route", "synth",
-        "example", "set_units", "rehearse")
+        "example", "set_units", "rehearse", "next_test")
 __all__ = [*_API, "Muscle", "__version__"]
 
 

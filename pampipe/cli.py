@@ -25,7 +25,7 @@ from pampipe.units import display
 
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
-            "export", "rehearse")
+            "export", "rehearse", "next_test")
 #: Exit codes of an interrupted run: 128 + SIGINT, 128 + SIGTERM.
 INTERRUPTED = (130, 143)
 #: Exit code of an unexpected internal error (a bug).
@@ -137,6 +137,7 @@ def _run(argv: list[str]) -> int:
     command = "pampipe"
     # import only the chosen command's module: start-up then skips the others' heavy imports
     chosen = next((a for a in argv if not a.startswith("-")), None)
+    chosen = None if chosen is None else chosen.replace("-", "_")  # next-test: pampipe/commands/next_test.py
     try:
         try:
             parser = (build_parser((chosen,)) if chosen in COMMANDS  # a command: only its module
@@ -154,8 +155,8 @@ def _run(argv: list[str]) -> int:
                 display.shown_in(getattr(args, "units", None) or "metric"):
             return args.run(args)
     except _UsageError as exc:
-        return _fail(args, argv, command if chosen not in COMMANDS else f"pampipe {chosen}", 2, "error",
-                     str(exc))
+        named = command if chosen not in COMMANDS else f"pampipe {chosen.replace('_', '-')}"
+        return _fail(args, argv, named, 2, "error", str(exc))
     except StreamError as exc:  # stdout or stderr cannot be written: the environment's fault
         return _fail(args, argv, command, exc.exit_code, "error", str(exc), broken=exc.stream)
     except KeyboardInterrupt:

@@ -33,7 +33,8 @@ from pampipe.units.quantities import show
 
 __all__ = ["CommandResult", "GaitReport", "Source", "design_inventory", "diagnose", "example",
            "export_mission", "extension", "gait", "identify", "load_experiment", "load_inventory",
-           "load_mission", "load_pam", "plan", "route", "save_pam", "set_units", "simulate", "synth"]
+           "load_mission", "load_pam", "next_test", "plan", "route", "save_pam", "set_units", "simulate",
+           "synth"]
 
 Progress = Callable[[str], None]
 
@@ -219,6 +220,42 @@ def rehearse(mission: Source, *, optimal: bool = False, confidence: float | None
     started = time.perf_counter()
     result = rehearse_mission(load_mission(mission, base=base), optimal=optimal, confidence=confidence,
                               samples=samples, seed=seed, progress=progress)
+    return result.timed(time.perf_counter() - started)
+
+
+def next_test(pam: Source, mission: Source, *, menu: Source, confidence: float = 0.95,
+              objective: str = "pressure", pairs: bool = False, samples: int | None = None,
+              seed: int | None = None, check: int = 0, truths: int | None = None,
+              workers: int | None = None, scheduler: str | None = None, base=None):
+    """The test of ``menu`` (a MENU file or dict) that lowers ``mission``'s planned pressure at
+    ``confidence`` most per unit cost, for the muscle of the PAM file ``pam`` (`pampipe next-test`): every
+    test ranked by the linearised criterion (and, with ``pairs``, every pair), the D-optimal pick beside it,
+    and the preposterior check of the top ``check`` over ``truths`` truths drawn from the fit (default 8) on
+    ``workers`` processes or the Dask ``scheduler`` (the same numbers on each). Returns a
+    :class:`pampipe.nexttest.result.NextTest` (``to_dict()``: the JSON document)."""
+    from pampipe.io.menu_file import load_menu
+    from pampipe.nexttest.preposterior import DEFAULT_TRUTHS
+    from pampipe.nexttest.ranking import DEFAULT_DRAWS
+    from pampipe.nexttest.workflow import next_test as rank
+    from pampipe.planning.confidence import DEFAULT_SEED
+
+    confidence = arg.number(confidence, "confidence", "give a probability in [0.5, 1), e.g. 0.95")
+    objective = arg.choice(objective, "objective", ("pressure", "air"))
+    pairs = arg.flag(pairs, "pairs")
+    samples = DEFAULT_DRAWS if samples is None else arg.whole(samples, "samples", least=100)
+    seed = DEFAULT_SEED if seed is None else arg.whole(seed, "seed", least=0)
+    check = arg.whole(check, "check", least=0)
+    truths = DEFAULT_TRUTHS if truths is None else arg.whole(truths, "truths", least=2)
+    workers, scheduler = arg.where(workers, scheduler)
+    started = time.perf_counter()
+    path, raw = arg.source_file(pam, "PAM", base)
+    model = load_pam(pam, base=base)
+    planned = load_mission(mission, base=base)
+    menu_path, menu_raw = arg.source_file(menu, "menu", base)
+    chosen = load_menu(menu_path, model, pam_where=str(path), raw=menu_raw)
+    result = rank(planned, model, None if raw is not None else path, chosen, confidence=confidence,
+                  objective=objective, pairs=pairs, samples=samples, seed=seed, checks=check, truths=truths,
+                  workers=workers, scheduler=scheduler)
     return result.timed(time.perf_counter() - started)
 
 

@@ -181,3 +181,12 @@ def _write_chunks(path: Path, chunks) -> None:
 def write_json(path: Path, document: dict, args: argparse.Namespace, *, indent: int | None = 2) -> None:
     """Write the JSON document to ``path`` atomically (honouring --reproducible)."""
     atomic_write_text(path, to_json(document, timings=not args.reproducible, indent=indent))
+
+
+def next_test_command(pam, mission, menu, confidence: float) -> str:
+    """The `pampipe next-test` command line that ranks ``menu``'s tests for ``mission`` (docs/commands.md
+    §14)."""
+    import shlex
+
+    return (f"pampipe next-test {shlex.quote(str(pam))} {shlex.quote(str(mission))} --menu "
+            f"{shlex.quote(str(menu))} --confidence {confidence:g}")

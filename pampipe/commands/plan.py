@@ -13,6 +13,7 @@ from pampipe.commands.common import (
     add_units_option,
     emit,
     emit_streamed,
+    next_test_command,
     probability,
     quantity_type,
     say,
@@ -174,6 +175,19 @@ def run(args: argparse.Namespace) -> int:
             raise InfeasibleError(f"no pipe of network {name} can be served; the coverage above says why.")
         return 0
     if not plan.feasible:
-        raise InfeasibleError(infeasible_reason(plan))
+        raise InfeasibleError(infeasible_reason(plan) + _next_test(plan, mission, args.confidence))
     return 0
+
+
+def _next_test(plan, mission, confidence) -> str:
+    """Where an undetermined direction stops the plan (exit 3): the `next-test` command line that ranks the
+    tests a lab can run for it (MENU.yaml: the lab's tests and costs, docs/commands.md §14)."""
+    stopped = [] if plan.uncertainty is None else sorted(plan.uncertainty.undetermined.values(),
+                                                         key=lambda v: v[0])
+    if not stopped:
+        return ""
+    segment = mission.segments[stopped[0][0]]
+    pam = segment.pam_file if segment.pam_file is not None else "PAM.yaml"
+    return (" To rank the tests your lab can run by how much each lowers this plan: "
+            + next_test_command(pam, mission.source, "MENU.yaml", confidence))
 

@@ -180,6 +180,10 @@ def test_undetermined_direction_exits_3_naming_section_bore_and_test(tmp_path, r
         assert all(seg["holding_probability"] is None and seg["undetermined"] for seg in section["segments"])
         assert "radial test" in section["reason"] and "slip test" in section["reason"]
         assert f"{section['inner_diameter_m'] * 1e3:.4g} mm" in section["reason"]
+    # the message ends with the command line that ranks the tests for it (issue 36)
+    pam = tmp_path / "axial-only.yaml"
+    line = f"pampipe next-test {pam} {mission} --menu MENU.yaml --confidence 0.95"
+    assert out.stderr.rstrip().endswith(line)
     # the same muscle without --confidence still plans (the deterministic plan makes no probability claim)
     assert cli("plan", mission).returncode == 0
 

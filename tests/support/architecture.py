@@ -27,7 +27,7 @@ from tests.support.import_graph import Edge, Package, circles, describe, part_of
 
 FACE = "__init__"
 SCIENCE = frozenset({"identification", "planning", "locomotion", "bends", "slip", "design", "diagnosis",
-                     "export", "simulation", "rehearsal"})
+                     "export", "simulation", "rehearsal", "nexttest"})
 #: Every part of the package, by layer from the top; a new folder or root module must find its place here.
 LAYERS = {
     "the command line": {"__main__", "cli"},
