@@ -145,7 +145,7 @@ def _copy(work: str) -> Path:
     above ``tests/`` first on sys.path, so a mutated package on PYTHONPATH alone would not be the one
     imported)."""
     copy = Path(work) / "repo"
-    shutil.copytree(ROOT, copy, ignore=SKIP)
+    shutil.copytree(ROOT, copy, symlinks=True, ignore=SKIP)  # links as links: tests/bad_inputs has /dev/zero
     return copy
 
 
