@@ -11,77 +11,36 @@ import math
 
 import numpy as np
 import pytest
-import yaml
-from scipy.optimize import brentq
 
 from pampipe.export.law import Reason, mission_law
-from pampipe.io.mission_schema import load_mission
-from pampipe.model import no_slip
-from pampipe.model.muscle import Muscle
 from tests.support import export_c
-from tests.support.problems import PROBLEMS
-
-#: (rest diameter [mm], length [mm], mass [kg], effects, max_pressure) per segment, rear to front
-SEGMENTS = (("57.15 mm", "310.662 mm", "0.3 kg", None, None),
-            ("63.5 mm", "260 mm", "0.9 kg", {"axial_preload": {"preload": "25 N"}}, None),
-            ("57.15 mm", "310.662 mm", "0.5 kg", None, "400 kPa"))
-ALPHA0 = math.radians(90 - 66.4373)  # the paper PAM's braid angle from the axis
+from tests.support.uneven import (
+    RATED,
+    SEGMENTS,
+    braid_limits,
+    least_holding_pressure,
+    rest_diameters,
+    uneven_mission,
+)
 
 
 @pytest.fixture(scope="module")
 def uneven(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("uneven")
-    base = yaml.safe_load((PROBLEMS / "pams" / "paper-radial-pam.yaml").read_text())
-    mission = yaml.safe_load((PROBLEMS / "missions" / "vertical-climb-3in.yaml").read_text())
-    for k, (diameter, length, mass, effects, rated) in enumerate(SEGMENTS):
-        pam = {**base, "name": f"pam{k}", "geometry": {**base["geometry"], "initial_diameter": diameter,
-                                                       "initial_length": length}}
-        if effects:
-            pam["effects"] = effects
-        if rated:
-            pam["max_pressure"] = rated
-        (folder / f"pam{k}.yaml").write_text(yaml.safe_dump(pam))
-        mission["robot"]["segments"][k].update(pam=f"pam{k}.yaml", mass=mass)
-    path = folder / "uneven.yaml"
-    path.write_text(yaml.safe_dump(mission))
-    return load_mission(path)
-
-
-def least_pressure(mission, i, d, incline, mu, payload):
-    """Least P with μπF_r(P, D, κW) ≥ SF·W (brentq on the model), inf if none up to 100 MPa."""
-    seg = mission.segments[i]
-    muscle = Muscle.from_pam(seg.pam)
-    total = sum(s.mass for s in mission.segments) + payload
-    load = no_slip.anchor_load(total, seg.mass, incline, mu, mission.tether_drag)
-
-    def margin(p):
-        held = mu * math.pi * float(muscle.radial_force(p, d, mission.kappa * load))
-        return held - mission.safety_factor * load
-
-    start = max(float(muscle.anchoring_pressure(d, mission.kappa * load)), 0.0)
-    if margin(start) >= 0:
-        return start
-    if margin(1e8) < 0:
-        return math.inf
-    return brentq(margin, start, 1e8, xtol=1e-6, rtol=1e-13)
+    return uneven_mission(tmp_path_factory.mktemp("uneven"))
 
 
 def expected(mission, d, incline, mu, payload):
     """(reason, pressures) read segment by segment."""
-    rest = [float(yaml_mm(s[0])) for s in SEGMENTS]
-    braid = [math.sqrt(2 / 3) * r / math.sin(ALPHA0) for r in rest]
-    limits = [mission.supply_pressure if s[4] is None else 400e3 for s in SEGMENTS]
+    rest, braid = rest_diameters(), braid_limits()
+    limits = [mission.supply_pressure if s[4] is None else RATED for s in SEGMENTS]
     if any(d <= r for r in rest):
         return Reason.NARROW, None
     if any(d >= b for b in braid):
         return Reason.WIDE, None
-    pressures = np.array([least_pressure(mission, i, d, incline, mu, payload) for i in range(len(SEGMENTS))])
+    pressures = np.array([least_holding_pressure(mission, i, d, incline, mu, payload)
+                          for i in range(len(SEGMENTS))])
     above = any(p > limit for p, limit in zip(pressures, limits, strict=True))
     return (Reason.ABOVE_SUPPLY if above else Reason.OK), pressures
-
-
-def yaml_mm(text: str) -> float:
-    return float(text.split()[0]) * 1e-3
 
 
 def sections():
@@ -101,7 +60,7 @@ def sections():
 def test_reasons_and_pressures_per_segment(uneven):
     law = mission_law(uneven)
     assert law.narrowest == pytest.approx(0.0635, rel=1e-12)
-    assert law.widest == pytest.approx(math.sqrt(2 / 3) * 0.05715 / math.sin(ALPHA0), rel=1e-5)
+    assert law.widest == pytest.approx(min(braid_limits()), rel=1e-5)
     seen = set()
     for row in sections():
         reason, pressures = law.evaluate(*row)
