@@ -109,27 +109,35 @@ def reference(mission, problem, classes, draws, bore, friction, i, c, j, pressur
     return max(need), touch, (min(held) if touch <= pressure else -math.inf)
 
 
+@pytest.mark.parametrize("worst", ["an-end", "inside"])
 @pytest.mark.parametrize("i", [0, 1, 2], ids=["contact-and-model-error", "plain", "other-size"])
 @pytest.mark.parametrize("pressure", [689e3, 170e3], ids=["supply", "below-some-contacts"])
-def test_general_evaluator_per_draw_against_root_finding(sampled, i, pressure):
+def test_general_evaluator_per_draw_against_root_finding(sampled, i, pressure, worst):
+    """``worst``: the class's worst bore as classed (the range's largest) or moved inside the range, so
+    that the evaluator keeps three bores (the largest must stay last: first contact is read there)."""
     mission, problem, classes = sampled
+    if worst == "inside":
+        middle = 0.5 * (classes.low + classes.high)
+        inside = np.repeat(middle[:, None], classes.worst.shape[1], axis=1)
+        classes = dataclasses.replace(classes, worst=inside)
     draws = muscle_draws(problem)
     bore, friction = class_deviations(problem, classes)
     rows = np.flatnonzero(classes.valid[:, i])
     assert rows.size == len(classes) and np.all(classes.high > classes.low)
     ev = Evaluator(problem, draws, classes, i, rows, bore.T, friction.T)
-    assert ev.affine == (i == 1)
+    assert ev.affine == (i == 1) and len(ev.bores) == (3 if worst == "inside" else 2)
     least, touch, payload = ev.evaluate(problem.active, pressure)
+    alone = ev.evaluate(problem.active)  # without a pressure: the affine form where the muscle has one
     finite = 0
     for j in range(0, problem.samples, 7):
         for c in range(len(classes)):
             want = reference(mission, problem, classes, draws, bore, friction, i, c, j, pressure)
-            got = (least[j, c], touch[j, c], payload[j, c])
-            assert got[0] == pytest.approx(want[0], rel=1e-9), ("P*", j, c)
-            assert got[1] == pytest.approx(want[1], rel=1e-9, abs=1e-6), ("first contact", j, c)
+            for got in ((least[j, c], touch[j, c], payload[j, c]), (alone[0][j, c], alone[1][j, c], None)):
+                assert got[0] == pytest.approx(want[0], rel=1e-9), ("P*", j, c)
+                assert got[1] == pytest.approx(want[1], rel=1e-9, abs=1e-6), ("first contact", j, c)
             if math.isinf(want[2]):
-                assert got[2] == want[2], ("payload", j, c)
+                assert payload[j, c] == want[2], ("payload", j, c)
             else:
                 finite += 1
-                assert got[2] == pytest.approx(want[2], rel=1e-8, abs=1e-8), ("payload", j, c)
+                assert payload[j, c] == pytest.approx(want[2], rel=1e-8, abs=1e-8), ("payload", j, c)
     assert finite > 0
