@@ -43,6 +43,17 @@ def test_plan_per_segment_against_the_model(tmp_path, route, method):
     got = plan.arrays.pressure
     np.testing.assert_array_equal(np.isfinite(got), np.isfinite(want))
     np.testing.assert_allclose(got[np.isfinite(want)], want[np.isfinite(want)], rtol=1e-8)
+    for sec, planned in zip(mission.route, plan.sections, strict=True):  # p_c = F_r/(D·L_p), §5.6
+        if not planned.feasible:  # an infeasible section lists no segments
+            continue
+        for seg, element in zip(mission.segments, planned.segments, strict=True):
+            if math.isfinite(element.pressure):
+                g = seg.pam.geometry
+                braid = g.initial_length / math.cos(g.braid_angle)
+                anchored = math.sqrt(braid**2 - (braid * math.sin(g.braid_angle) * sec.diameter
+                                                 / g.initial_diameter) ** 2)
+                assert element.contact_pressure == pytest.approx(
+                    element.radial_force / (sec.diameter * anchored), rel=1e-9)
     if route == "one-section-each":  # each muscle size anchors in exactly one of the two sections
         assert np.isfinite(got).sum(axis=0).tolist() == [1, 1, 1]
 
