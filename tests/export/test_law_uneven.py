@@ -86,3 +86,28 @@ def test_the_c_law_answers_as_the_segments_do(uneven, tmp_path):
         assert code == want, (row, code, want)
         if code == Reason.OK:
             np.testing.assert_allclose(got, independent, rtol=1e-8)
+
+
+def test_confidence_law_covers_plan_at_c_in_every_section():
+    """`export --confidence C` adds per segment the largest P_C − P_nominal of `plan --confidence C` over the
+    sections (issue 40): the law then asks at least P_C in every section, exactly P_C where that gap is
+    largest, and the nominal law plus that margin elsewhere (the riser's friction sd 0.05, the run's 0.03:
+    the gaps differ)."""
+    from pampipe.export.law import confidence_margins
+    from pampipe.io.mission_schema import load_mission
+    from pampipe.planning import plan_mission
+    from tests.support.problems import PROBLEMS
+
+    mission = load_mission(PROBLEMS / "missions" / "riser-uncertain-friction.yaml")
+    margins = confidence_margins(mission, 0.9, samples=400, seed=3)
+    law, nominal = mission_law(mission, confidence=0.9, margins=margins), mission_law(mission)
+    planned = plan_mission(mission, confidence=0.9, samples=400, seed=3).arrays
+    gaps = planned.pressure - planned.nominal_pressure
+    assert len(margins) == len(mission.segments) and np.ptp(gaps[:, 0]) > 1.0
+    for s, sec in enumerate(mission.route):
+        row = (sec.diameter, sec.incline, sec.friction, mission.payload)
+        reason, pressures = law.evaluate(*row)
+        assert reason == Reason.OK
+        np.testing.assert_allclose(pressures, nominal.evaluate(*row)[1] + np.max(gaps, axis=0), rtol=1e-12)
+        assert np.all(pressures >= planned.pressure[s] * (1 - 1e-9))
+    assert np.allclose(margins, np.max(gaps, axis=0), rtol=1e-12)
