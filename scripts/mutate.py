@@ -1,7 +1,8 @@
 """Mutation testing of the modules that decide a plan's safety (``make mutate``).
 
 Each mutant changes one thing in one module — an arithmetic or comparison operator, a numeric
-constant, ``min``↔``max``, ``all``↔``any``, ``and``↔``or`` — and runs that module's tests against it
+constant, ``min``↔``max``, ``all``↔``any`` (numpy's ``minimum``↔``maximum``, ``fmin``↔``fmax`` too),
+``and``↔``or`` — and runs that module's tests against it
 (in a fresh interpreter, stopping at the first failure). A mutant is *killed* when a test fails or the
 run times out, *survives* when every test passes. Mutants judged equivalent (no input can tell them
 from the original) are listed with the reason in ``scripts/mutants-equivalent.txt`` as
@@ -20,6 +21,7 @@ import argparse
 import ast
 import os
 import random
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -33,13 +35,17 @@ EQUIVALENT = ROOT / "scripts" / "mutants-equivalent.txt"
 TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/model/forces.py": ("tests/model/test_identities.py", "tests/model/test_published.py",
                                 "tests/model/test_paths.py"),
-    "pampipe/model/muscle.py": ("tests/model/test_identities.py", "tests/model/test_paths.py",
+    "pampipe/model/muscle.py": ("tests/model/test_muscle_roots.py", "tests/model/test_identities.py",
+                                "tests/model/test_paths.py",
                                 "tests/planning/test_planner.py", "tests/api/test_one_door.py"),
     "pampipe/planning/law.py": ("tests/planning/test_evaluator.py",),
     "pampipe/planning/evaluator.py": ("tests/planning/test_evaluator.py",
+                                      "tests/planning/test_evaluator_general.py",
                                       "tests/planning/test_confidence.py"),
-    "pampipe/planning/solve.py": ("tests/planning/test_sections.py", "tests/planning/test_limits.py"),
-    "pampipe/export/law.py": ("tests/export/test_export.py", "tests/export/test_law_domain.py"),
+    "pampipe/planning/solve.py": ("tests/planning/test_uneven_plan.py", "tests/planning/test_sections.py",
+                                  "tests/planning/test_limits.py"),
+    "pampipe/export/law.py": ("tests/export/test_law_uneven.py", "tests/export/test_export.py",
+                              "tests/export/test_law_domain.py"),
     "pampipe/export/cgen.py": ("tests/export/test_export.py",),
     "pampipe/slip/law.py": ("tests/slip/test_slip.py",),
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
@@ -49,6 +55,11 @@ SWAPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mul
          ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt, ast.Eq: ast.NotEq,
          ast.NotEq: ast.Eq, ast.And: ast.Or, ast.Or: ast.And}
 NAMES = {"min": "max", "max": "min", "all": "any", "any": "all"}
+#: the same swaps on numpy's (and pampipe.model.ops') functions, ``np.minimum`` ↔ ``np.maximum`` etc.
+ATTRIBUTES = {**NAMES, "minimum": "maximum", "maximum": "minimum", "fmin": "fmax", "fmax": "fmin",
+              "nanmin": "nanmax", "nanmax": "nanmin", "argmin": "argmax", "argmax": "argmin"}
+#: the modules whose attributes ATTRIBUTES swaps (a ``.max`` of anything else may be a field)
+LIBRARIES = {"np", "numpy", "ops", "math"}
 
 
 @dataclass(frozen=True)
@@ -86,6 +97,9 @@ def mutants(source: str) -> list[Mutant]:
             points += [(node, ("cmp", i)) for i, op in enumerate(node.ops) if type(op) in SWAPS]
         elif isinstance(node, ast.Name) and node.id in NAMES and isinstance(node.ctx, ast.Load):
             points.append((node, "name"))
+        elif (isinstance(node, ast.Attribute) and node.attr in ATTRIBUTES and isinstance(node.value, ast.Name)
+              and node.value.id in LIBRARIES):
+            points.append((node, "attribute"))
         elif (isinstance(node, ast.Constant) and type(node.value) in (int, float) and id(node) not in skip
               and not isinstance(node.value, bool)):
             points.append((node, "const"))
@@ -100,6 +114,9 @@ def mutants(source: str) -> list[Mutant]:
         elif kind == "name":
             text = f"{target.id}->{NAMES[target.id]}"
             target.id = NAMES[target.id]
+        elif kind == "attribute":
+            text = f"{target.value.id}.{target.attr}->{ATTRIBUTES[target.attr]}"
+            target.attr = ATTRIBUTES[target.attr]
         elif kind == "const":
             value = target.value
             target.value = value + 1 if isinstance(value, int) else (value * 1.01 if value else 1e-3)
@@ -120,18 +137,44 @@ def equivalents() -> set[str]:
     return {line for line in lines if line}
 
 
-def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
-    """Run ``tests`` with ``module`` replaced by the mutant, in a copy of the package on PYTHONPATH."""
+#: what a mutant's copy of the repository leaves out
+SKIP = shutil.ignore_patterns(".git", ".venv*", "__pycache__", ".hypothesis", ".pytest_cache", ".ruff_cache",
+                              "build", "*.egg-info")
+
+
+def _copy(work: str) -> Path:
+    """A copy of the repository in ``work`` (tests, problems and package together: pytest puts the folder
+    above ``tests/`` first on sys.path, so a mutated package on PYTHONPATH alone would not be the one
+    imported)."""
+    copy = Path(work) / "repo"
+    shutil.copytree(ROOT, copy, symlinks=True, ignore=SKIP)  # links as links: tests/bad_inputs has /dev/zero
+    return copy
+
+
+def _env(copy: Path) -> dict:
+    return {**os.environ, "PYTHONPATH": str(copy), "PYTHONDONTWRITEBYTECODE": "1"}
+
+
+def check_isolation() -> None:
+    """Fail loudly unless a test run in a copy imports the copy's pampipe (else no mutant is ever seen)."""
     with tempfile.TemporaryDirectory() as work:
-        copy = Path(work) / "pampipe"
-        subprocess.run(["cp", "-r", str(ROOT / "pampipe"), str(copy)], check=True)
-        for cache in copy.rglob("__pycache__"):
-            subprocess.run(["rm", "-rf", str(cache)], check=True)
-        (Path(work) / module).write_text(mutant.source, encoding="utf-8")
-        env = {**os.environ, "PYTHONPATH": work + os.pathsep + str(ROOT), "PYTHONDONTWRITEBYTECODE": "1"}
+        copy = _copy(work)
+        probe = "import pampipe, sys; sys.stdout.write(pampipe.__file__)"
+        done = subprocess.run([sys.executable, "-c", probe], cwd=copy, env=_env(copy), capture_output=True,
+                              text=True, check=True)
+        if not Path(done.stdout).resolve().is_relative_to(copy.resolve()):
+            raise SystemExit(f"mutate: the copy imports {done.stdout}, not its own package: no mutant would "
+                             "be tested")
+
+
+def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
+    """Run ``tests`` in a copy of the repository whose ``module`` is the mutant."""
+    with tempfile.TemporaryDirectory() as work:
+        copy = _copy(work)
+        (copy / module).write_text(mutant.source, encoding="utf-8")
         try:
             done = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
-                                   "-m", "not slow", *tests], cwd=ROOT, env=env, capture_output=True,
+                                   "-m", "not slow", *tests], cwd=copy, env=_env(copy), capture_output=True,
                                   timeout=timeout)
         except subprocess.TimeoutExpired:
             return True
@@ -147,6 +190,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
     args = parser.parse_args(argv)
     skip = equivalents()
+    if not args.list:
+        check_isolation()
     total_kill = total_live = 0
     for module, tests in TARGETS.items():
         if args.module and module not in args.module:

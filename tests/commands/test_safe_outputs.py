@@ -12,6 +12,8 @@ import os
 import stat
 import subprocess
 import sys
+import tempfile
+from pathlib import Path
 
 import pytest
 
@@ -69,16 +71,56 @@ def test_read_only_folder_is_exit_2_and_leaves_nothing(tmp_path, capsys, monkeyp
     assert not list(tmp_path.iterdir())
 
 
-@pytest.mark.skipif(os.geteuid() == 0, reason="root may write into a read-only folder")
-def test_read_only_folder_for_real(tmp_path, capsys):
-    folder = tmp_path / "ro"
-    folder.mkdir()
-    folder.chmod(0o555)
-    try:
-        assert main(["plan", str(MISSION), "-o", str(folder / "plan.json")]) == 2
-    finally:
-        folder.chmod(0o755)
-    assert "Traceback" not in capsys.readouterr().err
+NOBODY = 65534  # the conventional uid of `nobody`: any uid without rights to the folder would do
+
+#: plan once where it may write (which imports and loads all it needs while the interpreter, maybe under
+#: /root, is still readable), then drop to uid NOBODY when root, and plan into the read-only folder.
+AS_NOBODY = """
+import fractions, os, sys  # fractions: imported late, on the error path
+from pampipe.cli import main
+mission, warm, target, nobody = sys.argv[1:]
+assert main(["plan", mission, "-o", warm]) == 0
+if os.geteuid() == 0:
+    os.setgroups([])
+    os.setgid(int(nobody))
+    os.setuid(int(nobody))
+sys.exit(main(["plan", mission, "-o", target]))
+"""
+
+
+def test_read_only_folder_for_real():
+    """A folder the user cannot write into is exit 2 naming the problem, no traceback, nothing written.
+
+    Root may write anywhere, and CI runs as root: there the command runs in a process that has dropped
+    to uid ``NOBODY``, so the folder is read-only for it whoever runs the suite."""
+    with tempfile.TemporaryDirectory() as base:  # under the system tmp: ``nobody`` can reach into it
+        base = Path(base)
+        os.chmod(base, 0o755)
+        folder = base / "ro"
+        folder.mkdir()
+        folder.chmod(0o555)
+        try:
+            out = subprocess.run([sys.executable, "-c", AS_NOBODY, str(MISSION), str(base / "warm.json"),
+                                  str(folder / "plan.json"), str(NOBODY)],
+                                 capture_output=True, text=True, cwd=ROOT, timeout=600,
+                                 env={**os.environ, "PAMPIPE_NLP_CACHE": "off"})
+        finally:
+            folder.chmod(0o755)
+        assert (base / "warm.json").is_file(), out.stderr
+        assert out.returncode == 2, out.stderr
+        assert "Traceback" not in out.stderr
+        assert "permission denied" in out.stderr.lower() and str(folder) in out.stderr, out.stderr
+        assert not list(folder.iterdir())
+
+
+def test_output_whose_parent_is_a_file(tmp_path, capsys):
+    """A check no uid can pass: the output's parent is a regular file, so nothing can be created there."""
+    parent = tmp_path / "a-file"
+    parent.write_text("mine")
+    assert main(["plan", str(MISSION), "-o", str(parent / "plan.json")]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and str(parent) in err, err
+    assert parent.read_text() == "mine" and sorted(tmp_path.iterdir()) == [parent]
 
 
 def test_a_failed_write_leaves_no_temporary_file(tmp_path, capsys, monkeypatch):

@@ -68,7 +68,7 @@ def test_simulate_text_table_and_plots(tmp_path):
     assert "anchoring pressure 117.00 kPa" in out.stdout
     for name in ("radial_force.png", "free_contraction.png", "amplification.png"):
         png = (tmp_path / "plots" / name).read_bytes()
-        assert png.startswith(b"\x89PNG") and len(png) > 10_000
+        assert png.startswith(b"\x89PNG")  # what they draw: tests/views/test_plots_style.py
     assert not list((tmp_path / "plots").glob("*.tmp"))
 
 

@@ -288,6 +288,16 @@ def test_export_command(tmp_path, capsys):
     assert (out / "pampipe_plan.c").read_text() == "edited"
     assert main(["export", str(mission), "-o", str(out), "--force"]) == 0
     assert (out / "pampipe_plan.c").read_text() == before  # deterministic
+    # the exported law's pressures are plan's, section by section (compiled with the driver in a copy)
+    import shutil
+
+    built = tmp_path / "built"
+    shutil.copytree(out, built)
+    loaded = load_mission(mission)
+    rows = [(s.diameter, s.incline, s.friction, loaded.payload) for s in loaded.route]
+    codes, pressures = export_c.run_law(export_c.build(built), rows)
+    assert codes.tolist() == [0, 0]
+    np.testing.assert_allclose(pressures, plan_mission(loaded).arrays.pressure, rtol=1e-9)
     odd = tmp_path / "my firmware"
     assert main(["export", str(mission), "-o", str(odd)]) == 0
     assert (odd / "pampipe_example.ino").exists()

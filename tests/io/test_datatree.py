@@ -78,7 +78,8 @@ class _NotPampipes:
 
 
 @pytest.mark.parametrize("value", [object(), {1, 2}, np.array([object()]), _NotPampipes(1.0), b"bytes",
-                                   np.zeros(2, dtype=[("a", float)])], ids=repr)
+                                   np.zeros(2, dtype=[("a", float)])],
+                         ids=["object", "set", "object-array", "foreign-dataclass", "bytes", "record-array"])
 def test_values_the_format_does_not_hold_are_refused(value):
     with pytest.raises(TreeError):
         encode(value)

@@ -145,3 +145,31 @@ def test_a_log_axis_gets_decades_of_the_users_unit():
     ticks = [t * (1 / lbf) for t in ax.yaxis.get_major_locator().tick_values(5.0, 5000.0)]
     inside = [t for t in ticks if 5.0 / lbf <= t <= 5000.0 / lbf]
     assert inside and all(abs(t - round(t)) < 1e-9 and str(round(t)).strip("0") == "1" for t in inside), ticks
+
+
+def test_the_simulation_plots_draw_the_models_numbers():
+    """What radial_force.png and free_contraction.png draw, read from the figure (issue 40): the radial
+    force curve of each bore is F_r of the muscle at the plotted pressures (Muscle.radial_force, no load),
+    the dotted line stands at the published anchoring pressures (117.0 kPa in 3 in, 165.0 kPa in 3.5 in,
+    docs/physics.md §7), the legend names the bores in mm, and the axes cover the drawn data."""
+    from pampipe.io.pam_schema import load_pam
+    from pampipe.model.muscle import Muscle
+    from pampipe.views.plots.simulate import plot_simulation
+
+    pam = PROBLEMS / "pams" / "paper-radial-pam.yaml"
+    muscle = Muscle.from_pam(load_pam(pam))
+    simulation = pampipe.simulate(pam, pipe_diameter=["3 in", "3.5 in"])
+    radial, contraction, _ = _figures(plot_simulation, simulation)
+    ax = radial.axes[0]
+    curves = [line for line in ax.get_lines() if line.get_linestyle() == "-" and line.get_label()[0] != "_"]
+    assert [line.get_label().split(",")[0] for line in curves] == ["D_p = 76.2 mm", "D_p = 88.9 mm"]
+    for line, bore in zip(curves, (0.0762, 0.0889), strict=True):
+        x, y = (np.asarray(v, dtype=float) for v in line.get_data())
+        assert x.size > 10
+        np.testing.assert_allclose(y, muscle.radial_force(x * 1e3, bore, 0.0), rtol=1e-9, atol=1e-9)
+        low, high = ax.get_xlim()
+        assert low <= x.min() and x.max() <= high
+    anchoring = sorted(line.get_xdata()[0] for line in ax.get_lines() if line.get_linestyle() == ":")
+    np.testing.assert_allclose(anchoring, [117.0, 165.0], atol=0.5)
+    assert "[kPa]" in ax.get_xlabel() and "[N]" in ax.get_ylabel()
+    assert contraction.axes and contraction.axes[0].get_lines()
