@@ -75,6 +75,22 @@ def test_bundled_example_is_explained_by_the_hidden_effect(example_run):
     assert "Step 1 (" in out.stderr and "before [N]" in out.stderr and "Verdict: explained" in out.stderr
 
 
+def test_candidates_table_is_the_first_step_of_the_json(example_run):
+    """``DiagnoseResult.candidates()`` reads these rows (issue 42): one per trial of step 1, in its order,
+    joined with the refit's summary by effect."""
+    from pampipe.diagnosis.frames import candidate_rows
+
+    doc = json.loads(example_run[0].stdout)
+    rows = candidate_rows(doc)
+    trials = doc["steps"][0]["trials"]
+    assert [r["effect"] for r in rows] == [t["effect"] for t in trials]
+    assert rows[0]["effect"] == "contact_stiffening" and rows[0]["eligible"]
+    assert [r["delta_bic"] for r in rows] == [t["delta_bic"] for t in trials]
+    fits = {c["effect"]: c for c in doc["candidates"]}
+    assert all(r["sum_rmse_N"] == fits[r["effect"]]["sum_rmse_N"] for r in rows if r["effect"] in fits)
+    assert all(r["wall_time_s"] >= 0 for r in rows)
+
+
 def test_bundled_example_writes_plots_and_a_pam_that_simulate_accepts(example_run):
     _, folder = example_run
     for name in ("residuals.png", "disagreement_map.png", "candidates.png"):
