@@ -41,7 +41,8 @@ RATIO = 1.2
 def example_run(tmp_path_factory):
     """One CLI run on the bundled example with --json, -o and --plots."""
     folder = tmp_path_factory.mktemp("diagnose")
-    out = run_cli("diagnose", EXAMPLE, "--json", "-o", folder / "pam_out.yaml", "--plots", folder / "plots")
+    out = run_cli("diagnose", EXAMPLE, "--json", "-o", folder / "pam_out.yaml", "--plots", folder / "plots",
+                  "--report", folder / "diagnose.html")
     return out, folder
 
 
@@ -89,6 +90,21 @@ def test_candidates_table_is_the_first_step_of_the_json(example_run):
     fits = {c["effect"]: c for c in doc["candidates"]}
     assert all(r["sum_rmse_N"] == fits[r["effect"]]["sum_rmse_N"] for r in rows if r["effect"] in fits)
     assert all(r["wall_time_s"] >= 0 for r in rows)
+
+
+def test_report_opens_with_the_verdict_and_fits_a_1280_px_window(example_run, tmp_path):
+    """The HTML report (issue 42): the verdict and the improvement first; in headless Chromium (where
+    installed) no wider than a 1280 px window, and it prints to PDF."""
+    from tests.support.browser import CHROMIUM, layout
+
+    page = example_run[1] / "diagnose.html"
+    text = page.read_text()
+    assert text.index("Verdict: explained") < text.index("improvement") < text.index("Inputs")
+    if CHROMIUM is None:
+        pytest.skip("no chromium installed (apt-get install chromium)")
+    seen = layout(page, tmp_path)
+    assert 0 < seen.scroll_width <= 1280
+    assert seen.pdf.read_bytes().startswith(b"%PDF")
 
 
 def test_bundled_example_writes_plots_and_a_pam_that_simulate_accepts(example_run):
