@@ -48,7 +48,8 @@ if TYPE_CHECKING:  # the return types, for annotations only: importing them here
 
 __all__ = ["CommandResult", "GaitReport", "Source", "design_inventory", "diagnose", "example",
            "export_mission", "extension", "gait", "identify", "load_experiment", "load_inventory",
-           "load_mission", "load_pam", "plan", "route", "save_pam", "set_units", "simulate", "synth"]
+           "load_mission", "load_pam", "plan", "rehearse", "route", "save_pam", "set_units", "simulate",
+           "synth"]
 
 Progress = Callable[[str], None]
 
