@@ -5,8 +5,9 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 LOCK   := requirements.lock
 LATEST := .venv-latest
+DOCS_VENV := .docs-venv
 
-.PHONY: demo test test-slow test-latest lock lint bench fuzz mutate clean
+.PHONY: demo test test-slow test-latest lock lint bench fuzz mutate docs clean
 
 # pip shows errors only: a build log would hide what the target is for
 PIP    := -m pip install -qq --disable-pip-version-check
@@ -47,6 +48,11 @@ fuzz: $(STAMP)  ## long property-based fuzzing profile: 10^4 mutated problem fil
 	PAMPIPE_FUZZ_EXAMPLES=$${PAMPIPE_FUZZ_EXAMPLES:-10000} PAMPIPE_FUZZ_RANDOM=1 \
 		$(BIN)/python -m pytest tests/commands/test_fuzz.py -q -p no:cacheprovider
 
+docs:  ## the docs with the API reference from the docstrings (out/site); own venv, not the lock; a warning fails it
+	@test -x $(DOCS_VENV)/bin/mkdocs || { $(PYTHON) -m venv $(DOCS_VENV) && $(DOCS_VENV)/bin/python $(PIP) \
+		"mkdocs==1.6.1" "mkdocstrings==1.0.8" "mkdocstrings-python==2.0.11" "mkdocs-material==9.8.2"; }
+	NO_MKDOCS_2_WARNING=1 $(DOCS_VENV)/bin/mkdocs build --strict
+
 mutate: $(STAMP)  ## mutation testing of the safety modules (scripts/mutate.py; MUTATE_ARGS="--sample 40")
 	$(BIN)/python scripts/mutate.py $(MUTATE_ARGS)
 
@@ -57,4 +63,4 @@ bench: $(STAMP)  ## all benchmarks (prints timings and ratios)
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) $(LATEST) build *.egg-info .pytest_cache .ruff_cache .hypothesis
+	rm -rf $(VENV) $(LATEST) $(DOCS_VENV) build *.egg-info .pytest_cache .ruff_cache .hypothesis

@@ -6,10 +6,12 @@ shows the numbers of ``--json``:
 
 * ``repr(result)``: the class and its headline numbers, under 300 characters;
 * ``result._repr_html_()``: the headline numbers and the first rows of the long table, as HTML;
-* ``result.to_frame()``: a pandas DataFrame in long form, one row per innermost record of the
-  document (a plan's segment in a section, a simulation's pressure point), its columns the JSON keys
-  (unit-suffixed: ``pressure_Pa``), the enclosing records' keys prefixed with their singular name
-  (``section_name``); pandas is the optional extra ``pampipe[frames]``;
+* ``result.to_frame()``: a tidy pandas DataFrame in long form, one row per innermost record of the
+  document (a plan's segment in a section, a simulation's pressure point, an identification's pressure
+  level of a test), its columns the JSON keys (unit-suffixed: ``pressure_Pa``), the enclosing records'
+  keys prefixed with their singular name (``section_name``). Only what varies is a column: the
+  document's own scalars (``mission``, ``solver.wall_time_s``, …) and the enclosing records' keys that
+  are the same on every row go to ``frame.attrs``. pandas is the optional extra ``pampipe[frames]``;
 * ``result.plot(ax=None)``: the command's main figure (the first one ``--plots`` writes), drawn
   into ``ax`` when given, returned as a matplotlib Figure;
 * ``result.to_text(units=None)`` and ``str(result)``: the command's text report, in ``units`` (a
@@ -45,16 +47,62 @@ def notebook(*, headline: tuple[str, ...] = (), plot: Loader | None = None, text
     def decorate(cls):
         cls.__repr__ = lambda self: short_repr(type(self).__name__, document(self), headline)
         cls._repr_html_ = lambda self: html_table(type(self).__name__, document(self), headline)
-        cls.records = lambda self: records(document(self))
-        cls.to_frame = lambda self: frame(records(document(self)))
+        cls.records = _records_method
+        cls.to_frame = _to_frame
         if plot is not None:
-            cls.plot = lambda self, ax=None: main_figure(self, plot, ax)
+            cls.plot = _plot_method(plot)
         if text is not None:
-            cls.to_text = lambda self, units=None: report_text(self, text, units)
+            cls.to_text = _to_text_method(text)
             cls.__str__ = lambda self: report_text(self, text, None)
         return cls
 
     return decorate
+
+
+def _records_method(self) -> list[dict]:
+    """The long table of the result's JSON document as a list of dicts, one per innermost record (what
+    :meth:`to_frame` holds, before the constant columns move to ``attrs``)."""
+    return records(document(self))
+
+
+def _to_frame(self):
+    """A tidy pandas DataFrame of the result's JSON document (SI units, unit-suffixed columns).
+
+    One row per innermost record of the document (a plan's segment in a section, a simulation's
+    pressure point, an identification's pressure level of a test, a design's pipe); its columns the
+    record's keys, nested keys flattened as ``key.sub``, [low, high] intervals as ``key_low`` and
+    ``key_high``, the enclosing records' keys prefixed with their singular name (``section_name``).
+    Only what varies is a column: the document's own scalars and the enclosing keys that are the same
+    on every row are in ``frame.attrs`` (a dict). Needs pandas (``pip install pampipe[frames]``).
+    """
+    rows, constants = tidy(document(self))
+    table = frame(rows)
+    table.attrs.update(constants)
+    return table
+
+
+def _plot_method(plot: Loader):
+    def plot_result(self, ax=None):
+        """The command's main figure (the first one ``--plots`` writes), as a matplotlib Figure.
+
+        ``ax``: a matplotlib Axes to draw into (default: a new figure). Labels follow the units of
+        :func:`pampipe.set_units`. Raises InputError when the result has nothing to plot.
+        """
+        return main_figure(self, plot, ax)
+
+    return plot_result
+
+
+def _to_text_method(text: Loader):
+    def to_text(self, units: str | None = None) -> str:
+        """The command's text report, as the command line prints it.
+
+        ``units``: a ``--units`` value (``metric``, ``us``, ``kPa``, ``psi``, ``bar``); default those of
+        :func:`pampipe.set_units` (metric unless set). ``str(result)`` is the same in the default units.
+        """
+        return report_text(self, text, units)
+
+    return to_text
 
 
 def document(result) -> dict:
@@ -118,9 +166,19 @@ def _singular(key: str) -> str:
     return key[:-1] if key.endswith("s") and not key.endswith("ss") else key
 
 
+#: Key fragments that mark a [low, high] pair as an interval (other short lists of numbers, such as a
+#: degree-1 modulus [a0, a1], are coefficients: ``key.0``, ``key.1``).
+INTERVAL_WORDS = ("interval", "range", "band", "bounds", "limits")
+SHORT_LIST = 8  # numeric lists up to this length become columns; longer ones (curves, matrices) do not
+
+
+def _interval(key: str) -> bool:
+    return any(word in key for word in INTERVAL_WORDS)
+
+
 def _flat(item: Mapping, prefix: str = "") -> dict:
-    """The scalars of ``item``, nested dicts of scalars flattened to ``key.sub``; [low, high] pairs to
-    ``key_low``/``key_high``."""
+    """The scalars of ``item``, nested dicts of scalars flattened to ``key.sub``; [low, high] intervals
+    to ``key_low``/``key_high``; other short lists of numbers to ``key.0``, ``key.1``, …"""
     out = {}
     for key, value in item.items():
         name = f"{prefix}{key}"
@@ -128,8 +186,11 @@ def _flat(item: Mapping, prefix: str = "") -> dict:
             out[name] = value
         elif isinstance(value, Mapping):
             out.update(_flat(value, f"{name}."))
-        elif isinstance(value, list | tuple) and len(value) == 2 and all(_number(v) for v in value):
-            out[f"{name}_low"], out[f"{name}_high"] = value
+        elif isinstance(value, list | tuple) and value and all(_number(v) for v in value):
+            if len(value) == 2 and _interval(str(key)):
+                out[f"{name}_low"], out[f"{name}_high"] = value
+            elif len(value) <= SHORT_LIST:
+                out.update({f"{name}.{i}": v for i, v in enumerate(value)})
     return out
 
 
@@ -142,17 +203,46 @@ def _depth(value) -> int:
     return 0
 
 
-def records(doc: Mapping, context: dict | None = None, name: str = "") -> list[dict]:
-    """The long table: one row per innermost record of ``doc``, following its deepest list of records
-    and carrying the enclosing records' scalars (prefixed with the singular of their list's key)."""
-    context = context or {}
-    lists = {k: v for k, v in doc.items()
-             if isinstance(v, list) and v and all(isinstance(x, Mapping) for x in v)}
+def _record_lists(doc: Mapping, path: str = "") -> dict[str, list]:
+    """Every list of records in ``doc``, also inside nested dicts (``fit.tests``), by its dotted path."""
+    out = {}
+    for key, value in doc.items():
+        if isinstance(value, list) and value and all(isinstance(x, Mapping) for x in value):
+            out[f"{path}{key}"] = value
+        elif isinstance(value, Mapping):
+            out.update(_record_lists(value, f"{path}{key}."))
+    return out
+
+
+def _walk(doc: Mapping, context: dict, name: str) -> list[tuple[dict, dict]]:
+    """(enclosing keys, the innermost record's own keys) per innermost record of ``doc``."""
+    lists = _record_lists(doc)
     if not lists:
-        return [{**context, **_flat(doc)}]
-    key = max(lists, key=lambda k: (_depth(lists[k]), len(lists[k])))
+        return [(context, _flat(doc))]
+    path = max(lists, key=lambda k: (_depth(lists[k]), len(lists[k])))
     own = {f"{name}_{k}" if name else k: v for k, v in _flat(doc).items()}
-    return [row for item in lists[key] for row in records(item, {**context, **own}, _singular(key))]
+    singular = _singular(path.rsplit(".", 1)[-1])
+    return [pair for item in lists[path] for pair in _walk(item, {**context, **own}, singular)]
+
+
+def records(doc: Mapping) -> list[dict]:
+    """The long table: one row per innermost record of ``doc``, following its deepest list of records
+    (also one inside nested dicts) and carrying the enclosing records' scalars (prefixed with the
+    singular of their list's key)."""
+    return [{**context, **own} for context, own in _walk(doc, {}, "")]
+
+
+def tidy(doc: Mapping) -> tuple[list[dict], dict]:
+    """The long table without its constant columns, and those constants: the document's own scalars
+    and the enclosing records' keys that are the same on every row (a document without lists of records
+    is one row of everything, no constants)."""
+    pairs = _walk(doc, {}, "")
+    if not _record_lists(doc):
+        return [own for _, own in pairs], {}
+    keys = list(dict.fromkeys(k for context, _ in pairs for k in context))
+    constant = {k for k in keys if len({repr(context.get(k)) for context, _ in pairs}) == 1}
+    rows = [{**{k: v for k, v in context.items() if k not in constant}, **own} for context, own in pairs]
+    return rows, {k: pairs[0][0].get(k) for k in keys if k in constant}
 
 
 def frame(rows: list[dict]):

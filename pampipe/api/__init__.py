@@ -24,6 +24,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pampipe.api import arguments as arg
 from pampipe.api.arguments import Source
@@ -31,15 +32,29 @@ from pampipe.api.files import CommandResult, example, route, synth
 from pampipe.results import notebook
 from pampipe.units.quantities import show
 
+if TYPE_CHECKING:  # the return types, for annotations only: importing them here would slow every command
+    from pampipe.design.result import DesignResult
+    from pampipe.diagnosis.result import DiagnoseResult
+    from pampipe.export import Export
+    from pampipe.identification.grip import GripResult
+    from pampipe.identification.result import IdentifyResult
+    from pampipe.model.pam import Pam
+    from pampipe.planning.result import MissionPlan
+    from pampipe.rehearsal.result import Rehearsal
+    from pampipe.simulation.anchored import ExtensionResult, SimulateResult
+    from pampipe.specs.experiment import Experiment, ExperimentData
+    from pampipe.specs.inventory import Inventory
+    from pampipe.specs.mission import Mission
+
 __all__ = ["CommandResult", "GaitReport", "Source", "design_inventory", "diagnose", "example",
            "export_mission", "extension", "gait", "identify", "load_experiment", "load_inventory",
-           "load_mission", "load_pam", "next_test", "plan", "route", "save_pam", "set_units", "simulate",
-           "synth"]
+           "load_mission", "load_pam", "next_test", "plan", "rehearse", "route", "save_pam", "set_units",
+           "simulate", "synth"]
 
 Progress = Callable[[str], None]
 
 
-def load_pam(pam: Source, *, base=None, name: str = "pam"):
+def load_pam(pam: Source, *, base=None, name: str = "pam") -> Pam:
     """A :class:`~pampipe.model.pam.Pam` from a PAM file or dict (docs/formats.md §2); a Pam passes
     (``name``: the option that gave it, for messages)."""
     from pampipe.io.pam_schema import load_pam as load
@@ -51,7 +66,7 @@ def load_pam(pam: Source, *, base=None, name: str = "pam"):
     return load(path, raw=raw)
 
 
-def load_mission(mission: Source, *, base=None):
+def load_mission(mission: Source, *, base=None) -> Mission:
     """A :class:`~pampipe.specs.mission.Mission` from a mission file or dict (docs/formats.md §4) or itself.
 
     A file that loaded before and is unchanged, with every file it names, comes from the cache
@@ -72,7 +87,8 @@ def load_mission(mission: Source, *, base=None):
     return loaded
 
 
-def load_experiment(experiment: Source, *, base=None, progress: Progress | None = None):
+def load_experiment(experiment: Source, *, base=None,
+                    progress: Progress | None = None) -> tuple[Experiment, ExperimentData]:
     """(Experiment, ExperimentData): the experiment and its CSV data (docs/formats.md §3)."""
     from pampipe.io.csvfile import load_experiment_data
     from pampipe.io.experiment_schema import load_experiment as load
@@ -83,7 +99,7 @@ def load_experiment(experiment: Source, *, base=None, progress: Progress | None 
 
 
 def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper_literal: bool = False,
-             base=None):
+             base=None) -> SimulateResult:
     """One muscle in one or more pipes under one or more axial loads (`pampipe simulate`).
 
     ``pipe_diameter`` and ``axial_load``: a value or a list; ``pressure``: a list (default: the
@@ -106,7 +122,7 @@ def simulate(pam: Source, *, pipe_diameter, axial_load=0.0, pressure=None, paper
         raise InputError(f"{source}: {exc}") from None
 
 
-def extension(pam: Source, *, pressure=None, base=None):
+def extension(pam: Source, *, pressure=None, base=None) -> ExtensionResult:
     """An extensile PAM's free length against pressure (`pampipe simulate` without a pipe).
 
     Returns a :class:`pampipe.simulation.anchored.ExtensionResult`."""
@@ -128,7 +144,7 @@ def extension(pam: Source, *, pressure=None, base=None):
 
 def plan(mission: Source, *, payload=None, confidence: float | None = None, solver: str = "kkt",
          max_payload: bool = False, base=None, samples: int | None = None, seed: int | None = None,
-         prior=None, workers: int | None = None, scheduler: str | None = None):
+         prior=None, workers: int | None = None, scheduler: str | None = None) -> MissionPlan:
     """The least anchoring pressure of every segment in every section (`pampipe plan`).
 
     With ``confidence`` C: ``samples`` draws seeded by ``seed`` (defaults of
@@ -205,7 +221,7 @@ def gait(mission: Source, *, section: str | None = None, optimal: bool = False, 
 
 def rehearse(mission: Source, *, optimal: bool = False, confidence: float | None = None,
              samples: int | None = None, seed: int | None = None, base=None,
-             progress: Progress | None = None):
+             progress: Progress | None = None) -> Rehearsal:
     """The whole route in time (`pampipe rehearse`): per section the gait's cycles, time and free air, the
     tether, the supply hose and the compressor, the reach; with ``confidence`` C (``samples`` draws seeded by
     ``seed``) the chance of completing the route. Returns a :class:`pampipe.rehearsal.Rehearsal`
@@ -289,7 +305,8 @@ def _keep(store: dict, key, value) -> None:
 def identify(experiment: Source, *, mode: str | None = None, objective: str | None = None,
              degree: int | None = None, average_legs: bool | None = None, drucker: str | None = None,
              max_iterations: int | None = None, calibrate: Sequence[str] | None = None,
-             slack: str | None = None, pipe_diameter=None, base=None, progress: Progress | None = None):
+             slack: str | None = None, pipe_diameter=None, base=None,
+             progress: Progress | None = None) -> IdentifyResult | GripResult:
     """Fit the bladder moduli (and the ``calibrate``d geometry) to an experiment (`pampipe identify`).
 
     Options override the experiment's ``fit:`` block; ``calibrate`` and ``pipe_diameter`` (a value or
@@ -318,7 +335,7 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
 
 
 def diagnose(experiment: Source, *, effect: Sequence[str] | None = None, folds: int | None = None,
-             base=None, progress: Progress | None = None):
+             base=None, progress: Progress | None = None) -> DiagnoseResult:
     """Name the effect the model misses, refit with it, show the gap shrink (`pampipe diagnose`).
 
     Returns a :class:`pampipe.diagnosis.result.DiagnoseResult`; ``augmented_pam()`` is the muscle
@@ -347,7 +364,7 @@ def _relative(path: Path, folder: Path) -> str:
 
 def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", base=None,
                    progress: Progress | None = None, confidence: float | None = None,
-                   samples: int | None = None, seed: int | None = None):
+                   samples: int | None = None, seed: int | None = None) -> Export:
     """The mission's anchoring law and gait table as C texts (`pampipe export`; not ``pampipe.export``,
     the package that generates them). Returns a :class:`pampipe.export.Export`: ``files`` maps file
     names to texts, ``law.evaluate(...)`` answers as the C function does, ``to_dict()`` is the JSON.
@@ -378,7 +395,7 @@ def export_mission(mission: Source, *, sketch_name: str = "pampipe_example", bas
                     progress=progress, confidence=confidence, **sampling)
 
 
-def load_inventory(inventory: Source, *, base=None):
+def load_inventory(inventory: Source, *, base=None) -> Inventory:
     """A :class:`~pampipe.specs.inventory.Inventory` from an inventory file or dict (docs/commands.md §8)."""
     from pampipe.io.inventory_file import load_inventory as load
     from pampipe.specs.inventory import Inventory
@@ -391,7 +408,7 @@ def load_inventory(inventory: Source, *, base=None):
 
 def design_inventory(inventory: Source, *, objective: str | None = None, sizes: int | None = None,
            starts: int | None = None, seed: int | None = None, workers: int | None = None,
-           scheduler: str | None = None, base=None):
+           scheduler: str | None = None, base=None) -> DesignResult:
     """The muscle geometry (or K sizes) for a pipe inventory (`pampipe design`; not ``pampipe.design``,
     which is the package of the science); the options override
     the file's ``design:`` block. Returns a :class:`pampipe.design.DesignResult` (``to_dict()``: the

@@ -19,11 +19,17 @@ def _text():
     return _rendered
 
 
+def _plot():
+    from pampipe.views.plots.route import plot_command
+
+    return plot_command
+
+
 def _rendered(result: CommandResult) -> str:
     return result.render()
 
 
-@notebook(headline=("command",), text=_text)
+@notebook(headline=("command",), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class CommandResult:
     """The outcome of a command that writes files (route, synth, example): its ``--json`` document

@@ -11,7 +11,7 @@ import numpy as np
 from pampipe.diagnosis import selection
 from pampipe.diagnosis.candidates import candidate, corrected_geometry, library_part
 from pampipe.model.pam import Moduli, Pam
-from pampipe.results import notebook
+from pampipe.results import frame, notebook
 
 MPA = 1e6
 
@@ -149,9 +149,17 @@ class DiagnoseResult:
         return 1.0 - self.chosen.sum_rmse / self.baseline.sum_rmse if self.selected_effects else 0.0
 
     @property
-    def candidates(self) -> tuple:
+    def first_trials(self) -> tuple:
         """The first step's trials (baseline + one effect each), ranked by BIC."""
         return self.steps[0].trials if self.steps else ()
+
+    def candidates(self):
+        """A pandas DataFrame of the effects tried in the first step, one row each, in the report's order:
+        ``effect``, ``delta_bic``, ``cv_ratio``, ``where_share``, ``where_focus``, ``eligible``, ``note``,
+        ``sum_rmse_N``, ``cv_rmse_N``, ``wall_time_s``."""
+        from pampipe.diagnosis.frames import candidate_rows
+
+        return frame(candidate_rows(self.to_dict()))
 
     def augmented_pam(self) -> Pam:
         """The muscle with the refitted moduli and the selected effects (none: the baseline moduli)."""
@@ -182,7 +190,7 @@ class DiagnoseResult:
         chosen = self.chosen
         before = self.baseline_model.assessment.tests
         after = self.chosen_model.assessment.tests
-        summaries = (self.trial_summary(t) for t in self.candidates)
+        summaries = (self.trial_summary(t) for t in self.first_trials)
         candidates = [s.as_document() for s in summaries if s is not None]
         first_confounded = next((c["with"] for c in self.confounded if c["effect"] == self.selected), None)
         return {

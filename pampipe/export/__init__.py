@@ -47,7 +47,13 @@ def _text():
     return result_text
 
 
-@notebook(headline=(), text=_text)
+def _plot():
+    from pampipe.views.plots.route import plot_export
+
+    return plot_export
+
+
+@notebook(headline=(), plot=_plot, text=_text)
 @dataclass(frozen=True)
 class Export:
     """The exported files (name → text) and what they contain."""

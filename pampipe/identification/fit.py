@@ -64,7 +64,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     memo = Memo()  # what the hinge's refits reuse of the first reduction
     for round_ in range(HINGE_ROUNDS):
         try:
-            fitted = _fit(data, options, say, hinge, warm, memo)
+            fitted = _fit(data, options, say, hinge, warm, memo, round_)
         except SolverError as error:
             if round_ == 0:
                 raise
@@ -131,14 +131,16 @@ class Round(NamedTuple):
     axial_model: dict[int, np.ndarray]  # test index -> F_ax of every row [N], before the hinge
 
 
-def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo) -> Round:
+def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo,
+         round_: int = 0) -> Round:
     """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution) if given. Its
     report gives the IdentifyResult and ``finish``; ``finish()`` gives its (model error, written joint
     uncertainty, fit quality, predictions the data determine, warnings), which the result leaves out
     (None, no warnings). Both are computed only for the fit reported, not for every round of the hinge,
     which needs only the axial model to find the rows it moves.
     ``memo``: what the rounds of the hinge share of the reduction
-    (:class:`~pampipe.identification.statistics.Memo`).
+    (:class:`~pampipe.identification.statistics.Memo`); ``round_``: which round (0: the first), named in
+    the progress line of every later one.
 
     Steps: :func:`.fit_setup.set_up` (reduce, build, start), :func:`_calibrated` or one solve, :func:`_solved`
     (polish, moduli), and :func:`_report` when asked for.
@@ -147,7 +149,9 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
     if options.calibrate:
         solve = _calibrated(data, options, say, setup)
     else:
-        say(f"solving the {setup.x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})")
+        which = f", round {round_ + 1} of at most {HINGE_ROUNDS} (slack rows as max(0, F))" if round_ else ""
+        say(f"solving the {setup.x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})"
+            + which)
         solution, info = solve_fit(setup.nlp, setup.values, setup.x0, setup.lbx, setup.ubx, setup.stats,
                                    setup.structure, updater_for(setup.values, data, options, setup))
         solve = Solve(solution, info, setup.values, 0.0, 0, None, None)

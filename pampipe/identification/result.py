@@ -19,7 +19,7 @@ from pampipe.identification.predict import TestFit
 from pampipe.identification.quality import Quality
 from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
-from pampipe.results import notebook
+from pampipe.results import frame, notebook
 
 if TYPE_CHECKING:  # the slip package loads only for slip tests
     from pampipe.slip.result import SlipResult
@@ -204,6 +204,22 @@ class IdentifyResult:
     def to_dict(self) -> dict:
         """The `identify --json` document (docs/commands.md §3.2)."""
         return self.as_document()
+
+    def coefficients(self):
+        """A pandas DataFrame of the fitted moduli coefficients, one row each: ``coefficient``, ``block``,
+        ``stress``, ``term``, ``power``, ``value_MPa``, ``std_MPa``, ``low_MPa``, ``high_MPa`` (the 95 %
+        interval; None where the data leave it undetermined), ``determined``, ``at_bound``."""
+        from pampipe.identification.frames import coefficient_rows
+
+        return frame(coefficient_rows(self.to_dict()))
+
+    def tests_frame(self):
+        """A pandas DataFrame of the tests, one row each: ``test``, ``kind``, ``protocol``, ``points``,
+        ``rmse_N``, ``slack_rows``, ``excluded_rows``, ``noise_floor_N``, ``rmse_over_floor``, ``runs_z``,
+        ``lag1_autocorrelation``, ``structured``."""
+        from pampipe.identification.frames import test_rows
+
+        return frame(test_rows(self.to_dict()))
 
     def as_document(self) -> dict:
         """The ``identify`` JSON document (docs/commands.md §3.2), with extra keys.

@@ -41,7 +41,8 @@ RATIO = 1.2
 def example_run(tmp_path_factory):
     """One CLI run on the bundled example with --json, -o and --plots."""
     folder = tmp_path_factory.mktemp("diagnose")
-    out = run_cli("diagnose", EXAMPLE, "--json", "-o", folder / "pam_out.yaml", "--plots", folder / "plots")
+    out = run_cli("diagnose", EXAMPLE, "--json", "-o", folder / "pam_out.yaml", "--plots", folder / "plots",
+                  "--report", folder / "diagnose.html")
     return out, folder
 
 
@@ -73,6 +74,37 @@ def test_bundled_example_is_explained_by_the_hidden_effect(example_run):
         assert low <= SIGMA <= high
     # the human report went to stderr: the steps, with their times, and the before/after table
     assert "Step 1 (" in out.stderr and "before [N]" in out.stderr and "Verdict: explained" in out.stderr
+
+
+def test_candidates_table_is_the_first_step_of_the_json(example_run):
+    """``DiagnoseResult.candidates()`` reads these rows (issue 42): one per trial of step 1, in its order,
+    joined with the refit's summary by effect."""
+    from pampipe.diagnosis.frames import candidate_rows
+
+    doc = json.loads(example_run[0].stdout)
+    rows = candidate_rows(doc)
+    trials = doc["steps"][0]["trials"]
+    assert [r["effect"] for r in rows] == [t["effect"] for t in trials]
+    assert rows[0]["effect"] == "contact_stiffening" and rows[0]["eligible"]
+    assert [r["delta_bic"] for r in rows] == [t["delta_bic"] for t in trials]
+    fits = {c["effect"]: c for c in doc["candidates"]}
+    assert all(r["sum_rmse_N"] == fits[r["effect"]]["sum_rmse_N"] for r in rows if r["effect"] in fits)
+    assert all(r["wall_time_s"] >= 0 for r in rows)
+
+
+def test_report_opens_with_the_verdict_and_fits_a_1280_px_window(example_run, tmp_path):
+    """The HTML report (issue 42): the verdict and the improvement first; in headless Chromium (where
+    installed) no wider than a 1280 px window, and it prints to PDF."""
+    from tests.support.browser import CHROMIUM, layout
+
+    page = example_run[1] / "diagnose.html"
+    text = page.read_text()
+    assert text.index("Verdict: explained") < text.index("improvement") < text.index("Inputs")
+    if CHROMIUM is None:
+        pytest.skip("no chromium installed (apt-get install chromium)")
+    seen = layout(page, tmp_path)
+    assert 0 < seen.scroll_width <= 1280
+    assert seen.pdf.read_bytes().startswith(b"%PDF")
 
 
 def test_bundled_example_writes_plots_and_a_pam_that_simulate_accepts(example_run):

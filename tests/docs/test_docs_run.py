@@ -1,6 +1,8 @@
-"""The example commands of README.md and docs/workflows.md run as written (issue 21).
+"""The example commands of README.md and docs/workflows.md run as written (issue 21), and print what the docs
+quote (issue 42).
 
-What a doc's ```sh block may assume is the convention in tests/support/doc_commands.py.
+What a doc's ```sh block may assume is the convention in tests/support/doc_commands.py; how a doc shows what a
+command printed, and quotes its numbers, is the convention in tests/support/doc_quotes.py.
 """
 
 from __future__ import annotations
@@ -10,7 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from tests.support.doc_commands import DOCS, Command, commands, run_docs
+from tests.support.doc_commands import DOCS, Command, commands, printed, run_docs
+from tests.support.doc_quotes import problem, quotes
+from tests.support.problems import ROOT
 
 
 def test_the_docs_have_commands_to_run():
@@ -41,6 +45,13 @@ def test_a_wrong_exit_code_names_the_doc_line_and_command(tmp_path):
     assert "\n  false\n" in message
 
 
-def test_every_doc_command_runs_in_order_in_one_shell(tmp_path):
-    """README.md then docs/workflows.md, as a reader would type them (the convention above)."""
-    run_docs(Path(sys.executable).parent, tmp_path)
+def test_every_doc_command_runs_in_order_in_one_shell_and_prints_what_the_docs_quote(tmp_path):
+    """README.md then docs/workflows.md, as a reader would type them; then every output block and quoted
+    number of theirs against what the commands of its ```sh block printed (the conventions above)."""
+    steps = commands()
+    run_docs(Path(sys.executable).parent, tmp_path, steps)
+    found = [(doc, quotes(doc, (ROOT / doc).read_text(encoding="utf-8"))) for doc in DOCS]
+    assert sum(len(q) for _, q in found) >= 80
+    wrong = [p for doc, items in found for q in items
+             if (p := problem(q, printed(steps, tmp_path, doc, q.block))) is not None]
+    assert not wrong, "\n".join(wrong)

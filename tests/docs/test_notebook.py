@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 import pampipe
-from pampipe.results import REPR_LIMIT, records
+from pampipe.results import REPR_LIMIT, records, tidy
 from tests.support.problems import ROOT
 
 DOC = ROOT / "docs" / "notebook.md"
@@ -30,6 +30,9 @@ def test_walkthrough_runs_in_order(tmp_path, monkeypatch):
     document = plan.to_dict()
     expected = [(s["name"], x["name"], x["pressure_Pa"]) for s in document["sections"] for x in s["segments"]]
     assert list(zip(frame["section_name"], frame["name"], frame["pressure_Pa"], strict=True)) == expected
+    # tidy: the plan's own scalars are in attrs, not repeated on every row (issue 42)
+    assert "mission" not in frame.columns and frame.attrs["mission"] == document["mission"]
+    assert frame.attrs["solver.wall_time_s"] == document["solver"]["wall_time_s"]
     assert len(repr(plan)) < 300 and "feasible=True" in repr(plan)
     assert "<table>" in plan._repr_html_()
 
@@ -56,6 +59,30 @@ def test_records_flatten_the_deepest_list_with_prefixed_context():
         {"mission": "m", "section_name": "a", "name": "P1", "pressure_Pa": 1.0},
         {"mission": "m", "section_name": "a", "name": "P2", "pressure_Pa": 2.0},
         {"mission": "m", "section_name": "b", "name": "P1", "pressure_Pa": 3.0}]
+
+
+def test_tidy_keeps_what_varies_and_moves_the_constants_to_attrs():
+    doc = {"mission": "m", "solver": {"iterations": 3, "interval_s": [1.0, 2.0]},
+           "law": {"a": [1.5, -0.1]},
+           "sections": [{"name": "a", "kind": "pipe",
+                         "segments": [{"name": "P1", "ok": True}, {"name": "P2", "ok": True}]},
+                        {"name": "b", "kind": "pipe", "segments": [{"name": "P1", "ok": True}]}]}
+    rows, constants = tidy(doc)
+    # a record's own keys stay, constant or not
+    assert rows == [{"section_name": "a", "name": "P1", "ok": True},
+                    {"section_name": "a", "name": "P2", "ok": True},
+                    {"section_name": "b", "name": "P1", "ok": True}]
+    assert constants == {"mission": "m", "solver.iterations": 3, "solver.interval_s_low": 1.0,
+                         "solver.interval_s_high": 2.0, "law.a.0": 1.5, "law.a.1": -0.1,
+                         "section_kind": "pipe"}
+    assert tidy({"x": 1.0, "y": [1, 2]}) == ([{"x": 1.0, "y.0": 1, "y.1": 2}], {})
+
+
+def test_records_follow_a_list_of_records_inside_a_nested_dict():
+    doc = {"fit": {"tests": [{"name": "t1", "levels": [{"p": 1}, {"p": 2}]},
+                             {"name": "t2", "levels": [{"p": 3}]}]}}
+    assert records(doc) == [{"test_name": "t1", "p": 1}, {"test_name": "t1", "p": 2},
+                            {"test_name": "t2", "p": 3}]
 
 
 def test_repr_is_short_even_for_a_long_document():

@@ -115,3 +115,10 @@ def run_docs(bin_dir: Path, scratch: Path, steps: list[Command] | None = None) -
                         f"  {step.text}\n--- its output (last 15 lines):\n" + "\n".join(output[-15:]))
         codes.append(code)
     return codes
+
+
+def printed(steps: list[Command], scratch: Path, doc: str, block_line: int) -> list[str]:
+    """The lines (stdout and stderr) that the commands of ``doc``'s ```sh block at ``block_line`` printed in
+    the run of :func:`run_docs` into ``scratch``."""
+    return [line for i, step in enumerate(steps) if step.doc == doc and step.block_line == block_line
+            for line in (scratch / "status" / f"{i}.log").read_text(errors="replace").splitlines()]

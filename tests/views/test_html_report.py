@@ -1,22 +1,23 @@
 """`plan --report` writes one self-contained HTML file; a real headless Chromium opens it with no console
-error and no request leaving the file (issue 26). The Chromium part is skipped when no `chromium` is
-installed (apt-get install chromium)."""
+error and no request leaving the file (issue 26). It reads as a report (issue 42): the verdict and the
+headline numbers first, an inputs table, readable columns in the user's units, nothing wider than a
+1280 px window, a print style, identify's figures small. The Chromium part is skipped when no `chromium`
+is installed (apt-get install chromium)."""
 
 from __future__ import annotations
 
 import hashlib
 import json
 import re
-import shutil
 import subprocess
 import sys
 
 import pytest
 
+from tests.support.browser import CHROMIUM, layout
 from tests.support.problems import PROBLEMS, ROOT
 
 MISSION = PROBLEMS / "missions" / "vertical-climb-3in.yaml"
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
 
 @pytest.fixture(scope="module")
@@ -112,3 +113,57 @@ def test_bidi_controls_are_shown_not_obeyed_and_docs_links_are_relative(tmp_path
     links = re.findall(r"href='([^']*)'", text)
     assert links and all(not link.startswith(("file:", "/")) for link in links)
     assert all((target.parent / link.split("#")[0]).resolve().is_file() for link in links)
+
+
+def test_report_opens_with_the_verdict_and_the_headline_numbers(report):
+    text = report.read_text()
+    verdict = "feasible: every segment holds in every section, over each bore&#x27;s range, within the"
+    order = [text.index(s) for s in (verdict, "largest pressure", "Inputs", "supply pressure", "Warnings",
+                                     "Report", "Results table")]
+    assert order == sorted(order)
+    # the demo's largest pressure, 166.5 kPa in the 3.5 in run (docs/workflows.md §1.4), and where
+    assert "166.5 kPa (PAM1 in run)" in text and "689 kPa" in text
+    # readable columns in the user's units, not JSON names in SI
+    assert "pressure [kPa]" in text and "pressure_Pa" not in text and "0.0762" not in text
+    assert "@media print" in text and "white-space:pre-wrap" in text
+
+
+def _report(tmp_path, *args, name="report.html"):
+    target = tmp_path / name
+    command = [sys.executable, "-m", "pampipe", *map(str, args), "--report", str(target), "--quiet"]
+    out = subprocess.run(command,
+                         capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert out.returncode == 0, out.stderr
+    return target
+
+
+def test_report_tables_follow_units(tmp_path):
+    text = _report(tmp_path, "plan", MISSION, "--units", "us").read_text()
+    assert "pressure [psi]" in text and "pressure [kPa]" not in text
+    assert "24.15 psi (PAM1 in run)" in text  # 166.5 kPa
+
+
+@pytest.mark.parametrize("experiment", ["paper-protocol.yaml", "festo-dmsp20-300.yaml"])
+def test_identify_report_stays_small(tmp_path, experiment):
+    """Dense curves are drawn as images: the report of 4760 rows stays under 300 kB (4 MB before)."""
+    target = _report(tmp_path, "identify", PROBLEMS / "experiments" / experiment)
+    assert target.stat().st_size <= 300_000
+    assert target.read_text().count("<svg") >= 2
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium installed (apt-get install chromium)")
+def test_reports_fit_a_1280_px_window_and_print(report, tmp_path):
+    import matplotlib.image
+
+    wide = tmp_path / "wide.html"  # the check can fail: a line of 400 characters does not fit
+    wide.write_text("<!DOCTYPE html><html><body><pre>" + "x" * 400 + "</pre></body></html>")
+    assert layout(wide, tmp_path).scroll_width > 1280
+    pages = [report, _report(tmp_path, "identify", PROBLEMS / "experiments" / "paper-protocol.yaml",
+                             name="identify.html"),
+             _report(tmp_path, "rehearse", PROBLEMS / "missions" / "tethered-climb.yaml",
+                     name="rehearse.html")]
+    for page in pages:
+        seen = layout(page, tmp_path)
+        assert 0 < seen.scroll_width <= 1280, page.name
+        assert matplotlib.image.imread(seen.screenshot).shape[1] == 1280
+        assert seen.pdf.read_bytes().startswith(b"%PDF") and seen.pdf.stat().st_size > 20_000

@@ -69,6 +69,18 @@ def test_plan_draws_identical_segments_as_one_line(plan):
     assert "red band" not in fig.axes[0].get_title()
 
 
+def test_required_pressure_axis_shows_the_step_between_sections(plan):
+    """The step from the riser to the run (about 122 -> 167 kPa, docs/workflows.md §1.4) fills the axis; the
+    689 kPa supply, far above, is named on the plot instead of squashing the axis to 0-700 kPa (issue 42)."""
+    ax = plan.plot().axes[0]
+    low, high = ax.get_ylim()
+    stairs = [p for p in ax.patches if "planned pressure" in str(p.get_label())]
+    values = stairs[0].get_data().values
+    assert high - low < 2 * (values.max() - values.min())
+    assert low < values.min() and values.max() < high < 689
+    assert any("supply pressure 689 kPa" in text.get_text() for text in ax.texts)
+
+
 def test_network_route_plots_and_colour_span():
     from pampipe.views.plots.plan import plot_plan
 
@@ -81,6 +93,27 @@ def test_network_route_plots_and_colour_span():
     for image in bars:
         low, high = image.get_clim()
         assert high - low >= 0.05 * plan.supply_pressure / 1e3 - 1e-9
+    # issue 42: the network map's coordinates carry no 1e6 offset and its grey is in the legend; the bend's
+    # axes name their quantity
+    by_title = {fig.axes[0].get_title().split(":")[0]: fig for fig in figures}
+    network = next(fig for title, fig in by_title.items() if title.startswith("network"))
+    network.canvas.draw()
+    ax = network.axes[0]
+    assert ax.xaxis.get_offset_text().get_text() == "" and ax.yaxis.get_offset_text().get_text() == ""
+    assert "pipe not planned (off the route)" in ax.get_legend_handles_labels()[1]
+    bend = next(fig for title, fig in by_title.items() if title.startswith("tightest bend"))
+    assert "centre of curvature [m]" in bend.axes[0].get_xlabel()
+
+
+def test_tornado_shows_every_segment_with_labels_off_the_planned_line():
+    from pampipe.views.plots.tornado import plot_tornado
+
+    plan = pampipe.plan(PROBLEMS / "missions" / "riser-uncertain-friction.yaml", confidence=0.95)
+    (fig,) = _figures(lambda p, folder: plot_tornado(p, folder, "kPa", 1e3), plan)
+    assert len(fig.axes) == 3  # PAM1, PAM2, PAM3 of the section with the largest pressure
+    for ax in fig.axes:
+        planned = next(line.get_xdata()[0] for line in ax.lines if line.get_linestyle() == "--")
+        assert ax.texts and all(text.xy[0] >= planned - 1e-9 for text in ax.texts)
 
 
 def test_simulate_and_gait_plots():
@@ -91,8 +124,17 @@ def test_simulate_and_gait_plots():
     simulation = pampipe.simulate(pam, pipe_diameter=["3 in", "3.5 in"])
     for fig in _figures(plot_simulation, simulation):
         check(fig)
+    space_time = 0
     for fig in _figures(plot_report, pampipe.gait(PROBLEMS / "missions" / "vertical-climb-3in.yaml")):
         check(fig)
+        fig.canvas.draw()
+        for ax in fig.axes:  # issue 42: a space-time diagram's legends sit beside the curves, not on them
+            legend = ax.get_legend()
+            if legend is not None and ax.get_ylabel().startswith(("position along", "displacement since")):
+                box, frame = legend.get_window_extent(), ax.get_window_extent()
+                assert box.x0 >= frame.x1 - 1
+                space_time += 1
+    assert space_time == 2
 
 
 @pytest.mark.parametrize("kind", ["svg", "pdf"])
@@ -173,3 +215,18 @@ def test_the_simulation_plots_draw_the_models_numbers():
     np.testing.assert_allclose(anchoring, [117.0, 165.0], atol=0.5)
     assert "[kPa]" in ax.get_xlabel() and "[N]" in ax.get_ylabel()
     assert contraction.axes and contraction.axes[0].get_lines()
+
+
+def test_design_starts_show_round_off_as_one_value():
+    """The riser's 16 starts reach one optimum to within IPOPT's tolerance: drawn as one value in a 2 %
+    window, not as a spread of 1e-6 Pa; no shading is promised when no start failed (issue 42)."""
+    from pampipe.views.plots.design import plot_design
+
+    result = pampipe.design_inventory(PROBLEMS / "inventories" / "riser.yaml")
+    ax = _figures(plot_design, result)[-1].axes[0]
+    values = {float(v) for c in ax.collections for v in c.get_offsets()[:, 1]}
+    assert len(values) == 1
+    low, high = ax.get_ylim()
+    (value,) = values
+    assert high - low == pytest.approx(0.02 * value, rel=1e-6)
+    assert "shaded" not in ax.get_xlabel()

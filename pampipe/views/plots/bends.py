@@ -43,7 +43,8 @@ def tightest_bend(plan, folder: Path) -> Path | None:
         corners = _rectangle(radius - a, psi, middle, length, s.diameter)
         ax.fill(*corners.T, label=label, **({"lw": 1.2} | style))
     ax.set_aspect("equal")
-    ax.set(xlabel="[m]", ylabel="[m]",
+    ax.set(xlabel="x from the elbow's centre of curvature [m]",
+           ylabel="y from the elbow's centre of curvature [m]",
            title=f"tightest bend: after {bend.after_section!r}, {math.degrees(theta):.1f}°, R = "
                  f"{radius * 1e3:.4g} mm, bore {bend.bore * 1e3:.4g} mm (to scale)\nbinding: {s.where}")
     ax.grid(alpha=0.3)

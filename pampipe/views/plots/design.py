@@ -11,6 +11,9 @@ from pampipe.views.tables import new_figure, save_figure
 CURVE_POINTS = 400
 
 
+DIGITS = 6  # significant digits of an objective: IPOPT's tolerance is below them
+
+
 def plot_design(result, folder: Path) -> list[Path]:
     """Write design_pressure_vs_bore.png and design_starts.png into ``folder``.
 
@@ -55,23 +58,32 @@ def _pressure_vs_bore(result, folder: Path) -> Path:
 
 
 def _starts(result, folder: Path) -> Path:
+    """The objective each start reaches, to :data:`DIGITS` significant digits (IPOPT's tolerance leaves
+    differences of 1e-6 Pa that are round-off, not a spread); failed starts shaded."""
     fig, ax = new_figure(figsize=(8, 4.2))
     unit = result.inventory.space.objective.unit
+    reached, any_failed = [], False
     for k, size in enumerate(result.sizes):
         run = size.design.run
         ok = [r for r in run.results if r.success]
         failed = [r for r in run.results if not r.success]
         scale = run.problem.scale
-        ax.scatter([r.index for r in ok], [r.objective * scale for r in ok], color=f"C{k}", s=18,
+        values = [float(f"{r.objective * scale:.{DIGITS}g}") for r in ok]
+        reached += values
+        ax.scatter([r.index for r in ok], values, color=f"C{k}", s=18,
                    label=f"size {k + 1}: {run.reached} of {len(run.results)} starts reach the best")
-        if failed:
-            ax.scatter([r.index for r in failed], np.full(len(failed), np.nan), marker="x", color=f"C{k}")
-            for r in failed:
-                ax.axvline(r.index, color=f"C{k}", alpha=0.2, lw=3)
+        for r in failed:
+            ax.axvspan(r.index - 0.4, r.index + 0.4, color=f"C{k}", alpha=0.2, lw=0,
+                       label="IPOPT failed" if not any_failed else None)
+            any_failed = True
         if run.best is not None:
-            ax.axhline(run.best.objective * scale, color=f"C{k}", ls=":", lw=1)
-    ax.set(xlabel="start (Latin hypercube index; shaded: IPOPT failed)", ylabel=f"objective [{unit}]",
-           title="objective reached from each start")
+            ax.axhline(float(f"{run.best.objective * scale:.{DIGITS}g}"), color=f"C{k}", ls=":", lw=1)
+    if reached and max(reached) - min(reached) <= 1e-3 * max(abs(max(reached)), 1e-12):
+        middle = 0.5 * (max(reached) + min(reached))  # every start at the same value: a 2 % window, no spread
+        ax.set_ylim(middle - 0.01 * abs(middle) - 1e-12, middle + 0.01 * abs(middle) + 1e-12)
+    ax.ticklabel_format(axis="y", useOffset=False)
+    ax.set(xlabel="start (Latin hypercube index" + ("; shaded: IPOPT failed)" if any_failed else ")"),
+           ylabel=f"objective [{unit}]", title=f"objective reached from each start (to {DIGITS} digits)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     return save_figure(fig, folder, "design_starts.png")

@@ -72,10 +72,10 @@ def plot_gait(result, folder: Path) -> list[Path]:
                  f"{result.cycle_time:.2f} s cycle ({result.speed * 1e3:.3g} mm/s)", pad=16, fontsize=10)
     ax.set_xlim(0, traj.times[-1] * 1.12)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(0.0, 0.62))
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)  # off the curves
     shift.set(xlabel="time [s]", ylabel="displacement since the cycle start [mm]")
     shift.grid(alpha=0.3)
-    shift.legend(fontsize=7, loc="upper left")
+    shift.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     written.append(save_figure(fig, folder, f"gait_space_time_{result.schedule}.png"))
     return written
 

@@ -87,7 +87,8 @@ def network_pressure(plan, folder: Path, unit: str, scale: float) -> Path | None
     if not np.isfinite(net.xy).any():
         return None
     fig, ax = new_figure(figsize=(8, 7))
-    ax.add_collection(LineCollection(_polylines(net, np.arange(len(net.pipe_ids))), colors="0.8", lw=0.6))
+    ax.add_collection(LineCollection(_polylines(net, np.arange(len(net.pipe_ids))), colors="0.8", lw=0.6,
+                                     label="pipe not planned (off the route)"))
     pipes = _pipe_index(net, route.name)
     pressure = plan.section_pressure / scale
     planned = np.isfinite(pressure) & plan.arrays.feasible.all(axis=1)
@@ -112,8 +113,8 @@ def network_pressure(plan, folder: Path, unit: str, scale: float) -> Path | None
     what = "every pipe" if origin.whole else f"route {origin.from_node} → {origin.to_node}"
     ax.set(title=f"network {net.name}: {what}, coloured by planned pressure\n(grey: not planned; red: cannot "
                  "be planned)", xlabel="x (network units)", ylabel="y (network units)")
-    if failed.any() or not origin.whole:
-        ax.legend(fontsize=8, loc="best")
+    ax.ticklabel_format(axis="both", style="plain", useOffset=False)  # coordinates as written, no 1e6 offset
+    ax.legend(fontsize=8, loc="best")
     return save_figure(fig, folder, "network_pressure.png")
 
 

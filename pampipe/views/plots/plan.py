@@ -56,7 +56,13 @@ def _required_pressure(plan, folder: Path, unit: str, scale: float) -> Path:
     anchoring = np.where(a.complete, np.max(a.largest_bore_anchoring, axis=1), np.nan) / scale
     ax.stairs(anchoring, edges, baseline=None, color="grey", ls=":", lw=1.5,
               label="anchoring pressure (no load, largest bore)")
-    ax.axhline(plan.supply_pressure / scale, color="C3", ls="--", lw=1.2, label="supply pressure")
+    supply = plan.supply_pressure / scale
+    low, high = _pressure_range(a.pressure[a.complete] / scale, anchoring, supply)
+    if supply <= high:
+        ax.axhline(supply, color="C3", ls="--", lw=1.2, label="supply pressure")
+    else:  # far above the plan: an axis up to it would flatten every step between sections
+        ax.annotate(f"supply pressure {supply:.4g} {unit}: above this axis", (0.01, 0.97),
+                    xycoords="axes fraction", va="top", fontsize=8, color="C3")
     for n, s in enumerate(sorted(a.reasons)):
         ax.axvspan(edges[s], edges[s + 1], color="C3", alpha=0.12, lw=0,
                    label="infeasible section" if n == 0 else None)
@@ -67,11 +73,26 @@ def _required_pressure(plan, folder: Path, unit: str, scale: float) -> Path:
                        rotation=30 if tilted else 0, fontsize=8, ha="left" if tilted else "center")
         for label, sec in zip(top.get_xticklabels(), plan.sections, strict=True):
             label.set_color("k" if sec.feasible else "C3")
-    ax.set_ylim(bottom=0)
+    ax.set_ylim(low, high)
     ax.set(xlabel="distance along the route [m]", ylabel=f"gauge pressure [{unit}]",
            title="required anchoring pressure along the route")
     fig.legend(fontsize=8, loc="outside right upper")
     return save_figure(fig, folder, "required_pressure.png")
+
+
+def _pressure_range(planned: np.ndarray, anchoring: np.ndarray, supply: float) -> tuple[float, float]:
+    """The pressure axis: the planned and anchoring pressures with a margin of a fifth of their spread (at
+    least 5 % of the largest), from 0 when they reach down near it; up to the supply when the supply lies
+    within half the plan's largest pressure above it (else the supply is named above the axis)."""
+    values = np.concatenate([np.ravel(planned), np.ravel(anchoring)])
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return 0.0, 1.05 * supply
+    lo, hi = float(values.min()), float(values.max())
+    pad = max(0.2 * (hi - lo), 0.05 * hi)
+    top = 1.05 * supply if supply <= 1.5 * hi else hi + pad
+    bottom = 0.0 if lo - pad < 0.25 * hi else lo - pad
+    return bottom, top
 
 
 def _distinct_columns(pressure: np.ndarray, names) -> list[list[str]]:
