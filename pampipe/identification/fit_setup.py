@@ -119,7 +119,9 @@ def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) ->
 
 def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
-    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
+    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli),
+    before it is kept inside the braid's range of the geometry (:func:`.drucker.grid_low`: a calibrated
+    geometry moves it)."""
     geometry = data.pam.geometry
     p_max = max(max(float(t.pressure.max()) for t in data.tests), 1.0)
     p_min = min(float(t.pressure.min()) for t in data.tests)
@@ -133,7 +135,6 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
             low = min(low, float(Muscle.from_pam(data.pam).free_length(p_max)[0]))
         except SolverError:
             pass
-    low = max(low, geometry.shortest_length * 1.001)
     with np.errstate(invalid="ignore"):
-        lengths = drucker.grid_lengths(geometry, stats.pipes, low, options)
+        lengths = drucker.grid_lengths(geometry, stats.pipes, drucker.grid_low(geometry, low), options)
     return pressures, lengths, low

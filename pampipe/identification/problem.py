@@ -286,7 +286,11 @@ def muscles_of(structure: Structure, stats: Statistics, stated, x):
     geometry = geo.from_x(stated, structure.calibrate, x[x.size - len(structure.calibrate):]) \
         if structure.calibrate else stated
     main, pipes, _ = moduli_of(structure, stats, x)
+    return muscles(geometry, main, pipes)
 
+
+def muscles(geometry, main: Moduli, pipes: dict) -> tuple[Muscle, dict]:
+    """(the muscle of ``main``, {pipe diameter: muscle of its moduli}) of one geometry."""
     def make(m: Moduli) -> Muscle:
         contact = m.contact_vector() if m.contact is not None else None
         return Muscle(geometry, m.as_vector(), m.reference_pressure, contact=contact)

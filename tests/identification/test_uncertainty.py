@@ -100,7 +100,7 @@ def test_model_error_is_small_when_the_model_is_right_and_large_when_it_is_not(r
     Wrong model (contact stiffening left out): more than 5 noise floors (measured 31 N)."""
     right = identify(_data(radial_pam, pipes=(0.0762, 0.0889)), FitOptions())
     m = right.model_error
-    assert m.method == "pressure_bands" and len(m.bands) == 4
+    assert m.method == "held_blocks" and len(m.bands) == 4 and m.dof == len(m.blocks) - 1
     assert m.noise_floor == pytest.approx(SIGMA, rel=0.1)
     assert m.value < SIGMA
     # data generated with contact stiffening (docs/physics.md §9d), fitted without it
@@ -173,3 +173,21 @@ def test_calibrated_geometry_rows_are_written_in_si(radial_pam):
     assert math.sqrt(written.covariance[-1, -1]) == pytest.approx(math.radians((high - low) / 2 / 1.959964),
                                                                   rel=1e-9)
     assert result.fitted_pam(Pam(radial_pam.name, radial_pam.geometry)).uncertainty == written
+
+
+def test_a_calibrated_entry_keeps_its_stated_sd_through_the_written_file(radial_pam, tmp_path):
+    """The stated sd of a calibrated braid angle (the lot's spread) is written beside the fit's covariance
+    and read back, so that `unit: lot` can draw it (issue 35)."""
+    from pampipe.io.pamfile import write_pam
+
+    stated = {"braid_angle": math.radians(1.0), "initial_diameter": 0.5e-3}
+    base = Pam(radial_pam.name, radial_pam.geometry, geometry_sd=stated)
+    data = _data(radial_pam, pipes=(0.0762, 0.0889))
+    result = identify(ExperimentData(data.source, base, data.tests, {}), FitOptions(degree=1,
+                                                                                    calibrate=("braid_angle",)))
+    write_pam(tmp_path / "fit.yaml", result.fitted_pam(base))
+    back = load_pam(tmp_path / "fit.yaml")
+    assert back.geometry_sd == pytest.approx(stated)
+    assert back.uncertainty.names[-1] == "braid_angle"
+    fitted_sd = math.sqrt(back.uncertainty.covariance[-1, -1])
+    assert 0 < fitted_sd < 0.05 * stated["braid_angle"]  # the tested muscle's angle is known far better
