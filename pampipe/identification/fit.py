@@ -254,7 +254,7 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
     sse_model = float(nlp.sse(x, fit.p))
     hessian = np.asarray(nlp.hessian(x, fit.p), dtype=float)
     uncertainty = analyse(x, hessian, sse_model, setup.stats.points, setup.lbx, setup.ubx, names)
-    tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, fit.geometry, fit.moduli, fit.pipe_moduli,
+    tests, sse, sum_rmse, models, _ = evaluate_tests(data, fit.geometry, fit.moduli, fit.pipe_moduli,
                                                              fit.blocks, slack=options.slack,
                                                              evaluated=fit.axial)
     minimum = _drucker_minimum(fit.geometry, fit.blocks, fit.moduli, setup.pressures, setup.lengths,
@@ -268,8 +268,8 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
     prior_hessian = problem.prior_hessian(structure, solve.values, x.size)
     data_only = None if setup.prior == "none" else analyse(x, hessian - prior_hessian, sse_model,
                                                            setup.stats.points, setup.lbx, setup.ubx, names)
-    finish = partial(_finish, data, options, setup, fit, hessian, uncertainty, prior_hessian, data_only,
-                     unclipped, models, minimum, calibration)
+    finish = partial(_finish, data, options, setup, fit, hessian, uncertainty, data_only, models, minimum,
+                     calibration)
     return IdentifyResult(
         success=True, status=fit.solver.status, options=options, moduli=fit.moduli,
         pipe_moduli=fit.pipe_moduli, x=x, names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse,
@@ -282,8 +282,8 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
         quality=None), finish
 
 
-def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, prior_hessian, data_only, unclipped,
-            models, minimum, calibration):
+def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, data_only, models, minimum,
+            calibration):
     """(model error, written joint uncertainty, fit quality, predictions the data determine, warnings) of the
     reported round (:func:`_report`)."""
     structure, stats, names, x = setup.structure, setup.stats, setup.names, fit.x
@@ -292,8 +292,9 @@ def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, prior_h
     def muscles_at(xv):
         return problem.muscles_of(structure, stats, data.pam.geometry, xv)
 
+    fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
     model_error = model_errors.estimate(data, muscles_at, x, partial(_refit, options, fit),
-                                        slack=options.slack, model=unclipped)
+                                        slack=options.slack, noise=fit_quality.noise_floor)
     top = max(float(t.pressure.max()) for t in data.tests)
     joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
                                           model_error, lambda xv: muscles_at(xv)[0],
@@ -302,8 +303,7 @@ def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, prior_h
                                        options, stats)
     warnings = fit_warnings(fit.solver.status, uncertainty, names, minimum, options, structure, calibration,
                             stats, data, predictions)
-    return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound),
-            predictions, tuple(warnings))
+    return model_error, joint, fit_quality, predictions, tuple(warnings)
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.

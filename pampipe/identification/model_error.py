@@ -1,18 +1,13 @@
 """The model error of a fit: the prediction error beyond the noise, cross-validated over protocol blocks.
 
-**Noise floor** σ_n [N] (model-free): per test, from the second differences of the residuals in
-recorded order, d_i = r_{i+1} − 2r_i + r_{i−1}, whose variance is 6σ² for white noise while any
-smooth residual (a model error that varies with the swept variable) cancels; σ_t² = mean(d²)/6 over
-the d within :data:`TRIM` robust (MAD) standard deviations, so the jumps between pressure levels
-are left out. Rows read as exactly 0 N (slack) carry no noise and
-are left out. The floor of the fit is the row-weighted pool √(Σ n_t σ_t² / Σ n_t).
+**Noise floor** σ_n [N]: the pooled model-free floor of the tests (:mod:`.noise`, :mod:`.quality`).
 
 **Cross-validation over blocks of the protocol** (issue 35): the blocks are :data:`BANDS` bands of
 pressure (quantiles of the tested pressures, over every test) and, for an axial test that holds its
-lengths (a force map's columns: 2 to :data:`HELD_LENGTHS` distinct lengths to 0.1 mm, each for at least
-:data:`HELD_ROWS` rows), each held length. Each block is withheld in turn, the fit is solved again on
-the rest (``refit``: the same NLP structure, cached, fed the remaining rows through its parameters; a
-calibrated geometry is held at the full fit's) and the withheld rows are predicted. With B blocks of
+lengths (a force map's columns: :func:`.noise.held_length_paths`), each held length. Each block is
+withheld in turn, the fit is solved again on the rest (``refit``: the same NLP structure, cached, fed
+the remaining rows through its parameters; a calibrated geometry is held at the full fit's) and the
+withheld rows are predicted. With B blocks of
 held-out RMSE e_b the written model error is what the user meets beyond the noise,
 
     s_cv² = (1/B) Σ_b e_b²,    model_error = √max(0, s_cv² − σ_n²),   with B − 1 degrees of freedom,
@@ -29,14 +24,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pampipe.errors import PampipeError
+from pampipe.identification.noise import held_length_paths
 
 #: Pressure bands held out in turn.
 BANDS = 4
-#: A test with at most this many distinct lengths (each held for HELD_ROWS rows or more) holds its lengths.
-HELD_LENGTHS = 30
-HELD_ROWS = 3
-#: Second differences beyond this many robust (MAD) standard deviations are jumps, not noise.
-TRIM = 5.0
 
 
 @dataclass(frozen=True)
@@ -77,18 +68,6 @@ class ModelError:
                 "method": self.method, "blocks": [b.as_document() for b in self.blocks]}
 
 
-def noise_floor(residual: np.ndarray, measured: np.ndarray) -> tuple[float, int]:
-    """(σ_n [N], rows used) of one test from the second differences of its residuals (module docstring)."""
-    r = np.asarray(residual, float)[np.asarray(measured) != 0]
-    if r.size < 5:
-        return float("nan"), 0
-    d2 = r[2:] - 2 * r[1:-1] + r[:-2]
-    spread = np.abs(d2 - np.median(d2))
-    robust = float(np.median(spread)) / 0.6745
-    kept = d2[spread <= TRIM * robust] if robust > 0 else d2
-    return float(np.sqrt(np.mean(kept**2) / 6.0)), int(r.size)
-
-
 @dataclass(frozen=True)
 class RowSample:
     """The rows used for cross-validation: their test, pressure, measured force and weight."""
@@ -118,19 +97,6 @@ def sample_rows(data, slack: str, *, limit: int | None = None) -> RowSample:
     return RowSample(*(np.concatenate([p[k] for p in parts]) for k in range(5)))
 
 
-def _scored(test, model: np.ndarray, slack: str) -> tuple[np.ndarray, np.ndarray]:
-    """(residual [N], measured force [N]) of the fitted rows of one test, as :func:`row_forces` scores
-    them, from ``model``: the model force of every row before the hinge."""
-    if slack == "exclude" and test.kind == "axial":
-        used = ~test.slack
-        force, model = test.force[used], model[used]
-    else:  # every row (no copy)
-        force = test.force
-    if test.kind == "axial" and slack == "unilateral":
-        model = np.where(test.slack, np.maximum(model, 0.0), model)
-    return model - force, force
-
-
 def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
     """Model force [N] at every sampled row for ``muscles`` = (muscle, {pipe: muscle})."""
     main, pipes = muscles
@@ -153,21 +119,13 @@ def row_forces(data, sample: RowSample, muscles, slack: str) -> np.ndarray:
     return out
 
 
-def estimate(data, muscles_at, x, refit, *, slack: str,
-             model: dict[str, np.ndarray] | None = None) -> ModelError:
+def estimate(data, muscles_at, x, refit, *, slack: str, noise: float) -> ModelError:
     """Model error of the fit ``x`` (module docstring); ``muscles_at(x)`` is (muscle, {pipe: muscle}),
     ``refit(data)`` the same for the fit to ``data`` (a block withheld; it may raise a
-    :class:`~pampipe.errors.PampipeError`: that block is skipped). ``model``: test name → the model force
-    of ``x`` at every row [N] (before the hinge max(0, F)), if already evaluated; else evaluated here."""
+    :class:`~pampipe.errors.PampipeError`: that block is skipped); ``noise``: the pooled noise floor σ_n [N]
+    (:attr:`.quality.Quality.noise_floor`, model-free)."""
     every = sample_rows(data, slack, limit=None)
-    if model is None:
-        residual = row_forces(data, every, muscles_at(x), slack) - every.force
-        floors = [noise_floor(residual[every.test == t], every.force[every.test == t])
-                  for t in range(len(data.tests))]
-    else:
-        floors = [noise_floor(*_scored(test, model[test.name], slack)) for test in data.tests]
-    pooled = [(s, n) for s, n in floors if n > 0 and np.isfinite(s)]
-    sigma_n = float(np.sqrt(sum(n * s**2 for s, n in pooled) / sum(n for _, n in pooled))) if pooled else 0.0
+    sigma_n = noise
     found = []
     for kind, low, high, held in blocks(data, every):
         try:
@@ -197,15 +155,15 @@ def blocks(data, rows: RowSample) -> list[tuple[str, float, float, np.ndarray]]:
         mine = rows.test == t
         if test.kind != "axial" or not mine.any():
             continue
-        lengths = np.round(test.length[rows.rows[mine]], 4)
-        values, counts = np.unique(lengths, return_counts=True)
-        if not 2 <= values.size <= HELD_LENGTHS or counts.min() < HELD_ROWS:
+        lengths = held_length_paths(test.length[rows.rows[mine]])
+        if lengths is None:
             continue
         where = np.flatnonzero(mine)
-        for value in values:
+        for index in range(int(lengths.max()) + 1):
             held = np.zeros(rows.rows.size, dtype=bool)
-            held[where[lengths == value]] = True
-            out.append(("length", float(value), float(value), held))
+            held[where[lengths == index]] = True
+            value = float(np.round(test.length[rows.rows[where[lengths == index][0]]], 4))
+            out.append(("length", value, value, held))
     return [(kind, low, high, held) for kind, low, high, held in out if held.any() and not held.all()]
 
 

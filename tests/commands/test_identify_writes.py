@@ -130,3 +130,28 @@ def test_a_stated_angle_only_seeds_the_calibration(tmp_path, capsys):
     # one minimum from every seed (the multi-start merges minima within 0.05 deg and 0.05 mm)
     assert np.ptp(angles) < 0.05 and np.ptp(lengths) < 0.05e-3
     assert 20 < angles[0] < 30  # not a seed's value: the map's (blocked-force slope: 26.07 deg)
+
+
+@pytest.fixture
+def stated_30(tmp_path):
+    """The measured map stated at a catalogue 30 deg (its braid is 26.1 deg), beside a copy of its data."""
+    shutil.copytree(FESTO.parent / "data" / "festo-dmsp20-300", tmp_path / "data" / "festo-dmsp20-300")
+    path = tmp_path / "stated-30.yaml"
+    path.write_text(FESTO.read_text().replace("braid_angle_from_axis: 26.07 deg",
+                                              "braid_angle_from_axis: 30 deg"))
+    return path
+
+
+def test_a_bad_fit_of_the_measured_map_is_not_silent(stated_30, capsys):
+    """Build 5: from a stated 30 deg without calibration the fit misses by 113 N. The model-free floor stays
+    at the map's noise (2.27 N, as for the right geometry), so the fit is warned about with the next step;
+    calibrated, the same map fits to its floor and is not warned about."""
+    code, out, err = cli(capsys, "identify", stated_30, "--json")
+    doc = json.loads(out)
+    floor = doc["fit"]["quality"]["tests"][0]["floor_N"]
+    assert floor == pytest.approx(2.27, abs=0.05) and doc["fit"]["quality"]["rmse_over_floor"] > 30
+    assert "misses the data by far more than the noise" in err and "--calibrate braid_angle" in err
+    code, out, err = cli(capsys, "identify", stated_30, "--calibrate", "braid_angle", "--calibrate",
+                         "initial_length", "--json")
+    assert code == 0 and "misses the data" not in err
+    assert json.loads(out)["fit"]["quality"]["rmse_over_floor"] < 3
