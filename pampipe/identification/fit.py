@@ -266,8 +266,8 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
                      geo.blocked_force(data, stated) if options.calibrate else blocked),
         blocked_force_skipped=geo.blocked_force_skipped(data, fit.geometry), search=solve.search)
     prior_hessian = problem.prior_hessian(structure, solve.values, x.size)
-    data_only = None if setup.prior == "none" else analyse(x, hessian - prior_hessian, sse_model,
-                                                           setup.stats.points, setup.lbx, setup.ubx, names)
+    data_only = None if not prior_hessian.any() else analyse(x, hessian - prior_hessian, sse_model,
+                                                             setup.stats.points, setup.lbx, setup.ubx, names)
     finish = partial(_finish, data, options, setup, fit, hessian, uncertainty, data_only, models, minimum,
                      calibration)
     return IdentifyResult(
