@@ -14,7 +14,6 @@ from pampipe.commands.common import (
     say,
     write_html_report,
 )
-from pampipe.errors import InputError
 from pampipe.io.files import check_output
 from pampipe.runtime.progress import deferred, note
 
@@ -97,7 +96,6 @@ def run(args: argparse.Namespace) -> int:
     if args.output is not None:
         from pampipe.io.pamfile import write_pam
 
-        _check_determined(result, experiment.source, args.output)
         write_pam(args.output, result.fitted_pam(experiment.pam),
                   comments=result.pam_comments(experiment.source))
         document["output"] = str(args.output)
@@ -137,25 +135,6 @@ def validated(path: Path):
     loaded = experiment, parse_fit_options(experiment.fit, source=experiment.source)
     keep("experiment", path, loaded, experiment.validated_files)
     return loaded
-
-
-def _check_determined(result, source, output) -> None:
-    """Refuse to write a PAM from a fit that determines nothing: no coefficient and no pipe's anchoring
-    pressure (e.g. one row per test). Its moduli are any of a family that fits as well, and `simulate`
-    would print one of them as if measured (before: an anchoring pressure of -5830 kPa). Slip tests alone
-    fit no moduli (the stated PAM's are written back with the grip), so there is nothing to check."""
-    from pampipe.identification.grip import GripResult
-
-    if isinstance(result, GripResult):
-        return
-    u = result.uncertainty
-    if u.determined.any() or any(p.determined for p in result.predictions.pipes):
-        return
-    raise InputError(f"{source}: -o {output}: not written: the data determine none of the {len(u.names)} "
-                     f"coefficients and no pipe's anchoring pressure ({u.rank} of {len(u.names)} "
-                     "combinations identifiable), so the fitted moduli are one of many that fit as well. "
-                     "Add tests or rows (the axial test over its pressure range, a radial test per bore), "
-                     "or a prior (fit.prior); without -o the report shows which predictions are determined.")
 
 
 def _draw(data, result) -> None:

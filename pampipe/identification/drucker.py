@@ -164,6 +164,11 @@ def _bernstein(a: float, b: float, degree: int) -> np.ndarray:
     return basis @ shift
 
 
+def grid_low(geometry, low: float) -> float:
+    """The shortest grid length [m]: ``low``, but above the braid's shortest length B/√3 of ``geometry``."""
+    return max(low, geometry.shortest_length * 1.001)
+
+
 def grid_lengths(geometry, pipes, low, options) -> np.ndarray:
     """``grid_lengths`` lengths from ``low`` to L₀ and the pipes' anchored lengths, sorted (a fixed count:
     the NLP's Drucker rows keep their number when a calibrated geometry moves them)."""

@@ -86,6 +86,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         notes.append(f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
                      "predict a negative force and are scored by it (the slack hinge did not settle).")
     result, finish = fitted.report()  # only for the fit reported
+    _check_fitted(data, result.geometry)
     model_error, joint, fit_quality, predictions, warnings = finish()
     warnings = (*warnings, *quality.warnings(fit_quality, result.calibration, options.calibrate), *notes)
     result = replace(result, model_error=model_error, parameter_uncertainty=joint, quality=fit_quality,
@@ -215,9 +216,10 @@ def _calibrated(data: ExperimentData, options: FitOptions, say, setup: Setup) ->
     totals = [0.0, 0]
 
     def run(start):
-        own = _copied(values)
-        free, second = solve_fit(nlp, own, guess_at(start), lbx, ubx, stats, structure,
-                                 updater_for(own, data, options, setup))
+        own, x0 = _copied(values), guess_at(start)
+        update = updater_for(own, data, options, setup)
+        update(x0, set())  # the Drucker rows and slack cells of the start's geometry, not the stated one's
+        free, second = solve_fit(nlp, own, x0, lbx, ubx, stats, structure, update)
         totals[0] += second.wall_time
         totals[1] += second.iterations
         x_free = np.asarray(free["x"], dtype=float).ravel()
@@ -256,7 +258,7 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
     sse_model = float(nlp.sse(x, fit.p))
     hessian = np.asarray(nlp.hessian(x, fit.p), dtype=float)
     uncertainty = analyse(x, hessian, sse_model, setup.stats.points, setup.lbx, setup.ubx, names)
-    tests, sse, sum_rmse, models, unclipped = evaluate_tests(data, fit.geometry, fit.moduli, fit.pipe_moduli,
+    tests, sse, sum_rmse, models, _ = evaluate_tests(data, fit.geometry, fit.moduli, fit.pipe_moduli,
                                                              fit.blocks, slack=options.slack,
                                                              evaluated=fit.axial)
     minimum = _drucker_minimum(fit.geometry, fit.blocks, fit.moduli, setup.pressures, setup.lengths,
@@ -268,10 +270,10 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
                      geo.blocked_force(data, stated) if options.calibrate else blocked),
         blocked_force_skipped=geo.blocked_force_skipped(data, fit.geometry), search=solve.search)
     prior_hessian = problem.prior_hessian(structure, solve.values, x.size)
-    data_only = None if setup.prior == "none" else analyse(x, hessian - prior_hessian, sse_model,
-                                                           setup.stats.points, setup.lbx, setup.ubx, names)
-    finish = partial(_finish, data, options, setup, fit, hessian, uncertainty, prior_hessian, data_only,
-                     unclipped, models, minimum, calibration)
+    data_only = None if not prior_hessian.any() else analyse(x, hessian - prior_hessian, sse_model,
+                                                             setup.stats.points, setup.lbx, setup.ubx, names)
+    finish = partial(_finish, data, options, setup, fit, hessian, uncertainty, data_only, models, minimum,
+                     calibration)
     return IdentifyResult(
         success=True, status=fit.solver.status, options=options, moduli=fit.moduli,
         pipe_moduli=fit.pipe_moduli, x=x, names=tuple(names), tests=tests, sse=sse, sum_rmse=sum_rmse,
@@ -284,8 +286,8 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
         quality=None), finish
 
 
-def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, prior_hessian, data_only, unclipped,
-            models, minimum, calibration):
+def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, data_only, models, minimum,
+            calibration):
     """(model error, written joint uncertainty, fit quality, predictions the data determine, warnings) of the
     reported round (:func:`_report`)."""
     structure, stats, names, x = setup.structure, setup.stats, setup.names, fit.x
@@ -294,43 +296,22 @@ def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, prior_h
     def muscles_at(xv):
         return problem.muscles_of(structure, stats, data.pam.geometry, xv)
 
-    model_error = model_errors.estimate(data, x, prior_hessian, muscles_at,
-                                        slack=options.slack, half_range=0.5 * (ubx - lbx),
-                                        constraints=_constraints(structure, setup.grid, x, lbx, ubx,
-                                                                 uncertainty.at_bound),
-                                        model=unclipped)
+    fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
+    model_error = model_errors.estimate(data, muscles_at, x, partial(_refit, options, fit),
+                                        slack=options.slack, noise=fit_quality.noise_floor)
     top = max(float(t.pressure.max()) for t in data.tests)
     joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
-                                          model_error.value, lambda xv: muscles_at(xv)[0],
+                                          model_error, lambda xv: muscles_at(xv)[0],
                                           written.bores(data, options, fit.geometry), top, data_only)
     predictions = envelope.predictions(data, structure, x, uncertainty, fit.geometry, data.pam.geometry,
                                        options, stats)
     warnings = fit_warnings(fit.solver.status, uncertainty, names, minimum, options, structure, calibration,
                             stats, data, predictions)
-    return (model_error, joint, quality.assess(data, models, names, uncertainty.at_bound),
-            predictions, tuple(warnings))
+    return model_error, joint, fit_quality, predictions, tuple(warnings)
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.
 ACTIVE = 1e-5
-
-
-def _constraints(structure, grid, x, lower, upper, at_bound):
-    """(rows, lower, active) of the fit's linear constraints rows·x ≥ lower: the bounds and the Drucker
-    rows of every moduli block; ``active``: reached at ``x`` (bounds as the uncertainty says)."""
-    n = x.size
-    rows, low, active = [np.eye(n), -np.eye(n)], [lower, -upper], [at_bound & (x - lower <= upper - x),
-                                                                     at_bound & (x - lower > upper - x)]
-    at = 0
-    for name, size in structure.blocks():
-        if name not in ("contact", "geometry") and grid.shape[0]:
-            block = np.zeros((grid.shape[0], n))
-            block[:, at:at + size] = grid
-            rows.append(block)
-            low.append(np.zeros(grid.shape[0]))
-            active.append(grid @ x[at:at + size] <= ACTIVE)
-        at += size
-    return np.vstack(rows), np.concatenate(low), np.concatenate(active)
 
 
 def _copied(values: dict) -> dict:
@@ -380,12 +361,33 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
     if options.calibrate and options.average_legs:
         raise InputError(f"{data.source}: fit.calibrate and fit.average_legs cannot be combined; the "
                          "calibrated fit uses every row.")
+    seeded = {"braid_angle", "initial_length"} & set(options.calibrate)
     for test in data.tests:
         where = f"{test.spec.data}"
-        if test.kind == "axial":
+        if test.kind == "axial" and not seeded:  # calibrated: checked on the fitted geometry (_check_fitted)
             check_length(geometry, test.length, where=f"{where}: length")
         elif "braid_angle" not in options.calibrate:
             check_pipe_diameter(geometry, test.spec.pipe_diameter, where=f"test {test.name}: pipe_diameter")
+
+
+def _refit(options: FitOptions, fit: Fit, data: ExperimentData):
+    """(muscle, {pipe: muscle}) of the fit to ``data`` (the experiment with a block of the protocol withheld,
+    :mod:`.model_error`): one solve of the same NLP structure (cached) from the full fit, the slack hinge
+    not repeated, a calibrated geometry held at the full fit's."""
+    if options.calibrate:
+        data = replace(data, pam=replace(data.pam, geometry=fit.geometry))
+        options = replace(options, calibrate=())
+    result, _ = _fit(data, options, lambda _text: None, {}, None, Memo()).report()
+    return problem.muscles(result.geometry, result.moduli, result.pipe_moduli)
+
+
+def _check_fitted(data: ExperimentData, geometry) -> None:
+    """The tested lengths inside the braid's range B/√3 < L < B of the fitted geometry. A calibrated braid
+    angle or rest length is checked here, not as stated: the stated value only seeds the calibration,
+    whose bounds (:func:`.geometry.bounds`) keep every tested length inside, so this is a guard."""
+    for test in data.tests:
+        if test.kind == "axial":
+            check_length(geometry, test.length, where=f"{test.spec.data}: length (fitted geometry)")
 
 
 def _drucker_minimum(geometry, blocks, moduli, pressures, lengths, stats, options) -> drucker.Minimum | None:

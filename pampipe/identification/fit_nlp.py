@@ -133,6 +133,8 @@ class Structure:
             out += [("cgrid_base", (self.contact_rows, p)), ("cgrid_incr", (self.contact_rows, p))]
         if self.prior != "none":
             out.append(("prior_weight", (1, 1)))
+        if self.calibrate:  # the stated geometry as the calibration's prior: (weight, stated) per entry
+            out.append(("geometry_prior", (len(self.calibrate), 2)))
         if self.prior in ("fixed", "gaussian"):
             out.append(("prior_target", (p, 1)))
         if self.prior == "gaussian":
@@ -389,6 +391,15 @@ def _radial_bins(coef, mom, theta, contact, smooth, n):
 
 
 def _prior(structure: Structure, var, par):
+    """The moduli's prior (``fit.prior``) plus the calibrated geometry's: Σ_k w_k (x_k − stated_k)², w_k =
+    σ̂²/sd_k² for an entry whose stated sd is sd_k (x units), 0 without one (issue 35)."""
+    if not structure.calibrate:
+        return _moduli_prior(structure, var, par)
+    weight, stated = par["geometry_prior"][:, 0], par["geometry_prior"][:, 1]
+    return _moduli_prior(structure, var, par) + ca.dot(weight, (var["geometry"] - stated) ** 2)
+
+
+def _moduli_prior(structure: Structure, var, par):
     if structure.prior == "none":
         return ca.MX(0)
     weight = par["prior_weight"]

@@ -16,7 +16,7 @@ import numpy as np
 from pampipe.errors import SolverError
 from pampipe.identification import drucker, problem
 from pampipe.identification import geometry as geo
-from pampipe.identification.fit_nlp import build_problem
+from pampipe.identification.fit_nlp import GEOMETRY, build_problem
 from pampipe.identification.options import FitOptions
 from pampipe.identification.result import MPA
 from pampipe.identification.solve import geometry_mask, updater
@@ -82,8 +82,11 @@ def set_up(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Me
     if warm is not None and warm.size == x0.size:
         x0 = warm
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
-    _weigh_prior(values, float(nlp.sse(x0, nlp.layout.pack(values))), stats.points, x0.size, prior, data,
-                 options, n)
+    sse0 = float(nlp.sse(x0, nlp.layout.pack(values)))
+    _weigh_prior(values, sse0, stats.points, x0.size, prior, data, options, n)
+    if structure.calibrate:
+        values["geometry_prior"] = geometry_prior(data.pam, structure.calibrate,
+                                                  sse0 / max(stats.points - x0.size, 1))
     return Setup(stats, structure, nlp, build_time, reduce_time, pressures, lengths, low, grid,
                  geometry_bounds, names, lbx, ubx, values, fixed, x0, prior)
 
@@ -100,6 +103,19 @@ def _weigh_prior(values: dict, sse0: float, points: int, size: int, prior: str, 
         values["prior_weight"] = sse0 / max(points - size, 1) / (options.prior_sd / MPA) ** 2
         if prior == "fixed":
             values["prior_target"] = problem.prior_target(data, options, n)
+
+
+def geometry_prior(pam, calibrate, variance: float) -> np.ndarray:
+    """(weight, stated value) per calibrated entry, x units: the stated sd as the calibration's prior,
+    weight σ̂²/sd² (σ̂² = ``variance`` [N²], the fit's residual variance at the start: a posterior), 0 where
+    no sd is stated. The posterior covariance of the fit then holds the stated sd once (issue 35)."""
+    out = np.zeros((len(calibrate), 2))
+    for k, name in enumerate(calibrate):
+        index, unit = GEOMETRY[name]
+        out[k, 1] = pam.geometry.as_vector()[index] / unit
+        sd = pam.geometry_sd.get(name, 0.0) / unit
+        out[k, 0] = variance / sd**2 if sd > 0 else 0.0
+    return out
 
 
 def updater_for(values: dict, data: ExperimentData, options: FitOptions, setup: Setup):
@@ -119,7 +135,9 @@ def _constraint_rows(stated, options: FitOptions, pressures, lengths, n: int) ->
 
 def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
     """(pressures, lengths, low): the Drucker grid over the tested pressures and L ∈ [low, L₀] plus the
-    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli)."""
+    pipes' anchored lengths, low = min(tested lengths, pipe lengths, L_free(P_max) of the input moduli),
+    before it is kept inside the braid's range of the geometry (:func:`.drucker.grid_low`: a calibrated
+    geometry moves it)."""
     geometry = data.pam.geometry
     p_max = max(max(float(t.pressure.max()) for t in data.tests), 1.0)
     p_min = min(float(t.pressure.min()) for t in data.tests)
@@ -133,7 +151,6 @@ def _grid(data: ExperimentData, stats: Statistics, options: FitOptions):
             low = min(low, float(Muscle.from_pam(data.pam).free_length(p_max)[0]))
         except SolverError:
             pass
-    low = max(low, geometry.shortest_length * 1.001)
     with np.errstate(invalid="ignore"):
-        lengths = drucker.grid_lengths(geometry, stats.pipes, low, options)
+        lengths = drucker.grid_lengths(geometry, stats.pipes, drucker.grid_low(geometry, low), options)
     return pressures, lengths, low

@@ -99,6 +99,8 @@ def parameters(structure: Structure, stats: Statistics, grid, contact_base, cont
         values.update(cgrid_base=contact_base, cgrid_incr=contact_incr)
     if structure.prior != "none":
         values["prior_weight"] = 0.0
+    if structure.calibrate:  # weights set by the caller (fit_setup), where a stated sd gives one
+        values["geometry_prior"] = np.zeros((len(structure.calibrate), 2))
     if structure.prior in ("fixed", "gaussian"):
         values["prior_target"] = np.zeros(structure.n_theta)
     if structure.prior == "gaussian":
@@ -286,7 +288,11 @@ def muscles_of(structure: Structure, stats: Statistics, stated, x):
     geometry = geo.from_x(stated, structure.calibrate, x[x.size - len(structure.calibrate):]) \
         if structure.calibrate else stated
     main, pipes, _ = moduli_of(structure, stats, x)
+    return muscles(geometry, main, pipes)
 
+
+def muscles(geometry, main: Moduli, pipes: dict) -> tuple[Muscle, dict]:
+    """(the muscle of ``main``, {pipe diameter: muscle of its moduli}) of one geometry."""
     def make(m: Moduli) -> Muscle:
         contact = m.contact_vector() if m.contact is not None else None
         return Muscle(geometry, m.as_vector(), m.reference_pressure, contact=contact)
@@ -297,12 +303,14 @@ def muscles_of(structure: Structure, stats: Statistics, stated, x):
 def prior_hessian(structure: Structure, values: dict, size: int) -> np.ndarray:
     """∇²(prior/2) [N²/unit²] over the decision vector: the prior's share of the fit's Hessian."""
     out = np.zeros((size, size))
-    if structure.prior == "none":
-        return out
     at, offset = {}, 0
     for name, length in structure.blocks():
         at[name] = np.arange(offset, offset + length)
         offset += length
+    if structure.calibrate:  # the stated geometry's prior: diagonal
+        out[at["geometry"], at["geometry"]] += np.asarray(values["geometry_prior"], float)[:, 0]
+    if structure.prior == "none":
+        return out
     weight = float(values["prior_weight"])
     if structure.prior in ("fixed", "gaussian"):
         block = weight * (np.asarray(values["prior_precision"], float) if structure.prior == "gaussian"

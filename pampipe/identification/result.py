@@ -151,13 +151,13 @@ class IdentifyResult:
     def fitted_pam(self, base: Pam) -> Pam:
         """``base`` with the fitted moduli, their uncertainty, the (calibrated) geometry and the grip.
 
-        The grip (``contact:``) comes from the slip tests, if any. The maker's limits and the stated sd
-        of geometry that was not calibrated are kept; a calibrated entry's uncertainty is in
-        ``uncertainty`` (the fit's), not in ``geometry_sd``.
+        The grip (``contact:``) comes from the slip tests, if any. The maker's limits and every stated sd
+        of the geometry are kept, a calibrated entry's too: the fit's uncertainty of the tested muscle is
+        in ``uncertainty``, while the stated sd is the lot's spread about it, which a ``unit: lot`` segment
+        draws (docs/physics.md §15) and ``unit: tested`` does not.
         """
-        kept = {k: v for k, v in base.geometry_sd.items() if k not in self.calibration.calibrated}
         grip = self.slip.grip() if self.slip is not None else None
-        pam = Pam(base.name, self.geometry, self.moduli, grip=grip, geometry_sd=kept,
+        pam = Pam(base.name, self.geometry, self.moduli, grip=grip, geometry_sd=dict(base.geometry_sd),
                   max_pressure=base.max_pressure, max_contraction=base.max_contraction,
                   fitting_length=base.fitting_length)
         if self.parameter_uncertainty is None:

@@ -102,7 +102,7 @@ def updater(values, stats: Statistics, structure: Structure, stated, options: Fi
                 changed = True
                 moments[row, :count] = clipped
         if rows_follow:
-            lengths = drucker.grid_lengths(geometry, stats.pipes, low, options)
+            lengths = drucker.grid_lengths(geometry, stats.pipes, drucker.grid_low(geometry, low), options)
             rows = drucker.bernstein_rows([geometry], options.degree, pressures, lengths,
                                           reference_pressure=MPA)
             if np.max(np.abs(rows - values["grid"])) > ROWS_MOVED:

@@ -56,11 +56,13 @@ def bores(data, options, geometry) -> list[float]:
     return named or [bore for _, bore in schedule_bores(low * 1.01, high * 0.99)]
 
 
-def parameter_uncertainty(u, x, names, structure, hessian, lower, upper, model_error: float, muscle_at,
+def parameter_uncertainty(u, x, names, structure, hessian, lower, upper, model_error, muscle_at,
                           diameters, pressure: float, data_only=None) -> ParameterUncertainty:
     """The written :class:`ParameterUncertainty` (module docstring).
 
-    ``u``: the fit's :class:`~pampipe.identification.covariance.Uncertainty`; ``muscle_at(x)``: the
+    ``u``: the fit's :class:`~pampipe.identification.covariance.Uncertainty`; ``model_error``: its
+    :class:`~pampipe.identification.model_error.ModelError` (value [N], degrees of freedom);
+    ``muscle_at(x)``: the
     muscle of a decision vector; ``pressure`` [Pa]: where the radial force is judged; ``data_only``:
     the uncertainty of the same fit without its prior (None: no prior), whose undetermined directions
     that the prior fixes are listed as ``prior_determined``.
@@ -80,8 +82,8 @@ def parameter_uncertainty(u, x, names, structure, hessian, lower, upper, model_e
     scaled = u.covariance[np.ix_(index, index)]  # x units = scaled units
     on_prior = [] if data_only is None else [listed(q, float(np.sqrt(max(q @ scaled @ q, 0.0))))
                                              for q in _beyond(_basis(data_only, index), free)]
-    return ParameterUncertainty(written, 0.5 * (covariance + covariance.T), model_error, tuple(directions),
-                                tuple(on_prior))
+    return ParameterUncertainty(written, 0.5 * (covariance + covariance.T), model_error.value,
+                                tuple(directions), tuple(on_prior), model_error.dof)
 
 
 def _beyond(candidates: list[np.ndarray], known: list[np.ndarray]) -> list[np.ndarray]:

@@ -120,6 +120,7 @@ class UncertaintySchema(Strict):
     parameters: list[str] | None = Field(None, min_length=1, max_length=64)
     covariance: list[list[Coefficient]]
     model_error: NonNegativeForce = 0.0
+    model_error_dof: int | None = Field(None, ge=1)  # degrees of freedom of model_error² (identify's blocks)
     undetermined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
     prior_determined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
 
@@ -253,7 +254,7 @@ def build_uncertainty(u: UncertaintySchema, degree: int) -> ParameterUncertainty
     on_prior = tuple(_direction(d, names, f"prior_determined[{i}]") for i, d in enumerate(u.prior_determined))
     try:
         return ParameterUncertainty(names, cov * np.outer(row_scale, row_scale), u.model_error, directions,
-                                    on_prior)
+                                    on_prior, u.model_error_dof)
     except ValueError as exc:
         raise ValueError(f"uncertainty: {exc}") from None
 

@@ -101,6 +101,8 @@ def uncertainty_document(u: ParameterUncertainty) -> dict:
     cov = u.covariance / np.outer(row_scale, row_scale)
     doc = {"unit": "MPa", "parameters": list(u.names), "covariance": [[float(v) for v in row] for row in cov],
            "model_error": _quantity(u.model_error, "N")}
+    if u.model_error_dof is not None:
+        doc["model_error_dof"] = int(u.model_error_dof)
     for key, directions in (("undetermined", u.undetermined), ("prior_determined", u.prior_determined)):
         if directions:
             doc[key] = [{"direction": {name: float(w) for name, w in zip(u.names, d.vector, strict=True)

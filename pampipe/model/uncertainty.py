@@ -104,6 +104,7 @@ class ParameterUncertainty:
     model_error: float = 0.0
     undetermined: tuple[UndeterminedDirection, ...] = ()
     prior_determined: tuple[UndeterminedDirection, ...] = ()
+    model_error_dof: int | None = None  # degrees of freedom of model_error² (None: not stated)
 
     def __post_init__(self):
         cov = np.asarray(self.covariance, dtype=float)
@@ -123,6 +124,7 @@ class ParameterUncertainty:
         if not isinstance(other, ParameterUncertainty):
             return NotImplemented
         return (self.names == other.names and self.model_error == other.model_error
+                and self.model_error_dof == other.model_error_dof
                 and self.undetermined == other.undetermined
                 and self.prior_determined == other.prior_determined
                 and np.array_equal(self.covariance, other.covariance))
@@ -157,7 +159,8 @@ class ParameterUncertainty:
             return tuple(c for c in map(cut, directions) if c is not None)
 
         return ParameterUncertainty(self.names[:n], self.covariance[:n, :n], self.model_error,
-                                    kept(self.undetermined), kept(self.prior_determined))
+                                    kept(self.undetermined), kept(self.prior_determined),
+                                    self.model_error_dof)
 
     def scaled_units(self) -> np.ndarray:
         """SI size of one scaled unit for each of ``names``."""
@@ -170,7 +173,7 @@ class ParameterUncertainty:
     def as_document(self) -> dict:
         """JSON form (SI): parameters, covariance, model error, undetermined directions (scaled units)."""
         return {"parameters": list(self.names), "covariance_SI": self.covariance.tolist(),
-                "model_error_N": self.model_error,
+                "model_error_N": self.model_error, "model_error_dof": self.model_error_dof,
                 "scaled_units_SI": {name: scaled_unit(name) for name in self.names},
                 "undetermined": [self._direction(d) for d in self.undetermined],
                 "prior_determined": [self._direction(d) for d in self.prior_determined]}

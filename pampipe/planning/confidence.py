@@ -121,13 +121,14 @@ class Confidence:
         return self.stopped is not None and bool(self.stopped[s, i])
 
     def dominant(self) -> list[dict]:
-        """Sources by the largest pressure they add alone, over the feasible elements, largest first."""
+        """Sources by the largest pressure they add alone, over the feasible elements, largest first;
+        ``pressure_shift_Pa`` is None (JSON null) where no element is feasible (nothing to add to)."""
         rows = []
         for name, shift in self.shifts.items():
             finite = np.where(np.isfinite(shift), shift, np.nan)
-            worst = float(np.nanmax(finite)) if np.any(np.isfinite(finite)) else math.inf
+            worst = float(np.nanmax(finite)) if np.any(np.isfinite(finite)) else None
             rows.append({"source": name, "what": SOURCE_WORDS[name], "pressure_shift_Pa": worst})
-        return sorted(rows, key=lambda r: -r["pressure_shift_Pa"])
+        return sorted(rows, key=lambda r: -(r["pressure_shift_Pa"] or 0.0))
 
     def as_document_rows(self) -> list[dict]:
         """:meth:`dominant` for the document: a source alone whose C-quantile no pressure reaches (it

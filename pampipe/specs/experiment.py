@@ -7,7 +7,7 @@ legs and cycles (what the fit needs beyond the raw columns) is defined here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -131,6 +131,16 @@ class TestData:
     def slack_at(self, rows) -> np.ndarray:
         """:attr:`slack` of ``rows`` only (no pass over every row)."""
         return self.force[rows] <= 0
+
+    def subset(self, keep: np.ndarray) -> TestData:
+        """This test with the rows ``keep`` (bool mask) only, each keeping its level, leg and cycle (a block
+        of the protocol withheld: :mod:`pampipe.identification.model_error`)."""
+        rows = {name: value[keep] for name in ROW_FIELDS if (value := getattr(self, name)) is not None}
+        return replace(self, **rows)
+
+
+#: The fields of :class:`TestData` with one entry per row.
+ROW_FIELDS = ("pressure", "force", "length", "time", "level", "leg", "cycle", "pressure_leg", "held_length")
 
 
 @dataclass(frozen=True)

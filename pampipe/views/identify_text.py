@@ -163,10 +163,14 @@ def _written(result) -> str:
     m, w = result.model_error, result.parameter_uncertainty
     if m is None or w is None:
         return ""
-    how = (f"cross-validated over {len(m.bands)} pressure bands: held-out RMSE {m.cv_rmse:.3g} N, "
-           f"{m.expected_rmse:.3g} N expected from noise and refit" if m.method == "pressure_bands"
-           else f"in-sample RMSE {m.cv_rmse:.3g} N (one pressure: nothing to hold out)")
-    lines = [f"\nModel error {m.value:.3g} N beyond the noise floor {m.noise_floor:.3g} N ({how})"]
+    lengths = len(m.blocks) - len(m.bands)
+    how = (f"cross-validated over {len(m.bands)} pressure bands" + (f" and {lengths} held lengths" if lengths
+                                                                     else "")
+           + f", each withheld in turn and refitted: held-out RMSE {m.cv_rmse:.3g} N (RMS over blocks)"
+           if m.method == "held_blocks"
+           else f"in-sample RMSE {m.cv_rmse:.3g} N (one pressure, no held lengths: nothing to hold out)")
+    lines = [f"\nModel error {m.value:.3g} N ({m.dof} degrees of freedom) beyond the noise floor "
+             f"{m.noise_floor:.3g} N ({how})"]
     if w.prior_determined:
         lines.append(f"{len(w.prior_determined)} parameter direction(s) determined only by the prior "
                      f"({result.options.prior_source}): what depends on them rests on the prior, not on the "

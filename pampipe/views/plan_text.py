@@ -211,7 +211,8 @@ def _confidence_text(plan, rows: np.ndarray, unit: str, scale: float) -> list[st
                         f"{c.holding_probability[s, i]:.{places}f} ± {c.holding_se[s, i]:.{places}f}",
                         f"{c.contact_probability[s, i]:.{places}f}",
                         *(float(c.pressure_at[k][s, i] / scale) for k in levels)))
-    sources = [(r["source"], r["what"], r["pressure_shift_Pa"] / scale) for r in c.dominant()]
+    sources = [(r["source"], r["what"], "-" if r["pressure_shift_Pa"] is None
+                else r["pressure_shift_Pa"] / scale) for r in c.dominant()]
     text = [f"confidence {level_text(c.level)}: {c.samples} seeded draws (seed {c.seed}) of every stated "
             "uncertainty; "
             "P is the least pressure that holds in that share of the draws (P(hold) ± its Monte Carlo "

@@ -7,8 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pampipe.identification import FitOptions, identify, model_error, statistics
-from pampipe.identification import fit as fitting
+from pampipe.identification import FitOptions, identify, statistics
 from pampipe.identification.statistics import Memo, reduce_experiment
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.experiment_schema import load_experiment
@@ -65,22 +64,13 @@ def test_a_refit_with_hinged_rows_equals_a_fresh_reduction(data, monkeypatch, wh
 
 
 @pytest.mark.parametrize(("mode", "slack"), [("shared", "unilateral"), ("contact_increment", "exclude")])
-def test_the_noise_floor_from_the_scored_model_equals_the_row_by_row_one(monkeypatch, mode, slack):
-    """The model error (σ_n from every row, then the cross-validated excess) is the same whether the
-    every-row model comes from the per-test scoring or is evaluated again row by row."""
+def test_the_model_error_uses_the_fit_quality_floor(mode, slack):
+    """The model error's σ_n is the fit quality's pooled model-free floor (one floor per fit, issue 35),
+    and the 2 N noise of the bundled data is what it reads."""
     data = load_experiment_data(load_experiment(PROBLEMS / "experiments" / "paper-protocol.yaml"))
-    pairs = []
-    original = model_error.estimate
-
-    def both(*args, model, **kwargs):
-        assert model is not None  # the fit hands over its every-row model
-        pairs.append((original(*args, model=model, **kwargs), original(*args, model=None, **kwargs)))
-        return pairs[-1][0]
-
-    monkeypatch.setattr(fitting.model_errors, "estimate", both)
     result = identify(data, FitOptions(mode=mode, slack=slack))
-    assert len(pairs) == 1 and pairs[0][0] == pairs[0][1]
-    assert result.model_error == pairs[0][1] and pairs[0][1].noise_floor > 0
+    assert result.model_error.noise_floor == result.quality.noise_floor
+    assert result.model_error.noise_floor == pytest.approx(2.0, rel=0.15)
 
 
 def test_the_parameters_packed_once_evaluate_as_the_numpy_ones(data, monkeypatch):

@@ -1,0 +1,72 @@
+"""A noise floor that misfit cannot inflate: the measured force's scatter about a local smooth fit per path.
+
+The floor is model-free: it never looks at the fitted model, so a fit far off the data (a mis-stated
+geometry, an effect the model lacks) cannot raise it. Along each path (a held length swept in pressure
+for a test that holds its lengths, e.g. a force map; else the paths of :func:`.quality.paths`, sorted by
+the swept coordinate x), every row i is predicted from its :data:`NEIGHBOURS` nearest rows on the path
+(the window of NEIGHBOURS + 1 rows around it, shifted inside at the ends) by a polynomial of degree
+:data:`DEGREE` in x, least squares, without row i:
+
+  e_i = F_i − p̂_{−i}(x_i),   Var e_i = σ²(1 + h_i),   h_i = [(XᵀX)⁺]₀₀  (x centred on x_i),
+
+so for white noise e_i²/(1 + h_i) has mean σ², while the force's smooth dependence on x up to a
+quadratic is absorbed locally. Repeats (rows at one x) enter as they are: where the window's x are
+equal the polynomial is their mean and e_i the scatter of repeats. σ̂² = median(e_i²/(1 + h_i)) /
+median(χ²₁), robust to kinks such as the slack or anchoring point. Rows that read ≤ 0 N are left out
+(the caller passes the live rows). At most :data:`CENTRES` rows per test are predicted (evenly spread).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: Neighbours of each row in its local fit, and the polynomial degree (a local quadratic).
+NEIGHBOURS = 6
+DEGREE = 2
+#: Median of χ²₁ (σ̂² = median(e²/(1 + h)) / this).
+CHI2_MEDIAN = 0.454936423119572
+#: Rows predicted per test at most (the median needs far fewer; a 10⁶-row test stays fast).
+CENTRES = 20_000
+
+
+def local_floor(x: np.ndarray, force: np.ndarray, group: np.ndarray) -> tuple[float | None, int]:
+    """(σ̂ [N], terms) from rows sorted by path ``group`` then ``x`` (module docstring); σ̂ is None when
+    no path has NEIGHBOURS + 1 rows (the caller decides how many terms make a floor)."""
+    x, force, group = (np.asarray(v) for v in (x, force, group))
+    window = NEIGHBOURS + 1
+    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]]) if group.size else np.zeros(0, np.int64)
+    lengths = np.diff(np.r_[starts, group.size])
+    long_enough = lengths >= window
+    if not long_enough.any():
+        return None, 0
+    first = np.repeat(starts[long_enough], lengths[long_enough])
+    size = np.repeat(lengths[long_enough], lengths[long_enough])
+    centre = np.concatenate([np.arange(s, s + n) for s, n in zip(starts[long_enough], lengths[long_enough],
+                                                                 strict=True)])
+    if centre.size > CENTRES:
+        pick = np.unique(np.linspace(0, centre.size - 1, CENTRES).astype(np.int64))
+        centre, first, size = centre[pick], first[pick], size[pick]
+    low = first + np.clip(centre - first - NEIGHBOURS // 2, 0, size - window)
+    rows = low[:, None] + np.arange(window)[None, :]
+    rows = np.where(rows < centre[:, None], rows, rows + 1)[:, :NEIGHBOURS]  # skip the centre row
+    dx = x[rows] - x[centre][:, None]
+    scale = np.ptp(dx, axis=1)
+    dx = dx / np.where(scale > 0, scale, 1.0)[:, None]
+    design = dx[:, :, None] ** np.arange(DEGREE + 1)[None, None, :]
+    inverse = np.linalg.pinv(np.einsum("mki,mkj->mij", design, design))
+    beta = np.einsum("mij,mkj,mk->mi", inverse, design, force[rows])
+    error = force[centre] - beta[:, 0]
+    values = error**2 / (1 + inverse[:, 0, 0])
+    return math.sqrt(float(np.median(values)) / CHI2_MEDIAN), int(values.size)
+
+
+def held_length_paths(length: np.ndarray, *, most: int = 30, fewest: int = 3) -> np.ndarray | None:
+    """The held length of each row as a path index, for a test whose rows sit at 2..``most`` distinct
+    lengths (to 0.1 mm), each held for at least ``fewest`` rows; None for a test that sweeps its length."""
+    held = np.round(np.asarray(length, float), 4)
+    values, index, counts = np.unique(held, return_inverse=True, return_counts=True)
+    if not 2 <= values.size <= most or counts.min() < fewest:
+        return None
+    return index.ravel()

@@ -1,0 +1,57 @@
+"""The written model error is the prediction error a user meets on an untested condition (issue 35, build 2).
+
+On the measured Festo DMSP-20-300 map (6 held lengths x 21 pressures, no repeats) each held length and each
+pressure band is withheld in turn and predicted by a refit to the rest. The held-out errors of the length
+blocks are checked here against refits made independently through the public `identify` on the map with
+that length's rows removed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from pampipe.identification import identify
+from pampipe.io.csvfile import load_experiment_data
+from pampipe.io.experiment_schema import load_experiment
+from pampipe.model.muscle import Muscle
+from pampipe.model.pam import Pam
+from pampipe.specs.experiment import make_test_data
+from tests.support.problems import PROBLEMS
+
+FESTO = PROBLEMS / "experiments" / "festo-dmsp20-300.yaml"
+
+
+@pytest.fixture(scope="module")
+def festo():
+    data = load_experiment_data(load_experiment(FESTO))
+    return data, identify(data)
+
+
+def test_the_written_model_error_is_the_held_out_prediction_error(festo):
+    _, result = festo
+    m = result.model_error
+    assert m.method == "held_blocks" and len(m.bands) == 4 and len(m.blocks) == 9 and m.dof == 8
+    rms = float(np.sqrt(np.mean([b.rmse**2 for b in m.blocks])))
+    written = result.parameter_uncertainty
+    assert written.model_error == m.value and written.model_error_dof == 8
+    assert rms / 1.5 <= written.model_error <= 1.5 * rms  # measured 6.87 N against 7.25 N
+    assert written.model_error > 2 * m.noise_floor  # before: 0 N, "the model fits to the noise"
+
+
+def test_held_length_blocks_are_true_refits(festo):
+    """Each held length withheld: `identify` on the rest, its prediction of the withheld rows."""
+    data, result = festo
+    (test,) = data.tests
+    held = {round(b.low, 4): b.rmse for b in result.model_error.blocks if b.kind == "length"}
+    lengths = np.round(test.length, 4)
+    assert sorted(held) == sorted(set(lengths.tolist())) and len(held) == 5  # 237 ... 296 mm
+    for length, rmse in held.items():
+        keep = lengths != length
+        columns = {"pressure": test.pressure[keep], "length": test.length[keep], "force": test.force[keep]}
+        refit = identify(dataclasses.replace(data, tests=(make_test_data(test.spec, columns),)))
+        muscle = Muscle.from_pam(Pam(data.pam.name, refit.geometry, refit.moduli))
+        miss = np.asarray(muscle.axial_force(test.pressure[~keep], test.length[~keep])) - test.force[~keep]
+        assert float(np.sqrt(np.mean(miss**2))) == pytest.approx(rmse, rel=0.02), length

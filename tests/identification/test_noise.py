@@ -1,0 +1,34 @@
+"""The model-free noise floor (:mod:`pampipe.identification.noise`) against noise of known size."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pampipe.identification.noise import held_length_paths, local_floor
+
+
+def test_the_floor_is_the_noise_under_a_curved_force_and_ignores_any_model():
+    """Six paths of 21 pressures each, a force curved in pressure (up to 1600 N) plus white noise of sd 2.5 N:
+    the floor reads the noise (the median of ~120 terms: a few % scatter), not the curvature."""
+    rng = np.random.default_rng(4)
+    pressure = np.tile(np.linspace(65e3, 675e3, 21), 6)
+    group = np.repeat(np.arange(6), 21)
+    force = 2.4e-3 * pressure * (1 + group / 6) + 1.2e-9 * pressure**2 + rng.normal(0, 2.5, pressure.size)
+    floor, terms = local_floor(pressure, force, group)
+    assert terms == 126 and floor == pytest.approx(2.5, rel=0.2)
+
+
+def test_repeats_give_their_scatter():
+    """Seven repeated readings at each of 5 pressures: where a window's pressures are all equal the local fit
+    is their mean, and the floor is the repeats' scatter (sd 0.8 N) whatever the force's trend."""
+    rng = np.random.default_rng(5)
+    pressure = np.repeat(np.linspace(1e5, 5e5, 5), 7)
+    force = 1e-2 * pressure + rng.normal(0, 0.8, pressure.size)
+    floor, _ = local_floor(pressure, force, np.zeros(pressure.size, dtype=np.int64))
+    assert floor == pytest.approx(0.8, rel=0.3)
+
+
+def test_held_lengths_are_paths_and_sweeps_are_not():
+    assert held_length_paths(np.repeat([0.237, 0.25, 0.267], 4)).tolist() == [0] * 4 + [1] * 4 + [2] * 4
+    assert held_length_paths(np.linspace(0.2, 0.3, 50)) is None
