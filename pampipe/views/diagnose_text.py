@@ -120,13 +120,7 @@ def report(result) -> str:
                         f"{verdict.library_removed * k**2:.4g} {force}^2 and generic probes "
                         f"{verdict.probes_removed * k**2:.4g} {force}^2")
     parts.append("\n".join(decision))
-    parts.append("RMSE per test, before and after (protocol: as read from the data, or as the file states):\n"
-                 + table(
-        ["test", "protocol", "before [N]", "after [N]", "floor [N]", "after/floor", "at noise after"],
-        [(t.name, d.protocol, t.rmse, a.rmse, f.sigma, a.rmse / f.sigma, c.at_noise)
-         for t, d, a, f, c in zip(base.tests, result.data.tests, chosen.tests, result.noise, checks_after,
-                                  strict=True)])
-        + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}")
+    parts.append(_rmse_table(result, checks_after))
     if verdict.remaining:
         parts.append("Where structured residual remains:\n" + table(
             ["test", "signature", "p", "P [kPa]", "L [mm]", "cells", "rows", "mean [N]"],
@@ -137,3 +131,14 @@ def report(result) -> str:
     parts.append("Time: " + ", ".join(f"{k.removesuffix('_wall_time_s')} {v:.1f} s"
                                       for k, v in timings.items()))
     return "\n\n".join(parts)
+
+
+def _rmse_table(result, checks_after) -> str:
+    """RMSE per test before and after, with the protocol read, the floor and the verdict at the noise."""
+    rows = [(t.name, d.protocol, t.rmse, a.rmse, f.sigma, a.rmse / f.sigma, c.at_noise)
+            for t, d, a, f, c in zip(result.baseline.tests, result.data.tests, result.chosen.tests,
+                                     result.noise, checks_after, strict=True)]
+    return ("RMSE per test, before and after (protocol: as read from the data, or as the file states):\n"
+            + table(["test", "protocol", "before [N]", "after [N]", "floor [N]", "after/floor",
+                     "at noise after"], rows)
+            + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}")
