@@ -4,7 +4,8 @@ Per bend (the elbow at the end of a section): each segment, deflated, as a rigid
 long and D₀ wide, in the bend's smallest bore (:func:`pampipe.bends.geometry.rigid_passage`); with
 ``bend_model: flexible`` a segment whose least bend radius fits the bend passes bent; the joints between
 segments must allow the angle two neighbouring chords make; the steering module's least-pressure triad
-(:func:`pampipe.bends.steering.steer`). Per reducer (a change of bore between sections): each segment
+(:func:`pampipe.bends.steering.steer`) toward the turn's direction (:mod:`pampipe.specs.turns`), for
+bends of :data:`STEERING_LEAST_ANGLE` or more. Per reducer (a change of bore between sections): each segment
 must fit the smaller bore.
 """
 
@@ -25,6 +26,14 @@ from pampipe.bends.geometry import (
 )
 from pampipe.bends.steering import SteeringCommand, steer
 from pampipe.model.muscle import Muscle
+from pampipe.specs.turns import turn_name
+
+#: Bends that turn by less than this [rad] get no steering command (docs/physics.md §14.4): 10°, below the
+#: smallest standard elbow fitting (11.25°, a 1/32 bend) and above the deflection pipe joints are laid with
+#: (up to 5° per push-on joint of 3–12 in ductile iron, AWWA C600), so the route curves gently over such a
+#: joint; the nose of the leading segment meets the outer wall at that glancing angle and slides along it,
+#: and the chain's joints take the deflection up within their play.
+STEERING_LEAST_ANGLE = math.radians(10.0)
 
 
 @dataclass(frozen=True)
@@ -38,9 +47,10 @@ class SegmentPassage:
     longest: float  # [m]
     where: str
     passable: bool
-    flexible: bool = False  # passes bent (bend_model: flexible)
+    flexible: bool = False  # passes only bent (bend_model: flexible, too long to pass rigid)
     least_bend_radius: float = math.nan  # [m]
     direction: float = 0.0  # [rad] axis direction ψ of the binding position, from the bend's middle
+    passes_bent: bool = False  # its least bend radius fits the bend (§14.3), whatever the bend_model
 
     @property
     def clearance(self) -> float:
@@ -63,6 +73,26 @@ class BendPlan:
     steering: SteeringCommand | None
     radius_needed: float  # [m] least elbow radius at which the limiting segment passes (NaN if it does)
     steps: object | None = None  # pampipe.bends.gait.SteeringSteps of the gait through it
+    direction: float = math.pi  # [rad] φ_b, the turn's centre in the steering module (pampipe.specs.turns)
+    radius_assumed: bool = False  # the radius is elbow_radius's, not given for this bend
+
+    @property
+    def turn(self) -> str:
+        """Which way the route turns, along travel: ``left``, ``down``, ``up-right``, …"""
+        return turn_name(self.direction)
+
+    @property
+    def radius_text(self) -> str:
+        """The radius as a multiple of the bore, ``"1.5 D"``, with ``" (assumed)"`` where no bend gave it."""
+        return f"{self.radius / self.bore:.3g} D" + (" (assumed)" if self.radius_assumed else "")
+
+    @property
+    def steering_note(self) -> str | None:
+        """Why a bend has no steering command (None where it has one or the robot has no module)."""
+        if self.steering is None and self.angle < STEERING_LEAST_ANGLE:
+            return (f"a turn below {math.degrees(STEERING_LEAST_ANGLE):g} deg needs no steering command: the "
+                    "leading segment slides along the outer wall and the joints take it up within their play")
+        return None
 
     @property
     def limiting(self) -> SegmentPassage:
@@ -85,9 +115,8 @@ class BendPlan:
         """Why the robot cannot pass (None if it can): the bend, the segment, by how much, what would pass."""
         if self.passable:
             return None
-        head = (f"bend after section '{self.after_section}' ({math.degrees(self.angle):.1f} deg, radius "
-                f"{self.radius * 1e3:.4g} mm = {self.radius / self.bore:.3g} D in a "
-                f"{self.bore * 1e3:.4g} mm bore)")
+        head = (f"bend after section '{self.after_section}' ({math.degrees(self.angle):.1f} deg {self.turn}, "
+                f"radius {self.radius * 1e3:.4g} mm = {self.radius_text} in a {self.bore * 1e3:.4g} mm bore)")
         s = self.limiting
         if not s.passable:
             if s.where == "bore":
@@ -107,7 +136,8 @@ class BendPlan:
         flexible = s.flexible
         return {"after_section": self.after_section, "section_index": self.index,
                 "angle_deg": math.degrees(self.angle), "radius_m": self.radius,
-                "radius_over_bore": self.radius / self.bore, "inner_diameter_m": self.bore,
+                "radius_assumed": self.radius_assumed, "direction_deg": math.degrees(self.direction),
+                "turn": self.turn, "radius_over_bore": self.radius / self.bore, "inner_diameter_m": self.bore,
                 "passable": self.passable, "reason": self.reason(), "limiting_segment": s.name,
                 "longest_passable_length_m": None if flexible else _finite(s.longest),
                 "clearance_m": None if flexible else _finite(s.clearance), "binding_position": s.where,
@@ -116,9 +146,10 @@ class BendPlan:
                 "segments": [{"name": g.name, "rigid_length_m": g.length, "rest_diameter_m": g.diameter,
                               "longest_passable_length_m": _finite(g.longest),
                               "clearance_m": _finite(g.clearance),
-                              "passable": g.passable, "passes_bent": g.flexible,
+                              "passable": g.passable, "passes_bent": g.passes_bent,
                               "least_bend_radius_m": _finite(g.least_bend_radius)} for g in self.segments],
                 "steering": None if self.steering is None else self.steering.as_document(),
+                "steering_note": self.steering_note,
                 "gait": None if self.steps is None else self.steps.as_document()}
 
 
@@ -177,6 +208,7 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
         options = gait_options(mission.gait, source=mission.source)
     lengths = [seg.pam.rigid_length for seg in mission.segments]
     limit = mission.joint_angle
+    assumed = route.bend_radius_assumed
     out = []
     for i in np.flatnonzero(route.bend_angle > 0).tolist():
         angle, radius = float(route.bend_angle[i]), float(route.bend_radius[i])
@@ -190,12 +222,14 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
             needed = elbow_radius_needed(bore=bore, angle=angle, diameter=worst.diameter, length=worst.length)
         turn = joint_angle(lengths, radius, angle)
         command = steps = None
-        if muscle is not None:
-            command = steer(muscle, curvature=1 / radius, direction=float(route.bend_direction[i]),
-                            radius=steering.radius, supply=mission.supply_pressure)
+        direction = float(route.bend_direction[i])
+        if muscle is not None and angle >= STEERING_LEAST_ANGLE:
+            command = steer(muscle, curvature=1 / radius, direction=direction, radius=steering.radius,
+                            supply=mission.supply_pressure)
             steps = steering_steps(muscle, command, supply=mission.supply_pressure, options=options)
         out.append(BendPlan(i, str(route.name[i]), angle, radius, bore, segments, turn,
-                            limit is None or turn <= limit, command, needed, steps))
+                            limit is None or turn <= limit, command, needed, steps, direction,
+                            assumed is not None and bool(assumed[i])))
     return tuple(out), reducers
 
 
@@ -203,12 +237,11 @@ def _segment(seg, bore: float, radius: float, angle: float, model: str) -> Segme
     g = seg.pam.geometry
     passage = rigid_passage(bore=bore, radius=radius, angle=angle, diameter=g.initial_diameter)
     length = seg.pam.rigid_length
-    rigid = SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where,
-                           passage.longest >= length, direction=passage.direction)
-    if model != "flexible" or rigid.passable or passage.where == "bore":
-        return rigid
     least = flexible_bend_radius(rest_length=g.initial_length, rest_diameter=g.initial_diameter,
                                  braid_length=g.braid_length)
-    bent = least <= radius + (bore - g.initial_diameter) / 2 and seg.pam.fitting_length == 0
-    return SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where, bent, bent,
-                          least, passage.direction)
+    bent = (passage.where != "bore" and least <= radius + (bore - g.initial_diameter) / 2
+            and seg.pam.fitting_length == 0)
+    rigid = passage.longest >= length
+    only_bent = model == "flexible" and not rigid and bent
+    return SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where,
+                          rigid or only_bent, only_bent, least, passage.direction, bent)

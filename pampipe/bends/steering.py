@@ -45,8 +45,14 @@ class SteeringCommand:
     reached: bool
     reason: str | None
 
+    @property
+    def fills(self) -> tuple[int, ...]:
+        """The PAMs (1 to 3) the command fills: those above zero pressure, on the outside of the turn."""
+        return tuple(k + 1 for k, pressure in enumerate(self.pressures) if pressure > 0)
+
     def as_document(self) -> dict:
         return {"pressures_Pa": list(self.pressures), "lengths_m": list(self.lengths),
+                "fills": list(self.fills),
                 "curvature_1_per_m": self.curvature, "target_curvature_1_per_m": self.target,
                 "reached": self.reached, "reason": self.reason}
 

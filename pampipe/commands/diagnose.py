@@ -68,10 +68,12 @@ def run(args: argparse.Namespace) -> int:
                       document=document, draw=lambda: plot_diagnosis(result, None),
                       reasons=[document["reason"]] if document.get("reason") else [])
     if args.output is not None:
+        ties = [f"Tie: {group} (the data cannot tell them apart; none is written as the muscle's physics, "
+                f"see effects.indistinguishable): {test}." for group, test in result.ties.items()]
         write_pam(args.output, result.augmented_pam(),
                   comments=[f"Written by `pampipe diagnose` from {experiment.source}.",
                             f"Verdict: {result.verdict.verdict}. Moduli refitted in shared mode together "
-                            f"with: {' + '.join(result.chosen.effects) or 'no effect'}."])
+                            f"with: {' + '.join(result.written.effects) or 'no effect'}.", *ties])
         say(args, f"wrote {args.output}")
     if args.plots:
         for path in plot_diagnosis(result, args.plots):

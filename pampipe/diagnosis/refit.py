@@ -294,7 +294,7 @@ class Refitter:
         high = np.full(4 * k, 50.0)
         low[[0, 2 * k]] = 0.0
         params = effect_parameters(effects)
-        limits = [self._angle_limits() if name == "geometry:braid_angle" else (p.lower, p.upper)
+        limits = [self._angle_limits() if name == "geometry:braid_angle" else p.fit_bounds
                   for name, p in params]
         low = np.concatenate([low, [lo / p.scale for (lo, _), (_, p) in zip(limits, params, strict=True)]])
         high = np.concatenate([high, [hi / p.scale for (_, hi), (_, p) in zip(limits, params, strict=True)]])

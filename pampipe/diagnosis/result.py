@@ -125,6 +125,7 @@ class DiagnoseResult:
     refitter: object = field(default=None, repr=False, compare=False)
     anchoring: tuple[float | None, ...] = ()  # the baseline's anchoring pressure per test (radial) [Pa]
     slip: object = None  # pampipe.diagnosis.slip_residuals.SlipDiagnosis of the slip tests (None: none)
+    ties: dict[str, str] = field(default_factory=dict)  # {"a or b": the test that would separate them}
 
     @property
     def baseline(self) -> Summary:
@@ -145,13 +146,19 @@ class DiagnoseResult:
 
     @property
     def improvement(self) -> float:
-        """1 − selected.sum_rmse / baseline.sum_rmse (0 when nothing is selected)."""
-        return 1.0 - self.chosen.sum_rmse / self.baseline.sum_rmse if self.selected_effects else 0.0
+        """1 − selected.sum_rmse / baseline.sum_rmse of the refit with the fitted effects, named, tied or
+        undetermined (0 when nothing is fitted)."""
+        return 1.0 - self.chosen.sum_rmse / self.baseline.sum_rmse if self.chosen.effects else 0.0
 
     @property
     def first_trials(self) -> tuple:
         """The first step's trials (baseline + one effect each), ranked by BIC."""
         return self.steps[0].trials if self.steps else ()
+
+    @property
+    def written(self) -> Summary:
+        """The refit `-o` writes: the selected one, or after a tie the refit without any tied member."""
+        return self.summaries.get("written", self.chosen)
 
     def candidates(self):
         """A pandas DataFrame of the effects tried in the first step, one row each, in the report's order:
@@ -162,15 +169,16 @@ class DiagnoseResult:
         return frame(candidate_rows(self.to_dict()))
 
     def augmented_pam(self) -> Pam:
-        """The muscle with the refitted moduli and the selected effects (none: the baseline moduli)."""
-        chosen = self.chosen
-        moduli = Moduli.from_vector(chosen.theta, reference_pressure=MPA)
-        effects = {name: dict(chosen.parameters[name]) for name in library_part(chosen.effects)} or None
-        geometry = corrected_geometry(self.pam.geometry, chosen.effects, chosen.parameters)
+        """The muscle with the refitted moduli and effects of :attr:`written` (none: the baseline moduli);
+        after a tie, the tie groups and the tests that would separate them (``Pam.ties``), none applied."""
+        written = self.written
+        moduli = Moduli.from_vector(written.theta, reference_pressure=MPA)
+        effects = {name: dict(written.parameters[name]) for name in library_part(written.effects)} or None
+        geometry = corrected_geometry(self.pam.geometry, written.effects, written.parameters)
         return Pam(self.pam.name, geometry, moduli, None, effects, self.pam.grip,
                    geometry_sd=self.pam.geometry_sd,
                    max_pressure=self.pam.max_pressure, max_contraction=self.pam.max_contraction,
-                   fitting_length=self.pam.fitting_length)
+                   fitting_length=self.pam.fitting_length, ties=dict(self.ties) or None)
 
     def step_sum_rmse(self, step) -> float:
         """Σ over tests of the RMSE [N] of the model a step took."""
@@ -211,11 +219,11 @@ class DiagnoseResult:
             "remaining": [w.as_document() for w in self.verdict.remaining],
             "probes": {"library_removed_N2": self.verdict.library_removed,
                        "probes_removed_N2": self.verdict.probes_removed},
-            "tests": [{"name": t.name, "kind": t.kind, "points": t.points, "rmse_before_N": t.rmse,
-                       "rmse_after_N": a.rmse, **_clean(f.as_document()),
+            "tests": [{"name": t.name, "kind": t.kind, "protocol": d.protocol, "points": t.points,
+                       "rmse_before_N": t.rmse, "rmse_after_N": a.rmse, **_clean(f.as_document()),
                        "at_noise_before": b.at_noise, "at_noise_after": c.at_noise}
-                      for t, a, f, b, c in zip(self.baseline.tests, chosen.tests, self.noise, before, after,
-                                               strict=True)],
+                      for t, d, a, f, b, c in zip(self.baseline.tests, self.data.tests, chosen.tests,
+                                                  self.noise, before, after, strict=True)],
             "checks": {"baseline": [_clean(c.as_document()) for c in before],
                        "selected": [_clean(c.as_document()) for c in after]},
             "regions": [w.as_document() for w in (c.where for c in before) if w is not None],
@@ -223,6 +231,7 @@ class DiagnoseResult:
             "timings": dict(self.timings),
             "source": str(self.source),
             "slip": None if self.slip is None else self.slip.as_document(),
+            "written": {"effects": list(self.written.effects), "ties": dict(self.ties)},
         }
 
 

@@ -98,6 +98,7 @@ class Search:
         self.n_tests = int(cells.test.max()) + 1 if cells.size else 0
         self.cache: dict[tuple[str, ...], Model] = {}
         self.cv_values: dict[tuple[str, ...], float] = {}
+        self.refit_times: list[float] = []  # [s] of every refit solved, for the progress estimate
 
     def cv(self, model: Model) -> float:
         """The model's cross-validated RMSE [N], computed once (only when a decision needs it)."""
@@ -131,7 +132,16 @@ class Search:
         except SolverError as exc:
             return None, time.perf_counter() - started, str(exc)
         self.cache[effects] = model
+        self.refit_times.append(time.perf_counter() - started)
         return model, time.perf_counter() - started, ""
+
+    def progress(self, done: int, total: int, effects: tuple[str, ...], what: str = "refit") -> None:
+        """Say which refit runs, how many of this step's are left, and their time at the mean so far."""
+        left = total - done
+        mean = float(np.mean(self.refit_times)) if self.refit_times else None
+        eta = "" if mean is None else f", about {left * mean:.0f} s at {mean:.1f} s each"
+        self.say(f"{what} {done + 1} of {total} of this step: {' + '.join(effects) or 'baseline'} "
+                 f"({left} left{eta})")
 
     def run(self, baseline: Model, names: list[str]) -> tuple[Model, list[Step]]:
         """Forward then backward from the baseline, from the best eligible first addition and, unless
@@ -216,9 +226,9 @@ class Search:
                         ) -> list[Trial]:
         excess = current.assessment.excess(misfit)
         rows = []
-        for name in remaining:
+        for done, name in enumerate(remaining):
             effects = canonical((*current.effects, name))
-            self.say(f"refit: {' + '.join(effects)}")
+            self.progress(done, len(remaining), effects)
             model, wall, error = self._try(effects, current)
             if model is None:
                 rows.append(Trial(name, effects, None, np.inf, None, 0.0, 0.0, False, error, wall))
@@ -266,9 +276,9 @@ class Search:
 
     def _backward_trials(self, current: Model) -> list[Trial]:
         out = []
-        for name in current.effects:
+        for done, name in enumerate(current.effects):
             effects = tuple(e for e in current.effects if e != name)
-            self.say(f"refit without {name}: {' + '.join(effects)}")
+            self.progress(done, len(current.effects), effects, what=f"refit without {name},")
             model, wall, error = self._try(effects, current)
             if model is None:
                 out.append(Trial(name, effects, None, np.inf, None, 0.0, 0.0, False, error, wall))

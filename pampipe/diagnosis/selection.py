@@ -71,6 +71,7 @@ def intervals(fit: Fit, cells, refitter: Refitter) -> dict[str, dict[str, tuple[
     for j, (name, p) in enumerate(effect_parameters(fit.effects)):
         value = fit.x[start + j] * p.scale
         sd = float(np.sqrt(max(cov[start + j, start + j], 0.0))) * p.scale
-        out.setdefault(name, {})[p.name] = (float(value), float(max(p.lower, value - 1.96 * sd)),
-                                            float(min(p.upper, value + 1.96 * sd)))
+        low, high = p.fit_bounds  # the interval stays within the physics' sign
+        out.setdefault(name, {})[p.name] = (float(value), float(max(low, value - 1.96 * sd)),
+                                            float(min(high, value + 1.96 * sd)))
     return out

@@ -20,7 +20,9 @@ the m tests made in one assessment, :data:`ALPHA` = 1 %):
     ``length_rate`` / ``pressure_rate`` (the direction d and d·P: hysteresis), ``contact`` (step
     and hinge at the fitted anchoring pressure, radial tests).
 
-A test is *at the noise* when none of its tests rejects. Its *excess* is max(SS_t − ν₁σ_t², 0) [N²].
+A test is *at the noise* when none of its tests rejects and its RMSE is at most :data:`FAR_ABOVE` times its
+floor (a residual that large is never noise, whatever the tests' power). Its *excess* is
+max(SS_t − ν₁σ_t², 0) [N²].
 """
 
 from __future__ import annotations
@@ -31,6 +33,8 @@ import numpy as np
 
 #: Family-wise level of one assessment (Bonferroni over every test made in it).
 ALPHA = 0.01
+#: A test whose RMSE exceeds this many times its noise floor is off the noise whatever the tests say.
+FAR_ABOVE = 3.0
 PROBES = ("pressure", "first_cycle", "time_drift", "rate")
 SIGNATURES = ("length", "length_rate", "pressure_rate", "contact")
 #: Cells with |z| above this are "where the residual is" (z = √n·r̄/σ).
@@ -226,7 +230,8 @@ def assess(data, cells, fit, floors, anchoring, *, alpha: float = ALPHA) -> Asse
                                 float(fdtrc(k, nu, gain / (k * sigma2))) if testable and k else 1.0)
                          for name, (gain, k) in gains.items())
         p_values = [lack_p, serial_p, within_p, *(f.p_value for f in families)]
-        at_noise = min(p_values) >= alpha_each
+        far = floor.sigma > 0 and rmse > FAR_ABOVE * floor.sigma  # never "at the noise" at 3x its floor
+        at_noise = min(p_values) >= alpha_each and not far
         excess = max(ss - lack_dof * sigma2, 0.0)
         where = None if at_noise else _where(test, cells, index, fit.residual, sigma2,
                                              [("lack_of_fit", lack_p), ("serial", serial_p),

@@ -22,8 +22,10 @@ Then :func:`qualify` keeps the verdict from claiming more than the data show (th
   ``partly_explained``;
 * effects that tie with an alternative (within the search's BIC margin, :mod:`.search`) are
   reported as one group in ``indistinguishable`` and not named on their own;
-* an effect with a parameter whose 95 % interval covers :data:`SPAN` or more of its allowed range
-  is ``undetermined``, not named; a verdict whose fitted set holds one is not ``explained``.
+* an effect with a parameter the data do not pin inside its allowed range is ``undetermined``, not
+  named, by one rule: its 95 % interval covers :data:`SPAN` or more of the range, or the fit stops at a
+  bound that is not the parameter's null value (the data would push it further); a verdict whose fitted
+  set holds one is not ``explained``.
 """
 
 from __future__ import annotations
@@ -39,6 +41,8 @@ VERDICTS = ("none", "explained", "partly_explained", "unexplained")
 LIBRARY_SHARE = 0.5
 #: An effect parameter whose 95 % interval covers this share of its allowed range is undetermined.
 SPAN = 0.5
+#: A fitted value within this share of its allowed range from a bound (not its null value) is at the bound.
+AT_BOUND = 1e-3
 
 
 @dataclass(frozen=True)
@@ -147,7 +151,8 @@ def qualify(verdict: Verdict, *, groups, undetermined, floors, noisy) -> Verdict
     for group in groups:
         reasons.append(f"{' or '.join(group)}: these tests cannot tell them apart (indistinguishable)")
     for name, parameter in undetermined.items():
-        reasons.append(f"{name} is undetermined: the 95 % interval of {parameter} spans its allowed range")
+        reasons.append(f"{name} is undetermined: the data do not pin {parameter} inside its allowed range "
+                       "(its 95 % interval spans it, or the fit stops at a bound)")
     if value == "none" and (not judged or noisy):
         value = "unexplained"
     elif value == "explained" and (not judged or noisy or undetermined):
@@ -179,13 +184,24 @@ def tie_groups(steps, fitted: tuple[str, ...]) -> list[tuple[str, ...]]:
 
 
 def undetermined_effects(summary, bounds) -> dict[str, str]:
-    """{effect: parameter} of the fitted effects with a parameter whose 95 % interval covers
-    :data:`SPAN` of its allowed range ``bounds[effect][parameter] = (low, high)`` (SI)."""
+    """{effect: parameter} of the fitted effects with a parameter the data do not pin inside its allowed
+    range ``bounds[effect][parameter] = (low, high)`` (SI): its 95 % interval covers :data:`SPAN` of the
+    range, or its value (``summary.parameters``) lies within :data:`AT_BOUND` of the range from a bound
+    that is not its null value."""
+    from pampipe.diagnosis.candidates import candidate
+
+    values = getattr(summary, "parameters", {})
     out = {}
     for name, parameters in summary.intervals.items():
+        nulls = {p.name: p.null for p in candidate(name).parameters}
         for parameter, (low, high) in parameters.items():
             lower, upper = bounds[name][parameter]
-            if upper > lower and (high - low) >= SPAN * (upper - lower):
+            width = upper - lower
+            value = values.get(name, {}).get(parameter)
+            at_bound = value is not None and width > 0 and any(
+                abs(value - edge) <= AT_BOUND * width and abs(edge - nulls[parameter]) > AT_BOUND * width
+                for edge in (lower, upper))
+            if width > 0 and ((high - low) >= SPAN * width or at_bound):
                 out[name] = parameter
                 break
     return out

@@ -157,16 +157,20 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
     timings["separate_wall_time_s"] = time.perf_counter() - t0
     if confounded:
         verdict = replace(verdict, reason=f"{verdict.reason}; " + "; ".join(_separations(confounded)))
+    written = _untied(search, refit, baseline, chosen, verdict.indistinguishable)
     baseline, chosen = search.with_cv(baseline), search.with_cv(chosen)
     summaries = {"baseline": summarize(baseline, baseline.bic, data, cells, refitter),
                  "selected": summarize(chosen, baseline.bic, data, cells, refitter)}
+    if written is not chosen:
+        summaries["written"] = summarize(written, baseline.bic, data, cells, refitter)
     residuals = (row_residuals(data, refitter, baseline.fit), row_residuals(data, refitter, chosen.fit))
     timings["total_wall_time_s"] = time.perf_counter() - started
     result = DiagnoseResult(data.source, data.pam, data=data, cells=cells, noise=floors,
                             baseline_model=baseline, chosen_model=chosen, steps=tuple(steps), verdict=verdict,
                             confounded=tuple(confounded), summaries=summaries, residuals=residuals,
                             baseline_source=source, timings=timings, refitter=refitter,
-                            anchoring=anchoring_pressures(data, refitter, baseline.fit))
+                            anchoring=anchoring_pressures(data, refitter, baseline.fit),
+                            ties=_ties(verdict.indistinguishable, confounded))
     if data.slip:
         say("slip tests: fitting friction with the diagnosed muscle and testing the residuals")
         result = replace(result, slip=diagnose_slip(data.slip, result.augmented_pam()))
@@ -195,15 +199,16 @@ def _candidates(data: ExperimentData, effects: list[str] | None) -> list[str]:
 
 def _confounded(data: ExperimentData, refitter: Refitter, steps, chosen: Model, floors) -> list[dict]:
     """For each chosen effect that a step found confounded with another not chosen: the experiment that
-    would separate the two ({effect, with, separate_by})."""
-    confounded = []
+    would separate the two ({effect, with, separate_by}), once per pair (one piece of advice each)."""
+    confounded, seen = [], set()
     for step in steps:
         if step.action != "add" or step.effect not in chosen.effects:
             continue
         trials = {t.effect: t for t in step.trials}
         for other in step.confounded:
-            if other in chosen.effects:
+            if other in chosen.effects or frozenset((step.effect, other)) in seen:
                 continue
+            seen.add(frozenset((step.effect, other)))
             separate = separating_experiment(data, refitter, trials[step.effect].model.fit,
                                              trials[other].model.fit, floors)
             confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
@@ -223,4 +228,27 @@ def _separations(confounded: list[dict]) -> list[str]:
             c["separate_by"] = None
             best = "" if sep is None else f" (the best differs by {sep['ratio'] or 0:.2g}x the noise)"
             words.append(f"no test in range separates {c['effect']} and {c['with']}{best}")
+        c["sentence"] = words[-1]
     return words
+
+
+def _untied(search: Search, refit, baseline: Model, chosen: Model, groups) -> Model:
+    """The model `-o` writes: ``chosen``, or after a tie the refit without any member of a tie group (the
+    data support the group, not one of its members): the other fitted effects, else the baseline."""
+    tied = {name for group in groups for name in group}
+    if not tied & set(chosen.effects):
+        return chosen
+    kept = tuple(e for e in chosen.effects if e not in tied)
+    if not kept:
+        return baseline
+    return search.cache.get(kept) or search.model(refit(kept, chosen))
+
+
+def _ties(groups, confounded: list[dict]) -> dict[str, str]:
+    """{"a or b": the test that would separate them} of each tie group, from its confounded pairs'
+    sentences (:func:`_separations`)."""
+    out = {}
+    for group in groups:
+        sentences = [c["sentence"] for c in confounded if {c["effect"], c["with"]} <= set(group)]
+        out[" or ".join(group)] = "; ".join(sentences) or "no separating test was found"
+    return out

@@ -3,9 +3,10 @@ hand (docs/commands.md §7).
 
 Each pipe of the path (:func:`pampipe.specs.network.route_sections`) becomes one section of the route, named
 by its id (:meth:`pampipe.specs.network.Sections.mission_route`); each pipe whose 3-D direction turns into the
-next (:func:`pampipe.io.routes.turn_angles`) gets a ``bend: {angle}`` of the mission's elbow radius. Every key
-of the template mission but ``route`` is copied, its PAM paths rewritten to name the same files from the new
-file's folder.
+next (:func:`pampipe.io.routes.turn_angles`) gets a ``bend: {angle, direction}`` (which way it turns:
+:func:`pampipe.io.routes.turn_directions_after`) of the mission's elbow radius. Every key of the template
+mission but ``route`` is copied, its PAM paths (the segments' and the steering module's) rewritten to name
+the same files from the new file's folder.
 """
 
 from __future__ import annotations
@@ -15,13 +16,17 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from pampipe.errors import InputError
 from pampipe.io import bundled, yamlwrite
 from pampipe.io.epanet import load_network
 from pampipe.io.files import check_not_input
-from pampipe.io.routes import turn_angles
+from pampipe.io.routes import turn_angles, turn_directions_after
+from pampipe.io.schema_fields import relative
 from pampipe.io.yamlfile import load_mapping
 from pampipe.specs.network import Network, Sections, route_sections
+from pampipe.specs.turns import turn_name
 
 #: The bundled mission (:mod:`pampipe.io.bundled`, found in any install) whose keys a route copies by default.
 DEFAULT_TEMPLATE = "vertical-climb-3in"
@@ -46,6 +51,13 @@ class NetworkMission:
         top, bottom = net.node_index(self.to_node), net.node_index(self.from_node)
         return float(net.elevation[top] - net.elevation[bottom])
 
+    @property
+    def elbows(self) -> list[tuple[int, float, float]]:
+        """(pipe index, angle θ [rad], direction φ_b [rad]) of each elbow the file gives: where the path
+        turns by 0.5° or more after a pipe (:func:`turn_angles`, :func:`turn_directions_after`)."""
+        angles, directions = turn_angles(self.sections), turn_directions_after(self.sections)
+        return [(i, float(angles[i]), float(directions[i])) for i in np.flatnonzero(angles > 0).tolist()]
+
     def as_document(self) -> dict:
         """The `route --json` document (docs/commands.md §7)."""
         net, sections = self.network, self.sections
@@ -54,6 +66,9 @@ class NetworkMission:
                 "rise_m": self.rise, "friction": self.friction, "template": str(self.template),
                 "output": None if self.output is None else str(self.output),
                 "incline_clipped": sections.name[sections.clipped].tolist(),
+                "bends": [{"after_section": str(sections.name[i]), "angle_deg": math.degrees(angle),
+                           "direction_deg": math.degrees(direction), "turn": turn_name(direction),
+                           "radius_assumed": True} for i, angle, direction in self.elbows],
                 "sections": sections.as_document()}
 
 
@@ -87,10 +102,13 @@ def network_mission(network: str, from_node: str, to_node: str, *, friction: flo
                   f"{len(sections)} pipes, {sections.length.sum():.1f} m, written by pampipe route.\n"
                   f"Every key but route is copied from {template}.\n"
                   f"Edit it by hand, then: pampipe plan {output}")
+        header += ("\nBends turn as the network's coordinates and elevations say (direction: in the "
+                   "steering module, 0 up, 90 left, 180 down, -90 right along travel); their radius is "
+                   "not in the network: each takes elbow_radius, an assumption.")
         route = sections.mission_route()
-        for entry, turn in zip(route, turn_angles(sections).tolist(), strict=True):
-            if turn > 0:  # an elbow of the mission's elbow_radius (docs/formats.md §4)
-                entry["bend"] = {"angle": f"{math.degrees(turn):.4g} deg"}
+        for i, angle, direction in found.elbows:  # elbows of the mission's elbow_radius (formats.md §4)
+            route[i]["bend"] = {"angle": f"{math.degrees(angle):.4g} deg",
+                                "direction": f"{math.degrees(direction):.4g} deg"}
         document = _mission(load_mapping(template, what="mission file"), template, output, route)
         yamlwrite.write(output, document, comments=[header])
     return found
@@ -110,22 +128,26 @@ def _friction(given: float | None, mission) -> float:
 
 
 def _mission(template: dict, template_path: Path, output: Path, route: list[dict]) -> dict:
-    """The template's keys but route, PAM paths made relative to ``output``, then the new route."""
+    """The template's keys but route, every PAM path (``robot.segments[].pam``, ``robot.steering.pam``)
+    made relative to ``output``, then the new route."""
     document = {key: value for key, value in template.items() if key != "route"}
     robot = dict(document["robot"])
     robot["segments"] = [_moved(segment, template_path, output) for segment in robot["segments"]]
+    if isinstance(robot.get("steering"), dict):
+        robot["steering"] = _moved(robot["steering"], template_path, output)
     document["robot"] = robot
     document["route"] = route
     return document
 
 
-def _moved(segment: dict, template_path: Path, output: Path) -> dict:
-    """A robot segment whose ``pam:`` file path still points at the same file from ``output``'s folder."""
-    pam = segment.get("pam")
-    if not isinstance(pam, str) or Path(pam).is_absolute():
-        return segment
-    target = (template_path.parent / pam).resolve()
+def _moved(block: dict, template_path: Path, output: Path) -> dict:
+    """A robot block (a segment, the steering module) whose ``pam:`` file path still points at the same
+    file from ``output``'s folder (an inline PAM mapping is kept as it is)."""
+    pam = block.get("pam")
+    if not isinstance(pam, str) or Path(pam).expanduser().is_absolute():
+        return block
+    target = relative(template_path, pam).resolve()
     folder = output.resolve().parent
     if os.path.commonpath([target, folder]) == target.anchor:  # nothing in common but the root
-        return {**segment, "pam": str(target)}
-    return {**segment, "pam": os.path.relpath(target, folder)}
+        return {**block, "pam": str(target)}
+    return {**block, "pam": os.path.relpath(target, folder)}

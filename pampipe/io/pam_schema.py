@@ -18,7 +18,7 @@ from pampipe.io.schema_fields import Angle, Coefficient, Length, NonNegativeForc
 from pampipe.io.yamlfile import load_mapping
 from pampipe.model.domain import check_geometry, check_spread
 from pampipe.model.effects import LIBRARY
-from pampipe.model.pam import Geometry, Grip, Moduli, Pam
+from pampipe.model.pam import TIES, Geometry, Grip, Moduli, Pam
 from pampipe.model.uncertainty import (
     GEOMETRY_NAMES,
     ParameterUncertainty,
@@ -218,9 +218,14 @@ def build_pam(schema: PamSchema) -> Pam:
         if moduli is None:
             raise ValueError("uncertainty: is the uncertainty of the moduli and needs a moduli: block")
         uncertainty = build_uncertainty(schema.uncertainty, moduli.degree)
-    pam = Pam(schema.name, geometry, moduli, None, build_effects(schema.effects), _grip(schema.contact),
+    effects = dict(schema.effects or {})
+    ties = effects.pop(TIES, None)
+    if ties is not None and not all(isinstance(v, str) for v in ties.values()):
+        raise ValueError(f"effects.{TIES}: each group of tied effects maps to a sentence (the test that "
+                         "would separate them), e.g. {'prestrain or sensor_offset': 'an axial test ...'}")
+    pam = Pam(schema.name, geometry, moduli, None, build_effects(effects), _grip(schema.contact),
               geometry_sd=sd, max_pressure=schema.max_pressure, max_contraction=schema.max_contraction,
-              fitting_length=g.fitting_length)
+              fitting_length=g.fitting_length, ties=ties or None)
     return pam.with_uncertainty(uncertainty)
 
 

@@ -16,7 +16,7 @@ from pampipe.io import yamlwrite
 from pampipe.io.csvfile import write_csv
 from pampipe.io.files import check_not_input, check_overwrite
 from pampipe.model.effects import get_effect
-from pampipe.model.pam import Pam
+from pampipe.model.pam import TIES, Pam
 from pampipe.model.uncertainty import GEOMETRY_NAMES, ParameterUncertainty
 from pampipe.specs.experiment import TestSpec
 
@@ -76,8 +76,10 @@ def pam_document(pam: Pam, *, with_moduli: bool = True) -> dict:
         uncertainty = ParameterUncertainty.moduli_only(pam.covariance, degree=m.degree)
     if uncertainty is not None:
         doc["uncertainty"] = uncertainty_document(uncertainty)
-    if pam.effects:
-        doc["effects"] = {name: _effect_values(name, values) for name, values in pam.effects.items()}
+    if pam.effects or pam.ties:
+        doc["effects"] = {name: _effect_values(name, values) for name, values in (pam.effects or {}).items()}
+        if pam.ties:
+            doc["effects"][TIES] = dict(pam.ties)
     doc.update(_grip_document(pam))
     return doc
 

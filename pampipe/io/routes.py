@@ -21,6 +21,7 @@ import numpy as np
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.specs.mission import NetworkRoute, Route
 from pampipe.specs.pipes import BoreSpec, bore
+from pampipe.specs.turns import turn_directions
 from pampipe.units.quantities import to_si
 
 #: "1.5 D": an elbow radius as a multiple of the bore.
@@ -98,6 +99,7 @@ def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = 
     if any(s.bend is not None for s in sections):
         angle, radius, direction = np.zeros(len(sections)), np.full(len(sections), np.nan), np.full(
             len(sections), math.pi)
+        assumed = np.zeros(len(sections), dtype=bool)
         for i, s in enumerate(sections):
             if s.bend is None or s.bend.angle == 0:
                 continue
@@ -105,10 +107,11 @@ def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = 
             given = elbow if s.bend.radius is None else elbow_radius(path, s.bend.radius, where)
             if given is None:
                 given = elbow_radius(path, "1.5 D", "elbow_radius")
-            angle[i], direction[i] = s.bend.angle, s.bend.direction
+            angle[i], direction[i], assumed[i] = s.bend.angle, s.bend.direction, s.bend.radius is None
             radius[i] = given.at(bores[i].nominal, path=path,
                                  where=where if s.bend.radius is not None else f"elbow_radius (route[{i}])")
-        bends = {"bend_angle": angle, "bend_radius": radius, "bend_direction": direction}
+        bends = {"bend_angle": angle, "bend_radius": radius, "bend_direction": direction,
+                 "bend_radius_assumed": assumed}
     return Route(np.array(names, dtype=str), column(s.length for s in sections),
                  column(b.nominal for b in bores), column(s.incline for s in sections),
                  column(f[0] for f in friction),
@@ -222,16 +225,27 @@ def turn_angles(sections) -> np.ndarray:
     return angle
 
 
+def turn_directions_after(sections) -> np.ndarray:
+    """(n,) [rad] which way the route turns after each pipe of a network path, φ_b in the steering
+    module's frame (:func:`pampipe.specs.turns.turn_directions`; π after the last pipe)."""
+    direction = np.full(len(sections), math.pi)
+    deflection = sections.deflection if sections.deflection is not None else sections.bend
+    direction[:-1] = turn_directions(sections.incline[:-1], sections.incline[1:], deflection[1:])
+    return direction
+
+
 def _network_bends(path: Path, sections, elbow: Radius) -> dict:
-    """The elbow after each pipe of a network path (:func:`turn_angles`), with the mission's
-    ``elbow_radius`` in the smaller of the two bores."""
+    """The elbow after each pipe of a network path (:func:`turn_angles`), turning as the network's
+    coordinates and elevations say (:func:`turn_directions_after`), with the mission's ``elbow_radius`` in
+    the smaller of the two bores: a radius the network does not give, so assumed."""
     n = len(sections)
     angle = turn_angles(sections)
     radius = np.full(n, np.nan)
     for i in np.flatnonzero(angle > 0).tolist():
         bore_here = min(float(sections.diameter[i]), float(sections.diameter[i + 1]))
         radius[i] = elbow.at(bore_here, path=path, where=f"elbow_radius (after pipe {sections.name[i]})")
-    return {"bend_angle": angle, "bend_radius": radius, "bend_direction": np.full(n, math.pi)}
+    return {"bend_angle": angle, "bend_radius": radius, "bend_direction": turn_directions_after(sections),
+            "bend_radius_assumed": angle > 0}
 
 
 def _network_bores(path: Path, spec, diameters: np.ndarray) -> list[BoreSpec]:

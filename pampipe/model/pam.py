@@ -15,6 +15,9 @@ from pampipe.model import braid
 from pampipe.model.uncertainty import ParameterUncertainty
 
 Wall = Literal["thick", "thin"]
+#: The key of a PAM file's ``effects:`` block naming effects the data could not tell apart (``Pam.ties``,
+#: written by ``diagnose -o`` after a tie; none of them is applied): {"a or b": the test that would separate}.
+TIES = "indistinguishable"
 
 
 @dataclass(frozen=True)
@@ -142,6 +145,8 @@ class Pam:
     the PAM file; empty when none. ``max_pressure`` [Pa] is the maker's rated pressure and
     ``max_contraction`` [-] the largest contraction 1 − L/L₀ the maker allows; None: not stated.
     ``fitting_length`` [m] is what the end fittings add to the rigid length of the deflated muscle.
+    ``ties`` maps each group of effects the data could not tell apart (``"prestrain or sensor_offset"``) to
+    the test that would separate them, written by ``diagnose`` after a tie: none of them is in ``effects``.
     """
 
     name: str
@@ -160,6 +165,7 @@ class Pam:
         covariance = None if uncertainty is None else uncertainty.moduli_covariance()
         return replace(self, uncertainty=uncertainty, covariance=covariance)
     fitting_length: float = 0.0  # [m]
+    ties: dict[str, str] | None = field(default=None, hash=False)
 
     @property
     def rigid_length(self) -> float:

@@ -283,7 +283,7 @@ def make_test_data(spec: TestSpec, columns: dict[str, np.ndarray]) -> TestData:
     zeros = np.zeros(n, dtype=np.int8)
     held, kind = None, "radial"
     if spec.kind == "axial" and length is not None:
-        kind, held = protocol.classify(levels, length)
+        kind, held = protocol.classify(levels, length, order)
         kind = spec.protocol or kind
         if kind == "isometric" and held is None:
             held = protocol.cluster_levels(length) or protocol.equal_count_bins(length)

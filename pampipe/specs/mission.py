@@ -124,6 +124,7 @@ class Route:
     bend_angle: np.ndarray | None = None  # (n,) [rad] of the elbow at the end of each section (0: none)
     bend_radius: np.ndarray | None = None  # (n,) [m] its centreline radius (NaN: none)
     bend_direction: np.ndarray | None = None  # (n,) [rad] the turn's direction in the steering module
+    bend_radius_assumed: np.ndarray | None = None  # (n,) bool: the bend gives no radius (elbow_radius taken)
 
     @classmethod
     def from_sections(cls, sections) -> Route:

@@ -12,7 +12,8 @@ Conventions:
   difference (|Δz| > length, data that no straight pipe can have), the incline is taken as ±90° and the
   pipe is flagged in ``Sections.clipped``;
 * bends are plan-view deflections at the joints between consecutive pipes (0 = straight on), from the
-  node coordinates and pipe vertices; NaN where the network has no coordinates. They are reported only.
+  node coordinates and pipe vertices; NaN where the network has no coordinates. ``deflection`` keeps their
+  sign (+ to the left), from which :mod:`pampipe.specs.turns` says which way each elbow turns.
 """
 
 from __future__ import annotations
@@ -76,6 +77,7 @@ class Sections:
     friction: np.ndarray  # (n,) braid-wall Coulomb coefficient
     bend: np.ndarray  # (n,) [rad] plan-view deflection from the previous pipe; NaN for the first or unknown
     clipped: np.ndarray  # (n,) bool: |Δz| > length, incline set to ±90°
+    deflection: np.ndarray | None = None  # (n,) [rad] ``bend`` signed: + to the left (counter-clockwise)
 
     def __len__(self) -> int:
         return len(self.name)
@@ -138,11 +140,11 @@ def route_sections(net: Network, from_node: str, to_node: str, *, friction: floa
     # plan points just before and just after each joint, along travel
     before_exit = np.where(forward[:, None], net.before_end[pipes], net.after_start[pipes])
     after_entry = np.where(forward[:, None], net.after_start[pipes], net.before_end[pipes])
-    bend = np.full(len(pipes), math.nan)
-    bend[1:] = _deflection(net.xy[entry[1:]] - before_exit[:-1], after_entry[1:] - net.xy[entry[1:]])
+    deflection = np.full(len(pipes), math.nan)
+    deflection[1:] = _deflection(net.xy[entry[1:]] - before_exit[:-1], after_entry[1:] - net.xy[entry[1:]])
     return Sections(net.name, net.pipe_ids[pipes], net.node_ids[entry], net.node_ids[exit_],
                     net.length[pipes], net.diameter[pipes], incline, np.full(len(pipes), float(friction)),
-                    bend, clipped)
+                    np.abs(deflection), clipped, deflection)
 
 
 def whole_network(net: Network, *, friction: float) -> Sections:
@@ -213,9 +215,10 @@ def _incline(rise: np.ndarray, length: np.ndarray) -> tuple[np.ndarray, np.ndarr
 
 
 def _deflection(incoming: np.ndarray, outgoing: np.ndarray) -> np.ndarray:
-    """Angle [rad] between plan directions (rows), 0 = straight on; NaN for unknown or zero vectors."""
+    """Signed angle [rad] from the incoming to the outgoing plan direction (rows), 0 = straight on, + to the
+    left (counter-clockwise, x east and y north); NaN for unknown or zero vectors."""
     cross = incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0]
     dot = np.einsum("ij,ij->i", incoming, outgoing)
-    angle = np.arctan2(np.abs(cross), dot)
+    angle = np.arctan2(cross, dot)
     degenerate = (np.hypot(*incoming.T) == 0) | (np.hypot(*outgoing.T) == 0)
     return np.where(degenerate, math.nan, angle)

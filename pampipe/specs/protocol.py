@@ -255,9 +255,24 @@ def cycles(signs: np.ndarray, grouped: tuple[np.ndarray, np.ndarray]) -> np.ndar
     return out
 
 
-def classify(pressure_levels: Levels, length: np.ndarray) -> tuple[str, Levels | None]:
-    """(``isobaric`` | ``isometric`` | ``mixed``, held-length levels or None) of an axial test."""
-    if pressure_levels.exist:
-        return "isobaric", None
+def classify(pressure_levels: Levels, length: np.ndarray,
+             order: np.ndarray | None = None) -> tuple[str, Levels | None]:
+    """(``isobaric`` | ``isometric`` | ``mixed``, held-length levels or None) of an axial test.
+
+    Where both the pressure and the length form levels (a grid: held lengths with repeated pressure set
+    points, or held pressures with stepped lengths), the held variable is the one that stays on one level
+    longer: the longer mean run of consecutive rows, in time ``order`` (None: recorded order), on one level.
+    """
     held = cluster_levels(length)
+    if pressure_levels.exist:
+        if held is not None and _mean_run(held.index, order) > _mean_run(pressure_levels.index, order):
+            return "isometric", held
+        return "isobaric", None
     return ("isometric", held) if held is not None else ("mixed", None)
+
+
+def _mean_run(index: np.ndarray, order: np.ndarray | None) -> float:
+    """The mean number of consecutive rows (in ``order``) on one level of ``index``."""
+    ordered = index if order is None else index[order]
+    switches = int(np.count_nonzero(np.diff(ordered)))
+    return ordered.size / (switches + 1)

@@ -98,6 +98,10 @@ def report(result) -> str:
             decision.append(f"  {name}: {describe(name, chosen.parameters[name], result.pam.geometry)}")
     for group in verdict.indistinguishable:
         decision.append(f"  indistinguishable: {' or '.join(group)} (these tests cannot tell them apart)")
+    if result.ties:
+        decision.append(f"  -o writes the refit with {' + '.join(result.written.effects) or 'no effect'}: no "
+                        "member of a tie as the muscle's physics; the file names each tie "
+                        "(effects.indistinguishable) and the test that would separate it")
     if verdict.undetermined:
         decision.append("  undetermined (interval spans the allowed range): "
                         + ", ".join(verdict.undetermined))
@@ -116,11 +120,7 @@ def report(result) -> str:
                         f"{verdict.library_removed * k**2:.4g} {force}^2 and generic probes "
                         f"{verdict.probes_removed * k**2:.4g} {force}^2")
     parts.append("\n".join(decision))
-    parts.append("RMSE per test, before and after:\n" + table(
-        ["test", "before [N]", "after [N]", "floor [N]", "after/floor", "at noise after"],
-        [(t.name, t.rmse, a.rmse, f.sigma, a.rmse / f.sigma, c.at_noise)
-         for t, a, f, c in zip(base.tests, chosen.tests, result.noise, checks_after, strict=True)])
-        + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}")
+    parts.append(_rmse_table(result, checks_after))
     if verdict.remaining:
         parts.append("Where structured residual remains:\n" + table(
             ["test", "signature", "p", "P [kPa]", "L [mm]", "cells", "rows", "mean [N]"],
@@ -131,3 +131,14 @@ def report(result) -> str:
     parts.append("Time: " + ", ".join(f"{k.removesuffix('_wall_time_s')} {v:.1f} s"
                                       for k, v in timings.items()))
     return "\n\n".join(parts)
+
+
+def _rmse_table(result, checks_after) -> str:
+    """RMSE per test before and after, with the protocol read, the floor and the verdict at the noise."""
+    rows = [(t.name, d.protocol, t.rmse, a.rmse, f.sigma, a.rmse / f.sigma, c.at_noise)
+            for t, d, a, f, c in zip(result.baseline.tests, result.data.tests, result.chosen.tests,
+                                     result.noise, checks_after, strict=True)]
+    return ("RMSE per test, before and after (protocol: as read from the data, or as the file states):\n"
+            + table(["test", "protocol", "before [N]", "after [N]", "floor [N]", "after/floor",
+                     "at noise after"], rows)
+            + f"\nimprovement (1 - after/before, sum of test RMSE): {result.improvement:.1%}")

@@ -94,19 +94,34 @@ def _bend_table(plan, unit: str, scale: float, all_sections: bool) -> str:
     rows = []
     for b in bends:
         s = b.limiting
-        steer = b.steering
-        rows.append((b.after_section, f"{math.degrees(b.angle):.1f}", f"{b.radius * 1e3:.4g}",
-                     f"{b.radius / b.bore:.3g}", f"{b.bore * 1e3:.4g}", s.name, f"{s.length * 1e3:.4g}",
+        rows.append((b.after_section, f"{math.degrees(b.angle):.1f}", b.turn, f"{b.radius * 1e3:.4g}",
+                     b.radius_text, f"{b.bore * 1e3:.4g}", s.name, f"{s.length * 1e3:.4g}",
                      "bends" if s.flexible else f"{s.longest * 1e3:.4g}",
-                     "-" if s.flexible else f"{s.clearance * 1e3:.4g}",
-                     "-" if steer is None else "/".join(f"{p / scale:.3g}" for p in steer.pressures),
-                     "-" if steer is None else f"{steer.curvature:.3g}{'' if steer.reached else ' (short)'}",
+                     "-" if s.flexible else f"{s.clearance * 1e3:.4g}", *_steering_cells(b, scale),
                      "yes" if b.passable else "no"))
     head = ("bends (each deflated segment as a rigid cylinder L0 + fittings long, D0 wide; L*: the longest "
-            "that passes; steering: the least-pressure triad toward 1/R):")
+            "that passes; turn: along travel, the steering module seen from behind with PAM 1 at the top and "
+            "PAM 2 lower left; steering: the least-pressure triad toward 1/R, and the PAMs it fills):")
+    skipped = [b.steering_note for b in plan.bends if b.steering_note is not None]
+    if skipped:
+        note += f"\n{len(skipped)} bend(s) with no steering (fills: none (small)): {skipped[0]}."
+    if any(b.radius_assumed for b in plan.bends):
+        note += ("\nR (assumed): the bend gives no radius; it is the mission's elbow_radius (a network gives "
+                 "none): measure it where the clearance is small.")
     return head + "\n" + table(
-        ["after section", "angle [deg]", "R [mm]", "R/D", "bore [mm]", "limiting", "L [mm]", "L* [mm]",
-         "clearance [mm]", f"steering P [{unit}]", "curvature [1/m]", "passes"], rows) + note
+        ["after section", "angle [deg]", "turn", "R [mm]", "R/D", "bore [mm]", "limiting", "L [mm]",
+         "L* [mm]", "clearance [mm]", f"steering P [{unit}]", "fills", "curvature [1/m]", "passes"],
+        rows) + note
+
+
+def _steering_cells(bend, scale: float) -> tuple[str, str, str]:
+    """(pressures, the PAMs filled, curvature) of a bend's steering command, dashes where it has none."""
+    steer = bend.steering
+    if steer is None:
+        return "-", "-" if bend.steering_note is None else "none (small)", "-"
+    fills = ", ".join(f"PAM {k}" for k in steer.fills) or "none"
+    return ("/".join(f"{p / scale:.3g}" for p in steer.pressures), fills,
+            f"{steer.curvature:.3g}{'' if steer.reached else ' (short)'}")
 
 
 def _header(plan, unit: str, scale: float) -> str:

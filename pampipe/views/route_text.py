@@ -5,24 +5,28 @@ from __future__ import annotations
 
 import math
 
+from pampipe.specs.turns import turn_name
 from pampipe.views.tables import table
 
 
 def route_text(found) -> str:
     """The route of ``found`` (a :class:`pampipe.io.network_mission.NetworkMission`) as `route` prints it."""
     net, sections = found.network, found.sections
+    elbows = {i: f"{math.degrees(angle):.3g} {turn_name(direction)}" for i, angle, direction in found.elbows}
     rows = [(name, a, b, length, d * 1e3, d / 0.0254, math.degrees(incline) if not clip else "±90 (clip)",
-             "-" if math.isnan(bend) else math.degrees(bend))
-            for name, a, b, length, d, incline, bend, clip in zip(
+             "-" if math.isnan(bend) else math.degrees(bend), elbows.get(i, "-"))
+            for i, (name, a, b, length, d, incline, bend, clip) in enumerate(zip(
                 sections.name, sections.from_node, sections.to_node, sections.length, sections.diameter,
-                sections.incline, sections.bend, sections.clipped, strict=True)]
+                sections.incline, sections.bend, sections.clipped, strict=True))]
     parts = [f"route through {net.name} ({net.source}) from {found.from_node} to {found.to_node}: "
              f"{len(sections)} pipes, {sections.length.sum():.6g} m, friction {sections.friction[0]:g}",
              table(["pipe", "from", "to", "length [m]", "bore [mm]", "bore [in]", "incline [deg]",
-                    "bend [deg]"], rows),
+                    "bend [deg]", "elbow after [deg]"], rows),
              "incline: along travel, from the node elevations; bend: plan-view deflection at the joint "
              "with the previous pipe. The file gives each pipe whose 3-D direction turns by 0.5 deg or more "
-             "into the next a bend: {angle}, of the mission's elbow_radius, which plan checks."]
+             "into the next a bend: {angle, direction} (elbow after: the 3-D angle and which way it turns "
+             "along travel), of the mission's elbow_radius (assumed: the network gives no radius), which "
+             "plan checks."]
     if sections.clipped.any():
         parts.append(f"note: {', '.join(sections.name[sections.clipped])}: the model's length is shorter "
                      "than the elevation difference; taken as vertical (±90 deg). Check these pipes.")

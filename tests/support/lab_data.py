@@ -5,7 +5,8 @@ effects) of a *true* muscle; what real data add is written out here explicitly, 
 effect library, so that the tests of the library check it against an independent statement:
 
 * isometric ramps: lengths held, pressure ramped up and down; an optional pressure hysteresis
-  F = F_ax − sgn(dP/dt)(h₀ + h₁P) (the venting leg above the filling leg);
+  F = F_ax − sgn(dP/dt)(h₀ + h₁P) (the venting leg above the filling leg); isometric steps: the same at
+  repeated pressure set points (issue 41);
 * force maps: a (P, L) grid where the muscle is slack (F_ax ≤ 0) records exactly 0 N;
 * stepped isobaric cycles with pressure levels that may be close together;
 * paper-style radial tests with one reading per pressure step;
@@ -61,6 +62,26 @@ def isometric_ramps(muscle: Muscle, lengths, *, top=600e3, points=200, cycles=2,
     since = 0.1 * np.tile(np.arange(points), pressure.size // points)  # [s] since the leg began
     force = force - filling * transient[0] * np.exp(-since / transient[1])
     force = np.where(force > 0, force + noise * rng.standard_normal(force.size), 0.0)  # slack: 0 N
+    measured = pressure + pressure_noise * rng.standard_normal(pressure.size)
+    return {"time": 0.1 * np.arange(force.size), "pressure": measured, "length": length, "force": force,
+            "filling": filling}
+
+
+def isometric_steps(muscle: Muscle, lengths, set_points, *, readings=5, cycles=2, hysteresis=(0.0, 0.0),
+                     noise=2.0, pressure_noise=300.0, rng=None) -> dict[str, np.ndarray]:
+    """Held lengths with repeated pressure set points (issue 41): at each length, ``cycles`` times up
+    through ``set_points`` and back down, ``readings`` rows held at each; F = F_ax − sgn(dP/dt)(h₀ + h₁P)
+    with the sign of the leg the set point was reached on. Time advances 0.1 s a row; 0 N where slack."""
+    rng = rng or np.random.default_rng(0)
+    up = np.asarray(set_points, float)
+    leg_points = np.concatenate([up, up[::-1]])
+    leg_signs = np.concatenate([np.ones(up.size), -np.ones(up.size)])
+    pressure = np.repeat(np.tile(leg_points, cycles * len(lengths)), readings)
+    filling = np.repeat(np.tile(leg_signs, cycles * len(lengths)), readings)
+    length = np.repeat(np.asarray(lengths, float), leg_points.size * cycles * readings)
+    force = np.asarray(muscle.axial_force(pressure, length), float)
+    force = force - filling * (hysteresis[0] + hysteresis[1] * pressure)
+    force = np.where(force > 0, force + noise * rng.standard_normal(force.size), 0.0)
     measured = pressure + pressure_noise * rng.standard_normal(pressure.size)
     return {"time": 0.1 * np.arange(force.size), "pressure": measured, "length": length, "force": force,
             "filling": filling}

@@ -19,6 +19,9 @@ class Parameter:
 
     ``dimension`` is the :mod:`pampipe.units.quantities` dimension used to read it from a PAM file; ``scale``
     is the SI value of one display ``unit`` (the NLP works in display units, which are O(1)).
+    ``fit_lower`` [SI] is the lower bound `diagnose` fits it within where the effect's physics fixes its sign
+    (contact stiffening stiffens: its increments ≥ 0); None: ``lower``. A PAM file may still state any value
+    in [``lower``, ``upper``].
     """
 
     name: str
@@ -29,6 +32,12 @@ class Parameter:
     upper: float
     null: float = 0.0
     description: str = ""
+    fit_lower: float | None = None
+
+    @property
+    def fit_bounds(self) -> tuple[float, float]:
+        """(low, high) [SI] of the parameter in `diagnose`'s refit: its physical sign kept."""
+        return (self.lower if self.fit_lower is None else self.fit_lower), self.upper
 
     @property
     def json_key(self) -> str:

@@ -16,9 +16,9 @@ class ContactStiffening(Effect):
     signature = "contact"
     parameters = (
         Parameter("axial_increment", "MPa", "pressure", 1e6, -20e6, 20e6, 0.0,
-                  "ΔE₁ per P_ref above anchoring"),
+                  "ΔE₁ per P_ref above anchoring", fit_lower=0.0),  # it stiffens: a fit keeps ΔE ≥ 0
         Parameter("hoop_increment", "MPa", "pressure", 1e6, -20e6, 20e6, 0.0,
-                  "ΔE₂ per P_ref above anchoring"),
+                  "ΔE₂ per P_ref above anchoring", fit_lower=0.0),
     )
     tests = frozenset({"radial"})
 
