@@ -25,7 +25,7 @@ from pampipe.units import display
 
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
-            "export", "rehearse")
+            "export", "rehearse", "completion")
 #: Exit codes of an interrupted run: 128 + SIGINT, 128 + SIGTERM.
 INTERRUPTED = (130, 143)
 #: Exit code of an unexpected internal error (a bug).
@@ -86,6 +86,8 @@ def build_parser(commands: tuple[str, ...] = COMMANDS) -> argparse.ArgumentParse
         command = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
         module.add_arguments(command)
         command.set_defaults(run=module.run)
+        if name == "completion":  # the script is built from the whole parser
+            command.set_defaults(parser=parser)
         parser.commands[name] = command
     return parser
 
@@ -132,7 +134,7 @@ def _run(argv: list[str]) -> int:
     chosen = next((a for a in argv if not a.startswith("-")), None)
     try:
         try:
-            parser = build_parser((chosen,) if chosen in COMMANDS else COMMANDS)
+            parser = build_parser((chosen,) if chosen in COMMANDS and chosen != "completion" else COMMANDS)
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)
