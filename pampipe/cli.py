@@ -25,7 +25,7 @@ from pampipe.units import display
 
 #: Command modules under pampipe.commands, in the order --help lists them.
 COMMANDS = ("simulate", "identify", "plan", "gait", "diagnose", "route", "synth", "design", "example",
-            "export", "rehearse", "next_test")
+            "export", "rehearse", "next_test", "completion")
 #: Exit codes of an interrupted run: 128 + SIGINT, 128 + SIGTERM.
 INTERRUPTED = (130, 143)
 #: Exit code of an unexpected internal error (a bug).
@@ -93,6 +93,8 @@ def build_parser(commands: tuple[str, ...] = COMMANDS, *, arguments: bool = True
         if arguments:
             module.add_arguments(command)
             command.set_defaults(run=module.run)
+            if name == "completion":  # the script is built from the whole parser
+                command.set_defaults(parser=parser)
             parser.commands[name] = command
     return parser
 
@@ -140,8 +142,10 @@ def _run(argv: list[str]) -> int:
     chosen = None if chosen is None else chosen.replace("-", "_")  # next-test: pampipe/commands/next_test.py
     try:
         try:
-            parser = (build_parser((chosen,)) if chosen in COMMANDS  # a command: only its module
-                      else build_parser(COMMANDS, arguments=False))  # --help, --version, a misspelt command
+            # a command: only its module; --help, --version, a misspelt command: the names only; completion:
+            # every command's options (its script is built from the whole parser)
+            parser = (build_parser((chosen,)) if chosen in COMMANDS and chosen != "completion"
+                      else build_parser(COMMANDS, arguments=chosen == "completion"))
             args = parser.parse_args(argv)
         except SystemExit as exc:  # --help and --version
             return int(exc.code or 0)

@@ -166,7 +166,8 @@ def example(name: str | None = None, out_dir: str | os.PathLike | None = None, *
         raise InputError(f"example {name}: give the folder to copy into, e.g. "
                          f"`pampipe example {name} my-{name}`.")
     name = str(name)
-    kind, written = bundled.copy_example(name, arg.path(out_dir, "out_dir"),
-                                         overwrite=arg.flag(force, "force"))
-    return CommandResult("example", {"example": name, "kind": kind, "files": [str(p) for p in written]},
-                         partial(copied_text, kind, written))
+    kind, files, unchanged = bundled.copy_example(name, arg.path(out_dir, "out_dir"),
+                                                  overwrite=arg.flag(force, "force"))
+    return CommandResult("example", {"example": name, "kind": kind, "files": [str(p) for p in files],
+                                     "unchanged": [str(p) for p in unchanged]},
+                         partial(copied_text, kind, files, unchanged))

@@ -133,13 +133,27 @@ def say(args: argparse.Namespace, text: str) -> None:
     print(text, file=text_stream(args), flush=True)
 
 
+def _json_in_file(args: argparse.Namespace) -> bool:
+    """True under ``--json -o FILE`` of a command whose -o is its JSON document (``plan``): the document goes
+    to FILE only, and stdout gets the text report (nothing with --quiet), not a second copy of a document
+    that may be megabytes long."""
+    return getattr(args, "json", False) and getattr(args, "json_output", False) and args.output is not None
+
+
+def _report_only(args: argparse.Namespace, text: str) -> None:
+    if not getattr(args, "quiet", False):
+        print(text, flush=True)
+
+
 def emit(args: argparse.Namespace, document: dict | None, text: str, *, indent: int | None = 2) -> None:
     """Print the JSON document (under --json) or the text report (``document`` may then be None); the text
     in the display units of --units (:func:`pampipe.units.display.localize`)."""
     from pampipe.units.display import localize
 
     text = localize(text)
-    if getattr(args, "json", False):
+    if _json_in_file(args):
+        _report_only(args, text)
+    elif getattr(args, "json", False):
         print(text, file=sys.stderr, flush=True)
         sys.stdout.write(to_json(document, timings=not args.reproducible, indent=indent))
         sys.stdout.flush()
@@ -157,6 +171,9 @@ def emit_streamed(args: argparse.Namespace, document, text: str) -> None:
     timings = not args.reproducible
     if args.output is not None:
         atomic_write(args.output, lambda tmp: _write_chunks(tmp, json_chunks(document(), timings=timings)))
+    if _json_in_file(args):
+        _report_only(args, localize(text))
+        return
     if not getattr(args, "json", False):
         print(localize(text), flush=True)
         return

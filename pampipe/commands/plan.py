@@ -72,7 +72,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("mission", type=Path, metavar="MISSION.yaml",
                         help="mission file (docs/formats.md §4)")
     parser.add_argument("-o", "--output", type=Path, metavar="PLAN.json",
-                        help="also write the JSON plan to this file (atomically)")
+                        help="also write the JSON plan to this file (atomically); with --json the plan goes "
+                             "to the file only and stdout gets the text report (nothing with --quiet)")
+    parser.set_defaults(json_output=True)
     parser.add_argument("--payload", type=quantity_type("mass"), metavar="M",
                         help="plan for this payload instead of the mission's, e.g. '5 kg'")
     parser.add_argument("--max-payload", action="store_true",

@@ -6,6 +6,7 @@ checkout or an editable install reads ``problems/`` beside the package.
 
 from __future__ import annotations
 
+import filecmp
 import shutil
 from pathlib import Path
 
@@ -47,8 +48,9 @@ def default_pam() -> Path:
     return folder() / "pams" / "paper-radial-pam.yaml"
 
 
-def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> list[Path]:
-    """Copy bundled ``files`` into ``target``, keeping their layout (so relative references hold).
+def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> tuple[list[Path], list[Path]]:
+    """Copy bundled ``files`` into ``target``, keeping their layout (so relative references hold): (every
+    destination, those already holding the same bytes, left as they are).
 
     Files outside the bundled folder (a wntr network a mission names, like ``ky4``) are found by name
     wherever pampipe is installed, so they are not copied.
@@ -56,15 +58,29 @@ def copy(files: list[Path], target: Path, *, overwrite: bool = False) -> list[Pa
     root = folder().resolve()
     unique = dict.fromkeys(p for p in (Path(f).resolve() for f in files) if p.is_relative_to(root))
     pairs = [(f, Path(target) / f.relative_to(root)) for f in unique]
-    check_overwrite([dest for _, dest in pairs], force=overwrite)
-    for source, dest in pairs:
+    # a file already there with the same bytes is kept as it is: a second example that shares a PAM
+    # needs no --force
+    unchanged = [dest for source, dest in pairs if same_bytes(source, dest)]
+    pairs_to_write = [(source, dest) for source, dest in pairs if dest not in unchanged]
+    check_overwrite([dest for _, dest in pairs_to_write], force=overwrite)
+    for source, dest in pairs_to_write:
         atomic_write(dest, lambda tmp, source=source: shutil.copyfile(source, tmp), create_folder=True)
-    return [dest for _, dest in pairs]
+    return [dest for _, dest in pairs], unchanged
 
 
-def copy_example(name: str, target: Path, *, overwrite: bool = False) -> tuple[str, list[Path]]:
+def same_bytes(source: Path, dest: Path) -> bool:
+    """True if ``dest`` is a regular file holding exactly the bytes of ``source``."""
+    try:
+        return dest.is_file() and not dest.is_symlink() and filecmp.cmp(source, dest, shallow=False)
+    except OSError:
+        return False
+
+
+def copy_example(name: str, target: Path, *,
+                 overwrite: bool = False) -> tuple[str, list[Path], list[Path]]:
     """Copy the bundled problem ``name`` with every file it uses (a mission's PAMs, an experiment's CSV data)
-    into ``target``: (its kind, such as ``missions``; the files written, the problem first)."""
+    into ``target``: (its kind, such as ``missions``; its files there, the problem first; those of them that
+    were there already with the same bytes)."""
     from pampipe.io.experiment_schema import load_experiment
     from pampipe.io.inventory_file import load_inventory
     from pampipe.io.mission_schema import load_mission
@@ -79,4 +95,4 @@ def copy_example(name: str, target: Path, *, overwrite: bool = False) -> tuple[s
         files = load_inventory(source).input_files
     else:
         files = [source]
-    return kind, copy(files, target, overwrite=overwrite)
+    return (kind, *copy(files, target, overwrite=overwrite))

@@ -13,9 +13,9 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.io.file_units import read_units
 from pampipe.io.pam_schema import PamSchema, load_pam, resolve_pam
 from pampipe.io.schema_fields import Force, Length, Pressure, relative
-from pampipe.io.yamlfile import load_mapping
 from pampipe.model.domain import check_kind
 from pampipe.specs.schema import Strict, validate
 
@@ -82,15 +82,19 @@ def load_experiment(path: str | Path, *, raw: dict | None = None) -> Experiment:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
+    path = Path(path)
+    with read_units(path, raw, what="experiment file") as content:
+        return _load_experiment(path, content)
+
+
+def _load_experiment(path: Path, content: dict) -> Experiment:
     from pampipe.specs.experiment import (  # not needed on plan's start-up path
         DirectionCoding,
         Experiment,
         TestSpec,
     )
 
-    path = Path(path)
-    schema = validate(path, ExperimentSchema,
-                       load_mapping(path, what="experiment file") if raw is None else raw)
+    schema = validate(path, ExperimentSchema, content)
     pam = resolve_pam(path, schema.pam, "pam")
     try:
         check_kind(pam.geometry, extensile=False, where="pam", role="identify and diagnose (radial and axial "

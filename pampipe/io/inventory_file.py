@@ -32,8 +32,8 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.io.file_units import read_units
 from pampipe.io.pam_schema import PamSchema, build_pam, load_pam
-from pampipe.io.yamlfile import load_mapping
 from pampipe.specs.inventory import DesignSpace, Inventory, Objective, Pipes
 from pampipe.specs.pipes import bore
 from pampipe.specs.schema import Strict, quantity, validate
@@ -127,7 +127,11 @@ def load_inventory(path: str | Path, *, raw: dict | None = None) -> Inventory:
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
     path = Path(path)
-    content = load_mapping(path, what="inventory file") if raw is None else raw
+    with read_units(path, raw, what="inventory file") as content:
+        return _load_inventory(path, content)
+
+
+def _load_inventory(path: Path, content: dict) -> Inventory:
     schema = validate(path, InventorySchema, content)
     material, material_file = _material(path, schema.material)
     if material.moduli is None:

@@ -15,7 +15,9 @@ from typing import Annotated, Any, Literal
 from pydantic import AfterValidator, Field
 
 from pampipe.errors import InputError
+from pampipe.io.file_units import read_units
 from pampipe.io.pam_schema import PamSchema, resolve_pam
+from pampipe.io.plausible import unit_slips
 from pampipe.io.routes import elbow_radius, listed_route, network_route
 from pampipe.io.schema_fields import (
     Friction,
@@ -28,7 +30,6 @@ from pampipe.io.schema_fields import (
     relative,
 )
 from pampipe.io.tether_schema import TetherSchema, build_tether
-from pampipe.io.yamlfile import load_mapping
 from pampipe.model.domain import check_kind
 from pampipe.runtime.collector import paused
 from pampipe.specs.mission import Mission, Segment, Steering
@@ -128,22 +129,26 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
 
     ``raw``: the file's content as a mapping instead; relative paths resolve beside ``path``.
     """
-    with paused():  # a long route is millions of acyclic objects (pampipe.runtime.collector)
-        return _load_mission(Path(path), raw)
+    path = Path(path)
+    # a long route is millions of acyclic objects (pampipe.runtime.collector)
+    with paused(), read_units(path, raw, what="mission file") as content:
+        return _load_mission(path, content)
 
 
-def _load_mission(path: Path, raw: dict | None) -> Mission:
-    schema = validate(path, MissionSchema, load_mapping(path, what="mission file") if raw is None else raw)
+def _load_mission(path: Path, content: dict) -> Mission:
+    schema = validate(path, MissionSchema, content)
     segments = tuple(Segment(s.name, resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
                              relative(path, s.pam) if isinstance(s.pam, str) else None, s.unit)
                      for i, s in enumerate(schema.robot.segments))
     if len({s.name for s in segments}) != len(segments):
         raise InputError(f"{path}: robot.segments: segment names must be unique, got "
                          f"{[s.name for s in segments]}.")
-    warnings = ()
+    masses = {f"robot.segments[{i}].mass": s.mass for i, s in enumerate(segments)}
+    warnings = tuple(f"{path}: {slip}" for slip in unit_slips(schema.supply_pressure, masses,
+                                                               schema.robot.payload))
     safety_factor = schema.safety_factor
     if safety_factor is None:
-        safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (f"{path}: {NO_SAFETY_FACTOR}",)
+        safety_factor, warnings = DEFAULT_SAFETY_FACTOR, (*warnings, f"{path}: {NO_SAFETY_FACTOR}")
     for i, seg in enumerate(segments):
         try:
             check_kind(seg.pam.geometry, extensile=False, where=f"robot.segments[{i}].pam",

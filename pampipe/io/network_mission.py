@@ -27,6 +27,7 @@ from pampipe.io.schema_fields import relative
 from pampipe.io.yamlfile import load_mapping
 from pampipe.specs.network import Network, Sections, route_sections
 from pampipe.specs.turns import turn_name
+from pampipe.units.display import counted
 
 #: The bundled mission (:mod:`pampipe.io.bundled`, found in any install) whose keys a route copies by default.
 DEFAULT_TEMPLATE = "vertical-climb-3in"
@@ -99,7 +100,8 @@ def network_mission(network: str, from_node: str, to_node: str, *, friction: flo
     found = NetworkMission(net, from_node, to_node, sections, friction, template, output)
     if output is not None:
         header = (f"Route through network {net.name} ({net.source}) from {from_node} to {to_node}: "
-                  f"{len(sections)} pipes, {sections.length.sum():.1f} m, written by pampipe route.\n"
+                  f"{counted(len(sections), 'pipe')}, {sections.length.sum():.1f} m, written by pampipe "
+                  "route.\n"
                   f"Every key but route is copied from {template}.\n"
                   f"Edit it by hand, then: pampipe plan {output}")
         header += ("\nBends turn as the network's coordinates and elevations say (direction: in the "

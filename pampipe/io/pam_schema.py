@@ -14,8 +14,8 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.io.file_units import read_units
 from pampipe.io.schema_fields import Angle, Coefficient, Length, NonNegativeForce, PositivePressure, relative
-from pampipe.io.yamlfile import load_mapping
 from pampipe.model.domain import check_geometry, check_spread
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import TIES, Geometry, Grip, Moduli, Pam
@@ -298,7 +298,8 @@ def _check_moduli_magnitude(m: ModuliSchema, scale: float) -> None:
 def load_pam(path: str | Path, *, raw: dict | None = None) -> Pam:
     """Read and validate a PAM file (``raw``: its content as a mapping instead; ``path`` names it)."""
     path = Path(path)
-    return _build(path, load_mapping(path, what="PAM file") if raw is None else raw)
+    with read_units(path, raw, what="PAM file") as content:
+        return _build(path, content)
 
 
 def resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:

@@ -22,7 +22,7 @@ from pampipe.errors import InfeasibleError, InputError
 from pampipe.specs.mission import NetworkRoute, Route
 from pampipe.specs.pipes import BoreSpec, bore
 from pampipe.specs.turns import turn_directions
-from pampipe.units.quantities import to_si
+from pampipe.units.quantities import bare_numbers, to_si
 
 #: "1.5 D": an elbow radius as a multiple of the bore.
 _MULTIPLE = re.compile(r"^\s*([+-]?[0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*D\s*$")
@@ -253,9 +253,12 @@ def _network_bores(path: Path, spec, diameters: np.ndarray) -> list[BoreSpec]:
     extra = {key: value for key, value in (("tolerance", spec.tolerance), ("sd", spec.sd))
              if value is not None}
     out = []
-    for d in np.unique(diameters).tolist():
-        try:
-            out.append(bore({"value": d, **extra}, where="route"))
-        except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
+    try:
+        if extra:  # the user's tolerance and sd, read as the file says (a bare number needs units: SI)
+            bore({"value": f"{float(diameters.min())!r} m", **extra}, where="route")
+        with bare_numbers(True):  # the network's diameters are SI already
+            for d in np.unique(diameters).tolist():
+                out.append(bore({"value": d, **extra}, where="route"))
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
     return out

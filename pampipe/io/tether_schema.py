@@ -19,7 +19,7 @@ from pydantic import AfterValidator, BeforeValidator
 
 from pampipe.errors import InputError
 from pampipe.model.no_slip import STANDARD_GRAVITY
-from pampipe.specs.schema import Strict, quantity
+from pampipe.specs.schema import QuantityJson, Strict, quantity
 from pampipe.specs.tether import Compressor, Hose, Tether
 from pampipe.units.quantities import show, to_si
 
@@ -32,10 +32,12 @@ def _weight(value) -> float:
     times g)."""
     try:
         return to_si(value, "force per length")
-    except InputError:
+    except InputError as weight:
         try:
             return to_si(value, "mass per length") * STANDARD_GRAVITY
         except InputError:
+            if not isinstance(value, str):  # a bare number in a file without units: SI
+                raise ValueError(str(weight)) from None
             raise ValueError(f"{show(value)} is neither a weight per length (e.g. '0.8 N/m') nor a mass per "
                              "length (e.g. '80 g/m')") from None
 
@@ -46,7 +48,8 @@ def _weight_range(value: float) -> float:
     return value
 
 
-Weight = Annotated[float, BeforeValidator(_weight), AfterValidator(_weight_range)]
+Weight = Annotated[float, BeforeValidator(_weight), AfterValidator(_weight_range),
+                   QuantityJson("force per length", "N/m")]
 TetherFriction = quantity("dimensionless", ge=0, le=10)
 
 

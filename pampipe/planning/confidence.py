@@ -51,6 +51,7 @@ from pampipe.planning.sources import (
 from pampipe.planning.tension import drawn_drag, section_drag
 from pampipe.runtime.executors import executor, run_all
 from pampipe.runtime.memory import check_fits
+from pampipe.runtime.progress import deferred
 
 METHOD = "monte_carlo"
 DEFAULT_SAMPLES = 4000
@@ -240,7 +241,10 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     uncertainties = problem.uncertainties
     size = chunk_classes(samples, budget)
     tasks = [(problem, classes.part(slice(start, start + size))) for start in range(0, len(classes), size)]
-    with executor(workers=workers, scheduler=scheduler) as pool:
+    # a sampling that takes more than a second says what it does; several chunks are counted as they finish
+    with executor(workers=workers, scheduler=scheduler) as pool, deferred() as later:
+        later(f"confidence {confidence:g}: {samples} draws of each of {len(classes)} kind(s) of section in "
+              f"{len(tasks)} chunk(s) ...")
         parts = run_all(sample_chunk, tasks, pool, what="confidence chunks" if len(tasks) > 1 else None)
 
     def joined(get):

@@ -11,6 +11,10 @@ from __future__ import annotations
 import math
 import operator
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -18,7 +22,7 @@ import pydantic
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from pampipe.errors import InputError
-from pampipe.units.quantities import show, to_si
+from pampipe.units.quantities import NUMBER, example, show, to_si
 
 #: Distinct quantity strings remembered per schema field (a route of 10⁶ distinct lengths is not kept).
 MAX_CONVERTED = 10_000
@@ -77,7 +81,7 @@ def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None
         rounded up by the conversion (100·π/200 = 1.5707963267948968 > π/2)."""
         return dimension == "angle" and abs(value - bound) <= math.ulp(bound)
 
-    return Annotated[float, BeforeValidator(read)]
+    return Annotated[float, BeforeValidator(read), QuantityJson(dimension, unit)]
 
 
 def given_unit(given: Any, value: float, unit: str) -> tuple[str, float, str]:
@@ -90,6 +94,43 @@ def given_unit(given: Any, value: float, unit: str) -> tuple[str, float, str]:
         if found and found.group(2) and number != 0 and math.isfinite(value) and value != 0:
             return f"{found.group(1)} {found.group(2)}", value / number, f" {found.group(2)}"
     return f"{value:.6g}{suffix}", 1.0, suffix
+
+
+# ------------------------------------------------------------------------------------- JSON Schema
+#: A quantity string of the JSON Schemas in yaml/: a number, then a unit (a name, %, ° or 1/...).
+UNIT_PATTERN = rf"^\s*{NUMBER}\s*(?:[^\s\d.+\-]|1\s*/).*$"
+_SI_FORM: ContextVar[bool] = ContextVar("json_schema_si_form", default=False)
+
+
+@contextmanager
+def bare_si_schema(si: bool) -> Iterator[None]:
+    """JSON Schemas built within this block read a bare number of a quantity as SI (a file that says
+    ``units: SI``); outside it a dimensioned quantity needs a unit string (or 0), as pampipe reads a file."""
+    token = _SI_FORM.set(si)
+    try:
+        yield
+    finally:
+        _SI_FORM.reset(token)
+
+
+@dataclass(frozen=True)
+class QuantityJson:
+    """The JSON Schema of a :func:`quantity` field: what a file may hold, not the SI float it becomes."""
+
+    dimension: str
+    unit: str
+
+    def __get_pydantic_json_schema__(self, core_schema, handler) -> dict:
+        text = {"type": "string", "pattern": UNIT_PATTERN}
+        like = example(self.dimension)
+        if self.dimension == "dimensionless":
+            return {"anyOf": [{"type": "number"}, text], "description": f"a plain number (or a percentage, "
+                    f"'5 %'), like {like}"}
+        bare = {"type": "number"} if _SI_FORM.get() and self.dimension != "angle" else {"const": 0}
+        kinds = [text] if self.dimension == "temperature" else [text, bare]
+        si = f" or a bare number in {self.unit}" if bare.get("type") and self.unit else ""
+        return {"anyOf": kinds, "description": f"{'an' if self.dimension[0] in 'aeiou' else 'a'} "
+                f"{self.dimension} with its unit, like '{like}'{si}"}
 
 
 def validate(path: Path | str, schema_cls: type[BaseModel], raw: Any, *,

@@ -214,3 +214,8 @@ def _significant(number: str, scale: float, digits: int | None = None) -> str:
     text = f"{value:.{digits}g}"
     return f"{float(text):.0f}" if "e" in text and 1 <= abs(value) < 1e9 else text  # 12500, not 1.25e+04
 
+
+
+def counted(count: int, noun: str) -> str:
+    """``count`` and ``noun`` in the number it takes: '1 pipe', '3 pipes', '0 tests' (nouns that add -s)."""
+    return f"{count} {noun}" if count == 1 else f"{count} {noun}s"

@@ -1,6 +1,7 @@
 """Quantities in, SI floats out: the only place where units are parsed (docs/formats.md §1).
 
-A value is a number (SI: m, Pa, N, kg, s, K; never for an angle, which must carry a unit) or a string
+A value is a number (SI: m, Pa, N, kg, s, K; never for an angle, which must carry a unit; in a file only
+when the file says ``units: SI``, see :func:`bare_numbers`) or a string
 ``"<number> <unit>"`` read by a strict grammar (a string without a unit is refused, unless the value is
 dimensionless or zero: a bare ``0`` is zero in every unit but a temperature, whose units have offsets)::
 
@@ -22,6 +23,8 @@ from __future__ import annotations
 
 import math
 import re
+from contextlib import contextmanager
+from contextvars import ContextVar
 from functools import lru_cache
 
 from pampipe.errors import InputError
@@ -40,6 +43,37 @@ _EXAMPLES = {"length": "3 in", "pressure": "689 kPa", "force": "1024.74 N", "mas
              "angle": "65.92 deg", "time": "2 s", "dimensionless": "0.3", "temperature": "293 K",
              "sonic conductance": "0.5 dm^3/(s*bar)", "area": "0.5 N/MPa", "compliance": "1e-6 1/N",
              "force per length": "0.8 N/m", "mass per length": "80 g/m", "volume flow": "300 L/min"}
+
+
+#: Units a bare number of each dimension could have meant, for the refusal of a bare number in a file.
+_MEANT = {"length": ("mm", "in", "m"), "pressure": ("kPa", "psi", "Pa"), "force": ("N", "lbf", "kN"),
+          "mass": ("kg", "lb", "g"), "time": ("s", "ms", "min"), "temperature": ("K", "degC"),
+          "sonic conductance": ("dm^3/(s*bar)", "m^3/(s*Pa)"), "area": ("mm^2", "m^2"),
+          "compliance": ("1/N", "1/kN"), "force per length": ("N/m", "lbf/ft"),
+          "mass per length": ("kg/m", "g/m", "lb/ft"), "volume flow": ("L/min", "m^3/s")}
+#: False while a file without ``units: SI`` is read: a bare non-zero number of a dimension is refused.
+_BARE_SI: ContextVar[bool] = ContextVar("bare_numbers_are_si", default=True)
+
+
+@contextmanager
+def bare_numbers(si: bool):
+    """Within this block a bare number for a dimensioned quantity is SI (``si``) or refused (a file
+    without ``units: SI``, docs/formats.md §1). Outside any block (the Python API's arguments) it is SI."""
+    token = _BARE_SI.set(si)
+    try:
+        yield
+    finally:
+        _BARE_SI.reset(token)
+
+
+def _bare_refused(value: object, number: float, dimension: str, prefix: str) -> None:
+    """Refuse the bare ``number`` of ``dimension`` when the file read does not say ``units: SI``."""
+    if (number == 0 and dimension != "temperature") or _BARE_SI.get() or dimension not in _MEANT \
+            or not math.isfinite(number):  # NaN and infinity are refused as such
+        return
+    shown = [f"{number:g} {unit}" for unit in _MEANT[dimension]]
+    raise InputError(f"{prefix}{show(value)} has no unit; write {', '.join(shown[:-1])} or {shown[-1]}"
+                     f" (or put 'units: SI' at the top of the file to read bare numbers as SI).")
 
 
 class _Refused(ValueError):
@@ -76,6 +110,7 @@ def to_si(value: object, dimension: str, *, where: str | None = None) -> float:
         if dimension == "angle" and number != 0:
             raise InputError(f"{prefix}{show(value)} has no unit; an angle must carry one, "
                              f"e.g. '{number:g} deg' or '{number:g} rad'.")
+        _bare_refused(value, number, dimension, prefix)
     else:
         raise InputError(f"{prefix}expected a {dimension} as a number or a string like "
                          f"'{example(dimension)}', got {_kind(value)}.")

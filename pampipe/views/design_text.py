@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from collections import defaultdict
 
+from pampipe.units.display import counted
 from pampipe.views.tables import table
 
 MAX_PIPE_ROWS = 40  # pipes listed one by one; longer inventories are summarised per bore
@@ -18,7 +19,8 @@ def pam_comments(inventory, size, result) -> list[str]:
             f"{inventory.space.objective.value}).",
             f"Bladder material and moduli from '{inventory.material.name}'"
             + (f" ({inventory.material_file})." if inventory.material_file else "."),
-            f"Serves {int(size.assigned.sum())} pipes, bores {', '.join(f'{b:g}' for b in bores)} mm; "
+            f"Serves {counted(int(size.assigned.sum()), 'pipe')}, bores "
+            f"{', '.join(f'{b:g}' for b in bores)} mm; "
             f"largest required pressure {size.table.largest[size.assigned].max() / 1e3:.4g} kPa at supply "
             f"{inventory.supply_pressure / 1e3:.4g} kPa, safety factor {inventory.safety_factor:g}."]
 
@@ -28,7 +30,7 @@ def report(result, *, all_pipes: bool = False) -> str:
     inv = result.inventory
     cov = result.coverage
     unit = inv.space.objective.unit
-    head = (f"design for {inv.source}: material '{inv.material.name}', {len(inv.pipes)} pipes "
+    head = (f"design for {inv.source}: material '{inv.material.name}', {counted(len(inv.pipes), 'pipe')} "
             f"({cov['length_total_m']:.6g} m), supply {inv.supply_pressure / 1e3:.4g} kPa, safety factor "
             f"{inv.safety_factor:g}, load path {inv.load_path}, objective {inv.space.objective.value}")
     parts = [head]

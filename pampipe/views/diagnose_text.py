@@ -7,7 +7,7 @@ from __future__ import annotations
 from pampipe.diagnosis import structure
 from pampipe.diagnosis.candidates import GEOMETRY, candidate, describe
 from pampipe.model.effects import LIBRARY
-from pampipe.units.display import scaled
+from pampipe.units.display import counted, scaled
 from pampipe.views.tables import table
 
 
@@ -57,7 +57,8 @@ def report(result) -> str:
     checks_before = result.baseline_model.assessment.tests
     checks_after = result.chosen_model.assessment.tests
     cells = result.cells
-    parts = [f"{result.source}: {cells.rows:,} rows in {len(base.tests)} tests, reduced to {cells.size:,} "
+    parts = [f"{result.source}: {cells.rows:,} rows in {counted(len(base.tests), 'test')}, reduced to "
+             f"{cells.size:,} "
              f"cells; baseline = shared moduli ({result.baseline_source}), sum of test RMSE "
              f"{base.sum_rmse:.4g} N"]
     rows = []

@@ -14,7 +14,9 @@ def listing_text(catalogue: dict[str, list[str]]) -> str:
     return text + "\ncopy one with: pampipe example NAME DIR"
 
 
-def copied_text(kind: str, written: list[Path]) -> str:
-    """The files copied (the problem first) and the command that runs it."""
-    hint = f"pampipe {COMMANDS[kind]} {written[0]}" + (" --pipe-diameter '3 in'" if kind == "pams" else "")
-    return "\n".join(f"wrote {p}" for p in written) + f"\ntry: {hint}"
+def copied_text(kind: str, files: list[Path], unchanged: list[Path] = ()) -> str:
+    """The files copied (the problem first; those already there with the same bytes said so) and the
+    command that runs it."""
+    hint = f"pampipe {COMMANDS[kind]} {files[0]}" + (" --pipe-diameter '3 in'" if kind == "pams" else "")
+    lines = [f"{'unchanged (already there)' if p in unchanged else 'wrote'} {p}" for p in files]
+    return "\n".join(lines) + f"\ntry: {hint}"

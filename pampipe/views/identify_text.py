@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 from pampipe.model.uncertainty import SCALED_UNITS
-from pampipe.units.display import column, scaled
+from pampipe.units.display import column, counted, scaled
 from pampipe.views.slip_text import slip_report
 from pampipe.views.tables import table
 
@@ -47,7 +47,7 @@ def report(result, source: str) -> str:
     o, s, u = result.options, result.solver, result.uncertainty
     cache = {"disk": " (loaded from the on-disk cache)", "built": ""}.get(s.origin, "")
     parts = [f"{source}: {o.mode} moduli, {o.objective.replace('_', ' ')} objective, degree {o.degree}, "
-             f"{result.points:,} rows in {len(result.tests)} tests"
+             f"{result.points:,} rows in {counted(len(result.tests), 'test')}"
              + (" (legs averaged)" if o.average_legs else ""),
              f"IPOPT {s.status} after {s.iterations} iterations: solve {s.wall_time:.3g} s, NLP "
              + (f"build {s.build_time:.3g} s{cache}" if s.build_time else "reused")

@@ -12,11 +12,13 @@ import math
 import numpy as np
 
 from pampipe.planning.quantiles import level_text, probability_places
+from pampipe.units.display import counted
 from pampipe.units.quantities import to_si
 from pampipe.views.tables import FULL_TABLE, table
 from pampipe.views.tether_text import tether_text
 
 SHOWN = 20  # sections listed in a summary, by largest pressure (and as many infeasible ones)
+LISTED_REDUCERS = 6  # reducers worded one by one; a longer route's are summarised by change of bore
 INCH = 0.0254
 
 
@@ -136,10 +138,11 @@ def _network_line(plan) -> str:
     origin = route.origin
     net = origin.network
     if origin.whole:
-        return (f"route: every pipe of network {net.name} ({net.source}): {len(route)} pipes, "
+        return (f"route: every pipe of network {net.name} ({net.source}): {counted(len(route), 'pipe')}, "
                 f"{route.length.sum() / 1e3:.4g} km; inclines are |asin(dz/length)| (direction unknown).")
     return (f"route: network {net.name} ({net.source}) from {origin.from_node} to {origin.to_node}: "
-            f"{len(route)} pipes, {route.length.sum():.6g} m, the shortest path through the pipes the robot "
+            f"{counted(len(route), 'pipe')}, {route.length.sum():.6g} m, the shortest path through the pipes "
+            "the robot "
             f"passes ({origin.excluded} of {len(net.pipe_ids)} pipes excluded by their bore); every joint "
             "that turns is an elbow of the mission's elbow_radius (bends below).")
 
@@ -279,8 +282,10 @@ def _limited(reasons: list[str]) -> list[str]:
 
 def _reducers_text(reducers) -> str:
     """'after NAME D1 -> D2 mm: passes (...)' per reducer; each change of bore is worded once (a long route
-    repeats a few)."""
+    repeats a few). More than :data:`LISTED_REDUCERS` reducers are summarised: one line per change of bore,
+    naming the first sections after which it comes and counting the rest (--json lists every reducer)."""
     worded: dict[tuple[float, float, bool], str] = {}
+    after: dict[tuple[float, float, bool], list[str]] = {}
     parts = []
     for r in reducers:
         key = (r.before, r.after, r.passable)
@@ -289,8 +294,16 @@ def _reducers_text(reducers) -> str:
             verdict = "passes" if r.passable else "does NOT pass"
             change = worded[key] = (f" {r.before * 1e3:.4g} -> {r.after * 1e3:.4g} mm: {verdict} (a rigid "
                                     "segment passes if it fits the smaller bore)")
+        after.setdefault(key, []).append(repr(r.after_section))
         parts.append(f"after {r.after_section!r}{change}")
-    return "; ".join(parts)
+    if len(parts) <= LISTED_REDUCERS:
+        return "; ".join(parts)
+    lines = [f"{len(parts)} changes of bore, {counted(len(worded), 'kind')} (--json lists every reducer):"]
+    for key, names in after.items():
+        more = f" and {len(names) - LISTED_REDUCERS} more" if len(names) > LISTED_REDUCERS else ""
+        lines.append(f"{worded[key].strip()}, {counted(len(names), 'time')}: after "
+                     f"{', '.join(names[:LISTED_REDUCERS])}{more}")
+    return "\n  ".join(lines)
 
 
 def infeasible_reason(plan, shown: int = SHOWN) -> str:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from pampipe.specs.turns import turn_name
+from pampipe.units.display import counted
 from pampipe.views.tables import table
 
 
@@ -19,7 +20,8 @@ def route_text(found) -> str:
                 sections.name, sections.from_node, sections.to_node, sections.length, sections.diameter,
                 sections.incline, sections.bend, sections.clipped, strict=True))]
     parts = [f"route through {net.name} ({net.source}) from {found.from_node} to {found.to_node}: "
-             f"{len(sections)} pipes, {sections.length.sum():.6g} m, friction {sections.friction[0]:g}",
+             f"{counted(len(sections), 'pipe')}, {sections.length.sum():.6g} m, "
+             f"friction {sections.friction[0]:g}",
              table(["pipe", "from", "to", "length [m]", "bore [mm]", "bore [in]", "incline [deg]",
                     "bend [deg]", "elbow after [deg]"], rows),
              "incline: along travel, from the node elevations; bend: plan-view deflection at the joint "

@@ -27,7 +27,7 @@ def test_demo_prints_the_table_and_json_matches_interfaces(tmp_path):
     assert table.returncode == 0, table.stderr
     for word in ("riser", "run", "PAM1", "PAM3", "P_anchor [kPa]", "capacity [N]", "margin", "feasible"):
         assert word in table.stdout
-    out = run_cli("plan", DEMO, "--json", "-o", tmp_path / "plan.json", "--max-payload")
+    out = run_cli("plan", DEMO, "--json", "--max-payload")
     assert out.returncode == 0, out.stderr
     doc = json.loads(out.stdout)  # exactly one JSON document on stdout
     assert doc["feasible"] is True
@@ -42,6 +42,9 @@ def test_demo_prints_the_table_and_json_matches_interfaces(tmp_path):
             # F_r = A(F_ax − κW) cancels ~3 digits near anchoring, so allow 1e-9, not round-off
             assert seg["holding_capacity_N"] == pytest.approx(0.3 * 3.141592653589793 * seg["radial_force_N"],
                                                               rel=1e-9)
+    to_file = run_cli("plan", DEMO, "--json", "-o", tmp_path / "plan.json", "--max-payload")
+    assert to_file.returncode == 0, to_file.stderr
+    assert "P_anchor [kPa]" in to_file.stdout  # with -o the document goes to the file, the report to stdout
     written = json.loads((tmp_path / "plan.json").read_text())
     written["solver"].pop("wall_time_s"), doc["solver"].pop("wall_time_s")
     assert written == doc
@@ -188,8 +191,9 @@ def test_a_large_mission_writes_the_same_json_on_one_line(cli, tmp_path, monkeyp
 
     indented = cli("plan", DEMO, "--json", "--reproducible")
     monkeypatch.setattr(plan_command, "COMPACT_SECTIONS", 1)
-    compact = cli("plan", DEMO, "--json", "--reproducible", "-o", tmp_path / "plan.json")
-    assert indented.returncode == compact.returncode == 0
+    compact = cli("plan", DEMO, "--json", "--reproducible")
+    to_file = cli("plan", DEMO, "--reproducible", "-o", tmp_path / "plan.json")
+    assert indented.returncode == compact.returncode == to_file.returncode == 0
     assert indented.stdout.count("\n") > 50 and compact.stdout.count("\n") == 1
     assert json.loads(compact.stdout) == json.loads(indented.stdout)
     assert (tmp_path / "plan.json").read_text() == compact.stdout

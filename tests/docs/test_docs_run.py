@@ -7,6 +7,7 @@ command printed, and quotes its numbers, is the convention in tests/support/doc_
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -22,6 +23,18 @@ def test_the_docs_have_commands_to_run():
     assert {s.doc for s in steps} == set(DOCS)
     assert all(not s.text.lstrip().startswith("make ") for s in steps)
     assert any(s.text.startswith("pampipe plan") for s in steps)
+
+
+def test_no_doc_command_and_no_test_uses_a_fixed_folder():
+    """Two runs on one machine share a fixed folder such as /tmp/pampipe-demo: commands write into the scratch
+    folder, tests into their tmp_path (issue 42, item 9)."""
+    fixed = re.compile(r"(?<![\w.~$}])/tmp/")
+    assert not [s.where() for s in commands() if fixed.search(s.text)]
+    tests = Path(__file__).resolve().parents[1]
+    found = [f"{path.relative_to(tests)}:{n}" for path in sorted(tests.rglob("*.py"))
+             for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+             if fixed.search(line) and path.name not in ("test_docs_run.py", "doc_commands.py")]
+    assert not found, found
 
 
 def test_parser_reads_continuations_expectations_and_skips(tmp_path):
