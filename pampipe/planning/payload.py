@@ -56,7 +56,8 @@ class PayloadLimit:
     def as_document(self) -> dict:
         return {"max_payload_kg": self.payload, "limiting_section": self.section,
                 "limiting_segment": self.segment, "supply_pressure_Pa": self.supply_pressure,
-                "sections": [{"name": s.name, "max_payload_kg": s.payload, "limiting_segment": s.segment}
+                "sections": [{"name": s.name, "limiting_segment": s.segment,
+                              "max_payload_kg": s.payload if np.isfinite(s.payload) else None}
                              for s in self.sections]}
 
 

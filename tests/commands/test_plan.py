@@ -224,3 +224,17 @@ def test_a_streamed_document_is_the_built_one_byte_for_byte(cli, tmp_path, monke
     written = cli("plan", MISSIONS / mission, *options, "--reproducible", "-o", tmp_path / "plan.json")
     assert out.returncode == written.returncode
     assert (tmp_path / "plan.json").read_text() == built
+
+
+def test_max_payload_of_impassable_sections_is_null_in_json():
+    """An impassable pipe has no largest payload (−inf inside): the JSON says null there, and the route's
+    largest payload is null with the first impassable section named; a passable section keeps its number
+    (the affine law of physics.md: m₀ + (W_max − W(m₀))/(g(|sin φ| + μ cos φ)) is finite there)."""
+    out = run_cli("plan", MISSIONS / "infeasible-survey.yaml", "--json", "--max-payload")
+    assert out.returncode == 3, out.stderr
+    limit = json.loads(out.stdout)["max_payload"]
+    payloads = {s["name"]: s["max_payload_kg"] for s in limit["sections"]}
+    assert limit["max_payload_kg"] is None and payloads[limit["limiting_section"]] is None
+    assert payloads["reducer"] is None and payloads["header"] is None  # too narrow; too wide for the braid
+    assert payloads["ok-run"] > payloads["heavy-riser"] > 0
+    assert "came out as" not in out.stderr
