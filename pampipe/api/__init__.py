@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 from pampipe.api import arguments as arg
 from pampipe.api.arguments import Source
 from pampipe.api.files import CommandResult, example, route, synth
-from pampipe.locomotion.report import GaitReport
+from pampipe.api.gait_report import GaitReport
 from pampipe.units.quantities import show
 
 if TYPE_CHECKING:  # the return types, for annotations only: importing them here would slow every command
@@ -38,6 +38,7 @@ if TYPE_CHECKING:  # the return types, for annotations only: importing them here
     from pampipe.identification.grip import GripResult
     from pampipe.identification.result import IdentifyResult
     from pampipe.model.pam import Pam
+    from pampipe.nexttest.result import NextTest
     from pampipe.planning.result import MissionPlan
     from pampipe.rehearsal.result import Rehearsal
     from pampipe.simulation.anchored import ExtensionResult, SimulateResult
@@ -241,7 +242,7 @@ def rehearse(mission: Source, *, optimal: bool = False, confidence: float | None
 def next_test(pam: Source, mission: Source, *, menu: Source, confidence: float = 0.95,
               objective: str = "pressure", pairs: bool = False, samples: int | None = None,
               seed: int | None = None, check: int = 0, truths: int | None = None,
-              workers: int | None = None, scheduler: str | None = None, base=None):
+              workers: int | None = None, scheduler: str | None = None, base=None) -> NextTest:
     """The test of ``menu`` (a MENU file or dict) that lowers ``mission``'s planned pressure at
     ``confidence`` most per unit cost, for the muscle of the PAM file ``pam`` (`pampipe next-test`): every
     test ranked by the linearised criterion (and, with ``pairs``, every pair), the D-optimal pick beside it,

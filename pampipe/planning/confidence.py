@@ -162,7 +162,10 @@ class Confidence:
 
 
 def _finite(value) -> float | None:
-    """A pressure [Pa] for a document: None where it is infinite (no pressure holds in that share)."""
+    """A pressure [Pa] for a document: None where it is infinite (no pressure holds in that share) or
+    already None (nothing feasible to add to)."""
+    if value is None:
+        return None
     value = float(value)
     return value if math.isfinite(value) else None
 

@@ -44,7 +44,7 @@ def test_help_version_and_a_misspelt_command_import_no_library():
 
 
 def test_every_commands_help_and_argument_errors_import_no_heavy_library():
-    argvs = [[name, *rest] for name in cli.COMMANDS
+    argvs = [[name.replace("_", "-"), *rest] for name in cli.COMMANDS  # next_test: `pampipe next-test`
              for rest in (["--help"], ["missing.yaml", "--no-such-option"])]
     found = _loaded_after(argvs)
     assert [status for status, _ in found] == [0, 2] * len(cli.COMMANDS)
@@ -75,4 +75,5 @@ def test_the_top_level_help_is_that_of_the_full_parser(monkeypatch):
 @pytest.mark.parametrize("name", cli.COMMANDS)
 def test_each_commands_help_is_that_of_the_full_parser(monkeypatch, name):
     monkeypatch.setenv("COLUMNS", "100")
-    assert _printed([name, "--help"]) == cli.build_parser().commands[name].format_help()
+    command = name.replace("_", "-")  # the module next_test is the command next-test
+    assert _printed([command, "--help"]) == cli.build_parser().commands[name].format_help()

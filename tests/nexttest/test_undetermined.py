@@ -2,34 +2,16 @@
 
 from __future__ import annotations
 
-import dataclasses
-
-import numpy as np
-
 from pampipe.io.mission_schema import load_mission
-from pampipe.io.pamfile import write_pam
-from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
 from pampipe.nexttest.ranking import Planner, rank_menu
 from pampipe.specs.menu import MenuTest
-from tests.support.problems import PROBLEMS
+from tests.support.open_direction import open_direction_files
 
 LEVELS = tuple(69e3 * k for k in range(1, 11))
 
 
-def _files(tmp_path, radial_pam):
-    vector = np.zeros(16)
-    vector[8] = 1.0  # hoop.a0
-    u = ParameterUncertainty(moduli_names(3), np.diag(np.r_[np.full(8, 0.05e6), np.zeros(8)] ** 2), 0.0,
-                             (UndeterminedDirection(vector, 2.0, {}, "a radial test"),))
-    pam = dataclasses.replace(radial_pam, name="axial-only").with_uncertainty(u)
-    write_pam(tmp_path / "axial-only.yaml", pam)
-    text = (PROBLEMS / "missions" / "vertical-climb-3in.yaml").read_text()
-    (tmp_path / "mission.yaml").write_text(text.replace("../pams/paper-radial-pam.yaml", "axial-only.yaml"))
-    return pam, tmp_path / "axial-only.yaml", tmp_path / "mission.yaml"
-
-
 def test_a_radial_test_closes_the_direction_and_exit_3_goes(tmp_path, radial_pam):
-    pam, pam_file, mission_file = _files(tmp_path, radial_pam)
+    pam, pam_file, mission_file = open_direction_files(tmp_path, radial_pam)
     planner = Planner(load_mission(mission_file), pam, pam_file, 0.95, samples=2000)
     below = MenuTest("radial", 3600, (10e3,), pipe_diameter=0.0889, axial_load=0.0, entry=1)  # no contact
     ranking = rank_menu(planner, (MenuTest("radial", 3600, LEVELS, pipe_diameter=0.0889, axial_load=0.0),

@@ -81,6 +81,6 @@ def plot_gait(result, folder: Path) -> list[Path]:
 
 
 def plot_report(report, folder: Path) -> list[Path]:
-    """:func:`plot_gait` of each schedule of a :class:`~pampipe.locomotion.report.GaitReport`, the optimal
+    """:func:`plot_gait` of each schedule of a :class:`~pampipe.api.gait_report.GaitReport`, the optimal
     one first."""
     return [path for result in reversed(report.results) for path in plot_gait(result, folder)]
