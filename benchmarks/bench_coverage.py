@@ -94,14 +94,14 @@ def least(pam: Pam, bore: float, load: float, mission) -> float:
         bore, load, kappa=mission.kappa, friction=FRICTION, safety_factor=mission.safety_factor))
 
 
-def plans(mission, pam: Pam, samples: int, seed: int) -> dict:
+def plans(mission, pam: Pam, samples: int, seed: int, levels=LEVELS) -> dict:
     """{unit: {C: (pressures (segments,), stopped (segments,) bool)}} and the nominal pressures."""
     out, nominal = {}, None
     for unit in UNITS:
         segments = tuple(dataclasses.replace(s, pam=pam, pam_file=None, unit=unit) for s in mission.segments)
         m = dataclasses.replace(mission, segments=segments)
         out[unit] = {}
-        for c in LEVELS:
+        for c in levels:
             plan = plan_mission(m, confidence=c, samples=samples, seed=seed)
             stopped = plan.uncertainty.stopped[0].copy()
             out[unit][c] = (plan.arrays.pressure[0].copy(), stopped)
@@ -109,7 +109,8 @@ def plans(mission, pam: Pam, samples: int, seed: int) -> dict:
     return {"plans": out, "nominal": nominal}
 
 
-def trial(mission, size: float, level: float, k: int, seed: int, samples: int, data_sets=DATA_SETS) -> dict:
+def trial(mission, size: float, level: float, k: int, seed: int, samples: int, data_sets=DATA_SETS,
+          levels=LEVELS) -> dict:
     """One tested muscle, its siblings, and the plans of each data set's fit (see the module docstring)."""
     stated = stated_muscle(size, level)
     rng = np.random.default_rng([seed, int(size * 1000), int(level * 1000), k])
@@ -135,7 +136,7 @@ def trial(mission, size: float, level: float, k: int, seed: int, samples: int, d
         except SolverError as exc:  # no PAM, no plan: counted, not hidden
             out["data"][name] = {"failed": str(exc)}
             continue
-        out["data"][name] = plans(mission, pam, samples, seed=k)
+        out["data"][name] = plans(mission, pam, samples, seed=k, levels=levels)
     return out
 
 
@@ -186,13 +187,13 @@ def summary(rows: list[dict]) -> list[tuple]:
 
 
 def run(trials: int, seed: int, samples: int = 4000, progress=None, data_sets=DATA_SETS, size: float = 1.0,
-        level: float = 1.0) -> list[dict]:
-    """``trials`` trials of one muscle size and tolerance level."""
+        level: float = 1.0, levels=LEVELS) -> list[dict]:
+    """``trials`` trials of one muscle size and tolerance level, planned at each C of ``levels``."""
     mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
     mission = dataclasses.replace(mission, route=mission.route[:1])
     rows = []
     for k in range(trials):
-        rows.append(trial(mission, size, level, k, seed, samples, data_sets))
+        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels))
         if progress:
             progress(k, rows[-1])
     return rows
