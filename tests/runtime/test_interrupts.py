@@ -56,7 +56,7 @@ IPOPT_VISIBLE = ("import sys, pampipe.runtime.ipopt as nlp; nlp.IPOPT_DEFAULTS['
 def test_interrupt_inside_ipopt_exits_130(signum):
     """diagnose spends these moments in IPOPT refits; CasADi swallows the KeyboardInterrupt there and
     IPOPT stops with a failure status (before issue 14: exit 3 "did not converge", or ignored). The
-    signal goes when IPOPT prints the first iteration header of the first refit (after "refit:"),
+    signal goes when IPOPT prints the first iteration header of the first refit (after "refit 1 of"),
     i.e. while IPOPT iterates, however busy the machine is."""
     process = subprocess.Popen([sys.executable, "-u", "-c", IPOPT_VISIBLE, "diagnose",
                                 str(PROBLEMS / "experiments" / "hidden-contact-stiffening.yaml")],
@@ -66,7 +66,7 @@ def test_interrupt_inside_ipopt_exits_130(signum):
     while not (refitting and seen[-1].startswith("iter ")):  # IPOPT iterates in a refit
         seen.append(process.stdout.readline())
         assert seen[-1], seen[-20:]  # the run ended before any refit iterated
-        refitting = refitting or "diagnose: refit:" in seen[-1]
+        refitting = refitting or "diagnose: refit " in seen[-1]  # "refit 1 of 9 of this step: …"
     process.send_signal(signum)
     rest, _ = process.communicate(timeout=600)  # a guard against a hang, not a measurement
     assert process.returncode == 128 + signum, rest[-2000:]
