@@ -108,8 +108,8 @@ def _stop(pool: ProcessPoolExecutor) -> None:
     for process in processes:
         if process.is_alive():
             process.kill()
-    for process in processes:
-        process.join(timeout=1.0)
+    for process in processes:  # SIGKILL ends it; the join reaps it (1 s was too short on a busy machine)
+        process.join(timeout=60.0)
     pool.shutdown(wait=True)
 
 
