@@ -131,15 +131,10 @@ class Confidence:
             rows.append({"source": name, "what": SOURCE_WORDS[name], "pressure_shift_Pa": worst})
         return sorted(rows, key=lambda r: -(r["pressure_shift_Pa"] or 0.0))
 
-    def as_document_rows(self) -> list[dict]:
-        """:meth:`dominant` for the document: a source alone whose C-quantile no pressure reaches (it
-        holds in fewer than a share C of the draws at any pressure) adds ``null``."""
-        return [{**r, "pressure_shift_Pa": _finite(r["pressure_shift_Pa"])} for r in self.dominant()]
-
     def as_document(self) -> dict:
+        sources = self.dominant()
         return {"level": self.level, "method": METHOD, "samples": self.samples, "seed": self.seed,
-                "dominant": [r["source"] for r in self.dominant()], "sources": self.as_document_rows(),
-                "prior": self.prior}
+                "dominant": [r["source"] for r in sources], "sources": sources, "prior": self.prior}
 
     def element_document(self, s: int, i: int) -> dict:
         """The keys one segment of one section gains (docs/commands.md §4.5): ``unit``, the muscle its
@@ -162,10 +157,7 @@ class Confidence:
 
 
 def _finite(value) -> float | None:
-    """A pressure [Pa] for a document: None where it is infinite (no pressure holds in that share) or
-    already None (nothing feasible to add to)."""
-    if value is None:
-        return None
+    """A pressure [Pa] for a document: None where it is infinite (no pressure holds in that share)."""
     value = float(value)
     return value if math.isfinite(value) else None
 
