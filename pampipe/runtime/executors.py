@@ -102,12 +102,19 @@ def _stop_resource_tracker() -> None:
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:
-    """Cancel the queued tasks and kill the workers, then let the pool's threads end (no orphan, no hang)."""
+    """Cancel the queued tasks and kill the workers, then let the pool's threads end (no orphan, no hang).
+
+    ``shutdown(wait=False)`` forgets the pool's manager thread, which goes on to reap the killed workers
+    itself; it is joined here, or a worker it reaped is still listed as a live child when the block ends
+    (seen in CI: the two threads' waitpid race, and the loser's join returns without marking it ended)."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    manager = getattr(pool, "_executor_manager_thread", None)  # private, CPython >= 3.9
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
             process.kill()
+    if manager is not None:
+        manager.join(timeout=60.0)
     for process in processes:  # SIGKILL ends it; the join reaps it (1 s was too short on a busy machine)
         process.join(timeout=60.0)
     pool.shutdown(wait=True)
