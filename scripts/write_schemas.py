@@ -24,6 +24,7 @@ from pampipe.identification.fit_schema import FitBlock  # noqa: E402
 from pampipe.io.experiment_schema import ExperimentSchema  # noqa: E402
 from pampipe.io.file_units import KEY, SI  # noqa: E402
 from pampipe.io.inventory_file import InventorySchema  # noqa: E402
+from pampipe.io.menu_file import MenuSchema  # noqa: E402
 from pampipe.io.mission_schema import MissionSchema  # noqa: E402
 from pampipe.io.pam_schema import PamSchema  # noqa: E402
 from pampipe.pneumatics.options import GaitSchema  # noqa: E402
@@ -37,6 +38,7 @@ FILES = {
     "experiment": (ExperimentSchema, "an experiment file (docs/formats.md §3)",
                    {"fit": FitBlock.model_fields["fit"].annotation}),
     "inventory": (InventorySchema, "an inventory file (docs/commands.md §8)", {}),
+    "menu": (MenuSchema, "a MENU file of next-test (docs/commands.md §14)", {}),
 }
 
 

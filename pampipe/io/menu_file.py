@@ -20,12 +20,12 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field
 
 from pampipe.errors import InputError
-from pampipe.io.yamlfile import load_mapping
+from pampipe.io.file_units import KEY, read_units
 from pampipe.specs.menu import DEFAULT_LEVELS, KINDS, Menu, MenuTest, pressure_levels
 from pampipe.specs.schema import Strict, quantity, validate
 from pampipe.units.quantities import show, to_si
@@ -35,11 +35,14 @@ Cost = quantity("time", ge=0, le=1e9, unit="s")
 Diameter = quantity("length", gt=0, le=10.0, unit="m")
 Load = quantity("force", ge=0, le=1e7, unit="N")
 RANGE = re.compile(r"^\s*(.+?)\s*\.\.\s*(.+?)\s+in\s+(.+?)\s+steps?\s*$")
+#: ``LOW .. HIGH in STEP steps``, each a pressure with its unit (the schema's pattern; :func:`levels` reads it
+#: and names the entry when it does not match).
+Levels = Annotated[str, Field(json_schema_extra={"pattern": RANGE.pattern})]
 
 
 class _Test(Strict):
     cost: Cost
-    pressures: list[Pressure] | str | None = None
+    pressures: list[Pressure] | Levels | None = None
 
 
 class RadialSchema(_Test):
@@ -67,6 +70,15 @@ class AxialSchema(_Test):
 SCHEMAS = {"radial": RadialSchema, "slip": SlipSchema, "isometric": IsometricSchema, "axial": AxialSchema}
 
 
+class MenuSchema(Strict):
+    """The whole MENU file, as its JSON Schema (yaml/menu.schema.json, scripts/write_schemas.py) shows it to
+    an editor; :func:`load_menu` checks the same models entry by entry, to name ``tests[i]``."""
+
+    tests: list[Annotated[RadialSchema | SlipSchema | IsometricSchema | AxialSchema,
+                          Field(discriminator="kind")]] = Field(min_length=1)
+    pressures: list[Pressure] | Levels | None = None
+
+
 def levels(value, where: str, default: tuple[float, ...]) -> tuple[float, ...]:
     """The pressure levels [Pa] of a ``pressures:`` value: a list, ``LOW .. HIGH in STEP steps`` or None
     (``default``)."""
@@ -91,22 +103,24 @@ def levels(value, where: str, default: tuple[float, ...]) -> tuple[float, ...]:
 
 def load_menu(path: str | Path, pam, *, pam_where: str = "PAM file", raw: dict | None = None) -> Menu:
     """Read and validate a MENU file against the ``pam`` (a :class:`~pampipe.model.pam.Pam` with moduli and
-    an ``uncertainty:`` block) whose next test it lists; ``raw``: the file's content as a mapping instead."""
+    an ``uncertainty:`` block) whose next test it lists; ``raw``: the file's content as a mapping instead (its
+    bare numbers SI, as a file that says ``units: SI``)."""
     path = Path(path)
     if getattr(pam, "uncertainty", None) is None:
         raise InputError(f"{pam_where}: the PAM '{pam.name}' has no 'uncertainty:' block: next-test needs "
                          "what its fit leaves uncertain (the joint covariance, model error and undetermined "
                          "directions that `pampipe identify -o` writes). Give the PAM file identify wrote.")
-    raw = load_mapping(path, what="menu file") if raw is None else raw
-    unknown = sorted(set(raw) - {"tests", "pressures"})
-    if unknown:
-        raise InputError(f"{path}: unknown key(s) {', '.join(unknown)}; allowed: tests, pressures.")
-    tests = raw.get("tests")
-    if not isinstance(tests, list) or not tests:
-        raise InputError(f"{path}: tests: give a list of at least one test, e.g. "
-                         "'- {kind: radial, pipe_diameter: 3 in, cost: 1 h}'.")
-    default = levels(raw.get("pressures"), f"{path}: pressures", pressure_levels(*DEFAULT_LEVELS))
-    return Menu(path, tuple(_test(path, i, entry, default, pam) for i, entry in enumerate(tests)))
+    with read_units(path, raw, what="menu file") as raw:
+        unknown = sorted(set(raw) - {"tests", "pressures"})
+        if unknown:
+            raise InputError(f"{path}: unknown key(s) {', '.join(unknown)}; allowed: tests, pressures, "
+                             f"{KEY}.")
+        tests = raw.get("tests")
+        if not isinstance(tests, list) or not tests:
+            raise InputError(f"{path}: tests: give a list of at least one test, e.g. "
+                             "'- {kind: radial, pipe_diameter: 3 in, cost: 1 h}'.")
+        default = levels(raw.get("pressures"), f"{path}: pressures", pressure_levels(*DEFAULT_LEVELS))
+        return Menu(path, tuple(_test(path, i, entry, default, pam) for i, entry in enumerate(tests)))
 
 
 def _test(path: Path, i: int, entry, default, pam) -> MenuTest:

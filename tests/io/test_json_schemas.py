@@ -16,7 +16,8 @@ from pampipe.io.mission_schema import load_mission
 from pampipe.io.yamlfile import load_mapping, loads
 from tests.support.problems import PROBLEMS, ROOT
 
-KINDS = {"missions": "mission", "pams": "pam", "experiments": "experiment", "inventories": "inventory"}
+KINDS = {"missions": "mission", "pams": "pam", "experiments": "experiment", "inventories": "inventory",
+         "menus": "menu"}
 BUNDLED = sorted((folder, path) for folder in KINDS for path in (PROBLEMS / folder).glob("*.yaml"))
 
 
@@ -93,3 +94,47 @@ def test_schema_and_pampipe_agree_on_the_unit_of_a_value(tmp_path, value):
         pampipe_ok = False
     assert schema_ok == (value in ("2 kg", "0", "-1 kg", "2 kPa"))
     assert pampipe_ok == (value in ("2 kg", "0"))
+
+
+MENU = (PROBLEMS / "menus" / "radial-menu.yaml").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(("change", "found"), [
+    (("kind: isometric", "kind: twist"), "tests.4"),  # no test of that kind
+    (("cost: 0.5 h}", "cost: 0.5}"), "tests.4.cost: 0.5 is not valid"),  # a cost without its unit
+    (("trials: 3,", "trails: 3,"), "'trails' was unexpected"),
+    (("69 kPa .. 689 kPa in 69 kPa steps", "69 kPa to 689 kPa"), "pressures: '69 kPa to"),
+    (("pressures: 69 kPa", "presures: 69 kPa"), "'presures' was unexpected"),
+    (("cost: 2 h}", "cost: 2 h, pressures: [100 kPa, 0]}"), None),
+])
+def test_the_menu_schema_flags_a_wrong_kind_key_or_unit_as_pampipe_does(tmp_path, change, found):
+    """What the menu's schema flags, load_menu refuses too (kind, key, unit and the form of the levels)."""
+    from pampipe.io.menu_file import load_menu
+    from pampipe.io.pam_schema import load_pam
+
+    text = MENU.replace(*change)
+    assert text != MENU
+    errors = _errors("menu", loads(text))
+    path = tmp_path / "menu.yaml"
+    path.write_text(text)
+    pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam-uncertain.yaml")
+    if found is None:
+        assert errors == []
+        load_menu(path, pam)
+    else:
+        assert any(found in e for e in errors), errors
+        with pytest.raises(InputError):
+            load_menu(path, pam)
+
+
+def test_a_menu_in_si_reads_bare_numbers_as_si(tmp_path):
+    from pampipe.io.menu_file import load_menu
+    from pampipe.io.pam_schema import load_pam
+
+    text = "units: SI\ntests:\n  - {kind: radial, pipe_diameter: 0.0762, axial_load: 10, cost: 3600}\n"
+    assert _errors("menu", loads(text)) == []
+    path = tmp_path / "menu.yaml"
+    path.write_text(text)
+    test, = load_menu(path, load_pam(PROBLEMS / "pams" / "paper-radial-pam-uncertain.yaml")).tests
+    assert (test.pipe_diameter, test.axial_load, test.cost) == (0.0762, 10.0, 3600.0)
+    assert _errors("menu", loads(text.replace("units: SI\n", ""))) != []

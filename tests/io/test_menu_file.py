@@ -78,7 +78,8 @@ def test_reach_is_the_braid_limit(tmp_path):
     b = g.initial_length / math.cos(alpha)
     n = g.initial_length * math.tan(alpha) / (math.pi * g.initial_diameter)
     reach = b * math.sqrt(2 / 3) / (n * math.pi)
-    ok = _menu(tmp_path, f"tests:\n  - {{kind: radial, pipe_diameter: {reach * 0.999}, cost: 1}}\n")
+    entry = "units: SI\ntests:\n  - {{kind: radial, pipe_diameter: {}, cost: 1}}\n"
+    ok = _menu(tmp_path, entry.format(reach * 0.999))
     assert ok.tests[0].pipe_diameter < reach
     with pytest.raises(InputError, match="wider than"):
-        _menu(tmp_path, f"tests:\n  - {{kind: radial, pipe_diameter: {reach * 1.001}, cost: 1}}\n")
+        _menu(tmp_path, entry.format(reach * 1.001))
