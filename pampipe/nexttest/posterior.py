@@ -24,7 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from pampipe.identification.covariance import IDENTIFIABLE, Z95
-from pampipe.model.uncertainty import GEOMETRY_NAMES, ParameterUncertainty, UndeterminedDirection
+from pampipe.model.pam import Moduli
+from pampipe.model.uncertainty import (
+    GEOMETRY_NAMES,
+    ParameterUncertainty,
+    UndeterminedDirection,
+    moduli_names,
+)
 
 
 @dataclass(frozen=True)
@@ -118,3 +124,16 @@ def extended(pam, tested: bool) -> ParameterUncertainty:
 
     return ParameterUncertainty((*u.names, *extra), cov, u.model_error, padded(u.undetermined),
                                 padded(u.prior_determined))
+
+
+def shifted(pam, u, q):
+    """The PAM moved by ``q`` [scaled units] along the names of ``u``: its moduli and the geometry entries."""
+    step = dict(zip(u.names, np.asarray(q, dtype=float) * u.scaled_units(), strict=True))
+    names = moduli_names(pam.moduli.degree)
+    theta = pam.moduli.as_vector() + np.array([step.get(n, 0.0) for n in names])
+    moduli = Moduli.from_vector(theta, reference_pressure=pam.moduli.reference_pressure)
+    geometry = pam.geometry
+    for name in GEOMETRY_NAMES:
+        if name in step:
+            geometry = dataclasses.replace(geometry, **{name: getattr(geometry, name) + step[name]})
+    return dataclasses.replace(pam, moduli=moduli, geometry=geometry)

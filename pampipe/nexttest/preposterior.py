@@ -13,8 +13,8 @@ For each of the top tests and each of ``truths`` draws (seeded per draw, the sam
 
 The check's pressure is the mean of J over the truths and its spread their standard deviation. Each
 (test, truth) is a task of :func:`pampipe.runtime.executors.run_all` (plain numbers and the seed): serial,
-local processes and a Dask cluster give the same numbers. Slip tests are not checked (their synthesis needs
-the friction and load coupling, which the PAM does not carry).
+local processes and a Dask cluster give the same numbers. A slip test is synthesised and refitted by
+:mod:`.slip_check` (identify fits μ and κ to slip tests, not the moduli), after the candidate's other tests.
 """
 
 from __future__ import annotations
@@ -28,16 +28,15 @@ import numpy as np
 from pampipe.errors import SolverError
 from pampipe.identification import identify
 from pampipe.identification.options import parse_fit_options
-from pampipe.model.pam import Moduli
-from pampipe.model.uncertainty import moduli_names
-from pampipe.nexttest.posterior import prior_covariance
+from pampipe.nexttest.posterior import extended, prior_covariance, shifted
+from pampipe.nexttest.slip_check import grip, refit_slip, trials
 from pampipe.runtime.executors import executor, run_all
 from pampipe.simulation.synthetic import Protocol, generate
 from pampipe.specs.experiment import ExperimentData, TestSpec, make_test_data
 
 #: Truths per checked test.
 DEFAULT_TRUTHS = 8
-CHECKED_KINDS = ("radial", "axial", "isometric")
+CHECKED_KINDS = ("radial", "axial", "isometric", "slip")
 
 
 def truth(pam, u, seed: int, k: int):
@@ -46,18 +45,7 @@ def truth(pam, u, seed: int, k: int):
     rng = np.random.default_rng([seed, k])
     cov = prior_covariance(u)
     values, vectors = np.linalg.eigh(cov)
-    q = vectors @ (np.sqrt(np.clip(values, 0.0, None)) * rng.standard_normal(values.size))
-    step = dict(zip(u.names, q * u.scaled_units(), strict=True))
-    names = moduli_names(pam.moduli.degree)
-    theta = pam.moduli.as_vector() + np.array([step.get(n, 0.0) for n in names])
-    moduli = Moduli.from_vector(theta, reference_pressure=pam.moduli.reference_pressure)
-    geometry = pam.geometry
-    if "braid_angle" in step:
-        geometry = dataclasses.replace(geometry, braid_angle=geometry.braid_angle + step["braid_angle"])
-    for name in ("initial_length", "initial_diameter", "bladder_thickness"):
-        if name in step:
-            geometry = dataclasses.replace(geometry, **{name: getattr(geometry, name) + step[name]})
-    return dataclasses.replace(pam, moduli=moduli, geometry=geometry)
+    return shifted(pam, u, vectors @ (np.sqrt(np.clip(values, 0.0, None)) * rng.standard_normal(values.size)))
 
 
 def synthesise(truth_pam, test, seed: int) -> list:
@@ -108,15 +96,27 @@ def refit(pam, u, tests):
 
 def check_task(task) -> tuple[float, bool]:
     """(J [Pa] after the refit, plan still stops) of one candidate (a test, or a pair) and truth k (module
-    docstring; a picklable task)."""
+    docstring; a picklable task). Slip tests refit last, with what the other tests left as their prior
+    (:mod:`.slip_check`)."""
     planner, tests, seed, k = task
-    drawn = truth(planner.pam, planner.uncertainty, seed, k)
+    pam, u = planner.pam, planner.uncertainty
+    drawn = truth(pam, u, seed, k)
+    seeds = [(seed * 1000 + k) * 10 + j for j in range(len(tests))]
     try:  # a truth whose moduli never balance the pressure (no free length), or a refit IPOPT cannot finish
-        data = [d for j, t in enumerate(tests) for d in synthesise(drawn, t, (seed * 1000 + k) * 10 + j)]
-        fitted = refit(planner.pam, planner.uncertainty, data)
+        data = [d for s, t in zip(seeds, tests, strict=True) if t.kind != "slip"
+                for d in synthesise(drawn, t, s)]
+        if data:
+            pam = refit(pam, u, data)
+            u = extended(pam, planner.tested)
+        for s, t in zip(seeds, tests, strict=True):
+            if t.kind == "slip":
+                friction, kappa = grip(pam)
+                pressure, load = trials(drawn, t, s, friction, kappa)
+                pam = refit_slip(pam, u, t.pipe_diameter, pressure, load, friction, kappa)
+                u = extended(pam, planner.tested)
     except SolverError:
         return math.nan, True
-    return planner.refitted(fitted)
+    return planner.refitted(pam)
 
 
 def checked(tests) -> bool:
