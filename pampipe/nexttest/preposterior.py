@@ -5,7 +5,8 @@ For each of the top tests and each of ``truths`` draws (seeded per draw, the sam
 1. a truth θ_k ~ N(θ̂, Σ₀) over the PAM's ``uncertainty:`` names (Σ₀ of :mod:`.posterior`: the covariance,
    and the open width along each undetermined direction);
 2. the test's data synthesised from the truth with the protocol's noise (:mod:`pampipe.simulation.synthetic`:
-   2 N on every force row; an isometric test is an axial test at one held length);
+   2 N on every force row; an isometric test is an axial test at one held length, reading 0 N where the
+   muscle is slack there: the held length below its free length at P);
 3. a refit by ``identify`` of those data, the PAM's moduli and covariance as its Gaussian prior
    (``fit.prior``: what `next-test -o` writes);
 4. the mission planned again at C with the refit muscle (:class:`.ranking.Planner`), on the prior along the
@@ -62,7 +63,8 @@ def synthesise(truth_pam, test, seed: int) -> list:
         protocol = Protocol()
         rng = np.random.default_rng(seed)
         pressure = np.repeat(np.asarray(levels), protocol.radial_points)
-        force = np.asarray(Muscle.from_pam(truth_pam).axial_force(pressure, test.length), dtype=float)
+        force = np.maximum(np.asarray(Muscle.from_pam(truth_pam).axial_force(pressure, test.length),
+                                      dtype=float), 0.0)  # a slack muscle (held below its free length) reads 0 N
         columns = {"time": np.arange(pressure.size) * protocol.sample_time, "pressure": pressure,
                    "length": np.full(pressure.size, test.length),
                    "force": force + protocol.force_noise * rng.standard_normal(pressure.size)}
