@@ -20,7 +20,10 @@ D-optimal pick, the predicted and the realised drop of each (drop = today's plan
 after), and whether the top test's realised drop beats the D-optimal pick's. Then the timing of the
 linearised ranking of 20 candidates at 10⁴ draws.
 
-    .venv/bin/python benchmarks/bench_next_test.py [--muscles 4] [--seed 1] [--samples 10000]
+Exit-3 starts (``--open-width W``): each axial fit with hoop.a0 listed as undetermined over ±W MPa
+(:func:`opened`), so that today's plan stops; the drop is then from today's plan on that prior.
+
+    .venv/bin/python benchmarks/bench_next_test.py [--muscles 4] [--seed 1] [--samples 10000] [--open-width 2]
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ from pampipe.identification import identify  # noqa: E402
 from pampipe.identification.options import FitOptions  # noqa: E402
 from pampipe.io.mission_schema import load_mission  # noqa: E402
 from pampipe.model import no_slip as slip  # noqa: E402
+from pampipe.model.uncertainty import UndeterminedDirection  # noqa: E402
 from pampipe.nexttest.ranking import Planner, rank_menu  # noqa: E402
 from pampipe.simulation.synthetic import Protocol, generate  # noqa: E402
 from pampipe.specs.experiment import ExperimentData, make_test_data  # noqa: E402
@@ -89,7 +93,20 @@ def realised(stated, truth, axial, test, seed: int, samples: int, riser: float):
     return value, stops, math.inf if stops else planner.value(own)[0]
 
 
-def trial(k: int, seed: int, samples: int) -> dict:
+def opened(pam, width: float):
+    """The PAM with hoop.a0 (the level of the hoop law, what a radial test pins) listed as undetermined over
+    ±``width`` [MPa] and its variance along it removed: a fit that leaves the contact force open, so that
+    `plan` stops (exit 3), as tests/support/open_direction.py builds it for the paper's muscle."""
+    u = pam.uncertainty
+    vector = np.array([name == "hoop.a0" for name in u.names], dtype=float)
+    keep = np.eye(vector.size) - np.outer(vector, vector)
+    direction = UndeterminedDirection(vector, width, {}, "a radial test")
+    return pam.with_uncertainty(dataclasses.replace(u, covariance=keep @ u.covariance @ keep,
+                                                    undetermined=(*u.undetermined, direction)))
+
+
+def trial(k: int, seed: int, samples: int, open_width: float = 0.0) -> dict:
+    """One true muscle ``k`` (module docstring); ``open_width`` > 0: an exit-3 start (:func:`opened`)."""
     stated = stated_muscle(1.0, 1.0)
     rng = np.random.default_rng([seed, 1000, 1000, k])  # bench_coverage's truths
     truth = drawn_around(stated, stated.geometry_sd, rng)
@@ -97,6 +114,8 @@ def trial(k: int, seed: int, samples: int) -> dict:
     axial = [make_test_data(spec, cols) for spec, cols in generate(truth, Protocol(pipes=(), cycles=1),
                                                                     seed=seed * 1000 + k)]
     pam = fit(stated, axial)
+    if open_width > 0:
+        pam = opened(pam, open_width)
     mission = mission_for(pam, riser)
     seg = mission.segments[0]
     load = slip.anchor_load(sum(s.mass for s in mission.segments) + mission.payload, seg.mass, math.pi / 2,
@@ -134,15 +153,21 @@ def timing(samples: int) -> tuple[float, float]:
     return time.perf_counter() - started, time.process_time() - cpu
 
 
+def _mean(rows: list[dict], key: str) -> str:
+    return f"{statistics.fmean(r[key] for r in rows) / 1e3:.1f}" if rows else "nan"
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--muscles", type=int, default=4)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--samples", type=int, default=10_000)
+    parser.add_argument("--open-width", type=float, default=0.0,
+                        help="MPa: > 0 starts each muscle at exit 3, hoop.a0 open over ± this (opened())")
     args = parser.parse_args(argv)
     rows = []
     for k in range(args.muscles):
-        r = trial(k, args.seed, args.samples)
+        r = trial(k, args.seed, args.samples, args.open_width)
         rows.append(r)
         top, d = r["top"], r["d"]
         print(f"muscle {k}: P_true {r['true'] / 1e3:.1f} kPa; today {r['now'] / 1e3:.1f} kPa on the prior, "
@@ -156,15 +181,20 @@ def main(argv=None) -> int:
                   f"{x['realised_drop'] / 1e3:.1f} kPa", flush=True)
     tops = [r["top"] for r in rows]
     beats = sum(r["top"]["realised_drop"] >= r["d"]["realised_drop"] for r in rows)
-    errors = [abs(t["predicted_drop"] - t["realised_drop"]) / abs(t["realised_drop"])
-              for t in tops if t["realised_drop"] != 0 and math.isfinite(t["realised_drop"])]
+    finite = [t for t in tops if t["realised_drop"] != 0 and math.isfinite(t["realised_drop"])
+              and math.isfinite(t["predicted_drop"])]
+    errors = [abs(t["predicted_drop"] - t["realised_drop"]) / abs(t["realised_drop"]) for t in finite]
+    ratios = [t["predicted_drop"] / t["realised_drop"] for t in finite]
     print(f"\nexit 3 before: {sum(r['stops_now'] for r in rows)} of {len(rows)}; after the top test: "
           f"{sum(t['stops'] for t in tops)}; held after: {sum(t['held'] for t in tops)} of {len(rows)}; "
           f"P/P_true after: median {statistics.median(t['ratio'] for t in tops):.3f}, "
           f"max {max(t['ratio'] for t in tops):.3f}")
     print(f"top test's realised drop >= the D-optimal pick's: {beats} of {len(rows)}; "
           f"|predicted - realised| / realised drop, median: "
-          f"{statistics.median(errors) if errors else float('nan'):.3f}")
+          f"{statistics.median(errors) if errors else float('nan'):.3f}; predicted / realised drop, median "
+          f"{statistics.median(ratios) if ratios else float('nan'):.3f} "
+          f"({', '.join(f'{r:.2f}' for r in ratios)}); mean drop predicted {_mean(finite, 'predicted_drop')} "
+          f"kPa, realised {_mean(finite, 'realised_drop')} kPa")
     wall, cpu = timing(args.samples)
     print(f"ranking 20 candidates at {args.samples} draws: {wall:.1f} s wall, {cpu:.1f} s CPU")
     return 0
