@@ -63,8 +63,8 @@ def synthesise(truth_pam, test, seed: int) -> list:
         protocol = Protocol()
         rng = np.random.default_rng(seed)
         pressure = np.repeat(np.asarray(levels), protocol.radial_points)
-        force = np.maximum(np.asarray(Muscle.from_pam(truth_pam).axial_force(pressure, test.length),
-                                      dtype=float), 0.0)  # a slack muscle (held below its free length) reads 0 N
+        model = np.asarray(Muscle.from_pam(truth_pam).axial_force(pressure, test.length), dtype=float)
+        force = np.maximum(model, 0.0)  # a slack muscle (held below its free length) reads 0 N
         columns = {"time": np.arange(pressure.size) * protocol.sample_time, "pressure": pressure,
                    "length": np.full(pressure.size, test.length),
                    "force": force + protocol.force_noise * rng.standard_normal(pressure.size)}
