@@ -155,7 +155,6 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
     """
     from pampipe.errors import InputError
     from pampipe.planning import plan_mission
-    from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED
 
     confidence = arg.probability(confidence)
     solver = arg.choice(solver, "solver", ("kkt", "ipopt"), optional=False)
@@ -168,9 +167,7 @@ def plan(mission: Source, *, payload=None, confidence: float | None = None, solv
     prior = None if prior is None else load_pam(prior, name="prior")
     result = plan_mission(load_mission(mission, base=base), payload=payload,
                           confidence=confidence, method=solver, with_max_payload=max_payload,
-                          samples=DEFAULT_SAMPLES if samples is None else samples,
-                          seed=DEFAULT_SEED if seed is None else seed, prior=prior,
-                          workers=workers, scheduler=scheduler)
+                          samples=samples, seed=seed, prior=prior, workers=workers, scheduler=scheduler)
     return result.timed(time.perf_counter() - started)
 
 

@@ -167,12 +167,29 @@ class ReducerPlan(NamedTuple):
         return self.widest_segment < min(self.before, self.after)
 
     def as_document(self) -> dict:
-        small = min(self.before, self.after)
         return {"after_section": self.after_section, "from_inner_diameter_m": self.before,
                 "to_inner_diameter_m": self.after, "passable": self.passable,
-                "reason": (f"a rigid cylinder passes from one bore into the other if it fits the smaller "
-                           f"({small * 1e3:.4g} mm): the widest segment is "
-                           f"{self.widest_segment * 1e3:.4g} mm")}
+                "reason": _reducer_reason(min(self.before, self.after), self.widest_segment)}
+
+
+def _reducer_reason(small: float, widest: float) -> str:
+    """Why a rigid segment D₀ = ``widest`` [m] passes a change of bore whose smaller bore is ``small`` [m]."""
+    return (f"a rigid cylinder passes from one bore into the other if it fits the smaller "
+            f"({small * 1e3:.4g} mm): the widest segment is {widest * 1e3:.4g} mm")
+
+
+def reducer_columns(reducers) -> dict:
+    """:meth:`ReducerPlan.as_document` of each of ``reducers`` as columns (key → one value per reducer), for
+    a column-wise JSON writer; each distinct sentence is worded once."""
+    if not reducers:
+        return {}
+    names, before, after, widest = (list(column) for column in zip(*reducers, strict=True))
+    small = np.minimum(before, after)
+    pairs = list(zip(small.tolist(), widest, strict=True))
+    reasons = {pair: _reducer_reason(*pair) for pair in set(pairs)}
+    return {"after_section": names, "from_inner_diameter_m": np.array(before, dtype=float),
+            "to_inner_diameter_m": np.array(after, dtype=float), "passable": np.array(widest) < small,
+            "reason": list(map(reasons.__getitem__, pairs))}
 
 
 def _finite(value: float) -> float | None:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+from functools import partial
+from itertools import islice
 from pathlib import Path
 
 from pampipe.commands.common import (
@@ -151,9 +153,14 @@ def run(args: argparse.Namespace) -> int:
     text = plan_text(plan, unit=unit, all_sections=args.all_sections)
     indent = None if large else 2
     if document is None and wanted:
-        emit_streamed(args, lambda: plan.as_document(  # the big lists as the sections are encoded
-            sections=Streamed(plan.section_documents()),
-            reducers=Streamed(r.as_document() for r in plan.reducers)), text)
+        from pampipe.io.json_columns import streamed_records
+
+        sections = partial(streamed_records, len(plan.arrays.route), plan.section_columns,
+                           lambda start, stop: islice(plan.section_documents(), start, stop))
+        reducers = partial(streamed_records, len(plan.reducers), plan.reducer_columns,
+                           lambda start, stop: (r.as_document() for r in plan.reducers[start:stop]))
+        emit_streamed(args, lambda: plan.as_document(  # the big lists encoded column-wise, a chunk at a time
+            sections=Streamed(sections()), reducers=Streamed(reducers())), text)
     else:
         emit(args, document, text, indent=indent)
         if args.output is not None:

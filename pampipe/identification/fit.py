@@ -130,6 +130,7 @@ class Round(NamedTuple):
     solver: SolverInfo  # this round's solve
     report: Callable  # () -> (IdentifyResult, finish), computed when asked for: only the reported round is
     axial_model: dict[int, np.ndarray]  # test index -> F_ax of every row [N], before the hinge
+    fit: Fit  # the round's geometry and moduli (a refit of the model error needs no report)
 
 
 def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo,
@@ -157,7 +158,7 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
                                    setup.structure, updater_for(setup.values, data, options, setup))
         solve = Solve(solution, info, setup.values, 0.0, 0, None, None)
     fit = _solved(data, options, setup, solve)
-    return Round(fit.x, fit.solver, cache(lambda: _report(data, options, setup, solve, fit)), fit.axial)
+    return Round(fit.x, fit.solver, cache(lambda: _report(data, options, setup, solve, fit)), fit.axial, fit)
 
 
 class Solve(NamedTuple):
@@ -372,13 +373,14 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
 
 def _refit(options: FitOptions, fit: Fit, data: ExperimentData):
     """(muscle, {pipe: muscle}) of the fit to ``data`` (the experiment with a block of the protocol withheld,
-    :mod:`.model_error`): one solve of the same NLP structure (cached) from the full fit, the slack hinge
-    not repeated, a calibrated geometry held at the full fit's."""
+    :mod:`.model_error`): one solve of the same NLP structure (cached), the slack hinge not repeated, a
+    calibrated geometry held at the full fit's; only the round's geometry and moduli, not its report (the
+    Hessian, the uncertainty, each test's scores, the Drucker minimum)."""
     if options.calibrate:
         data = replace(data, pam=replace(data.pam, geometry=fit.geometry))
         options = replace(options, calibrate=())
-    result, _ = _fit(data, options, lambda _text: None, {}, None, Memo()).report()
-    return problem.muscles(result.geometry, result.moduli, result.pipe_moduli)
+    fitted = _fit(data, options, lambda _text: None, {}, None, Memo()).fit
+    return problem.muscles(fitted.geometry, fitted.moduli, fitted.pipe_moduli)
 
 
 def _check_fitted(data: ExperimentData, geometry) -> None:

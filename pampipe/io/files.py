@@ -299,14 +299,19 @@ class Streamed:
         self.items = items
 
 
+class JsonText(str):
+    """An item of a :class:`Streamed` list already encoded, as :func:`json_chunks` would encode it
+    (:mod:`pampipe.io.json_columns` writes long lists of records column-wise)."""
+
+
 #: Items of a :class:`Streamed` list encoded per chunk of :func:`json_chunks`.
 STREAM_CHUNK = 1000
 
 
 def json_chunks(document: dict, *, timings: bool = True):
     """The text of ``to_json(document, indent=None)`` in pieces, each :class:`Streamed` value of
-    ``document`` encoded :data:`STREAM_CHUNK` items at a time: the same bytes, without the whole
-    document in memory. A NaN or inf raises SolverError when its item is reached."""
+    ``document`` encoded :data:`STREAM_CHUNK` items at a time (a :class:`JsonText` item as it is): the same
+    bytes, without the whole document in memory. A NaN or inf raises SolverError when its item is reached."""
     streamed = {key: value for key, value in document.items() if isinstance(value, Streamed)}
     marks = {key: f"\0streamed {key}" for key in streamed}
     head = json.dumps(_clean({**document, **marks}, timings=timings), sort_keys=True, allow_nan=False)
@@ -316,7 +321,8 @@ def json_chunks(document: dict, *, timings: bool = True):
         batch: list[str] = []
         separator = ""  # before the next batch: none before the first
         for i, item in enumerate(streamed[key].items):
-            batch.append(json.dumps(_clean(item, (((), key), i), timings), sort_keys=True, allow_nan=False))
+            batch.append(item if type(item) is JsonText else
+                         json.dumps(_clean(item, (((), key), i), timings), sort_keys=True, allow_nan=False))
             if len(batch) == STREAM_CHUNK:
                 yield separator + ", ".join(batch)
                 batch, separator = [], ", "

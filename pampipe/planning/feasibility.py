@@ -38,7 +38,6 @@ from pampipe.model.braid import diameter_at_length, length_at_diameter
 from pampipe.model.muscle import Muscle
 from pampipe.planning.problem import Elements
 from pampipe.planning.quantiles import level_text, tail
-from pampipe.planning.sampling import OPEN_SHARE
 from pampipe.planning.solve import Solution
 
 
@@ -225,6 +224,8 @@ def undetermined_reasons(mission, sampled, sentences: dict, codes: dict) -> None
     """Add (in place) the ``undetermined`` reason of every section where an unresolved direction stops a
     segment: covering its open width moves the segment's C-quantile by more than ``OPEN_SHARE`` of its
     margin to its pressure limit (:func:`pampipe.planning.sampling.stop_open`)."""
+    from pampipe.planning.sampling import OPEN_SHARE  # with --confidence only: a plain plan never loads it
+
     r = mission.route
     limits = pressure_limits(mission)
     for s, (i, direction, delta, margin) in sampled.undetermined.items():

@@ -10,7 +10,6 @@ import numpy as np
 from pampipe.bends.plan import plan_bends
 from pampipe.errors import InputError, SolverError
 from pampipe.planning.checks import cross_check
-from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED, plan_confidence
 from pampipe.planning.contact import contact_costs
 from pampipe.planning.feasibility import plan_feasible, section_reasons, undetermined_reasons
 from pampipe.planning.payload import element_payloads, payload_limit
@@ -26,12 +25,14 @@ CHECK_TOLERANCE = 1e-6
 
 def plan_mission(mission, *, payload: float | None = None, confidence: float | None = None,
                  method: str = "kkt", check: bool = True, with_max_payload: bool = False,
-                 samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SEED, prior=None,
+                 samples: int | None = None, seed: int | None = None, prior=None,
                  workers: int | None = None, scheduler: str | None = None) -> MissionPlan:
     """Plan ``mission`` (a :class:`pampipe.specs.mission.Mission`); ``payload`` [kg] overrides its payload.
 
     ``confidence`` C ∈ [0.5, 1) plans the pressure that holds with probability C, from ``samples``
-    seeded draws (``seed``) of every uncertain input (:mod:`pampipe.planning.confidence`); ``prior`` is a
+    seeded draws (``seed``) of every uncertain input (:mod:`pampipe.planning.confidence`, imported only
+    then: its executors and sampling cost a plain plan's start-up; None: its ``DEFAULT_SAMPLES`` and
+    ``DEFAULT_SEED``); ``prior`` is a
     :class:`~pampipe.model.pam.Pam` whose uncertainty serves as prior along undetermined directions;
     ``workers``/``scheduler``: where the sampling runs (:mod:`pampipe.runtime.executors`; the same result).
     ``check`` compares the NLP's pressures with a bisection on the model (:mod:`pampipe.planning.checks`)
@@ -53,6 +54,10 @@ def plan_mission(mission, *, payload: float | None = None, confidence: float | N
                               f"(relative): {checks}", status="cross_check_failed")
     nominal = sampled = None
     if confidence is not None:
+        from pampipe.planning.confidence import DEFAULT_SAMPLES, DEFAULT_SEED, plan_confidence
+
+        samples = DEFAULT_SAMPLES if samples is None else samples
+        seed = DEFAULT_SEED if seed is None else seed
         nominal = solution.pressure
         sampled = plan_confidence(mission, muscles, elements, confidence, samples=samples, seed=seed,
                                   prior=prior, with_payload=with_max_payload, workers=workers,

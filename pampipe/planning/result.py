@@ -286,6 +286,67 @@ class MissionPlan:
                 doc["tether"] = self.tether.section_document(s)
             yield doc
 
+    def section_columns(self, start: int, stop: int) -> tuple[dict, dict] | None:
+        """Sections ``start:stop`` of :meth:`section_documents` as columns, for a column-wise JSON writer:
+        (the sections' keys → one value each; {"segments": (the segments' keys → one value per segment
+        of each complete section, sections first; segments per section; ``complete``)}), the floats
+        unrounded, as the documents hold them. None with --confidence (each segment's document then
+        gains entries of its own)."""
+        if self.uncertainty is not None:
+            return None
+        a, r, rows = self.arrays, self.arrays.route, slice(start, stop)
+        complete = a.complete[rows]
+        reasons = [a.reasons.get(s) for s in range(start, stop)]
+        sections = {"name": r.name[rows].tolist(), "feasible": np.array([x is None for x in reasons], bool),
+                    "reason": reasons, "length_m": r.length[rows], "inner_diameter_m": r.diameter[rows],
+                    "inner_diameter_range_m": np.stack([r.diameter_low[rows], r.diameter_high[rows]], axis=1),
+                    "inner_diameter_sd_m": r.diameter_sd[rows],
+                    "inner_diameter_label": [r.section_label(s) for s in range(start, stop)],
+                    "incline_rad": r.incline[rows], "incline_deg": np.degrees(r.incline[rows]),
+                    "friction": r.friction[rows], "friction_sd": r.friction_sd[rows]}
+        networks = _network_columns(r.subset(rows))
+        if networks:
+            sections.update({key: [n[key] for n in networks] for key in networks[0]})
+        if self.tether is not None:
+            sections["tether"] = {"tension_in_N": self.tether.tension_in[rows],
+                                  "tension_out_N": self.tether.tension_out[rows]}
+        width = len(a.segment_names)
+        return sections, {"segments": (self._segment_columns(rows, complete), width, complete)}
+
+    def reducer_columns(self, start: int, stop: int) -> tuple[dict, dict]:
+        """Reducers ``start:stop`` of the document as columns (:func:`~pampipe.bends.plan.reducer_columns`),
+        in the shape of :meth:`section_columns`."""
+        from pampipe.bends.plan import reducer_columns
+
+        return reducer_columns(self.reducers[start:stop]), {}
+
+    def _segment_columns(self, rows: slice, complete: np.ndarray) -> dict:
+        """The segments' columns of :meth:`section_columns`: (complete sections × segments), flattened (no
+        nominal pressure: it comes with --confidence only)."""
+        a = self.arrays
+
+        def flat(column):
+            return column[rows][complete].ravel()
+
+        p, w, cap, touch = flat(a.pressure), flat(a.required_hold), flat(a.holding_capacity), \
+            flat(a.largest_bore_anchoring)
+        cost_bore, cost_angle = flat(a.contact_cost[..., 0]), flat(a.contact_cost[..., 1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            margin = np.where(w > 0, cap / np.where(w > 0, w, 1.0), np.inf)
+            thin = thin_contact(p, touch, np.where(cost_angle > cost_bore, cost_angle, cost_bore))
+        columns = {"name": list(a.segment_names) * int(complete.sum()), "pressure_Pa": p,
+                   "anchoring_pressure_Pa": flat(a.anchoring_pressure), "required_hold_N": w,
+                   "holding_capacity_N": cap, "radial_force_N": flat(a.radial_force),
+                   "contact_pressure_Pa": flat(a.contact_pressure),
+                   "loaded_anchoring_pressure_Pa": flat(a.loaded_anchoring_pressure),
+                   "air_volume_m3": flat(a.air_volume), "margin": margin,
+                   "binding": ["no_slip" if x else "contact" for x in flat(a.slip_active).tolist()],
+                   "feasible": flat(a.feasible).astype(bool), "worst_inner_diameter_m": flat(a.diameter),
+                   "largest_bore_anchoring_pressure_Pa": touch, "contact_margin_Pa": p - touch,
+                   "contact_cost_1mm_bore_Pa": cost_bore, "contact_cost_1deg_braid_Pa": cost_angle,
+                   "thin_contact_margin": np.asarray(thin, bool)}
+        return columns
+
     def as_document(self, *, sections=None, reducers=None) -> dict:
         """The document; ``sections`` and ``reducers`` in place of the built lists (the `plan` command
         passes lazy ones, from :meth:`section_documents`, to stream a large document)."""

@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import os
 import subprocess
 import sys
 
@@ -77,3 +78,17 @@ def test_each_commands_help_is_that_of_the_full_parser(monkeypatch, name):
     monkeypatch.setenv("COLUMNS", "100")
     command = name.replace("_", "-")  # the module next_test is the command next-test
     assert _printed([command, "--help"]) == cli.build_parser().commands[name].format_help()
+
+
+def test_a_plan_without_confidence_loads_no_sampling_and_no_processes(tmp_path):
+    """The demo plan (issue 39 item 2): the confidence machinery (its sampling, the executors and with them
+    multiprocessing and concurrent.futures) is imported only with --confidence."""
+    code = ("import contextlib, io, json, sys\nfrom pampipe.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
+            "    status = main(['plan', 'problems/missions/vertical-climb-3in.yaml'])\n"
+            "print(json.dumps([status, sorted(m for m in sys.modules if m in {'multiprocessing', "
+            "'concurrent.futures', 'pampipe.planning.confidence', 'pampipe.planning.sampling', "
+            "'pampipe.runtime.executors'})]))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=300,
+                         check=True, env={**os.environ, "PAMPIPE_NLP_CACHE": str(tmp_path)})
+    assert json.loads(out.stdout) == [0, []]

@@ -1,0 +1,56 @@
+"""`plan --json` of a long route writes its sections and reducers column-wise (MissionPlan.section_columns,
+reducer_columns, pampipe.io.json_columns): the same text as each section's and reducer's document through
+the JSON writer, on bundled missions of every kind (a network route, a tether, infeasible sections,
+elbows)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from itertools import islice
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pampipe import api
+from pampipe.errors import SolverError
+from pampipe.io.files import Streamed, json_chunks, to_json
+from pampipe.io.json_columns import streamed_records
+
+MISSIONS = Path(__file__).resolve().parents[2] / "problems" / "missions"
+
+
+def _streamed(plan, chunk):
+    sections = streamed_records(len(plan.arrays.route), plan.section_columns,
+                                lambda a, b: islice(plan.section_documents(), a, b), chunk=chunk)
+    reducers = streamed_records(len(plan.reducers), plan.reducer_columns,
+                                lambda a, b: (r.as_document() for r in plan.reducers[a:b]), chunk=chunk)
+    return "".join(json_chunks(plan.as_document(sections=Streamed(sections), reducers=Streamed(reducers))))
+
+
+@pytest.mark.parametrize("name", ["vertical-climb-3in", "ky4-route", "tethered-climb", "infeasible-survey",
+                                  "elbows-3in", "steel-pipe-sizes"])
+def test_columns_write_the_documents_bytes(name):
+    plan = api.plan(api.load_mission(MISSIONS / f"{name}.yaml"))
+    assert _streamed(plan, chunk=3) == to_json(plan.to_dict(), indent=None)
+
+
+def test_a_nan_falls_back_to_the_documents_and_names_its_path():
+    plan = api.plan(api.load_mission(MISSIONS / "vertical-climb-3in.yaml"))
+    pressure = plan.arrays.pressure.copy()
+    pressure[-1, 0] = np.nan
+    broken = dataclasses.replace(plan, arrays=dataclasses.replace(plan.arrays, pressure=pressure))
+    last = len(plan.arrays.route) - 1
+    with pytest.raises(SolverError, match=rf"result\.sections\[{last}\]\.segments\[0\]\.pressure_Pa"):
+        _streamed(broken, chunk=1)
+
+
+def test_the_reducers_columns_are_their_documents():
+    plan = api.plan(api.load_mission(MISSIONS / "steel-pipe-sizes.yaml"))
+    assert plan.reducers, "this mission changes bore"
+    columns, nested = plan.reducer_columns(0, len(plan.reducers))
+    assert nested == {}
+    for i, reducer in enumerate(plan.reducers):
+        assert {key: value[i] for key, value in columns.items()} == pytest.approx(reducer.as_document())
+    assert json.loads(_streamed(plan, chunk=2))["reducers"] == json.loads(to_json(plan.to_dict()))["reducers"]
