@@ -123,6 +123,14 @@ def _plots_folder(text: str) -> Path:
     return path
 
 
+def warn(warnings) -> None:
+    """Each warning on stderr, one ``warning:`` line each, in the display units."""
+    from pampipe.units.display import localize
+
+    for warning in warnings:
+        print(f"warning: {localize(warning)}", file=sys.stderr, flush=True)
+
+
 def text_stream(args: argparse.Namespace):
     """Where human-readable text goes: stderr under --json, stdout otherwise."""
     return sys.stderr if getattr(args, "json", False) else sys.stdout

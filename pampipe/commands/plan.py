@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from functools import partial
 from itertools import islice
 from pathlib import Path
@@ -19,6 +18,7 @@ from pampipe.commands.common import (
     probability,
     quantity_type,
     say,
+    warn,
     write_html_report,
     write_json,
 )
@@ -145,11 +145,10 @@ def run(args: argparse.Namespace) -> int:
     large = len(plan.arrays.route) > COMPACT_SECTIONS
     wanted = args.json or args.output is not None or args.report is not None
     document = plan.to_dict() if wanted and not (large and args.report is None) else None
-    from pampipe.units.display import current, localize
+    from pampipe.units.display import current
 
     unit = current().pressure
-    for warning in plan.warnings:
-        print(f"warning: {localize(warning)}", file=sys.stderr, flush=True)
+    warn(plan.warnings)
     text = plan_text(plan, unit=unit, all_sections=args.all_sections)
     indent = None if large else 2
     if document is None and wanted:

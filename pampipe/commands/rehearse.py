@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from pampipe.commands.common import (
@@ -13,6 +12,7 @@ from pampipe.commands.common import (
     emit,
     integer_type,
     say,
+    warn,
     write_html_report,
 )
 from pampipe.commands.plan import probability
@@ -67,7 +67,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from pampipe import api
     from pampipe.runtime.progress import note
-    from pampipe.units.display import current, localize
+    from pampipe.units.display import current
     from pampipe.views.rehearse_text import rehearse_text
 
     mission = api.load_mission(args.mission)
@@ -77,8 +77,7 @@ def run(args: argparse.Namespace) -> int:
         check_output(args.report, mission.input_files, option="--report")
     result = api.rehearse(mission, optimal=args.optimal, confidence=args.confidence, samples=args.samples,
                           seed=args.seed, progress=note)
-    for warning in result.plan.warnings:
-        print(f"warning: {localize(warning)}", file=sys.stderr, flush=True)
+    warn(result.plan.warnings)
     text = rehearse_text(result, all_sections=args.all_sections)
     document = result.to_dict()
     emit(args, document, text)

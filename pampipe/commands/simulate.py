@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from pampipe import api
-from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type, say
+from pampipe.commands.common import add_output_options, add_units_option, emit, quantity_type, say, warn
 
 NAME = "simulate"
 HELP = "anchoring pressure, anchored length, amplification and radial force of a PAM in a pipe"
@@ -38,6 +38,7 @@ def run(args: argparse.Namespace) -> int:
         return _extension(args)
     result = api.simulate(args.pam, pipe_diameter=args.pipe_diameter, axial_load=args.axial_load or [0.0],
                           pressure=args.pressure, paper_literal=args.paper_literal)
+    warn(result.warnings)
     emit(args, result.to_dict(), result_text(result))
     if args.plots:
         from pampipe.views.plots.simulate import plot_simulation

@@ -175,10 +175,11 @@ class ParameterUncertainty:
         return {"parameters": list(self.names), "covariance_SI": self.covariance.tolist(),
                 "model_error_N": self.model_error, "model_error_dof": self.model_error_dof,
                 "scaled_units_SI": {name: scaled_unit(name) for name in self.names},
-                "undetermined": [self._direction(d) for d in self.undetermined],
-                "prior_determined": [self._direction(d) for d in self.prior_determined]}
+                "undetermined": [self.direction_document(d) for d in self.undetermined],
+                "prior_determined": [self.direction_document(d) for d in self.prior_determined]}
 
-    def _direction(self, d: UndeterminedDirection) -> dict:
+    def direction_document(self, d: UndeterminedDirection) -> dict:
+        """JSON form of a direction over ``names``: its non-zero weights, ``scale``, ``moves``, ``test``."""
         return {"direction": {n: float(w) for n, w in zip(self.names, d.vector, strict=True) if w != 0},
                 "scale": d.scale, "moves": dict(d.moves), "test": d.test}
 

@@ -95,7 +95,7 @@ def planned_uncertainty(u: ParameterUncertainty, post: Posterior, *, on_prior: b
         directions = tuple(UndeterminedDirection(vec, width, {}, "") for vec, width in
                            zip(post.open_vectors, post.open_widths, strict=True))
     si = 0.5 * (cov + cov.T) * np.outer(units, units)
-    return ParameterUncertainty(u.names, si, u.model_error, directions)
+    return ParameterUncertainty(u.names, si, u.model_error, directions, model_error_dof=u.model_error_dof)
 
 
 def information_gain(u: ParameterUncertainty, information: np.ndarray) -> float:
@@ -123,7 +123,7 @@ def extended(pam, tested: bool) -> ParameterUncertainty:
         return tuple(dataclasses.replace(d, vector=np.r_[d.vector, np.zeros(len(extra))]) for d in directions)
 
     return ParameterUncertainty((*u.names, *extra), cov, u.model_error, padded(u.undetermined),
-                                padded(u.prior_determined))
+                                padded(u.prior_determined), u.model_error_dof)
 
 
 def shifted(pam, u, q):

@@ -12,8 +12,11 @@ Every source is drawn as a zero-mean deviation from the nominal value, so that a
   ones included, drawn around the fitted geometry; independent per segment (each its own muscle), the
   same in every section. A segment of ``unit: tested`` carries the tested muscle: nothing is drawn here
   (the fit absorbed the stated sds), and every tested segment of a PAM file is that one muscle.
-* ``model_error``: a shift e ~ N(0, σ_m²) [N] of the axial force F_ax at the anchored length, σ_m the
-  PAM's ``model_error`` (the residual spread beyond the noise); per segment.
+* ``model_error``: a shift e [N] of the axial force F_ax at the anchored length, s the PAM's
+  ``model_error`` (an estimate of the residual sd beyond the noise) and ν its ``model_error_dof``: the
+  Student-t predictive e = s·t_ν, drawn as e = s·z/√(W/ν) with z ~ N(0, 1) and W ~ χ²_ν from a stream
+  of its own (:func:`chi_scale`), so that ν → ∞ gives the normal draw e = s·z exactly; without a stated
+  ν (older files) e = s·z, a normal. Per segment.
 * ``bore``: a shift δ ~ N(0, sd²) [m] of the bore of each section (its ``sd``); the tolerance range is
   not drawn: the plan holds over all of it (the pipe takes every bore of its range along its length).
   One draw per bore statement (range and sd): :func:`keyed_normal`.
@@ -76,6 +79,7 @@ class MuscleUncertainty:
     prior_sd: tuple[float, ...] = ()  # per undetermined direction, √(vᵀΣ_q,prior v) (0: no prior)
     fit_key: object = None  # segments with equal keys share the fit draw
     unit: str = "lot"  # "tested": the fitted muscle itself (one per fit_key); "lot": another of its lot
+    model_error_dof: int | None = None  # ν of model_error² (None: not stated, the error is drawn normal)
 
     @property
     def unresolved(self) -> tuple[Direction, ...]:
@@ -140,6 +144,7 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
                          "identify.")
     tolerance = np.zeros(structure.size) if unit == "tested" else stated
     error = float(getattr(u, "model_error", 0.0) or 0.0)
+    dof = getattr(u, "model_error_dof", None)
     units = np.array([scaled_unit(name) for name in structure.names()])
     directions = []
     for d in getattr(u, "undetermined", None) or ():
@@ -152,7 +157,7 @@ def muscle_uncertainty(segment, muscle: Muscle, *, where: str, prior=None) -> Mu
     shift, sds = _prior(directions, muscle, stated, prior, where)
     key = segment.pam_file if segment.pam_file is not None else id(pam)
     return MuscleUncertainty(muscle.parameter_vector(), fit, tolerance, error, tuple(directions),
-                             shift, sds, key, unit)
+                             shift, sds, key, unit, None if dof is None else int(dof))
 
 
 def _prior(directions, muscle: Muscle, stated: np.ndarray, prior, where: str):
@@ -226,7 +231,7 @@ def draw_muscles(muscles: list[MuscleUncertainty], n: int, seed: int, kappa_sd: 
         for d, shift, sd in zip(m.undetermined, m.prior_shift, m.prior_sd, strict=True):
             prior += np.outer(shift + sd * rng.standard_normal(n), d.step)
         params["prior"].append(prior)
-        errors.append(rng.standard_normal(n) * m.model_error)
+        errors.append(rng.standard_normal(n) * m.model_error * chi_scale(seed, i, m.model_error_dof, n))
         if m.unit == "tested":  # the stream is drawn as for any segment: the others' draws do not move
             first = tested.setdefault(m.fit_key, i)
             for key in params:
@@ -237,7 +242,17 @@ def draw_muscles(muscles: list[MuscleUncertainty], n: int, seed: int, kappa_sd: 
 
 
 #: Stream tags of the keyed draws (a stream is the seed, a tag and the statement's numbers).
-_TAGS = {"bore": 1, "friction": 2, "kappa": 3, "tether": 4}
+_TAGS = {"bore": 1, "friction": 2, "kappa": 3, "tether": 4, "model_error": 5}
+
+
+def chi_scale(seed: int, segment: int, dof: int | None, n: int) -> np.ndarray:
+    """(n,) factors 1/√(W/ν), W ~ χ²_ν, that turn segment ``segment``'s normal model-error draws z into
+    Student-t draws z/√(W/ν) ~ t_ν (``dof`` = ν); ones without ``dof``. Their own stream, keyed by the seed
+    and the segment, so that the normal draws, and every other source's, do not move with ν."""
+    if dof is None:
+        return np.ones(n)
+    sequence = np.random.SeedSequence(seed, spawn_key=(_TAGS["model_error"], segment))
+    return np.sqrt(dof / np.random.default_rng(sequence).chisquare(dof, n))
 
 
 def keyed_normal(seed: int, tag: str, statement, n: int) -> np.ndarray:

@@ -10,6 +10,7 @@ from pampipe.model.domain import check_pipe_diameter, check_pressure
 from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from pampipe.results import notebook
+from pampipe.simulation.open_directions import open_directions, open_warning
 
 #: The paper's test pressures, 69…689 kPa in 69 kPa steps (10 psi steps).
 PAPER_PRESSURES = tuple(68947.57 * k for k in range(1, 11))
@@ -84,18 +85,24 @@ def _text():
           text=_text)
 @dataclass(frozen=True)
 class SimulateResult:
-    """One muscle in one or more pipes and under one or more loads."""
+    """One muscle in one or more pipes and under one or more loads; ``undetermined``: the directions its
+    PAM's fit leaves open (:mod:`.open_directions`), ``warnings`` what to read before trusting the forces."""
 
     pam: str
     cases: tuple[AnchoredCase, ...]
     curves: Curves
+    undetermined: tuple[dict, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        """The `simulate` JSON document: the first case's keys, ``pam``, and ``cases`` when several."""
+        """The `simulate` JSON document: the first case's keys, ``pam``, ``cases`` when several, and
+        ``undetermined`` when the PAM's fit leaves directions open."""
         document = dict(self.cases[0].as_document())
         document["pam"] = self.pam
         if len(self.cases) > 1:
             document["cases"] = [c.as_document() for c in self.cases]
+        if self.undetermined:
+            document["undetermined"] = list(self.undetermined)
         return document
 
 
@@ -139,7 +146,9 @@ def simulate(pam: Pam, *, pipe_diameters, axial_loads=(0.0,), pressures=PAPER_PR
                     {load: muscle.free_length(grid, axial_load=load, braid_limit=True)
                      for load in sorted(set(axial_loads))},
                     diameters, np.asarray(muscle.amplification_factor(diameters), dtype=float))
-    return SimulateResult(pam.name, cases, curves)
+    warning = open_warning(pam)
+    return SimulateResult(pam.name, cases, curves, open_directions(pam),
+                          () if warning is None else (warning,))
 
 
 @dataclass(frozen=True)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -10,8 +11,10 @@ import pytest
 import yaml
 
 from pampipe.errors import InputError
+from pampipe.io.pamfile import write_pam
 from pampipe.model import braid, forces
 from pampipe.model.domain import check_length, check_pipe_diameter, check_pressure
+from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
 from tests.support.problems import PROBLEMS
 from tests.support.processes import run_cli
 
@@ -170,3 +173,34 @@ def test_simulate_bare_zero_load_is_zero_newton(cli):
     newton = cli("simulate", RADIAL, "-d", "3 in", "-f", "0 N", "--json")
     assert bare.returncode == 0 and newton.returncode == 0
     assert json.loads(bare.stdout) == json.loads(newton.stdout)
+
+
+def test_open_directions_warn_in_one_line_and_list_in_json(tmp_path, radial_pam):
+    """A PAM whose fit leaves directions open: exit 0 and the same forces as without them, one stderr line
+    naming each direction (by its largest weight) and the tests that would close them, and the PAM's
+    ``undetermined`` list (as identify writes it) in the JSON; a PAM with none: no warning, no key."""
+    names = moduli_names(3)
+    hoop, axial = np.zeros(16), np.zeros(16)
+    hoop[names.index("hoop.a0")] = 1.0
+    axial[[names.index("axial.b1"), names.index("axial.b2")]] = [0.8, -0.6]
+    test = "a radial test at 76.2 mm (3 in)"
+    open_ = (UndeterminedDirection(hoop, 2.0, {"radial_force_N@0.0762m": 30.0}, test),
+             UndeterminedDirection(axial, 5.0, {}, test))
+    u = ParameterUncertainty(names, np.diag(np.r_[np.full(8, 0.05e6), np.zeros(8)] ** 2), 0.0, open_)
+    pam = dataclasses.replace(radial_pam, name="axial-only").with_uncertainty(u)
+    write_pam(tmp_path / "open.yaml", pam)
+    write_pam(tmp_path / "closed.yaml", pam.with_uncertainty(dataclasses.replace(u, undetermined=())))
+    args = ("-d", "3 in", "-p", "400 kPa", "--json")
+    opened, closed = (run_cli("simulate", tmp_path / f"{k}.yaml", *args) for k in ("open", "closed"))
+    assert opened.returncode == 0 and closed.returncode == 0, opened.stderr + closed.stderr
+    (line,) = [x for x in opened.stderr.splitlines() if x.startswith("warning:")]
+    assert "2 parameter direction(s) undetermined" in line and "hoop.a0, axial.b1" in line
+    assert "a radial test at 76.2 mm (3 in) (2 of them)" in line
+    assert not [x for x in closed.stderr.splitlines() if x.startswith("warning:")]
+    doc, plain = json.loads(opened.stdout), json.loads(closed.stdout)
+    assert doc.pop("undetermined") == [
+        {"direction": {"hoop.a0": 1.0}, "scale": 2.0, "moves": {"radial_force_N@0.0762m": 30.0},
+         "test": "a radial test at 76.2 mm (3 in)"},
+        {"direction": {"axial.b1": 0.8, "axial.b2": -0.6}, "scale": 5.0, "moves": {},
+         "test": "a radial test at 76.2 mm (3 in)"}]
+    assert "undetermined" not in plain and doc == plain

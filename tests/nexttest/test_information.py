@@ -13,7 +13,13 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.pam import Pam
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names
 from pampipe.nexttest.information import predictions
-from pampipe.nexttest.posterior import information_gain, planned_uncertainty, posterior, prior_covariance
+from pampipe.nexttest.posterior import (
+    extended,
+    information_gain,
+    planned_uncertainty,
+    posterior,
+    prior_covariance,
+)
 from pampipe.specs.menu import MenuTest
 from tests.support.problems import PROBLEMS
 
@@ -125,3 +131,20 @@ def test_a_tested_muscle_adds_its_uncalibrated_stated_geometry():
     radial = fisher(muscle, u, MenuTest("radial", 1, LEVELS, pipe_diameter=0.0762, axial_load=0.0))
     assert radial[-1, -1] > 0
     assert posterior(u, radial).covariance[-1, -1] < 0.5 * (sd / np.radians(1.0)) ** 2  # in deg²
+
+
+@pytest.mark.parametrize("on_prior", [False, True])
+def test_the_planned_uncertainty_keeps_the_model_errors_dof(on_prior):
+    """A test changes what the fit knows of the parameters, not the model error: the posterior a plan samples
+    keeps the PAM's model_error and its dof (its t draw, docs/physics.md §15), and so does a tested muscle's
+    extended uncertainty."""
+    vector = np.zeros(16)
+    vector[8] = 1.0
+    u = ParameterUncertainty(moduli_names(3), np.diag(np.r_[np.full(8, 0.05e6), np.zeros(8)] ** 2), 6.0,
+                             (UndeterminedDirection(vector, 2.0, {}, "a radial test"),), model_error_dof=4)
+    planned = planned_uncertainty(u, posterior(u, np.zeros((16, 16))), on_prior=on_prior)
+    assert (planned.model_error, planned.model_error_dof) == (6.0, 4)
+    pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
+    stated = dataclasses.replace(pam, geometry_sd={"braid_angle": 0.01}).with_uncertainty(u)
+    wider = extended(stated, tested=True)
+    assert wider.names[-1] == "braid_angle" and wider.model_error_dof == 4

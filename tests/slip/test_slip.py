@@ -15,6 +15,7 @@ import yaml
 from pampipe.model.muscle import Muscle
 from pampipe.slip import fit_slip
 from pampipe.slip.detect import detect
+from pampipe.slip.workflow import detect_trials
 from pampipe.specs.experiment import TestSpec as Spec
 from pampipe.specs.experiment import make_slip_data
 from tests.support import slip_data
@@ -387,11 +388,40 @@ def test_interval_coverage_small(muscle):
     assert np.all(counts == [8, 8, 16]) and np.all(hits >= counts - 1), (hits, counts)
 
 
+def test_stick_slip_onsets_give_the_generated_slip_loads(muscle, monkeypatch):
+    """The detection error of three-jump (stick-slip) onsets is no source of the intervals' scatter: over 8
+    data sets of the coverage study (4–12 trials per bore, every other one stick-slip), each detected slip
+    load is the generated one within 0.2 % (measured over 120 sets: sd 0.02 %, largest 0.13 %, none
+    censored) against the 3 % scatter of the slip loads; the clean trials alike."""
+    made = []
+    rows = slip_data.trial_rows
+
+    def recorded(rng, slip_load, pressure, **options):
+        made.append(slip_load)
+        return rows(rng, slip_load, pressure, **options)
+
+    monkeypatch.setattr(slip_data, "trial_rows", recorded)
+    errors = []
+    for seed in range(8):
+        pressures = np.linspace(2.5e5, 6e5, int(np.random.default_rng(seed).integers(4, 13)))
+        for k, bore in enumerate((0.0762, 0.0889)):
+            made.clear()
+            columns = slip_data.slip_test(muscle, bore, pressures, mu=0.3, kappa=1.0, scatter=0.03,
+                                          stick_slip=True, seed=1000 * seed + k)
+            trials = detect_trials((make_slip_data(Spec("s", "slip", Path("s.csv"), bore, 0.0), columns),))
+            assert len(trials) == len(made) and not any(t.censored for t in trials)
+            errors += [t.slip_load / load - 1 for t, load in zip(trials, made, strict=True)]
+    assert np.max(np.abs(errors)) < 2e-3
+
+
 @pytest.mark.slow
 def test_interval_coverage_over_seeds(muscle):
     """40 data sets of 4–12 clean slips per bore: the 95 % intervals hold the truth in ≥ 93 % for each of μ,
-    κ and μ_eff. With stick-slip (slip in three jumps) the detected onsets scatter more than the slip loads
-    and μ_eff held it in 0.89–0.90 over 120 sets (μ 0.90, κ 0.91; with χ²₁ about 3 points less): not 93 %."""
+    κ and μ_eff. With stick-slip (slip in three jumps) μ_eff held it in 0.89–0.90 over 120 sets (μ 0.90,
+    κ 0.91), although the detected slip loads are the generated ones within 0.2 % (test above): the misses
+    were the bores where the joint fit chose absolute scatter (11 of 18 held over stick-slip sets 0–39,
+    against 61 of 62 under relative scatter). Each bore's interval now spans both noise models'
+    (:func:`pampipe.slip.workflow.bore_estimate`): μ_eff held in 76 of 80 on those sets (was 72 of 80)."""
     hits, counts = _coverage(muscle, range(40), stick_slip=False)
     assert np.all(hits >= 0.93 * counts), (hits, counts)
 
