@@ -1,13 +1,21 @@
 """Which new experiment would separate two confounded models (e.g. a third pipe diameter)?
 
 Both refitted models (moduli + effects, through :class:`pampipe.model.muscle.Muscle`) predict a
-small menu of experiments not in the data; the one where their predictions differ most, in units
-of the pooled noise floor, is proposed:
+small menu of experiments not in the data:
 
 * a radial test at a new pipe diameter (midway between tested diameters, or ±8 % around a single
   one, inside the muscle's range), unloaded and at the largest tested load, 0…P_max;
 * a radial test at a tested diameter under a new axial load (twice the largest tested, ≥ 500 N);
 * an axial test at 1.25 × the largest tested pressure, both legs, from L_free to L₀.
+
+The advice must not follow the noise (the same case gives the same advice on every seed), so it is judged
+on the case's structure, not on the noise floor: with G the largest difference of the two models' forces
+over an experiment [N] and S the size of the effects in the data, the largest change either model makes to
+the baseline's predictions over the tested cells [N], the share G/S does not depend on the noise and, to
+first order, not on the effect's magnitude (G and S both scale with it). The experiment proposed is the
+first of the menu whose G is within :data:`NEAR_BEST` of the best (the menu's order breaks near-ties, so
+two close experiments do not swap between seeds); it *separates* the pair when G/S ≥ :data:`SEPARATES`.
+G in units of the pooled noise floor σ (``ratio``) says how many repeats it needs to resolve: n ≈ (3/ratio)².
 """
 
 from __future__ import annotations
@@ -18,6 +26,11 @@ import numpy as np
 
 from pampipe.diagnosis.refit import SMOOTHING
 from pampipe.errors import SolverError
+
+#: An experiment separates two tied models when they differ there by this share of the effects' size.
+SEPARATES = 0.1
+#: Experiments within this share of the largest difference count as equally good (the first is proposed).
+NEAR_BEST = 0.8
 
 
 def _menu(data, geometry):
@@ -50,11 +63,18 @@ def _menu(data, geometry):
     return items
 
 
-def separating_experiment(data, refitter, fit_a, fit_b, floors) -> dict | None:
-    """{experiment, max_difference_N, noise_floor_N, ratio} of the best menu item (None if none)."""
+def effect_size(base_fit, *fits) -> float:
+    """S [N]: the largest change any of ``fits`` makes to ``base_fit``'s prediction of a tested cell (the
+    residuals share the data, so their difference is the difference of the predictions)."""
+    return max(float(np.max(np.abs(fit.residual - base_fit.residual))) for fit in fits)
+
+
+def separating_experiment(data, refitter, fit_a, fit_b, floors, base_fit) -> dict | None:
+    """{experiment, max_difference_N, effect_size_N, share, separates, noise_floor_N, ratio} of the proposed
+    menu item (see the module docstring; None if the menu is empty)."""
     a, b = refitter.muscle(fit_a), refitter.muscle(fit_b)
     sigma = float(np.sqrt(np.mean([f.sigma**2 for f in floors])))
-    best = None
+    gaps = []
     for text, kind, diameter, load, p_max in _menu(data, refitter.geometry):
         if kind == "radial":
             pressure = np.linspace(0.0, p_max, 60)
@@ -70,7 +90,14 @@ def separating_experiment(data, refitter, fit_a, fit_b, floors) -> dict | None:
             fa = np.concatenate([a.axial_force(p_max, length, leg=leg) for leg in (-1.0, 1.0)])
             fb = np.concatenate([b.axial_force(p_max, length, leg=leg) for leg in (-1.0, 1.0)])
         gap = float(np.nanmax(np.abs(np.asarray(fa, dtype=float) - np.asarray(fb, dtype=float))))
-        if np.isfinite(gap) and (best is None or gap > best["max_difference_N"]):
-            best = {"experiment": text, "max_difference_N": gap, "noise_floor_N": sigma,
-                    "ratio": gap / sigma if sigma > 0 else None}
-    return best
+        if np.isfinite(gap):
+            gaps.append((text, gap))
+    if not gaps:
+        return None
+    largest = max(gap for _, gap in gaps)
+    text, gap = next((text, gap) for text, gap in gaps if gap >= NEAR_BEST * largest)
+    size = effect_size(base_fit, fit_a, fit_b)
+    share = gap / size if size > 0 else 0.0
+    return {"experiment": text, "max_difference_N": gap, "effect_size_N": size, "share": share,
+            "separates": share >= SEPARATES, "noise_floor_N": sigma,
+            "ratio": gap / sigma if sigma > 0 else None}

@@ -22,7 +22,7 @@ import numpy as np
 
 from pampipe.diagnosis import noise, selection, structure
 from pampipe.diagnosis.candidates import DEFAULT, candidate
-from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter, effect_parameters
+from pampipe.diagnosis.refit import MPA, SMOOTHING, Fit, Refitter, canonical, effect_parameters
 from pampipe.diagnosis.refit_cells import reduce_rows, slack_rows
 from pampipe.diagnosis.result import DiagnoseResult, summarize
 from pampipe.diagnosis.search import Model, Search
@@ -34,8 +34,6 @@ from pampipe.model.forces import contact_switch
 from pampipe.specs.experiment import ExperimentData
 
 DEGREE = 3
-#: A separating experiment is proposed only where the two models differ by this many noise floors.
-SEPARATES = 3.0
 #: Generic start when neither identify nor the PAM gives moduli: E₁ = 1.5 MPa, E₂ = 4.4 MPa.
 GENERIC_THETA = np.array([1.5, 0, 0, 0, 0, 0, 0, 0, 4.4, 0, 0, 0, 0, 0, 0, 0])
 
@@ -153,7 +151,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
                       noisy=noise.noisier_than_twins(data, floors))
 
     t0 = time.perf_counter()
-    confounded = _confounded(data, refitter, steps, chosen, floors)
+    confounded = _confounded(data, refitter, steps, chosen, floors, search.cache)
     timings["separate_wall_time_s"] = time.perf_counter() - t0
     if confounded:
         verdict = replace(verdict, reason=f"{verdict.reason}; " + "; ".join(_separations(confounded)))
@@ -197,37 +195,39 @@ def _candidates(data: ExperimentData, effects: list[str] | None) -> list[str]:
     return names
 
 
-def _confounded(data: ExperimentData, refitter: Refitter, steps, chosen: Model, floors) -> list[dict]:
+def _confounded(data: ExperimentData, refitter: Refitter, steps, chosen: Model, floors, models) -> list[dict]:
     """For each chosen effect that a step found confounded with another not chosen: the experiment that
-    would separate the two ({effect, with, separate_by}), once per pair (one piece of advice each)."""
+    would separate the two ({effect, with, separate_by}), once per pair (one piece of advice each), judged
+    against the model before the step (``models``: the search's cache of fitted models)."""
     confounded, seen = [], set()
     for step in steps:
         if step.action != "add" or step.effect not in chosen.effects:
             continue
         trials = {t.effect: t for t in step.trials}
+        before = models[tuple(e for e in step.effects if e != step.effect)]
         for other in step.confounded:
             if other in chosen.effects or frozenset((step.effect, other)) in seen:
                 continue
             seen.add(frozenset((step.effect, other)))
             separate = separating_experiment(data, refitter, trials[step.effect].model.fit,
-                                             trials[other].model.fit, floors)
+                                             trials[other].model.fit, floors, before.fit)
             confounded.append({"effect": step.effect, "with": other, "separate_by": separate})
     return confounded
 
 
 def _separations(confounded: list[dict]) -> list[str]:
-    """A sentence per confounded pair: the test that separates them by at least :data:`SEPARATES` times the
-    noise floor, or that none in range does (its ``separate_by`` is then cleared)."""
+    """A sentence per confounded pair, the pair in the library's order and without the noise's numbers (the
+    same case gives the same advice on every seed, :mod:`.separate`): the test that separates them, or that
+    none in range does (its ``separate_by`` is then cleared)."""
     words = []
     for c in confounded:
         sep = c["separate_by"]
-        if sep is not None and sep["ratio"] is not None and sep["ratio"] >= SEPARATES:
-            words.append(f"{sep['experiment']} would separate {c['effect']} and {c['with']} (predictions "
-                         f"differ by {sep['ratio']:.1f}x the noise floor)")
+        first, second = canonical((c["effect"], c["with"]))
+        if sep is not None and sep["separates"]:
+            words.append(f"{sep['experiment']} would separate {first} and {second}")
         else:
             c["separate_by"] = None
-            best = "" if sep is None else f" (the best differs by {sep['ratio'] or 0:.2g}x the noise)"
-            words.append(f"no test in range separates {c['effect']} and {c['with']}{best}")
+            words.append(f"no test in range separates {first} and {second}")
         c["sentence"] = words[-1]
     return words
 

@@ -82,7 +82,8 @@ def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = 
     """The columns of a validated list of sections (``SectionSchema`` objects).
 
     ``measured(where)`` → (μ, σ_μ) of the robot's PAM files, for sections whose friction is
-    ``from_pam`` or absent. A section's ``bend`` without a radius takes ``elbow``.
+    ``from_pam`` or absent. A section's ``bend`` without a radius takes ``elbow``; a radius in bores
+    (``k D``) is k times the bore the steering segment passes (:func:`_bend_bore`), as in a network route.
     """
     names = [s.name for s in sections]
     if len(set(names)) != len(names):
@@ -108,7 +109,7 @@ def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = 
             if given is None:
                 given = elbow_radius(path, "1.5 D", "elbow_radius")
             angle[i], direction[i], assumed[i] = s.bend.angle, s.bend.direction, s.bend.radius is None
-            radius[i] = given.at(bores[i].nominal, path=path,
+            radius[i] = given.at(_bend_bore(bores, i), path=path,
                                  where=where if s.bend.radius is not None else f"elbow_radius (route[{i}])")
         bends = {"bend_angle": angle, "bend_radius": radius, "bend_direction": direction,
                  "bend_radius_assumed": assumed}
@@ -117,6 +118,13 @@ def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = 
                  column(f[0] for f in friction),
                  column(f[1] for f in friction), column(b.low for b in bores), column(b.high for b in bores),
                  column(b.sd for b in bores), label=np.array([b.label for b in bores], dtype=str), **bends)
+
+
+def _bend_bore(bores, i: int) -> float:
+    """D [m] of the bend at the end of section i: the smaller nominal bore of section i and the next (a
+    reducer at the elbow), the bore the bend check passes the segments through (pampipe.bends.plan);
+    network routes take the same (:func:`_network_bends`)."""
+    return min(bores[i].nominal, bores[i + 1].nominal) if i + 1 < len(bores) else bores[i].nominal
 
 
 def _friction(friction, measured=None, where: str = "route.friction") -> tuple[float, float]:

@@ -113,7 +113,8 @@ def report(result) -> str:
         if c["separate_by"]:
             sep = c["separate_by"]
             text += (f"; {sep['experiment']} would separate them (predictions differ by "
-                     f"{sep['max_difference_N']:.3g} N, {sep['ratio']:.3g}x the noise floor)")
+                     f"{sep['max_difference_N']:.3g} N, {sep['share']:.0%} of the effects' size in the data, "
+                     f"{sep['ratio']:.3g}x the noise floor)")
         decision.append(text)
     if verdict.probes_removed > 0:
         force, k = scaled("N")  # sums of squared residuals, in the display unit of force squared

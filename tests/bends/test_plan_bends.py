@@ -152,6 +152,15 @@ def test_elbow_radius_default_and_multiples(tmp_path, cli):
     assert bends[0]["radius_m"] == pytest.approx(2 * BORE) and bends[1]["radius_m"] == pytest.approx(0.2)
 
 
+def test_a_reducer_at_an_elbow_takes_the_radius_of_the_smaller_bore(tmp_path, cli):
+    """1.5 D at a 4 in -> 3 in elbow is 1.5 x 3 in, the bore the segments pass, as in a network route; a
+    stated 2 D at 3 in -> 4 in the same way (2 x 3 in); 4 in -> 4 in keeps 1.5 x 4 in."""
+    bends = [{"angle": "30 deg"}, {"angle": "30 deg", "radius": "2 D"}, {"angle": "30 deg"}]
+    path = _mission(tmp_path, bends, bores={0: "4 in", 2: "4 in", 3: "4 in"})
+    bends = json.loads(cli("plan", path, "--json").stdout)["bends"]
+    assert [b["radius_m"] for b in bends] == pytest.approx([1.5 * BORE, 2 * BORE, 1.5 * 4 * INCH])
+
+
 @pytest.mark.parametrize(("bend", "extra", "fragments"), [
     ({"angle": "-30 deg"}, {}, ["route[0].bend.angle", "-30 deg", "0 to 180 deg"]),
     ({"angle": "30 deg", "radius": "0.4 D"}, {}, ["route[0].bend.radius", "at least half the bore"]),

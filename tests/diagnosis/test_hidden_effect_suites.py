@@ -115,20 +115,15 @@ def test_binned_cells_select_as_unbinned_cells(radial_pam, effect):
 
 
 @pytest.mark.slow
-def test_two_pipes_report_the_tied_pair_as_one_group(radial_pam):
-    """With the paper's two pipes, contact stiffening (two increments) fits wall friction's two slope
-    factors: the two are one indistinguishable group, neither named on its own. A third diameter is
-    proposed only if the two models differ there by 3 noise floors; here they differ by ≈ 2x, so the
-    reason says that no test in range separates them."""
+def test_two_pipes_name_wall_friction_since_contact_stiffening_keeps_its_sign(radial_pam):
+    """With the paper's two pipes, contact stiffening (two increments) could fit wall friction's two slope
+    factors only by softening (negative increments); fitted with its physical sign (≥ 0, issue 41) it
+    cannot, so wall friction is named on its own and brings every test to the noise (seeds 5700-5702 all
+    did, measured in round 3; seed 5700 here)."""
     from pampipe.simulation.synthetic import PAPER_PIPES
 
     protocol = replace(hidden_protocol(), pipes=PAPER_PIPES)
     result = diagnose(hidden_experiment(radial_pam, "wall_friction", seed=5700, protocol=protocol))
-    assert ("contact_stiffening", "wall_friction") in result.verdict.indistinguishable
-    assert not {"contact_stiffening", "wall_friction"} & set(result.selected_effects)
-    assert "indistinguishable" in result.verdict.reason
-    (tie,) = result.confounded
-    if tie["separate_by"] is None:
-        assert "no test in range separates" in result.verdict.reason
-    else:
-        assert "82.6 mm pipe" in tie["separate_by"]["experiment"] and tie["separate_by"]["ratio"] >= 3
+    assert result.verdict.verdict == "explained", result.verdict.reason
+    assert result.selected_effects == ("wall_friction",)
+    assert not result.verdict.indistinguishable

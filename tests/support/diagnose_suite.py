@@ -9,7 +9,7 @@
 
 Run a whole set and print its confusion matrices (2 worker processes):
 
-  .venv/bin/python -m tests.support.diagnose_suite test
+  .venv/bin/python -m tests.support.diagnose_suite test        (or tuning, round3; then groups: single,pair)
 """
 
 from __future__ import annotations
@@ -55,6 +55,17 @@ def held_out_cases() -> list[Case]:
               for k, scale in enumerate((0.7, 1.4))]
     cases += [Case("foreign", (e,), 5300 + 10 * j + k, scale) for j, e in enumerate(FOREIGN)
               for k, scale in enumerate((0.7, 1.4, 0.7, 1.4))]
+    return cases
+
+
+def round3_cases() -> list[Case]:
+    """The ROUND3 rerun of issue 41 (62 cases, seeds 43200-43799, none used before): 8 clean, every single
+    effect on 2 seeds, every pair once (×0.7 and ×1.4 alternating), every foreign effect at ×0.7 and ×1.4."""
+    cases = [Case("clean", (), 43200 + i) for i in range(8)]
+    cases += [Case("single", (e,), 43300 + 10 * j + k) for j, e in enumerate(MAGNITUDES) for k in range(2)]
+    cases += [Case("pair", pair, 43500 + i, (0.7, 1.4)[i % 2]) for i, pair in enumerate(PAIRS)]
+    cases += [Case("foreign", (e,), 43700 + 10 * j + k, (0.7, 1.4)[k]) for j, e in enumerate(FOREIGN)
+              for k in range(2)]
     return cases
 
 
@@ -117,7 +128,7 @@ def confusion(outcomes: list[dict]) -> str:
 def main(which: str) -> None:
     from multiprocessing import get_context
 
-    cases = {"tuning": tuning_cases, "test": held_out_cases}[which]()
+    cases = {"tuning": tuning_cases, "test": held_out_cases, "round3": round3_cases}[which]()
     groups = sys.argv[2].split(",") if len(sys.argv) > 2 else None
     cases = [c for c in cases if groups is None or c.group in groups]
     started = time.perf_counter()
