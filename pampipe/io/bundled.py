@@ -24,21 +24,22 @@ KINDS = ("missions", "pams", "experiments", "inventories")
 
 def folder() -> Path:
     """The folder of the bundled problems (pams/, missions/, experiments/)."""
-    package = Path(__file__).resolve().parent.parent
-    for candidate in (package / "examples", package.parent / "problems"):
-        if (candidate / "pams").is_dir():
-            return candidate
-    raise InputError("the bundled problems are missing from this installation of pampipe; reinstall it "
-                     "with `pip install pampipe`.")
+    return _shipped("examples", "problems", "pams", "the bundled problems")
 
 
 def schemas() -> Path:
     """The folder of the JSON Schemas (mission, pam, experiment, inventory)."""
+    return _shipped("schemas", "yaml", "mission.schema.json", "the JSON Schemas")
+
+
+def _shipped(installed: str, checkout: str, marker: str, what: str) -> Path:
+    """``pampipe/<installed>`` of a wheel, else ``<checkout>`` beside the package (a source checkout or an
+    editable install): the first that holds ``marker``."""
     package = Path(__file__).resolve().parent.parent
-    for candidate in (package / "schemas", package.parent / "yaml"):
-        if (candidate / "mission.schema.json").is_file():
+    for candidate in (package / installed, package.parent / checkout):
+        if (candidate / marker).exists():
             return candidate
-    raise InputError("the JSON Schemas are missing from this installation of pampipe; reinstall it with "
+    raise InputError(f"{what} are missing from this installation of pampipe; reinstall it with "
                      "`pip install pampipe`.")
 
 
