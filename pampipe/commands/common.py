@@ -53,6 +53,24 @@ def integer_type(option: str, *, ge: int | None = None, le: int | None = None):
     return parse
 
 
+#: The fewest draws of a confidence plan (the planner's N(1 − C) ≥ 10 rule is checked with C, when it runs).
+FEWEST_DRAWS = 100
+
+
+def add_confidence_options(parser: argparse.ArgumentParser, *, confidence: str, samples: str,
+                           seed: str | None, default_confidence: float | None = None) -> None:
+    """--confidence C, --samples N and --seed S of every command that plans at a confidence (plan,
+    rehearse, export, next-test), each with one validator: C a probability in [0.5, 1) (:func:`probability`),
+    N a whole number of at least :data:`FEWEST_DRAWS`, S a whole number of at least 0. The help texts are
+    each command's (``seed=None``: no --seed)."""
+    parser.add_argument("--confidence", type=probability, default=default_confidence, metavar="C",
+                        help=confidence)
+    parser.add_argument("--samples", type=integer_type("--samples", ge=FEWEST_DRAWS), default=None,
+                        metavar="N", help=samples)
+    if seed is not None:
+        parser.add_argument("--seed", type=integer_type("--seed", ge=0), default=None, metavar="S", help=seed)
+
+
 def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -> None:
     """--json, --reproducible, --debug and (for commands that draw) --plots DIR."""
     parser.add_argument("--json", action="store_true",
