@@ -325,7 +325,7 @@ def identify(experiment: Source, *, mode: str | None = None, objective: str | No
                                      "max_iterations": max_iterations, "slack": slack},
                           calibrate=tuple(calibrate or ()), source=spec.source,
                           pipe_diameters=[diameters] if isinstance(diameters, float) else diameters or ())
-    result = run(data, options, progress=progress if data.points >= 100_000 else None)
+    result = run(data, options, progress=progress)  # the caller's callback hears every step of the fit
     object.__setattr__(result, "experiment_data", data)  # what result.plot() draws against
     object.__setattr__(result, "experiment_source", spec.source)  # what str(result) is headed by
     return result

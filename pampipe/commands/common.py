@@ -53,6 +53,24 @@ def integer_type(option: str, *, ge: int | None = None, le: int | None = None):
     return parse
 
 
+#: The fewest draws of a confidence plan (the planner's N(1 − C) ≥ 10 rule is checked with C, when it runs).
+FEWEST_DRAWS = 100
+
+
+def add_confidence_options(parser: argparse.ArgumentParser, *, confidence: str, samples: str,
+                           seed: str | None, default_confidence: float | None = None) -> None:
+    """--confidence C, --samples N and --seed S of every command that plans at a confidence (plan,
+    rehearse, export, next-test), each with one validator: C a probability in [0.5, 1) (:func:`probability`),
+    N a whole number of at least :data:`FEWEST_DRAWS`, S a whole number of at least 0. The help texts are
+    each command's (``seed=None``: no --seed)."""
+    parser.add_argument("--confidence", type=probability, default=default_confidence, metavar="C",
+                        help=confidence)
+    parser.add_argument("--samples", type=integer_type("--samples", ge=FEWEST_DRAWS), default=None,
+                        metavar="N", help=samples)
+    if seed is not None:
+        parser.add_argument("--seed", type=integer_type("--seed", ge=0), default=None, metavar="S", help=seed)
+
+
 def add_output_options(parser: argparse.ArgumentParser, *, plots: bool = True) -> None:
     """--json, --reproducible, --debug and (for commands that draw) --plots DIR."""
     parser.add_argument("--json", action="store_true",
@@ -94,10 +112,12 @@ def add_parallel_options(parser: argparse.ArgumentParser, what: str) -> None:
 
 
 def add_report_option(parser: argparse.ArgumentParser) -> None:
-    """--report FILE.html: the self-contained HTML report (:mod:`pampipe.views.html`)."""
-    parser.add_argument("--report", type=Path, metavar="FILE.html",
+    """--report FILE.html or FILE.pdf: the report to send (:mod:`pampipe.views.html`,
+    :mod:`pampipe.views.pdf_report`)."""
+    parser.add_argument("--report", type=Path, metavar="FILE.html|FILE.pdf",
                         help="also write one self-contained HTML file to send: inputs with their SHA-256, "
-                             "tables, warnings, plots (inline SVG) and the model's assumptions")
+                             "tables, warnings, plots (inline SVG) and the model's assumptions; a name "
+                             "ending .pdf writes the same report as an A4 PDF")
 
 
 def write_html_report(args: argparse.Namespace, command: str, *, inputs, text: str, document: dict,
@@ -106,12 +126,19 @@ def write_html_report(args: argparse.Namespace, command: str, *, inputs, text: s
     if getattr(args, "report", None) is None:
         return
     from pampipe.units.display import localize
-    from pampipe.views.html import svg_figures, write_report
 
     source = getattr(args, "mission", None) or getattr(args, "experiment", None)
-    write_report(args.report, command, title=f"pampipe {command} {source}", inputs=inputs,
-                 text=localize(text), document=document, warnings=[localize(w) for w in warnings],
-                 reasons=[localize(r) for r in reasons], figures=svg_figures(draw))
+    parts = {"title": f"pampipe {command} {source}", "inputs": inputs, "text": localize(text),
+             "document": document, "warnings": [localize(w) for w in warnings],
+             "reasons": [localize(r) for r in reasons]}
+    if args.report.suffix.lower() == ".pdf":
+        from pampipe.views.pdf_report import write_pdf
+
+        write_pdf(args.report, command, draw=draw, **parts)
+    else:
+        from pampipe.views.html import svg_figures, write_report
+
+        write_report(args.report, command, figures=svg_figures(draw), **parts)
     say(args, f"wrote {args.report}")
 
 

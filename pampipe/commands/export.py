@@ -6,7 +6,7 @@ import argparse
 import os
 from pathlib import Path
 
-from pampipe.commands.common import add_output_options, add_units_option, emit, integer_type, probability
+from pampipe.commands.common import add_confidence_options, add_output_options, add_units_option, emit
 from pampipe.errors import InputError
 from pampipe.io.files import atomic_write_set, check_not_input
 from pampipe.runtime.progress import note
@@ -39,13 +39,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-o", "--output", type=Path, metavar="DIR", required=True,
                         help="folder to write the files into (created if missing)")
     parser.add_argument("--force", action="store_true", help="overwrite output files that already exist")
-    parser.add_argument("--confidence", type=probability, metavar="C",
-                        help="export a law that plans at confidence C: each segment's pressure gains the "
-                             "margin `pampipe plan --confidence C` needs over the mission's sections, stated "
-                             "in the header")
-    parser.add_argument("--samples", type=integer_type("--samples", ge=100), default=None, metavar="N",
-                        help="draws of the uncertain inputs for --confidence (default 4000, as `plan`); "
-                             "N(1 - C) must be at least 10")
+    add_confidence_options(parser, confidence="export a law that plans at confidence C: each segment's "
+                           "pressure gains the margin `pampipe plan --confidence C` needs over the mission's "
+                           "sections, stated in the header",
+                           samples="draws of the uncertain inputs for --confidence (default 4000, as "
+                           "`plan`); N(1 - C) must be at least 10", seed=None)
     add_output_options(parser, plots=False)
     add_units_option(parser)
 

@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 
 from pampipe.commands.common import (
+    add_confidence_options,
     add_output_options,
     add_parallel_options,
     add_report_option,
@@ -16,7 +17,6 @@ from pampipe.commands.common import (
     say,
     write_html_report,
 )
-from pampipe.commands.plan import probability
 from pampipe.io.files import check_not_input, check_output
 
 NAME = "next-test"
@@ -52,8 +52,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a mission whose segments carry that PAM file")
     parser.add_argument("--menu", type=Path, required=True, metavar="MENU.yaml",
                         help="the tests the lab can run, each with its cost (docs/commands.md §14.1)")
-    parser.add_argument("--confidence", type=probability, default=0.95, metavar="C",
-                        help="plan at confidence C as `plan --confidence C` (default 0.95)")
+    add_confidence_options(parser, confidence="plan at confidence C as `plan --confidence C` (default 0.95)",
+                           default_confidence=0.95, samples="draws of each plan (default 10000)",
+                           seed="seed of the draws (default 22)")
     parser.add_argument("--objective", choices=("pressure", "air"), default="pressure",
                         help="what a test should lower: the largest planned pressure (default) or the "
                              "air-weighted mean")
@@ -62,10 +63,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write the best test as an experiment skeleton into DIR: the PAM, the "
                              "experiment file (the old fit as prior) and a CSV of the rows to measure, for "
                              "identify")
-    parser.add_argument("--samples", type=integer_type("--samples", ge=100), default=None, metavar="N",
-                        help="draws of each plan (default 10000)")
-    parser.add_argument("--seed", type=integer_type("--seed", ge=0), default=None, metavar="S",
-                        help="seed of the draws (default 22)")
     parser.add_argument("--check", type=integer_type("--check", ge=0), default=3, metavar="N",
                         help="the preposterior check of the top N tests: truths drawn from the fit, the "
                              "test's data synthesised, refitted and planned again (default 3; 0: none)")

@@ -8,6 +8,7 @@ from itertools import islice
 from pathlib import Path
 
 from pampipe.commands.common import (
+    add_confidence_options,
     add_output_options,
     add_parallel_options,
     add_report_option,
@@ -15,7 +16,6 @@ from pampipe.commands.common import (
     emit,
     emit_streamed,
     next_test_command,
-    probability,
     quantity_type,
     say,
     warn,
@@ -82,17 +82,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-payload", action="store_true",
                         help="also report the largest payload the supply carries through the whole route, "
                              "and the section that limits it")
-    parser.add_argument("--confidence", type=probability, metavar="C",
-                        help="plan the pressure that holds with probability C (e.g. 0.95), sampling every "
-                             "stated uncertainty: the PAM's 'uncertainty:' block (moduli, calibrated "
-                             "geometry, model error), its geometry sds, the bores' and friction sds and "
-                             "kappa's sd; "
-                             "with --max-payload, the payload held with probability C")
-    parser.add_argument("--samples", type=_count, default=None, metavar="N",
-                        help="draws of the uncertain inputs for --confidence (default 4000; the holding "
-                             "probability's Monte Carlo error is about sqrt(C(1-C)/N), 0.34 %% at C = 0.95)")
-    parser.add_argument("--seed", type=int, default=None, metavar="S",
-                        help="seed of the draws (default 22): the same seed gives the same plan")
+    add_confidence_options(
+        parser, confidence="plan the pressure that holds with probability C (e.g. 0.95), sampling every "
+        "stated uncertainty: the PAM's 'uncertainty:' block (moduli, calibrated geometry, model error), its "
+        "geometry sds, the bores' and friction sds and kappa's sd; with --max-payload, the payload held with "
+        "probability C", samples="draws of the uncertain inputs for --confidence (default 4000; the holding "
+        "probability's Monte Carlo error is about sqrt(C(1-C)/N), 0.34 %% at C = 0.95)",
+        seed="seed of the draws (default 22): the same seed gives the same plan")
     add_parallel_options(parser, "the --confidence sampling (in chunks of alike sections; the same plan)")
     parser.add_argument("--prior-from", type=Path, default=None, metavar="PAM.yaml",
                         help="with --confidence: a PAM file whose moduli and uncertainty serve as the prior "
@@ -107,17 +103,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_output_options(parser)
     add_units_option(parser)
     add_report_option(parser)
-
-
-def _count(text: str) -> int:
-    """argparse type: a whole number of draws, at least 100."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of draws, e.g. 4000") from None
-    if value < 100:
-        raise argparse.ArgumentTypeError(f"{text!r}: give at least 100 draws (e.g. 4000)")
-    return value
 
 
 #: Above this many sections the JSON document is written on one line (the indented encoder is 3× slower).

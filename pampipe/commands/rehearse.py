@@ -6,16 +6,15 @@ import argparse
 from pathlib import Path
 
 from pampipe.commands.common import (
+    add_confidence_options,
     add_output_options,
     add_report_option,
     add_units_option,
     emit,
-    integer_type,
     say,
     warn,
     write_html_report,
 )
-from pampipe.commands.plan import probability
 from pampipe.errors import InfeasibleError, InputError
 from pampipe.io.files import check_output
 
@@ -50,13 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--optimal", action="store_true",
                         help="walk with the time-optimal gait (CasADi/IPOPT, once per bore) instead of the "
                              "sequential one")
-    parser.add_argument("--confidence", type=probability, metavar="C",
-                        help="walk at the pressures of `plan --confidence C` and give the probability of "
-                             "completing the route, where it first slips, and the time and air at quantile C")
-    parser.add_argument("--samples", type=integer_type("--samples", ge=100), default=None, metavar="N",
-                        help="draws for --confidence (default 4000)")
-    parser.add_argument("--seed", type=integer_type("--seed", ge=0), default=None, metavar="S",
-                        help="seed of the draws (default 22)")
+    add_confidence_options(parser, confidence="walk at the pressures of `plan --confidence C` and give the "
+                           "probability of completing the route, where it first slips, and the time and air "
+                           "at quantile C", samples="draws for --confidence (default 4000)",
+                           seed="seed of the draws (default 22)")
     parser.add_argument("--all-sections", action="store_true",
                         help="list every section even on routes of more than 60 sections")
     add_output_options(parser)

@@ -13,8 +13,9 @@ from pampipe.design.single import DesignInfeasible, design_for
 from pampipe.design.sizes import choose_sizes
 from pampipe.errors import InputError
 from pampipe.model.muscle import Muscle
+from pampipe.runtime import progress
 from pampipe.runtime.executors import SerialExecutor
-from pampipe.specs.inventory import Inventory
+from pampipe.specs.inventory import Inventory, Objective
 
 
 class _Tally(Executor):
@@ -66,7 +67,20 @@ def solve_inventory(inventory: Inventory, *, pool: Executor | None = None) -> De
     """
     started = time.perf_counter()
     check_material(inventory)
-    tally = _Tally(pool or SerialExecutor())
+    with progress.overall("design starts", planned_starts(inventory)):
+        return _solve(inventory, _Tally(pool or SerialExecutor()), started)
+
+
+def planned_starts(inventory: Inventory) -> int:
+    """The starts one muscle takes: ``starts`` for the largest pressure, as many again and the best of
+    those for another objective. Sizes (``design.sizes``) and an infeasible inventory's deletion filter
+    add more on the way (:func:`pampipe.runtime.progress.overall` counts them as they come)."""
+    space = inventory.space
+    return space.starts if space.objective is Objective.MAX_PRESSURE else 2 * space.starts + 1
+
+
+def _solve(inventory: Inventory, tally: _Tally, started: float) -> DesignResult:
+    """:func:`solve_inventory`'s work, its starts counted on ``tally``."""
     material_table = evaluate_pipes(inventory, _material_geometry(inventory))
     pipes = inventory.pipes
     name = inventory.material.name

@@ -132,6 +132,14 @@ class IdentifyResult:
         return float("nan") if self.drucker_minimum is None else self.drucker_minimum.value
 
     @property
+    def verdict(self) -> str:
+        """The report's first line: the fit against full scale and the noise floor, the model error, and
+        which predictions the data determine (:func:`pampipe.identification.verdict.fit_verdict`)."""
+        from pampipe.identification.verdict import fit_verdict
+
+        return fit_verdict(self)
+
+    @property
     def has_levels(self) -> bool:
         """True when every test has pressure levels (then ``sum_rmse`` is defined)."""
         return all(t.levels for t in self.tests)
@@ -229,6 +237,7 @@ class IdentifyResult:
         """
         u = self.uncertainty
         doc = {
+            "verdict": self.verdict,
             "moduli": moduli_document(self.moduli),
             "fit": {
                 "tests": [{"name": t.name, "kind": t.kind, "protocol": t.protocol, "rmse_N": t.rmse,

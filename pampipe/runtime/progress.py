@@ -1,10 +1,11 @@
 """Progress of long commands on stderr: a live bar on a terminal, plain lines otherwise, or nothing.
 
 The command line opens :func:`shown` for the run (nothing under ``--json`` or ``--quiet``); code
-anywhere reports through :func:`count` (``done`` of ``total`` of a kind of step, e.g. design starts)
-and :func:`note` (a step's description). Without :func:`shown` both do nothing, so library and
-notebook use stay silent. :func:`deferred` notes a step only once it has run for a second, so that a
-command whose steps are usually quick (identify on a small experiment) says nothing unless one is slow.
+anywhere reports through :func:`count` (``done`` of ``total`` of a kind of step, e.g. design starts;
+:func:`overall` makes the stages of a block one count) and :func:`note` (a step's description).
+Without :func:`shown` both do nothing, so library and notebook use stay silent. :func:`deferred` notes a
+step only once it has run for a second, so that a command whose steps are usually quick (identify on a
+small experiment) says nothing unless one is slow.
 """
 
 from __future__ import annotations
@@ -46,10 +47,12 @@ def _end_line() -> None:
 
 
 def count(what: str, done: int, total: int) -> None:
-    """``done`` of ``total`` ``what`` (e.g. "design starts") are finished."""
+    """``done`` of ``total`` ``what`` (e.g. "design starts") are finished; inside :func:`overall` for
+    ``what``, counted on from the steps of the block finished before."""
     stream = _state["stream"]
     if stream is None:
         return
+    done, total = _overall(what, done, total)
     if _state["live"]:
         filled = BAR * done // max(total, 1)
         stream.write(f"\r[{'#' * filled}{'.' * (BAR - filled)}] {done}/{total} {what}")
@@ -60,6 +63,30 @@ def count(what: str, done: int, total: int) -> None:
     else:
         stream.write(f"{what}: {done}/{total} done\n")
         stream.flush()
+
+
+@contextmanager
+def overall(what: str, planned: int = 0) -> Iterator[None]:
+    """Count every ``what`` of the block as one total (N of M overall, not per stage): a stage's
+    ``done`` of ``total`` is shown after the steps of the stages before it, out of ``planned`` (the steps
+    the block expects) or, once more come (a stage added on the way), of all those known so far."""
+    saved = _state.get("overall")
+    _state["overall"] = {"what": what, "before": 0, "planned": planned}
+    try:
+        yield
+    finally:
+        _state["overall"] = saved
+
+
+def _overall(what: str, done: int, total: int) -> tuple[int, int]:
+    """(done, total) of the block's :func:`overall` count for ``what``; as given outside one."""
+    block = _state.get("overall")
+    if block is None or block["what"] != what:
+        return done, total
+    before = block["before"]
+    if done >= total:  # this stage is over: the next one counts on from here
+        block["before"] += total
+    return before + done, max(block["planned"], before + total)
 
 
 def note(text: str) -> None:

@@ -26,7 +26,7 @@ from pampipe.io.files import atomic_write_text
 from pampipe.io.streams import safe_text
 from pampipe.results import HTML_ROWS, tidy
 from pampipe.units.display import column, localize
-from pampipe.views.report_summary import headline, quantity, settings, verdict
+from pampipe.views.report_summary import headline, quantity, report_inputs, verdict
 
 DOCS = Path(__file__).resolve().parents[2] / "docs"
 
@@ -75,7 +75,7 @@ def _points(artist) -> int:
     return max(len(artist.get_offsets()), len(artist.get_paths()))
 
 
-def _rasterize_dense(fig) -> None:
+def rasterize_dense(fig) -> None:
     """In every axes of ``fig`` whose curves and markers hold more than :data:`RASTER_POINTS` points in
     all, draw those of more than :data:`FEW_POINTS` points as an image."""
     for ax in fig.axes:
@@ -88,7 +88,7 @@ def _rasterize_dense(fig) -> None:
 
 def svg_figures(draw: Callable[[], object]) -> list[str]:
     """The figures that ``draw()`` makes (plot functions under :func:`pampipe.views.tables.capture`) as
-    SVG, dense curves rasterized (:func:`_rasterize_dense`)."""
+    SVG, dense curves rasterized (:func:`rasterize_dense`)."""
     import matplotlib
 
     from pampipe.views.plots.style import PLAIN
@@ -98,7 +98,7 @@ def svg_figures(draw: Callable[[], object]) -> list[str]:
         draw()
     texts = []
     for fig in figures:
-        _rasterize_dense(fig)
+        rasterize_dense(fig)
         buffer = io.StringIO()
         # names as text, never mathtext (the texts: save_figure); text as text, not as glyph outlines
         with matplotlib.rc_context({**PLAIN, "svg.fonttype": "none"}):
@@ -192,7 +192,8 @@ code{font-size:0.9em;overflow-wrap:anywhere}td{white-space:nowrap}th{min-width:4
 @media print{@page{size:A4;margin:12mm}body{max-width:none;margin:0;padding:0;font-size:9pt}
 .wide{overflow:visible}table{font-size:7pt}pre{font-size:6.5pt}figure{break-inside:avoid;margin:0}
 h2{break-after:avoid}tr{break-inside:avoid}}"""
-BAD = ("infeasible", "not feasible", "the robot stops", "pampipe plan: no solution", "Verdict: unexplained")
+BAD = ("infeasible", "not feasible", "the robot stops", "pampipe plan: no solution", "Verdict: unexplained",
+       "fit: IPOPT")
 
 
 def _facts(rows: Sequence[tuple[str, str]], css: str) -> str:
@@ -220,25 +221,13 @@ def render(command: str, *, title: str, inputs: Iterable[Path], text: str, docum
             f"<style>{STYLE}</style></head><body><h1>{esc(title)}</h1>"
             f"<p class='verdict{bad}'>{esc(said)}</p>{_facts(headline(command, document), 'headline')}"
             f"<p>pampipe {esc(__version__)}, <code>pampipe {esc(command)}</code>, {stamp}.</p>"
-            f"<h2>Inputs</h2>{_facts(_inputs(command, document), 'facts')}"
+            f"<h2>Inputs</h2>{_facts(report_inputs(command, document), 'facts')}"
             f"<table><tr><th>file</th><th>SHA-256</th></tr>{files}</table>"
             f"<h2>Warnings</h2><ul>{warned}</ul>"
             + (f"<h2>Reasons</h2><ul>{why}</ul>" if why else "")
             + f"<h2>Report</h2><pre>{esc(text)}</pre>{_long_table(document)}"
             + (f"<h2>Plots</h2>{plots}" if plots else "")
             + f"<h2>Model assumptions</h2><ul>{assumptions}</ul></body></html>\n")
-
-
-def _inputs(command: str, document: dict) -> list[tuple[str, str]]:
-    """The settings the report rests on: the document's own inputs; identify's and diagnose's from
-    their fit and data blocks."""
-    if command == "identify":
-        fit = document.get("fit", {})
-        keys = ("objective", "mode", "degree", "points", "slack", "slack_rows", "excluded_rows")
-        return settings({"experiment": document.get("experiment"), **{k: fit.get(k) for k in keys}})
-    if command == "diagnose":
-        return settings({"experiment": document.get("source"), **(document.get("cells") or {})})
-    return settings(document)
 
 
 def write_report(target: Path, command: str, **parts) -> Path:

@@ -46,7 +46,8 @@ def report(result, source: str) -> str:
     """The human-readable fit report."""
     o, s, u = result.options, result.solver, result.uncertainty
     cache = {"disk": " (loaded from the on-disk cache)", "built": ""}.get(s.origin, "")
-    parts = [f"{source}: {o.mode} moduli, {o.objective.replace('_', ' ')} objective, degree {o.degree}, "
+    parts = [result.verdict,
+             f"{source}: {o.mode} moduli, {o.objective.replace('_', ' ')} objective, degree {o.degree}, "
              f"{result.points:,} rows in {counted(len(result.tests), 'test')}"
              + (" (legs averaged)" if o.average_legs else ""),
              f"IPOPT {s.status} after {s.iterations} iterations: solve {s.wall_time:.3g} s, NLP "

@@ -11,7 +11,7 @@ from collections.abc import Mapping
 
 #: How a text report's verdict line starts, per command (the last matching line is the verdict).
 VERDICT_STARTS = ("feasible", "infeasible", "not feasible", "completed", "the robot stops", "Verdict:",
-                  "IPOPT ", "pampipe plan: no solution")
+                  "fit: ", "pampipe plan: no solution")
 
 #: The JSON unit suffixes shown in the report, as (suffix, metric unit, factor from SI); longest first.
 SUFFIXES = (("_m3_per_s", "L/min", 6e4), ("_m3", "L", 1e3), ("_Pa", "kPa", 1e-3), ("_kg", "kg", 1.0),
@@ -113,3 +113,15 @@ def settings(document: Mapping) -> list[tuple[str, str]]:
     return [quantity(key, value) for key, value in document.items()
             if (value is None or isinstance(value, str | bool | int | float)) and not key.startswith(skip)
             and value is not None]
+
+
+def report_inputs(command: str, document: Mapping) -> list[tuple[str, str]]:
+    """The settings a report rests on: the document's own inputs; identify's and diagnose's from their fit
+    and data blocks."""
+    if command == "identify":
+        fit = document.get("fit", {})
+        keys = ("objective", "mode", "degree", "points", "slack", "slack_rows", "excluded_rows")
+        return settings({"experiment": document.get("experiment"), **{k: fit.get(k) for k in keys}})
+    if command == "diagnose":
+        return settings({"experiment": document.get("source"), **(document.get("cells") or {})})
+    return settings(document)

@@ -50,9 +50,12 @@ def test_api_returns_the_cli_document(command, call):
 
 
 def test_identify_api_equals_cli():
+    """... and its progress callback hears the fit (issue 42: it was called only while the data loaded)."""
     experiment = PROBLEMS / "experiments" / "paper-protocol.yaml"
-    document = api.identify(experiment, degree=1).to_dict()
+    said: list[str] = []
+    document = api.identify(experiment, degree=1, progress=said.append).to_dict()
     assert to_json(document, timings=False) == _cli_json("identify", experiment, "--degree", "1")
+    assert any(line.startswith("solving the 8-parameter NLP with IPOPT") for line in said), said
 
 
 def test_a_dict_and_unit_strings_give_the_same_plan(tmp_path):

@@ -55,6 +55,21 @@ def test_json_document_has_the_interface_keys(fitted):
     assert "Fit per test" in result.stderr  # the report goes to stderr under --json
 
 
+def test_the_verdict_line_comes_first_in_text_and_json(fitted):
+    """Issue 42: the first line of the report is the verdict (not IPOPT's status), the JSON's "verdict"."""
+    result = fitted[0]
+    doc = json.loads(result.stdout)
+    lines = [line for line in result.stderr.splitlines() if not line.startswith("pampipe ")]
+    assert lines[0] == doc["verdict"]
+    fit, quality = doc["fit"], doc["fit"]["quality"]
+    # the bundled data: 2 N of noise on forces up to ~15 kN; the fit reaches the floor
+    assert f"RMSE {fit['rmse_N']:#.3g} N = " in lines[0]
+    assert f"at the noise floor {doc['uncertainty']['model_error']['noise_floor_N']:#.3g} N " \
+           f"({quality['rmse_over_floor']:.2g} x)" in lines[0]
+    assert "determined: axial force at the tested points" in lines[0]
+    assert "anchoring in 76.2 mm, 88.9 mm / undetermined: none of these (4 of 16" in lines[0]
+
+
 def test_output_pam_file_round_trips_and_simulates(fitted):
     result, out, _ = fitted
     doc = json.loads(result.stdout)

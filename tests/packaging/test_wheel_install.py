@@ -22,7 +22,7 @@ import pytest
 
 from tests.support.problems import ROOT
 
-SOURCES = ("pampipe", "problems", "setup.py", "pyproject.toml", "README.md", "LICENSE")
+SOURCES = ("pampipe", "problems", "yaml", "setup.py", "pyproject.toml", "README.md", "LICENSE")
 
 
 @pytest.fixture(scope="module")
@@ -68,6 +68,15 @@ def test_the_wheel_carries_the_bundled_problems(installed):
     assert expected and expected <= shipped
 
 
+def test_the_wheel_carries_the_schemas(installed):
+    """Issue 42: `yaml/`'s JSON Schemas ship as pampipe/schemas, for `example` to copy beside its files."""
+    import zipfile
+
+    names = set(zipfile.ZipFile(installed.wheel).namelist())
+    expected = {f"pampipe/schemas/{p.name}" for p in (ROOT / "yaml").glob("*.schema.json")}
+    assert len(expected) >= 4 and expected <= names
+
+
 def test_pampipe_is_the_installed_wheel(installed):
     out = subprocess.run([installed.bin / "python", "-c", "import pampipe; print(pampipe.__file__)"],
                          capture_output=True, text=True, cwd=installed.scratch, check=True)
@@ -82,6 +91,11 @@ def test_example_copies_outside_the_repository(installed, name):
     files = [Path(f) for f in json.loads(out.stdout)["files"]]
     assert files and all((installed.scratch / f).is_file() for f in files)
     assert all((installed.scratch / f).resolve().is_relative_to(installed.scratch) for f in files)
+    for path in (installed.scratch / f for f in files if f.suffix == ".yaml"):  # its schema line resolves
+        schema = path.read_text().splitlines()[0].split("$schema=")[1]
+        assert (path.parent / schema).resolve() == (installed.scratch / f"ex-{name}" / "yaml" /
+                                                    Path(schema).name).resolve()
+        assert (path.parent / schema).read_bytes() == (ROOT / "yaml" / Path(schema).name).read_bytes()
 
 
 def test_route_default_template_comes_from_the_installed_package(installed):

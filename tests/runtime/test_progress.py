@@ -25,6 +25,23 @@ def test_plain_lines_off_a_terminal():
                                               "done squaring"]
 
 
+def test_stages_inside_overall_count_as_one_total():
+    """design's starts (issue 42): stages of 3 and 4 planned as 7 count 1/7 ... 7/7, not 1/3 ... 1/4; a stage
+    nobody planned extends the total; another kind of step and the count after the block keep their own."""
+    stream = io.StringIO()
+    with progress.shown(stream=stream):
+        with progress.overall("starts", planned=7):
+            run_all(lambda x: x, range(3), SerialExecutor(), what="starts")
+            run_all(lambda x: x, range(2), SerialExecutor(), what="squares")
+            run_all(lambda x: x, range(4), SerialExecutor(), what="starts")
+            run_all(lambda x: x, range(2), SerialExecutor(), what="starts")
+        run_all(lambda x: x, range(1), SerialExecutor(), what="starts")
+    assert stream.getvalue().splitlines() == [
+        *(f"starts: {k}/7 done" for k in range(1, 4)), "squares: 1/2 done", "squares: 2/2 done",
+        *(f"starts: {k}/7 done" for k in range(4, 8)), "starts: 8/9 done", "starts: 9/9 done",
+        "starts: 1/1 done"]
+
+
 def test_live_bar_on_a_terminal_rewrites_one_line():
     stream = Terminal()
     with progress.shown(stream=stream):

@@ -26,6 +26,7 @@ import re
 import shlex
 import shutil
 import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,6 +35,8 @@ import pytest
 from tests.support.problems import PROBLEMS, ROOT
 
 DOCS = ("README.md", "docs/workflows.md")
+#: The reference of every command: its ```sh blocks run in a shell of their own (tests/docs/test_docs_run.py).
+REFERENCE = ("docs/commands.md",)
 EXPECTED = re.compile(r"#\s*exits\s+(\d+)\s*$")
 HEREDOC = re.compile(r"<<-?\s*(['\"]?)(\w+)\1")
 FENCE = "```"
@@ -101,7 +104,11 @@ def run_docs(bin_dir: Path, scratch: Path, steps: list[Command] | None = None) -
     shutil.copytree(PROBLEMS, work / "problems", ignore=shutil.ignore_patterns("__pycache__"))
     status.mkdir()
     env = {**os.environ, "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}", "MPLBACKEND": "Agg"}
-    env.pop("PYTHONPATH", None)
+    if Path(bin_dir) != Path(sys.executable).parent:  # another installation (a wheel's): not this tree
+        env.pop("PYTHONPATH", None)
+    elif env.get("PYTHONPATH"):  # the tree under test, also from the scratch folder (PYTHONPATH=. too)
+        paths = env["PYTHONPATH"].split(os.pathsep)
+        env["PYTHONPATH"] = os.pathsep.join(str(Path(p).resolve()) for p in paths)
     subprocess.run(["bash", "-c", script(steps, status)], cwd=work, env=env, check=True)
     codes = []
     for i, step in enumerate(steps):

@@ -95,6 +95,9 @@ def test_identify_report_hashes_the_data(tmp_path):
     for data in sorted((PROBLEMS / "experiments" / "data" / "paper-protocol").glob("*.csv")):
         assert hashlib.sha256(data.read_bytes()).hexdigest() in text, data.name
     assert text.count("<svg") >= 2 and "6. Identification NLP" in text
+    # the verdict line first (issue 42), before the headline numbers and the text report
+    verdict = re.search(r"<p class='verdict'>(fit: RMSE 2.00 N = [^<]*)</p>", text)
+    assert verdict and verdict.start() < text.index("Inputs") < text.index("<pre>" + verdict.group(1))
 
 
 def test_bidi_controls_are_shown_not_obeyed_and_docs_links_are_relative(tmp_path):
