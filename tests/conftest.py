@@ -50,10 +50,14 @@ def cli(capsys):
 
 def pytest_configure(config):
     """The on-disk NLP cache of the test run lives in a temporary folder (inherited by the CLI
-    subprocesses), never in the user's ~/.cache; a cache the caller chose is kept."""
-    if "PAMPIPE_NLP_CACHE" not in os.environ:
-        config._pampipe_cache = tempfile.mkdtemp(prefix="pampipe-test-nlp-")
+    subprocesses), never in the user's ~/.cache; a cache the caller chose is kept. Under ``pytest -n N``
+    each worker gets a folder of its own (the controller's variable is inherited, hence the marker
+    variable), so no two test processes ever store or replace one entry at once."""
+    worker = os.environ.get("PYTEST_XDIST_WORKER")
+    if "PAMPIPE_NLP_CACHE" not in os.environ or (worker and os.environ.get("PAMPIPE_TEST_NLP_CACHE")):
+        config._pampipe_cache = tempfile.mkdtemp(prefix=f"pampipe-test-nlp-{worker or 'main'}-")
         os.environ["PAMPIPE_NLP_CACHE"] = config._pampipe_cache
+        os.environ["PAMPIPE_TEST_NLP_CACHE"] = "1"  # ours, not the caller's: a worker makes its own
 
 
 def pytest_unconfigure(config):
@@ -61,6 +65,7 @@ def pytest_unconfigure(config):
     if folder:
         shutil.rmtree(folder, ignore_errors=True)
         os.environ.pop("PAMPIPE_NLP_CACHE", None)
+        os.environ.pop("PAMPIPE_TEST_NLP_CACHE", None)
 
 
 def pytest_terminal_summary(terminalreporter):

@@ -78,8 +78,9 @@ def test_the_wheel_carries_the_schemas(installed):
 
 
 def test_pampipe_is_the_installed_wheel(installed):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # a caller's tree must not shadow it
     out = subprocess.run([installed.bin / "python", "-c", "import pampipe; print(pampipe.__file__)"],
-                         capture_output=True, text=True, cwd=installed.scratch, check=True)
+                         capture_output=True, text=True, cwd=installed.scratch, check=True, env=env)
     assert Path(out.stdout.strip()).is_relative_to(installed.site)
 
 

@@ -69,8 +69,12 @@ def test_off_builds_every_time_and_writes_nothing(tmp_path, monkeypatch):
     assert not any(tmp_path.iterdir())
 
 
+@pytest.mark.slow
 def test_identify_in_a_second_process_loads_the_nlp_and_gives_the_same_fit(tmp_path):
-    """Two whole `identify` runs sharing one cache folder: built, then loaded; identical JSON."""
+    """Two whole `identify` runs sharing one cache folder: built, then loaded; identical JSON. Slow: the
+    default run makes the same check within tests/runtime/test_cache_damage.py::
+    test_identify_with_flipped_bits_in_its_nlp_file_gives_the_same_fit (built, rebuilt, then loaded: the
+    same JSON each time), which costs one identify more than this one and two less than both."""
     env = {**os.environ, nlp.CACHE_VARIABLE: str(tmp_path / "cache")}
     experiment = PROBLEMS / "experiments" / "paper-protocol.yaml"
     command = [sys.executable, "-m", "pampipe", "identify", str(experiment), "--json", "--reproducible"]

@@ -22,6 +22,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cache
 
 from tests.support.import_graph import Edge, Package, circles, describe, part_of
 
@@ -55,14 +56,13 @@ def rule(key: str, name: str, applies_to, may_not_import, allowed=None) -> Rule:
     return Rule(key, name, frozenset(applies_to), frozenset(may_not_import), allowed)
 
 
-def result_modules(package: Package) -> set[str]:
-    """The modules that define a result class: a class decorated with ``notebook(...)``."""
-    out = set()
-    for module in package.modules.values():
-        for node in ast.walk(ast.parse(module.source)):
-            if isinstance(node, ast.ClassDef) and any(_calls(d, "notebook") for d in node.decorator_list):
-                out.add(module.name)
-    return out
+@cache
+def result_modules(package: Package) -> frozenset[str]:
+    """The modules that define a result class: a class decorated with ``notebook(...)``; read once per
+    package (every edge into the views asks, and parsing the package per edge cost minutes)."""
+    return frozenset(name for name, tree in package.trees.items() for node in ast.walk(tree)
+                     if isinstance(node, ast.ClassDef)
+                     and any(_calls(d, "notebook") for d in node.decorator_list))
 
 
 def _calls(node: ast.AST, name: str) -> bool:
@@ -158,7 +158,7 @@ def long_functions(package: Package, limit: int = MAX_FUNCTION_LINES) -> list[st
     sketch text export writes) are data, not logic, and do not count; a docstring counts."""
     out = []
     for module in package.modules.values():
-        for node in ast.walk(ast.parse(module.source)):
+        for node in ast.walk(package.trees[module.name]):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 lines = node.end_lineno - node.lineno + 1 - len(_template_lines(node))
                 if lines > limit:

@@ -2,11 +2,13 @@
 
 Convention (what a doc's ```sh block may assume; keep it when adding blocks):
 
-* Every ```sh block of README.md, then of docs/workflows.md, runs in document order in ONE bash shell, so a
-  `cd`, an `export` or a file written by an earlier command holds for the later ones.
+* Every ```sh block of a doc (README.md, docs/workflows.md) runs in document order in ONE bash shell of that
+  doc, so a `cd`, an `export` or a file written by an earlier command holds for the later ones. Each doc has
+  its own shell and scratch folder (a reader may open either first), so the two run side by side under
+  `pytest -n 2`.
 * The shell starts in an empty scratch folder that holds a copy of the repository's `problems/` (as the
   repository root does) and nothing else: any other file a command reads must be written by an earlier command
-  of the same document order (a heredoc, `pampipe example`, ...). Absolute paths such as `/tmp/x` are not
+  of the same doc (a heredoc, `pampipe example`, ...). Absolute paths such as `/tmp/x` are not
   allowed, since two runs at once would share them.
 * `pampipe` on PATH is the one under test (the project venv's, or a wheel's in
   tests/packaging/test_wheel_install.py).

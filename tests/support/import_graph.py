@@ -23,6 +23,7 @@ import ast
 import re
 from collections import deque
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 #: A whole string that names an import target: ``pampipe.x.y`` or ``pampipe.x.y:name``.
@@ -62,6 +63,11 @@ class Package:
         self.modules = {m.name: m for m in modules}
         self.parts = {part_of(name) for name in self.modules} - {"__init__"}
         self.edges = [edge for module in self.modules.values() for edge in self._edges_of(module)]
+
+    @cached_property
+    def trees(self) -> dict[str, ast.Module]:
+        """Each module's syntax tree, parsed once for every check that reads it."""
+        return {name: ast.parse(m.source, m.path) for name, m in self.modules.items()}
 
     @classmethod
     def from_folder(cls, folder: Path) -> Package:
@@ -114,7 +120,7 @@ class Package:
         found: list[tuple[str | None, int, str]] = []
         read: set[int] = set()  # nodes already read as (part of) a string or an import_module argument
         package = module.name.split(".") if module.is_package else module.name.split(".")[:-1]
-        for node in ast.walk(ast.parse(module.source, module.path)):
+        for node in ast.walk(self.trees[module.name]):
             if id(node) in read:
                 continue
             if isinstance(node, ast.Import):
