@@ -41,6 +41,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/planning/law.py": ("tests/planning/test_evaluator.py",),
     "pampipe/planning/evaluator.py": ("tests/planning/test_evaluator.py",
                                       "tests/planning/test_evaluator_general.py",
+                                      "tests/planning/test_confidence_breakdown.py",
                                       "tests/planning/test_confidence.py"),
     "pampipe/planning/solve.py": ("tests/planning/test_uneven_plan.py", "tests/planning/test_sections.py",
                                   "tests/planning/test_limits.py"),
