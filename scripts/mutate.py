@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import ast
 import io
+import json
 import os
 import random
 import shutil
@@ -53,7 +54,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/export/law.py": ("tests/export/test_law_uneven.py", "tests/export/test_export.py",
                               "tests/export/test_law_domain.py"),
     "pampipe/export/cgen.py": ("tests/export/test_export.py",),
-    "pampipe/slip/law.py": ("tests/slip/test_slip.py",),
+    "pampipe/slip/law.py": ("tests/slip/test_law.py", "tests/slip/test_slip.py"),
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
 }
 
@@ -73,6 +74,7 @@ class Mutant:
     line: int
     column: int
     description: str
+    end_line: int  # the last line of the mutated node
     text: str  # the mutated line's code, without its indentation and comment
     offset: int  # the column in ``text``
     build: Callable[[], str] = field(compare=False, repr=False)  # the whole mutated module
@@ -179,7 +181,7 @@ def mutants(source: str) -> list[Mutant]:
         seen[(description, offset, text)] = count = seen.get((description, offset, text), 0) + 1
         if count > 1:
             text = f"{text} [{count}]"
-        out.append(Mutant(node.lineno, node.col_offset, description, text, offset,
+        out.append(Mutant(node.lineno, node.col_offset, description, node.end_lineno, text, offset,
                           _built(source, index, kind)))
     return out
 
@@ -227,8 +229,31 @@ def check_isolation() -> None:
                              "be tested")
 
 
+def covering(module: str, tests: tuple[str, ...], timeout: float) -> dict[str, set[int]]:
+    """{test id: the lines of ``module`` it runs} over ``tests`` on the unmutated repository, and under ""
+    the lines run outside any test (scripts/mutate_trace.py; in-process only)."""
+    with tempfile.TemporaryDirectory() as work:
+        copy = _copy(work)
+        out = Path(work) / "lines.json"
+        env = {**_env(copy), "PYTHONPATH": f"{copy}{os.pathsep}{copy / 'scripts'}",
+               "MUTATE_TRACE": str(copy / module), "MUTATE_TRACE_OUT": str(out)}
+        subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "mutate_trace",
+                        "-m", "not slow", *tests], cwd=copy, env=env, capture_output=True, timeout=timeout)
+        return {k: set(v) for k, v in json.loads(out.read_text(encoding="utf-8")).items()}
+
+
+def selected(mutant: Mutant, lines: dict[str, set[int]], tests: tuple[str, ...]) -> tuple[str, ...]:
+    """The tests that run the mutated lines (in their order); all of ``tests`` where a line runs outside
+    any test (module level: every test depends on it) or in none seen (it may run in a subprocess)."""
+    span = set(range(mutant.line, mutant.end_line + 1))
+    if span & lines.get("", set()):
+        return tests
+    ids = tuple(k for k, v in lines.items() if k and span & v)
+    return ids or tests
+
+
 def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
-    """Run ``tests`` in a copy of the repository whose ``module`` is the mutant."""
+    """Run ``tests`` (files or test ids) in a copy of the repository whose ``module`` is the mutant."""
     with tempfile.TemporaryDirectory() as work:
         copy = _copy(work)
         (copy / module).write_text(mutant.source, encoding="utf-8")
@@ -247,6 +272,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sample", type=int, help="at most this many mutants per module, drawn with --seed")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=600, help="seconds per mutant run (a hang: killed)")
+    parser.add_argument("--select", action="store_true",
+                        help="run each mutant against the tests that run its line only (one traced run "
+                             "of the module's tests first; a line run only in a subprocess is not seen: "
+                             "its mutant runs every test)")
     parser.add_argument("--match", help="only the mutants whose place or key contains this text")
     parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
     args = parser.parse_args(argv)
@@ -270,9 +299,10 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{m.where(module)}  {m.key(module)}")
             continue
         survivors = []
+        lines = covering(module, tests, args.timeout) if args.select and found else {}
         for i, m in enumerate(found, 1):
             print(f"\r{module}: {i}/{len(found)}", end="", file=sys.stderr, flush=True)
-            if not killed(module, m, tests, args.timeout):
+            if not killed(module, m, selected(m, lines, tests) if args.select else tests, args.timeout):
                 survivors.append(m)
         print(file=sys.stderr)
         kill = len(found) - len(survivors)

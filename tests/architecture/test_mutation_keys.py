@@ -4,7 +4,11 @@ a listed key whose line changed is named, never silently matched to another muta
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
+import json
+import os
+import subprocess
 import sys
 
 import pytest
@@ -68,3 +72,28 @@ def test_every_listed_equivalent_names_a_mutant_of_today(module):
     found = mutate.mutants((ROOT / module).read_text(encoding="utf-8"))
     assert not mutate.stale(module, found, mutate.equivalents())
     assert all("  # " not in m.key(module) for m in found)
+
+
+def test_select_runs_the_tests_that_run_the_mutated_line(tmp_path):
+    """``--select``: a traced run (scripts/mutate_trace.py) maps each test to the lines it runs; a mutant
+    runs only the tests that run its line, and every test where its line runs at import or in no test."""
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "m.py").write_text(SOURCE)
+    (tmp_path / "tests" / "test_m.py").write_text(
+        "from m import f\n\n\ndef test_both():\n    assert f(1, 2) == 4.0\n\n\n"
+        "def test_one():\n    assert f(-1, 2) == -2.0\n")
+    env = {**os.environ, "PYTHONPATH": f"{tmp_path}{os.pathsep}{ROOT / 'scripts'}",
+           "MUTATE_TRACE": str(tmp_path / "m.py"), "MUTATE_TRACE_OUT": str(tmp_path / "lines.json")}
+    subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "mutate_trace",
+                    "tests"], cwd=tmp_path, env=env, check=True, capture_output=True)
+    lines = {k: set(v) for k, v in json.loads((tmp_path / "lines.json").read_text()).items()}
+    both, one = "tests/test_m.py::test_both", "tests/test_m.py::test_one"
+    assert lines[both] == {5, 6, 7} and lines[one] == {5, 6, 8} and 2 in lines[""]
+    tests = ("tests/test_m.py",)
+    chosen = {m.key("m.py"): mutate.selected(m, lines, tests) for m in mutate.mutants(SOURCE)}
+    assert chosen["m.py: max->min @7: return max(x, y) * LIMIT"] == (both,)
+    assert chosen["m.py: min->max @7: return min(x, y) * LIMIT"] == (one,)
+    assert chosen["m.py: And->Or @3: if x > 0 and y > 0:"] == (both, one)
+    assert chosen["m.py: 2.0->2.02 @8: LIMIT = 2.0"] == tests  # module level: every test
+    assert mutate.selected(dataclasses.replace(mutate.mutants(SOURCE)[0], line=99, end_line=99), lines,
+                           tests) == tests  # a line no test runs here (a subprocess may): every test
