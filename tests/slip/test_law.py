@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from pampipe.model.muscle import Muscle
-from pampipe.slip.law import power_law_model
+from pampipe.slip.law import power_law_model, verdict
 from tests.support import slip_data
 
 BORES = (0.0635, 0.0762, 0.0889)
@@ -24,8 +24,9 @@ def muscle(radial_pam):
 
 @pytest.mark.parametrize(("mu0", "exponent", "kappa", "reference"),
                          [(0.3, 0.0, 0.8, 2e5), (0.3, 0.4, 0.8, 2e5), (0.25, -0.3, 0.5, 1.5e5),
-                          (0.4, 0.8, 1.2, 3e5)])
+                          (0.4, 0.8, 1.2, 3e5), (3.0, 0.0, 0.8, 2e5)])
 def test_slip_load_equals_the_law_written_apart(muscle, mu0, exponent, kappa, reference):
+    """μ₀ = 3 (a rubber-like grip): the slip load is near 3π·F_r, beyond a bracket of π·F_r."""
     pressure, diameter = (np.array(v) for v in zip(*[(p, d) for p in PRESSURES for d in BORES], strict=True))
     got = power_law_model(muscle, pressure, diameter, kappa, reference)(mu0, exponent)
     want = [slip_data.true_slip_load(muscle, p, d, mu0, kappa, exponent, reference)
@@ -45,3 +46,21 @@ def test_a_muscle_that_does_not_touch_slips_at_no_load(muscle):
     assert got[1] == pytest.approx(slip_data.true_slip_load(muscle, pressure[1], 0.0889, 0.3, 0.8, 0.4, 2e5),
                                    rel=1e-7)
     assert math.isfinite(got[1]) and got[1] > 0
+
+
+def test_friction_is_capped_at_10(muscle):
+    """μ₀ = 12 with n = 0 asks μ = 12; the law caps μ at 10: the slip load is Coulomb's at μ = 10."""
+    pressure, diameter = np.array([2.6e5, 6.0e5]), np.array([0.0635, 0.0889])
+    got = power_law_model(muscle, pressure, diameter, 0.8, 2e5)(12.0, 0.0)
+    want = [slip_data.true_slip_load(muscle, p, d, 10.0, 0.8)
+            for p, d in zip(pressure, diameter, strict=True)]
+    np.testing.assert_allclose(got, want, rtol=1e-7)
+
+
+@pytest.mark.parametrize(("delta_bic", "p_value", "supported"),
+                         [(-1.0, 0.01, "pressure_dependent"), (-1e-9, 0.0499, "pressure_dependent"),
+                          (0.0, 0.01, "coulomb"), (-1.0, 0.05, "coulomb"), (-1.0, 0.0502, "coulomb"),
+                          (2.0, 0.001, "coulomb")])
+def test_the_verdict_needs_both_bic_and_p_value(delta_bic, p_value, supported):
+    """docs/physics.md §13.4: pressure-dependent only where ΔBIC < 0 and p < 0.05 (both strict)."""
+    assert verdict(delta_bic, p_value) == supported
