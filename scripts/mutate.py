@@ -11,6 +11,7 @@ from the original) are listed with the reason in ``scripts/mutants-equivalent.tx
     python scripts/mutate.py                      # every target, every mutant
     python scripts/mutate.py --sample 40 --seed 1 # 40 mutants drawn per module
     python scripts/mutate.py --module pampipe/slip/law.py --list
+    python scripts/mutate.py --module pampipe/slip/law.py --match 'Gt->GtE'  # the mutants matching a text
 
 Prints killed, survived and the score per module, and each survivor (the line to write a test for).
 """
@@ -19,13 +20,18 @@ from __future__ import annotations
 
 import argparse
 import ast
+import io
+import json
 import os
 import random
 import shutil
 import subprocess
 import sys
 import tempfile
-from dataclasses import dataclass
+import tokenize
+from collections.abc import Callable
+from copy import deepcopy
+from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -41,13 +47,14 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/planning/law.py": ("tests/planning/test_evaluator.py",),
     "pampipe/planning/evaluator.py": ("tests/planning/test_evaluator.py",
                                       "tests/planning/test_evaluator_general.py",
+                                      "tests/planning/test_confidence_breakdown.py",
                                       "tests/planning/test_confidence.py"),
     "pampipe/planning/solve.py": ("tests/planning/test_uneven_plan.py", "tests/planning/test_sections.py",
                                   "tests/planning/test_limits.py"),
     "pampipe/export/law.py": ("tests/export/test_law_uneven.py", "tests/export/test_export.py",
                               "tests/export/test_law_domain.py"),
     "pampipe/export/cgen.py": ("tests/export/test_export.py",),
-    "pampipe/slip/law.py": ("tests/slip/test_slip.py",),
+    "pampipe/slip/law.py": ("tests/slip/test_law.py", "tests/slip/test_slip.py::test_friction_law_check"),
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
 }
 
@@ -67,10 +74,23 @@ class Mutant:
     line: int
     column: int
     description: str
-    source: str  # the whole mutated module
+    end_line: int  # the last line of the mutated node
+    text: str  # the mutated line's code, without its indentation and comment
+    offset: int  # the column in ``text``
+    build: Callable[[], str] = field(compare=False, repr=False)  # the whole mutated module
+
+    @property
+    def source(self) -> str:
+        return self.build()
+
+    def where(self, module: str) -> str:
+        """``module:line:column``: where the mutant is today (moves when code above it moves)."""
+        return f"{module}:{self.line}:{self.column}"
 
     def key(self, module: str) -> str:
-        return f"{module}:{self.line}:{self.column}:{self.description}"
+        """``module: description @offset: code``, named by the mutated line's code, not its number: a key
+        in :data:`EQUIVALENT` stays valid while that line is unchanged, whatever moves above it."""
+        return f"{module}: {self.description} @{self.offset}: {self.text}"
 
 
 def _docstring_nodes(tree: ast.AST) -> set[int]:
@@ -83,9 +103,17 @@ def _docstring_nodes(tree: ast.AST) -> set[int]:
     return out
 
 
-def mutants(source: str) -> list[Mutant]:
-    """Every single-point mutant of ``source`` (each re-parsed from the original, changed at one node)."""
-    tree = ast.parse(source)
+def _code_lines(source: str) -> list[str]:
+    """Each line of ``source`` without its comment (by the tokenizer: a ``#`` in a string stays)."""
+    lines = source.splitlines()
+    for token in tokenize.generate_tokens(io.StringIO(source).readline):
+        if token.type == tokenize.COMMENT:
+            row, col = token.start
+            lines[row - 1] = lines[row - 1][:col]
+    return [line.rstrip() for line in lines]
+
+
+def _points(tree: ast.AST) -> list[tuple[ast.AST, object]]:
     points = []
     skip = _docstring_nodes(tree)
     for node in ast.walk(tree):
@@ -103,38 +131,72 @@ def mutants(source: str) -> list[Mutant]:
         elif (isinstance(node, ast.Constant) and type(node.value) in (int, float) and id(node) not in skip
               and not isinstance(node.value, bool)):
             points.append((node, "const"))
-    out = []
-    for index, (_, kind) in enumerate(points):
+    return points
+
+
+def _mutate(target: ast.AST, kind) -> str:
+    """Change ``target`` in place; the description of the change."""
+    if kind in ("op", "bool"):
+        old = type(target.op).__name__
+        target.op = SWAPS[type(target.op)]()
+        return f"{old}->{type(target.op).__name__}"
+    if kind == "name":
+        text = f"{target.id}->{NAMES[target.id]}"
+        target.id = NAMES[target.id]
+        return text
+    if kind == "attribute":
+        text = f"{target.value.id}.{target.attr}->{ATTRIBUTES[target.attr]}"
+        target.attr = ATTRIBUTES[target.attr]
+        return text
+    if kind == "const":
+        value = target.value
+        target.value = value + 1 if isinstance(value, int) else (value * 1.01 if value else 1e-3)
+        return f"{value!r}->{target.value!r}"
+    i = kind[1]
+    old = type(target.ops[i]).__name__
+    target.ops[i] = SWAPS[type(target.ops[i])]()
+    return f"{old}->{type(target.ops[i]).__name__}"
+
+
+def _built(source: str, index: int, kind) -> Callable[[], str]:
+    def build() -> str:
         copy = ast.parse(source)
-        target = [n for n in ast.walk(copy)][[id(n) for n in ast.walk(tree)].index(id(points[index][0]))]
-        if kind in ("op", "bool"):
-            old = type(target.op).__name__
-            target.op = SWAPS[type(target.op)]()
-            text = f"{old}->{type(target.op).__name__}"
-        elif kind == "name":
-            text = f"{target.id}->{NAMES[target.id]}"
-            target.id = NAMES[target.id]
-        elif kind == "attribute":
-            text = f"{target.value.id}.{target.attr}->{ATTRIBUTES[target.attr]}"
-            target.attr = ATTRIBUTES[target.attr]
-        elif kind == "const":
-            value = target.value
-            target.value = value + 1 if isinstance(value, int) else (value * 1.01 if value else 1e-3)
-            text = f"{value!r}->{target.value!r}"
-        else:
-            i = kind[1]
-            old = type(target.ops[i]).__name__
-            target.ops[i] = SWAPS[type(target.ops[i])]()
-            text = f"{old}->{type(target.ops[i]).__name__}"
-        out.append(Mutant(target.lineno, target.col_offset, text, ast.unparse(copy)))
+        _mutate(_points(copy)[index][0], kind)
+        return ast.unparse(copy)
+    return build
+
+
+def mutants(source: str) -> list[Mutant]:
+    """Every single-point mutant of ``source`` (each built on demand from the original, changed at one node);
+    mutants whose key would repeat (the same change at the same place of the same code line) are keyed
+    ``[2]``, ``[3]``, … in the order of the module."""
+    tree = ast.parse(source)
+    code = _code_lines(source)
+    out, seen = [], {}
+    for index, (node, kind) in enumerate(_points(tree)):
+        description = _mutate(deepcopy(node), kind)  # a copy: the original tree stays as parsed
+        line = code[node.lineno - 1]
+        text = line.strip()
+        offset = node.col_offset - (len(line) - len(line.lstrip()))
+        seen[(description, offset, text)] = count = seen.get((description, offset, text), 0) + 1
+        if count > 1:
+            text = f"{text} [{count}]"
+        out.append(Mutant(node.lineno, node.col_offset, description, node.end_lineno, text, offset,
+                          _built(source, index, kind)))
     return out
 
 
 def equivalents() -> set[str]:
+    """The keys of :data:`EQUIVALENT`: each line ``key  # why`` (a line starting with ``#`` is a comment)."""
     if not EQUIVALENT.exists():
         return set()
-    lines = (line.split("#")[0].strip() for line in EQUIVALENT.read_text().splitlines())
-    return {line for line in lines if line}
+    lines = (line.strip() for line in EQUIVALENT.read_text(encoding="utf-8").splitlines())
+    return {line.partition("  # ")[0].strip() for line in lines if line and not line.startswith("#")}
+
+
+def stale(module: str, found: list[Mutant], keys: set[str]) -> set[str]:
+    """The keys of ``module`` in ``keys`` that name none of its mutants ``found`` (its code line changed)."""
+    return {k for k in keys if k.startswith(f"{module}:")} - {m.key(module) for m in found}
 
 
 #: what a mutant's copy of the repository leaves out
@@ -167,8 +229,31 @@ def check_isolation() -> None:
                              "be tested")
 
 
+def covering(module: str, tests: tuple[str, ...], timeout: float) -> dict[str, set[int]]:
+    """{test id: the lines of ``module`` it runs} over ``tests`` on the unmutated repository, and under ""
+    the lines run outside any test (scripts/mutate_trace.py; in-process only)."""
+    with tempfile.TemporaryDirectory() as work:
+        copy = _copy(work)
+        out = Path(work) / "lines.json"
+        env = {**_env(copy), "PYTHONPATH": f"{copy}{os.pathsep}{copy / 'scripts'}",
+               "MUTATE_TRACE": str(copy / module), "MUTATE_TRACE_OUT": str(out)}
+        subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-p", "mutate_trace",
+                        "-m", "not slow", *tests], cwd=copy, env=env, capture_output=True, timeout=timeout)
+        return {k: set(v) for k, v in json.loads(out.read_text(encoding="utf-8")).items()}
+
+
+def selected(mutant: Mutant, lines: dict[str, set[int]], tests: tuple[str, ...]) -> tuple[str, ...]:
+    """The tests that run the mutated lines (in their order); all of ``tests`` where a line runs outside
+    any test (module level: every test depends on it) or in none seen (it may run in a subprocess)."""
+    span = set(range(mutant.line, mutant.end_line + 1))
+    if span & lines.get("", set()):
+        return tests
+    ids = tuple(k for k, v in lines.items() if k and span & v)
+    return ids or tests
+
+
 def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
-    """Run ``tests`` in a copy of the repository whose ``module`` is the mutant."""
+    """Run ``tests`` (files or test ids) in a copy of the repository whose ``module`` is the mutant."""
     with tempfile.TemporaryDirectory() as work:
         copy = _copy(work)
         (copy / module).write_text(mutant.source, encoding="utf-8")
@@ -187,6 +272,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sample", type=int, help="at most this many mutants per module, drawn with --seed")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=600, help="seconds per mutant run (a hang: killed)")
+    parser.add_argument("--select", action="store_true",
+                        help="run each mutant against the tests that run its line only (one traced run "
+                             "of the module's tests first; a line run only in a subprocess is not seen: "
+                             "its mutant runs every test)")
+    parser.add_argument("--match", help="only the mutants whose place or key contains this text")
     parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
     args = parser.parse_args(argv)
     skip = equivalents()
@@ -196,18 +286,23 @@ def main(argv: list[str] | None = None) -> int:
     for module, tests in TARGETS.items():
         if args.module and module not in args.module:
             continue
-        found = [m for m in mutants((ROOT / module).read_text(encoding="utf-8")) if m.key(module) not in skip]
+        every = mutants((ROOT / module).read_text(encoding="utf-8"))
+        for key in sorted(stale(module, every, skip)):
+            print(f"mutate: {EQUIVALENT.name} names no mutant of today's {module}: {key}", file=sys.stderr)
+        found = [m for m in every if m.key(module) not in skip
+                 and (args.match is None or args.match in f"{m.where(module)} {m.key(module)}")]
         if args.sample and len(found) > args.sample:
             found = sorted(random.Random(f"{args.seed}:{module}").sample(found, args.sample),
                            key=lambda m: (m.line, m.column))
         if args.list:
             for m in found:
-                print(m.key(module))
+                print(f"{m.where(module)}  {m.key(module)}")
             continue
         survivors = []
+        lines = covering(module, tests, args.timeout) if args.select and found else {}
         for i, m in enumerate(found, 1):
             print(f"\r{module}: {i}/{len(found)}", end="", file=sys.stderr, flush=True)
-            if not killed(module, m, tests, args.timeout):
+            if not killed(module, m, selected(m, lines, tests) if args.select else tests, args.timeout):
                 survivors.append(m)
         print(file=sys.stderr)
         kill = len(found) - len(survivors)
@@ -215,7 +310,7 @@ def main(argv: list[str] | None = None) -> int:
         score = kill / len(found) if found else 1.0
         print(f"{module}: {kill} killed, {len(survivors)} survived of {len(found)}: score {score:.0%}")
         for m in survivors:
-            print(f"  survived {m.key(module)}")
+            print(f"  survived {m.where(module)}  {m.key(module)}")
     if not args.list and total_kill + total_live:
         score = total_kill / (total_kill + total_live)
         print(f"all: {total_kill} killed, {total_live} survived: score {score:.0%}")

@@ -83,5 +83,10 @@ def check_law(muscle, pressure, diameter, load, censored, coulomb: Fit, noise: s
     ratio = max(2 * (alternative.loglik - coulomb.loglik), 0.0)
     p_value = float(chdtrc(1, ratio))
     delta_bic = math.log(len(load)) - ratio
-    supported = "pressure_dependent" if delta_bic < 0 and p_value < 0.05 else "coulomb"
-    return LawCheck(alternative.kappa, alternative.mu, reference, ratio, p_value, delta_bic, supported)
+    return LawCheck(alternative.kappa, alternative.mu, reference, ratio, p_value, delta_bic,
+                    verdict(delta_bic, p_value))
+
+
+def verdict(delta_bic: float, p_value: float) -> str:
+    """``pressure_dependent`` where ΔBIC < 0 and the likelihood ratio's p-value < 0.05, else ``coulomb``."""
+    return "pressure_dependent" if delta_bic < 0 and p_value < 0.05 else "coulomb"

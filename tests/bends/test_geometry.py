@@ -98,3 +98,27 @@ def test_flexible_radius_stretches_the_outer_side_to_the_braid_length():
     l0, d0, alpha = 0.314325, 0.05715, math.radians(24.08)
     rho = flexible_bend_radius(rest_length=l0, rest_diameter=d0, braid_length=l0 / math.cos(alpha))
     assert l0 * (1 + d0 / 2 / rho) == pytest.approx(l0 / math.cos(alpha))
+
+
+@pytest.mark.parametrize("theta", [5e-4, 1e-3, 0.02])
+def test_a_slight_bend_is_a_bend_not_a_straight_run(theta):
+    """θ down to 0.03°: the chord's ends lie in the straight pipes, L* = 2(R_o − h cos(θ/2))/sin(θ/2) by hand
+    (finite: a long enough cylinder still jams); only θ = 0 is a straight run."""
+    radius, d = 1.5 * BORE, 0.75 * BORE
+    h = radius - BORE / 2 + d
+    by_hand = 2 * (radius + BORE / 2 - h * math.cos(theta / 2)) / math.sin(theta / 2)
+    passage = rigid_passage(bore=BORE, radius=radius, angle=theta, diameter=d)
+    assert math.isfinite(passage.longest) and passage.longest == pytest.approx(by_hand, rel=1e-6)
+    assert passage.where == "mid-bend, ends in the straight pipes"
+    assert rigid_passage(bore=BORE, radius=radius, angle=0.0, diameter=d).longest == math.inf
+
+
+def test_elbow_radius_needed_below_two_bores():
+    """A 120 mm cylinder of 0.75 D at 90° passes from R ≈ 0.87 D: the least radius, by the classical chord
+    2√(R_o² − (R_i + d)²) = L solved for R by hand, not the 2 D of a coarser search."""
+    d, length = 0.75 * BORE, 0.12
+    a = BORE / 2
+    # (R + a)² − (R − a + d)² = (L/2)²  ⇒  R = ((L/2)² + (d − a)² − a²)/(2(a − (d − a)))
+    by_hand = ((length / 2) ** 2 + (d - a) ** 2 - a**2) / (2 * (a - (d - a)))
+    needed = elbow_radius_needed(bore=BORE, angle=math.pi / 2, diameter=d, length=length)
+    assert needed == pytest.approx(by_hand, rel=1e-9) and needed < 2 * BORE

@@ -11,9 +11,13 @@ import math
 
 import numpy as np
 import pytest
+import yaml
 
+from pampipe.errors import InputError
 from pampipe.export.law import Reason, mission_law
+from pampipe.io.mission_schema import load_mission
 from tests.support import export_c
+from tests.support.problems import PROBLEMS
 from tests.support.uneven import (
     RATED,
     SEGMENTS,
@@ -111,3 +115,33 @@ def test_confidence_law_covers_plan_at_c_in_every_section():
         np.testing.assert_allclose(pressures, nominal.evaluate(*row)[1] + np.max(gaps, axis=0), rtol=1e-12)
         assert np.all(pressures >= planned.pressure[s] * (1 - 1e-9))
     assert np.allclose(margins, np.max(gaps, axis=0), rtol=1e-12)
+
+
+#: effects without a closed form, with values (tests/export/test_export.py's)
+REFUSED = {"end_effects": {"volume_taper": 0.3, "end_length": 0.5},
+           "braid_extensibility": {"compliance": "2 1/MN"}}
+
+
+@pytest.mark.parametrize("effects", [(None, "braid_extensibility", "end_effects"),
+                                     (None, None, "end_effects"),
+                                     ("end_effects", None, "braid_extensibility")],
+                         ids=["middle-and-front", "front-only", "rear-and-front"])
+def test_the_refusal_names_the_first_segment_that_cannot_be_exported(tmp_path, effects):
+    """Segments rear to front, each with its own PAM file (``effects``: the one effect without a closed form
+    on each, or none): the export's refusal names the rearmost segment whose PAM has one, that PAM and that
+    effect, read from the files written here, and no other segment's."""
+    base = yaml.safe_load((PROBLEMS / "pams" / "paper-radial-pam.yaml").read_text())
+    mission = yaml.safe_load((PROBLEMS / "missions" / "vertical-climb-3in.yaml").read_text())
+    for k, effect in enumerate(effects):
+        pam = {**base, "name": f"pam{k}", **({"effects": {effect: REFUSED[effect]}} if effect else {})}
+        (tmp_path / f"pam{k}.yaml").write_text(yaml.safe_dump(pam))
+        mission["robot"]["segments"][k]["pam"] = f"pam{k}.yaml"
+    (tmp_path / "m.yaml").write_text(yaml.safe_dump(mission))
+    first = next(k for k, e in enumerate(effects) if e)
+    names = [s["name"] for s in mission["robot"]["segments"]]
+    with pytest.raises(InputError) as refusal:
+        mission_law(load_mission(tmp_path / "m.yaml"))
+    text = str(refusal.value)
+    assert f"robot segment {names[first]} (PAM 'pam{first}')" in text
+    assert f"the effect '{effects[first]}' cannot be exported to C" in text
+    assert all(f"robot segment {n} " not in text for k, n in enumerate(names) if k != first)

@@ -141,3 +141,29 @@ def test_general_evaluator_per_draw_against_root_finding(sampled, i, pressure, w
                 finite += 1
                 assert payload[j, c] == pytest.approx(want[2], rel=1e-8, abs=1e-8), ("payload", j, c)
     assert finite > 0
+
+
+@pytest.mark.parametrize("i", [0, 1], ids=["contact-and-model-error", "plain"])
+def test_payload_on_a_flat_pipe_of_low_friction_against_root_finding(sampled, i):
+    """A level pipe (no rise) with μ ≈ 0.05: each kilogram asks g·μ ≈ 0.5 N of grip, under 1 N/kg, yet the
+    payload is finite and equals the root-finding payload per draw (the division by g·(rise + μ·run) must
+    refuse only a non-positive divisor)."""
+    mission, problem, classes = sampled
+    count = len(classes)
+    classes = dataclasses.replace(classes, incline=np.zeros(count), mu=np.full(count, 0.05),
+                                  mu_sd=np.full(count, 0.004))
+    draws = muscle_draws(problem)
+    bore, friction = class_deviations(problem, classes)
+    assert np.all(np.abs(friction) < 0.045)  # every drawn μ in (0.005, 0.095): g·μ < 1 N/kg
+    ev = Evaluator(problem, draws, classes, i, np.arange(count), bore.T, friction.T)
+    _, _, payload = ev.evaluate(problem.active, 689e3)
+    finite = 0
+    for j in range(0, problem.samples, 11):
+        for c in range(count):
+            want = reference(mission, problem, classes, draws, bore, friction, i, c, j, 689e3)[2]
+            if math.isinf(want):
+                assert payload[j, c] == want, (j, c)
+            else:
+                finite += 1
+                assert payload[j, c] == pytest.approx(want, rel=1e-8, abs=1e-8), (j, c)
+    assert finite > 0

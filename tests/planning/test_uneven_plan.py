@@ -76,3 +76,15 @@ def test_max_payload_per_segment_against_the_model(tmp_path):
     assert found.payload == pytest.approx(best[0], rel=1e-6)
     where, who = best[1]
     assert (found.section, found.segment) == (mission.route[where].name, mission.segments[who].name)
+
+
+def test_ipopt_counts_no_iteration_where_no_element_holds(tmp_path):
+    """The limit case of the iteration count (the sum of IPOPT's iterations over the blocks it solves): on a
+    route no muscle can anchor in (narrower than every muscle at rest, wider than every braid) IPOPT
+    solves no block, so the plan reports 0 iterations and no finite pressure."""
+    route = [section("tight", "50 mm", "90 deg", 0.3), section("wide", "200 mm", "0 deg", 0.3)]
+    mission = uneven_mission(tmp_path, route)
+    assert np.all(np.isinf(independent(mission, mission.payload)))
+    plan = plan_mission(mission, method="ipopt", check=False)
+    assert plan.iterations == 0
+    assert not np.any(np.isfinite(plan.arrays.pressure))

@@ -116,11 +116,20 @@ def test_a_curved_elastic_trend_is_not_slip():
 
 
 def test_friction_law_check(muscle, two_bores):
-    """μ ∝ p^0.4 is recognised as pressure-dependent; Coulomb data are judged Coulomb."""
+    """μ ∝ p^0.4 is recognised as pressure-dependent; Coulomb data are judged Coulomb. The evidence: LR's
+    p-value is χ²₁'s upper tail, ΔBIC = ln N − LR (N trials, slipped or held), and the verdict is
+    pressure-dependent exactly where ΔBIC < 0 and p < 0.05."""
+    from scipy.stats import chi2
+
     assert two_bores.law.supported == "coulomb"
     dependent = fit_slip(_tests(muscle, BORES, exponent=0.4, hold=()), muscle)
     assert dependent.law.supported == "pressure_dependent"
     assert dependent.law.exponent == pytest.approx(0.4, abs=0.1)
+    for law in (two_bores.law, dependent.law):
+        assert law.p_value == pytest.approx(chi2.sf(law.likelihood_ratio, 1), rel=1e-9, abs=1e-300)
+        assert law.delta_bic == pytest.approx(math.log(PRESSURES.size * len(BORES)) - law.likelihood_ratio,
+                                              rel=1e-12, abs=1e-12)
+    assert two_bores.law.likelihood_ratio >= 0 and dependent.law.delta_bic < 0 < two_bores.law.delta_bic
 
 
 def test_diagnose_reports_a_rate_trend_instead_of_hiding_it(muscle, radial_pam, two_bores):
