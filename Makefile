@@ -26,8 +26,11 @@ $(STAMP): pyproject.toml $(LOCK) | $(BIN)/python
 demo: $(STAMP)  ## plan the bundled demo mission
 	$(BIN)/pampipe plan problems/missions/vertical-climb-3in.yaml
 
-test: $(STAMP)  ## the default test run (slow tests excluded)
-	$(BIN)/python -m pytest -m "not slow" -q
+# test workers (pytest-xdist): 2, or fewer on a 1-core machine; TEST_WORKERS=0 runs in one process
+TEST_WORKERS ?= $(shell $(PYTHON) -c "import os; print(min(2, len(os.sched_getaffinity(0))))" 2>/dev/null || echo 2)
+
+test: $(STAMP)  ## the default test run (slow tests excluded), on $(TEST_WORKERS) workers
+	$(BIN)/python -m pytest -m "not slow" -q -n $(TEST_WORKERS)
 
 test-slow: $(STAMP)  ## everything, slow tests included
 	$(BIN)/python -m pytest -q
