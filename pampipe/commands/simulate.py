@@ -53,6 +53,7 @@ def _extension(args: argparse.Namespace) -> int:
     from pampipe.views.simulate_text import extension_text
 
     result = api.extension(args.pam, pressure=args.pressure)
+    warn(result.warnings)
     emit(args, result.to_dict(), extension_text(result))
     if args.plots:
         from pampipe.views.plots.simulate import plot_extension

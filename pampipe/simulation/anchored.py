@@ -146,7 +146,7 @@ def simulate(pam: Pam, *, pipe_diameters, axial_loads=(0.0,), pressures=PAPER_PR
                     {load: muscle.free_length(grid, axial_load=load, braid_limit=True)
                      for load in sorted(set(axial_loads))},
                     diameters, np.asarray(muscle.amplification_factor(diameters), dtype=float))
-    warning = open_warning(pam)
+    warning = open_warning(pam, "these forces")
     return SimulateResult(pam.name, cases, curves, open_directions(pam),
                           () if warning is None else (warning,))
 
@@ -155,7 +155,8 @@ def simulate(pam: Pam, *, pipe_diameters, axial_loads=(0.0,), pressures=PAPER_PR
 class ExtensionResult:
     """An extensile muscle's free length against pressure at zero axial load (docs/physics.md §14.4), SI.
 
-    ``limit`` is B/√3, where the braid stops extending; ``diameter`` D(L) at each free length.
+    ``limit`` is B/√3, where the braid stops extending; ``diameter`` D(L) at each free length;
+    ``undetermined`` and ``warnings`` as in :class:`SimulateResult` (the lengths rest on the same moduli).
     """
 
     pam: str
@@ -166,16 +167,22 @@ class ExtensionResult:
     diameter: np.ndarray  # [m]
     curve_pressure: np.ndarray  # [Pa] for the plot
     curve_length: np.ndarray  # [m]
+    undetermined: tuple[dict, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict:
-        """The `simulate --json` document of an extensile PAM."""
+        """The `simulate --json` document of an extensile PAM, with ``undetermined`` when the PAM's fit
+        leaves directions open."""
         l0 = self.initial_length
-        return {"pam": self.pam, "kind": "extensile", "initial_length_m": l0,
+        document = {"pam": self.pam, "kind": "extensile", "initial_length_m": l0,
                 "braid_limit_length_m": self.limit,
                 "points": [{"pressure_Pa": float(p), "free_length_m": float(length),
                             "extension": float(length / l0 - 1), "diameter_m": float(d)}
                            for p, length, d in zip(self.pressures, self.free_length, self.diameter,
                                                    strict=True)]}
+        if self.undetermined:
+            document["undetermined"] = list(self.undetermined)
+        return document
 
 
 def extension(pam: Pam, *, pressures) -> ExtensionResult:
@@ -188,5 +195,7 @@ def extension(pam: Pam, *, pressures) -> ExtensionResult:
     g = pam.geometry
     lengths = muscle.free_length(pressures)
     grid = np.linspace(0.0, max(float(pressures.max()), 1.0), CURVE_POINTS)
+    warning = open_warning(pam, "these lengths")
     return ExtensionResult(pam.name, g.initial_length, g.shortest_length, pressures, lengths,
-                           diameter_at_length(lengths, g), grid, muscle.free_length(grid))
+                           diameter_at_length(lengths, g), grid, muscle.free_length(grid),
+                           open_directions(pam), () if warning is None else (warning,))

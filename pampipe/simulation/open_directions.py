@@ -21,9 +21,10 @@ def open_directions(pam: Pam) -> tuple[dict, ...]:
     return () if u is None else tuple(u.direction_document(d) for d in u.undetermined)
 
 
-def open_warning(pam: Pam) -> str | None:
+def open_warning(pam: Pam, what: str) -> str | None:
     """One sentence naming the PAM's undetermined directions (each by its largest weight) and the tests that
-    would determine them, or None when its data determine every direction."""
+    would determine them, or None when its data determine every direction; ``what``: the simulated
+    quantities (``these forces``, ``these lengths``), which rest on the fitted values."""
     u = pam.uncertainty
     if u is None or not u.undetermined:
         return None
@@ -34,6 +35,6 @@ def open_warning(pam: Pam) -> str | None:
         tests[key] = tests.get(key, 0) + 1
     closing = "; ".join(f"{test} ({count} of them)" for test, count in tests.items())
     return (f"{pam.name}: its fit leaves {len(u.undetermined)} parameter direction(s) undetermined by its "
-            f"data (uncertainty.undetermined, mostly {', '.join(mostly)}): these forces rest on fitted "
+            f"data (uncertainty.undetermined, mostly {', '.join(mostly)}): {what} rest on fitted "
             f"values the tests do not fix along them. What would determine them: {closing}. "
             "`plan --confidence` covers them over their open width and stops where they matter.")

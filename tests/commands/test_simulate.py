@@ -175,10 +175,9 @@ def test_simulate_bare_zero_load_is_zero_newton(cli):
     assert json.loads(bare.stdout) == json.loads(newton.stdout)
 
 
-def test_open_directions_warn_in_one_line_and_list_in_json(tmp_path, radial_pam):
-    """A PAM whose fit leaves directions open: exit 0 and the same forces as without them, one stderr line
-    naming each direction (by its largest weight) and the tests that would close them, and the PAM's
-    ``undetermined`` list (as identify writes it) in the JSON; a PAM with none: no warning, no key."""
+def _open_and_closed(tmp_path, pam):
+    """``pam`` written twice to ``tmp_path``: open.yaml, whose fit leaves hoop.a0 and an axial.b1/b2
+    combination undetermined, and closed.yaml, the same uncertainty with no open direction."""
     names = moduli_names(3)
     hoop, axial = np.zeros(16), np.zeros(16)
     hoop[names.index("hoop.a0")] = 1.0
@@ -187,14 +186,20 @@ def test_open_directions_warn_in_one_line_and_list_in_json(tmp_path, radial_pam)
     open_ = (UndeterminedDirection(hoop, 2.0, {"radial_force_N@0.0762m": 30.0}, test),
              UndeterminedDirection(axial, 5.0, {}, test))
     u = ParameterUncertainty(names, np.diag(np.r_[np.full(8, 0.05e6), np.zeros(8)] ** 2), 0.0, open_)
-    pam = dataclasses.replace(radial_pam, name="axial-only").with_uncertainty(u)
+    pam = dataclasses.replace(pam, name="axial-only").with_uncertainty(u)
     write_pam(tmp_path / "open.yaml", pam)
     write_pam(tmp_path / "closed.yaml", pam.with_uncertainty(dataclasses.replace(u, undetermined=())))
-    args = ("-d", "3 in", "-p", "400 kPa", "--json")
-    opened, closed = (run_cli("simulate", tmp_path / f"{k}.yaml", *args) for k in ("open", "closed"))
+    return tmp_path / "open.yaml", tmp_path / "closed.yaml"
+
+
+def _check_open_directions(opened, closed, quantity: str) -> None:
+    """Exit 0 both; one stderr line naming each direction (by its largest weight), what rests on them and the
+    tests that would close them; the PAM's ``undetermined`` list (as identify writes it) in the JSON, which
+    otherwise equals the closed PAM's; the closed PAM: no warning, no key."""
     assert opened.returncode == 0 and closed.returncode == 0, opened.stderr + closed.stderr
     (line,) = [x for x in opened.stderr.splitlines() if x.startswith("warning:")]
     assert "2 parameter direction(s) undetermined" in line and "hoop.a0, axial.b1" in line
+    assert f"{quantity} rest on fitted values" in line
     assert "a radial test at 76.2 mm (3 in) (2 of them)" in line
     assert not [x for x in closed.stderr.splitlines() if x.startswith("warning:")]
     doc, plain = json.loads(opened.stdout), json.loads(closed.stdout)
@@ -204,3 +209,21 @@ def test_open_directions_warn_in_one_line_and_list_in_json(tmp_path, radial_pam)
         {"direction": {"axial.b1": 0.8, "axial.b2": -0.6}, "scale": 5.0, "moves": {},
          "test": "a radial test at 76.2 mm (3 in)"}]
     assert "undetermined" not in plain and doc == plain
+
+
+def test_open_directions_warn_in_one_line_and_list_in_json(tmp_path, radial_pam):
+    """A PAM whose fit leaves directions open, simulated in a pipe: exit 0 and the same forces as without
+    them, one warning line and the ``undetermined`` list (:func:`_check_open_directions`)."""
+    files = _open_and_closed(tmp_path, radial_pam)
+    args = ("-d", "3 in", "-p", "400 kPa", "--json")
+    _check_open_directions(*(run_cli("simulate", f, *args) for f in files), "these forces")
+
+
+def test_open_directions_warn_without_a_pipe(tmp_path):
+    """An extensile PAM simulated free (no pipe) whose fit leaves directions open warns and lists them as
+    in a pipe (issue 35): its lengths rest on the same fitted moduli."""
+    from pampipe.io.pam_schema import load_pam
+
+    files = _open_and_closed(tmp_path, load_pam(PROBLEMS / "pams" / "extensile-steering.yaml"))
+    args = ("-p", "100 kPa", "-p", "200 kPa", "--json")
+    _check_open_directions(*(run_cli("simulate", f, *args) for f in files), "these lengths")
