@@ -155,3 +155,24 @@ def test_a_bad_fit_of_the_measured_map_is_not_silent(stated_30, capsys):
                          "initial_length", "--json")
     assert code == 0 and "misses the data" not in err
     assert json.loads(out)["fit"]["quality"]["rmse_over_floor"] < 3
+
+
+def test_a_pam_fitted_with_radial_data_plans_without_a_stop(tmp_path, capsys):
+    """Build 4 on radial data: the bundled protocol (axial and radial tests) writes a PAM whose open
+    directions move the demo climb's C = 0.95 plan by < 1 kPa (measured 0.6-0.9 Pa): far below a tenth of
+    its margin to the 689 kPa supply, so no segment stops (before: 1-4.6 kPa directions stopped 14 of 44)."""
+    from pampipe.planning.sampling import OPEN_SHARE
+
+    fit = tmp_path / "fit.yaml"
+    code, _, err = cli(capsys, "identify", PROBLEMS / "experiments" / "paper-protocol.yaml", "-o", fit)
+    assert code == 0 and load_pam(fit).uncertainty.undetermined, err  # directions are open: plan decides
+    mission = tmp_path / "climb.yaml"
+    mission.write_text(CLIMB.read_text().replace("../pams/paper-radial-pam.yaml", str(fit)))
+    code, out, err = cli(capsys, "plan", mission, "--confidence", "0.95", "--samples", "1000", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    supply = 689e3  # the climb's supply_pressure [Pa]
+    for segment in (s for section in doc["sections"] for s in section["segments"]):
+        assert segment["undetermined"] is False and segment["pressure_Pa"] > 0
+        assert 0 <= segment["undetermined_shift_Pa"] < 1e3
+        assert segment["undetermined_shift_Pa"] < OPEN_SHARE * (supply - segment["pressure_Pa"])
