@@ -308,7 +308,8 @@ def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, data_on
                                        options, stats)
     warnings = fit_warnings(fit.solver.status, uncertainty, names, minimum, options, structure, calibration,
                             stats, data, predictions)
-    return model_error, joint, fit_quality, predictions, tuple(warnings)
+    few = model_errors.few_blocks_warning(model_error)
+    return model_error, joint, fit_quality, predictions, tuple(warnings) + ((few,) if few else ())
 
 
 #: A Drucker row C·θ ≥ 0 (unit max-norm, MPa) at most this far from zero is active at the solution.

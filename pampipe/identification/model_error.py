@@ -145,6 +145,31 @@ def estimate(data, muscles_at, x, refit, *, slack: str, noise: float) -> ModelEr
                       len(found) - 1)
 
 
+#: Degrees of freedom at and below which the t the plans draw is far wider than a normal (warned).
+FEW_DOF = 2
+
+
+def few_blocks_warning(error: ModelError) -> str | None:
+    """A warning when a positive model error rests on ν ≤ :data:`FEW_DOF` degrees of freedom, else None.
+
+    Plans draw it as s·t_ν (docs/physics.md §15): the one-sided 95 % quantile of t_ν is 6.31 for ν = 1 and
+    2.92 for ν = 2 against 1.64 for the normal and 2.35 for ν = 3, so one more block moves a plan by
+    several model errors. More blocks are more pressure levels (up to :data:`BANDS` bands) or more held
+    lengths (each held length of a force map is a block)."""
+    if error.dof > FEW_DOF or not error.value > 0:
+        return None
+    from scipy.special import stdtrit
+
+    quantile = float(stdtrit(error.dof, 0.95))
+    held = "rows (nothing to hold out)" if error.method == "in_sample" else "held-out blocks of the protocol"
+    return (f"the model error {error.value:.3g} N rests on {error.dof + 1} {held} "
+            f"(model_error_dof = {error.dof}): plans draw it as a Student-t on {error.dof} degree(s) of "
+            f"freedom, whose 95 % quantile is {quantile:.3g} model errors against 1.64 for a normal "
+            f"(docs/physics.md §15). More blocks narrow it (2.35 at 3 dof): test at {BANDS} or more "
+            "distinct pressure levels, or hold the length at several values in an axial test (each held "
+            "length is a block)")
+
+
 def blocks(data, rows: RowSample) -> list[tuple[str, float, float, np.ndarray]]:
     """(kind, low, high, mask over ``rows``) of every block: the pressure bands [Pa], then the held
     lengths [m] of each axial test that holds its lengths (module docstring)."""

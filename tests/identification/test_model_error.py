@@ -55,3 +55,24 @@ def test_held_length_blocks_are_true_refits(festo):
         muscle = Muscle.from_pam(Pam(data.pam.name, refit.geometry, refit.moduli))
         miss = np.asarray(muscle.axial_force(test.pressure[~keep], test.length[~keep])) - test.force[~keep]
         assert float(np.sqrt(np.mean(miss**2))) == pytest.approx(rmse, rel=0.02), length
+
+
+def test_few_held_out_blocks_are_warned_with_how_to_add_more(festo, monkeypatch):
+    """ν = 1 (two blocks) makes the plans' model-error draw a Cauchy: 95 % quantile 6.314 model errors (t
+    tables) against 1.645 for the normal. The bundled protocol (no held lengths) cut into two pressure bands
+    has ν = 1 and is warned about with the way out; the Festo map (ν = 8) is not."""
+    from pampipe.identification import model_error
+
+    _, mapped = festo
+    assert mapped.model_error.dof == 8 and not [w for w in mapped.warnings if "model_error_dof" in w]
+    monkeypatch.setattr(model_error, "BANDS", 2)  # a protocol of two pressure levels
+    data = load_experiment_data(load_experiment(PROBLEMS / "experiments" / "paper-protocol.yaml"))
+    result = identify(data)
+    assert result.model_error.dof == 1 and result.model_error.value > 0
+    (line,) = [w for w in result.warnings if "model_error_dof = 1" in w]
+    assert "rests on 2 held-out blocks" in line and "quantile is 6.31 model errors" in line
+    assert "pressure levels" in line and "hold the length at several values" in line
+    two = dataclasses.replace(result.model_error, dof=2)
+    assert "quantile is 2.92 model errors" in model_error.few_blocks_warning(two)  # t₀.₉₅,₂ = 2.920
+    assert model_error.few_blocks_warning(dataclasses.replace(two, dof=3)) is None
+    assert model_error.few_blocks_warning(dataclasses.replace(two, value=0.0)) is None  # nothing drawn
