@@ -3,8 +3,9 @@
 The model is the no-slip condition at safety factor 1: the slip load F solves F = μ·π·F_r(P, D, κF)
 (:meth:`pampipe.model.muscle.Muscle.largest_load`). Slip loads scatter about it, either relatively
 (log F = log F̂ + ε) or absolutely (F = F̂ + ε), ε ~ N(0, σ²); the noise model with the larger
-likelihood is used. A censored trial (no slip up to its largest load F_c) enters as the survival
-term P(F > F_c) = 1 − Φ((F_c − F̂)/σ) (or its log form). 95 % intervals are profile-likelihood
+likelihood gives the values, and the reported intervals span both models'
+(:func:`pampipe.slip.workflow.spanning`). A censored trial (no slip up to its largest load F_c) enters as
+the survival term P(F > F_c) = 1 − Φ((F_c − F̂)/σ) (or its log form). 95 % intervals are profile-likelihood
 intervals: the values where 2·(ℓ̂ − ℓ_profile) = c, the other parameters re-optimised. With σ estimated
 from n slipped trials and p free slip parameters, c = n·ln(1 + t²/(n − p)) with t the 97.5 % quantile of
 Student's t on n − p degrees of freedom: the likelihood-ratio form of the exact t interval of a normal

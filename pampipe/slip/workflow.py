@@ -80,9 +80,10 @@ def _fit_slip(tests: tuple[SlipData, ...], muscle) -> SlipResult:
         effective.append(Effective(bore, amplification, estimate, int(index.size)))
 
     friction = load_coupling = friction_range = None
-    if two:
-        mu = profile_interval(like, best, "friction", FRICTION_BOUNDS)
-        kappa = profile_interval(like, best, "load_coupling", KAPPA_BOUNDS)
+    if two:  # μ and κ: the chosen model's values, their intervals spanning both noise models' (bore_estimate)
+        mu, kappa = (spanning(noise, {kind: profile_interval(candidates[kind], fits[kind], which, bounds)
+                                      for kind in candidates})
+                     for which, bounds in (("friction", FRICTION_BOUNDS), ("load_coupling", KAPPA_BOUNDS)))
         if mu.closed and kappa.closed:
             friction, load_coupling = mu, kappa
     if friction is None:
@@ -119,6 +120,12 @@ def bore_estimate(load, censored, model, noise: str, sigmas: dict[str, float] | 
         like = Likelihood(load, censored, model, kind, None if sigmas is None else sigmas[kind])
         ends[kind] = profile_interval(like, maximise(like, kappa=0.0), "friction", FRICTION_BOUNDS,
                                       kappa_fixed=0.0)
+    return spanning(noise, ends)
+
+
+def spanning(noise: str, ends: dict[str, Estimate]) -> Estimate:
+    """The ``noise`` model's value with an interval from the lowest to the highest end of ``ends`` (one
+    :class:`Estimate` per noise model); an end open under any model stays open."""
     lows, highs = [e.low for e in ends.values()], [e.high for e in ends.values()]
     return Estimate(ends[noise].value, None if None in lows else min(lows),
                     None if None in highs else max(highs))

@@ -22,6 +22,8 @@ from tests.support import slip_data
 from tests.support.problems import PROBLEMS
 
 MU, KAPPA = 0.3, 0.8
+#: Data sets of the default run's coverage study (each ~3.4 s of CPU).
+SMALL_SETS = 6
 BORES = (0.0635, 0.0889)  # 2.5 in and 3.5 in: A = 0.75 and 1.20
 PRESSURES = np.linspace(2.6e5, 6.0e5, 16)
 
@@ -390,11 +392,22 @@ def _coverage(muscle, seeds, *, stick_slip: bool, scatter=0.03):
     return hits, counts
 
 
+def _honest_least(count: int) -> int:
+    """The fewest hits of ``count`` 95 % intervals that a true coverage of 93 % gives in 99 % of studies
+    (the binomial's 1 % quantile): a study of a few sets can only catch a coverage far below that."""
+    from scipy.stats import binom
+
+    return int(binom.ppf(0.01, count, 0.93))
+
+
 def test_interval_coverage_small(muscle):
-    """The default run's coverage study (issue 35): 8 data sets of 4–12 clean slips per bore; the 95 %
-    intervals of μ, κ and μ_eff miss the truth at most once each."""
-    hits, counts = _coverage(muscle, range(8), stick_slip=False)
-    assert np.all(counts == [8, 8, 16]) and np.all(hits >= counts - 1), (hits, counts)
+    """The default run's coverage study (issue 35): SMALL_SETS data sets of 4–12 stick-slip trials per bore.
+    Its threshold is what so few sets can say (:func:`_honest_least`: 4 of 6, 9 of 12): it catches a
+    coverage of 70 % in about a quarter (6 intervals) to half (12) of such studies; the slow study below is
+    the one that checks 93 %."""
+    hits, counts = _coverage(muscle, range(SMALL_SETS), stick_slip=True)
+    assert np.all(counts == [SMALL_SETS, SMALL_SETS, 2 * SMALL_SETS]), counts
+    assert all(h >= _honest_least(c) for h, c in zip(hits, counts, strict=True)), (hits, counts)
 
 
 def test_stick_slip_onsets_give_the_generated_slip_loads(muscle, monkeypatch):
@@ -425,13 +438,14 @@ def test_stick_slip_onsets_give_the_generated_slip_loads(muscle, monkeypatch):
 
 @pytest.mark.slow
 def test_interval_coverage_over_seeds(muscle):
-    """40 data sets of 4–12 clean slips per bore: the 95 % intervals hold the truth in ≥ 93 % for each of μ,
-    κ and μ_eff. With stick-slip (slip in three jumps) μ_eff held it in 0.89–0.90 over 120 sets (μ 0.90,
-    κ 0.91), although the detected slip loads are the generated ones within 0.2 % (test above): the misses
-    were the bores where the joint fit chose absolute scatter (11 of 18 held over stick-slip sets 0–39,
-    against 61 of 62 under relative scatter). Each bore's interval now spans both noise models'
-    (:func:`pampipe.slip.workflow.bore_estimate`): μ_eff held in 76 of 80 on those sets (was 72 of 80)."""
-    hits, counts = _coverage(muscle, range(40), stick_slip=False)
+    """48 data sets of 4–12 stick-slip trials per bore (slip in three jumps): the 95 % intervals hold the
+    truth in ≥ 93 % for each of μ, κ and μ_eff. Before, the chosen noise model's intervals held μ and κ in
+    46 of 48 (both misses: 4 trials per bore, absolute scatter chosen) and μ_eff already spanned both
+    models (92 of 96). Every interval now spans both noise models' (:func:`pampipe.slip.workflow.spanning`):
+    μ 48/48, κ 48/48 (Wilson 95 % [0.926, 1]), μ_eff 92/96 ([0.898, 0.984]), at a median 1.14× (μ) and
+    1.17× (κ) the chosen model's width (docs/physics.md §13.3)."""
+    hits, counts = _coverage(muscle, range(48), stick_slip=True)
+    assert np.all(counts == [48, 48, 96]), counts  # μ and κ determined in every set
     assert np.all(hits >= 0.93 * counts), (hits, counts)
 
 
