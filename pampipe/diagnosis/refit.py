@@ -19,10 +19,14 @@ Built once per (effects, wall, degree, padded cell counts): a per-cell residual 
 the cells with ``.map(n)``, so the build does not grow with the data; cell counts are
 padded up to a few fixed sizes (zero-weight cells) so that data sets of similar size share a build.
 Every cell value, the weights, the geometry and the grid are NLP parameters; cross-validation only
-changes the weights. Its fold refits start from the full fit's primal and dual solution with IPOPT's
-warm start (:data:`WARM_OPTIONS`: a barrier µ₀ of 1e-6 and no push off the bounds), a second solver
-of the same NLP built on first use: from a cold barrier (µ₀ = 0.1) the start is first pushed off its
-bounds and IPOPT can wander hundreds of iterations in a flat valley before returning.
+changes the weights. Two more solvers of the same NLP are built on first use (:data:`VARIANTS`):
+
+* ``warm``: cross-validation's fold refits start from the full fit's primal and dual solution
+  (a barrier µ₀ of 1e-6 and no push off the bounds): from a cold barrier (µ₀ = 0.1) the start is
+  first pushed off its bounds and IPOPT can wander hundreds of iterations in a flat valley;
+* ``trial``: the search's candidate refits stop after :data:`TRIAL_ITERATIONS` iterations (a
+  candidate that has not converged by then is a failed trial, as one that fails at 500 was: a
+  converged candidate refit takes 10–50 iterations, a failing one cost half a pair's CPU).
 """
 
 from __future__ import annotations
@@ -55,12 +59,16 @@ GRID = (6, 15)
 #: Softplus width of the contact switch [N] (as `identify`'s default contact_smoothing).
 SMOOTHING = 1.0
 IPOPT_OPTIONS = {"tol": 1e-9, "acceptable_tol": 1e-8, "max_iter": 500, "bound_relax_factor": 1e-8}
-#: Warm start of a fold refit from the full fit's primal-dual solution (same tolerances; a fold that
-#: has not converged within 100 iterations is solved again cold, see selection.cross_validate).
-WARM_OPTIONS = {"max_iter": 100, "warm_start_init_point": "yes", "mu_init": 1e-6,
-                "warm_start_bound_push": 1e-9, "warm_start_bound_frac": 1e-9,
-                "warm_start_slack_bound_push": 1e-9, "warm_start_slack_bound_frac": 1e-9,
-                "warm_start_mult_bound_push": 1e-9}
+#: Iteration limit of the search's candidate refits.
+TRIAL_ITERATIONS = 150
+#: Options of the other solvers of each NLP over IPOPT_OPTIONS: ``warm`` (a fold refit from the full
+#: fit's primal-dual solution; a fold that has not converged within 100 iterations is solved again
+#: cold, see selection.cross_validate) and ``trial``.
+VARIANTS = {"warm": {"max_iter": 100, "warm_start_init_point": "yes", "mu_init": 1e-6,
+                     "warm_start_bound_push": 1e-9, "warm_start_bound_frac": 1e-9,
+                     "warm_start_slack_bound_push": 1e-9, "warm_start_slack_bound_frac": 1e-9,
+                     "warm_start_mult_bound_push": 1e-9},
+            "trial": {"max_iter": TRIAL_ITERATIONS}}
 
 
 def canonical(effects) -> tuple[str, ...]:
@@ -153,7 +161,7 @@ class Problem:
     solver: ca.Function
     residuals: ca.Function  # (x, p) -> unweighted residuals of all columns (blocks in order)
     jacobian: ca.Function  # (x, p) -> ∂(√w·residual)/∂x
-    warm: Callable[[], ca.Function]  # the same NLP's solver with WARM_OPTIONS (built on first call)
+    variant: Callable[[str], ca.Function]  # the same NLP's solver with VARIANTS[kind] (built on first call)
     n_theta: int
     n_eta: int
     build_time: float
@@ -227,11 +235,11 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
 
     @cache
-    def warm() -> ca.Function:
-        return nlpsol(f"fold_{label}", nlp, ipopt={**IPOPT_OPTIONS, **WARM_OPTIONS}, hess_lag=hessian,
+    def variant(kind: str) -> ca.Function:
+        return nlpsol(f"{kind}_{label}", nlp, ipopt={**IPOPT_OPTIONS, **VARIANTS[kind]}, hess_lag=hessian,
                       grad_f=grad_f)
 
-    return Problem(solver, residuals, jacobian, warm, n_theta, len(params), time.perf_counter() - started)
+    return Problem(solver, residuals, jacobian, variant, n_theta, len(params), time.perf_counter() - started)
 
 
 def _geometry(g, x, effects: tuple[str, ...], n_theta: int) -> list:
@@ -354,12 +362,13 @@ class Refitter:
         return build_problem(effects, self.geometry.wall, self.degree, self.blocks.sizes)
 
     def fit(self, effects, theta0: np.ndarray, *, known: dict[str, np.ndarray] | None = None,
-            weight: np.ndarray | None = None, jacobian: bool = False, warm: Fit | None = None) -> Fit:
+            weight: np.ndarray | None = None, jacobian: bool = False, warm: Fit | None = None,
+            trial: bool = False) -> Fit:
         """Solve from θ₀ (MPa) and η₀ (``known`` or null); raise SolverError on failure.
 
         ``weight`` replaces the cell counts as weights (cross-validation: 0 for held-out cells);
         ``warm``, a solved fit of the same effects, is the primal-dual start of a warm-started solve
-        (θ₀ and ``known`` are then not used).
+        (θ₀ and ``known`` are then not used); ``trial`` stops at :data:`TRIAL_ITERATIONS`.
         """
         effects = canonical(effects)
         started = time.perf_counter()
@@ -369,10 +378,10 @@ class Refitter:
         p = self.parameters(blocks)
         label = " + ".join(effects) or "baseline"
         start = {"x0": np.clip(self.start(effects, theta0, known), low, high)}
-        solver = problem.solver
+        solver = problem.variant("trial") if trial else problem.solver
         if warm is not None and warm.multipliers is not None and warm.effects == effects:
             start = {"x0": warm.x, "lam_x0": warm.multipliers[0], "lam_g0": warm.multipliers[1]}
-            solver = problem.warm()
+            solver = problem.variant("warm")
         sol, stats = solve(solver, what=f"the {label} refit", accept_acceptable=True,
                            p=p, lbx=low, ubx=high, lbg=0, ubg=ca.inf, **start)
         x = np.clip(np.asarray(sol["x"], dtype=float).ravel(), low, high)  # IPOPT relaxes bounds by 1e-8

@@ -12,7 +12,8 @@ Run a whole set and print its confusion matrices (2 worker processes unless ``--
   .venv/bin/python -m tests.support.diagnose_suite test        (or tuning, round3; then groups: single,pair)
   .venv/bin/python -m tests.support.diagnose_suite round3 pair --seeds 43500-43505 --workers 1
 
-Each case prints its wall time and the CPU time [s] of the process that ran it.
+Each case prints its wall time, the CPU time [s] of the process that ran it, the most IPOPT iterations
+of a converged trial refit and the number of failed ones.
 """
 
 from __future__ import annotations
@@ -82,10 +83,13 @@ def run_case(case: Case) -> dict:
     pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
     started, cpu = time.perf_counter(), time.process_time()
     result = diagnose(hidden_experiment(pam, case.effects or None, seed=case.seed, scale=case.scale))
+    trials = [t for s in result.steps for t in s.trials]
     return {"case": case, "verdict": result.verdict.verdict, "named": result.selected_effects,
             "confounded": tuple(c["with"] for c in result.confounded),
             "groups": tuple(result.verdict.indistinguishable),
             "rmse_after": [t.rmse for t in result.chosen.tests], "time": time.perf_counter() - started,
+            "iterations": max((t.model.fit.iterations for t in trials if t.model), default=0),
+            "failed": sum(t.model is None for t in trials),
             "cpu": time.process_time() - cpu}
 
 
@@ -150,7 +154,8 @@ def main(argv: list[str]) -> None:
             outcomes.append(outcome)
             print(f"{outcome['case'].label} ×{outcome['case'].scale:g} seed {outcome['case'].seed}: "
                   f"{outcome['verdict']} {outcome['named']} groups {outcome['groups']} "
-                  f"({outcome['time']:.1f} s, CPU {outcome['cpu']:.1f} s)", flush=True)
+                  f"({outcome['time']:.1f} s, CPU {outcome['cpu']:.1f} s; trial refits: at most "
+                  f"{outcome['iterations']} iterations, {outcome['failed']} failed)", flush=True)
     print(confusion(outcomes))
     print(f"\n{len(cases)} cases in {time.perf_counter() - started:.0f} s")
 
