@@ -19,13 +19,22 @@ Built once per (effects, wall, degree, padded cell counts): a per-cell residual 
 the cells with ``.map(n)``, so the build does not grow with the data; cell counts are
 padded up to a few fixed sizes (zero-weight cells) so that data sets of similar size share a build.
 Every cell value, the weights, the geometry and the grid are NLP parameters; cross-validation only
-changes the weights.
+changes the weights. Two more solvers of the same NLP are built on first use (:data:`VARIANTS`):
+
+* ``warm``: cross-validation's fold refits start from the full fit's primal and dual solution
+  (a barrier µ₀ of 1e-6 and no push off the bounds): from a cold barrier (µ₀ = 0.1) the start is
+  first pushed off its bounds and IPOPT can wander hundreds of iterations in a flat valley;
+* ``trial``: the search's candidate refits stop after :data:`TRIAL_ITERATIONS` iterations (a
+  candidate that has not converged by then is a failed trial, as one that fails at 500 was: on six
+  round-3 pairs the converged candidate refits took at most 140 iterations, and one failing candidate
+  cost 26 s of a pair's 44 s of CPU).
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 
@@ -51,6 +60,16 @@ GRID = (6, 15)
 #: Softplus width of the contact switch [N] (as `identify`'s default contact_smoothing).
 SMOOTHING = 1.0
 IPOPT_OPTIONS = {"tol": 1e-9, "acceptable_tol": 1e-8, "max_iter": 500, "bound_relax_factor": 1e-8}
+#: Iteration limit of the search's candidate refits.
+TRIAL_ITERATIONS = 300
+#: Options of the other solvers of each NLP over IPOPT_OPTIONS: ``warm`` (a fold refit from the full
+#: fit's primal-dual solution; a fold that has not converged within 100 iterations is solved again
+#: cold, see selection.cross_validate) and ``trial``.
+VARIANTS = {"warm": {"max_iter": 100, "warm_start_init_point": "yes", "mu_init": 1e-6,
+                     "warm_start_bound_push": 1e-9, "warm_start_bound_frac": 1e-9,
+                     "warm_start_slack_bound_push": 1e-9, "warm_start_slack_bound_frac": 1e-9,
+                     "warm_start_mult_bound_push": 1e-9},
+            "trial": {"max_iter": TRIAL_ITERATIONS}}
 
 
 def canonical(effects) -> tuple[str, ...]:
@@ -138,11 +157,12 @@ def blocks_of(cells) -> Blocks:
 
 @dataclass(frozen=True)
 class Problem:
-    """A built NLP and its helpers: residual and Jacobian of the mapped cells."""
+    """A built NLP and its helpers: residual and Jacobian of the mapped cells, Drucker moduli."""
 
     solver: ca.Function
     residuals: ca.Function  # (x, p) -> unweighted residuals of all columns (blocks in order)
     jacobian: ca.Function  # (x, p) -> ∂(√w·residual)/∂x
+    variant: Callable[[str], ca.Function]  # the same NLP's solver with VARIANTS[kind] (built on first call)
     n_theta: int
     n_eta: int
     build_time: float
@@ -214,7 +234,13 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     solver = nlpsol(f"refit_{label}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian, grad_f=grad_f)
     residuals = ca.Function("residuals", [x, p], [res.T])
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
-    return Problem(solver, residuals, jacobian, n_theta, len(params), time.perf_counter() - started)
+
+    @cache
+    def variant(kind: str) -> ca.Function:
+        return nlpsol(f"{kind}_{label}", nlp, ipopt={**IPOPT_OPTIONS, **VARIANTS[kind]}, hess_lag=hessian,
+                      grad_f=grad_f)
+
+    return Problem(solver, residuals, jacobian, variant, n_theta, len(params), time.perf_counter() - started)
 
 
 def _geometry(g, x, effects: tuple[str, ...], n_theta: int) -> list:
@@ -252,6 +278,7 @@ class Fit:
     iterations: int
     wall_time: float  # [s] build (when new) + solve
     jacobian: np.ndarray | None = None  # per cell, ∂(√n·r)/∂x
+    multipliers: tuple[np.ndarray, np.ndarray] | None = None  # IPOPT's (λ_x, λ_g) at x
 
     @property
     def n_eta(self) -> int:
@@ -336,21 +363,28 @@ class Refitter:
         return build_problem(effects, self.geometry.wall, self.degree, self.blocks.sizes)
 
     def fit(self, effects, theta0: np.ndarray, *, known: dict[str, np.ndarray] | None = None,
-            weight: np.ndarray | None = None, jacobian: bool = False) -> Fit:
+            weight: np.ndarray | None = None, jacobian: bool = False, warm: Fit | None = None,
+            trial: bool = False) -> Fit:
         """Solve from θ₀ (MPa) and η₀ (``known`` or null); raise SolverError on failure.
 
-        ``weight`` replaces the cell counts as weights (cross-validation: 0 for held-out cells).
+        ``weight`` replaces the cell counts as weights (cross-validation: 0 for held-out cells);
+        ``warm``, a solved fit of the same effects, is the primal-dual start of a warm-started solve
+        (θ₀ and ``known`` are then not used); ``trial`` stops at :data:`TRIAL_ITERATIONS`.
         """
         effects = canonical(effects)
         started = time.perf_counter()
         problem = self.problem(effects)
         low, high = self.bounds(effects)
-        x0 = np.clip(self.start(effects, theta0, known), low, high)
         blocks = self.blocks if weight is None else self.blocks.weighted(weight)
         p = self.parameters(blocks)
         label = " + ".join(effects) or "baseline"
-        sol, stats = solve(problem.solver, what=f"the {label} refit", accept_acceptable=True,
-                           x0=x0, p=p, lbx=low, ubx=high, lbg=0, ubg=ca.inf)
+        start = {"x0": np.clip(self.start(effects, theta0, known), low, high)}
+        solver = problem.variant("trial") if trial else problem.solver
+        if warm is not None and warm.multipliers is not None and warm.effects == effects:
+            start = {"x0": warm.x, "lam_x0": warm.multipliers[0], "lam_g0": warm.multipliers[1]}
+            solver = problem.variant("warm")
+        sol, stats = solve(solver, what=f"the {label} refit", accept_acceptable=True,
+                           p=p, lbx=low, ubx=high, lbg=0, ubg=ca.inf, **start)
         x = np.clip(np.asarray(sol["x"], dtype=float).ravel(), low, high)  # IPOPT relaxes bounds by 1e-8
         res = np.asarray(problem.residuals(x, p), dtype=float).ravel()
         residual = self.blocks.scatter(res, self.cells.size)
@@ -358,8 +392,9 @@ class Refitter:
         if jacobian:
             jac = self.blocks.scatter(np.asarray(problem.jacobian(x, self.parameters()), dtype=float),
                                       self.cells.size)
+        multipliers = tuple(np.asarray(sol[key], dtype=float).ravel() for key in ("lam_x", "lam_g"))
         return Fit(effects, x, residual, float(sol["f"]), stats.status, stats.iterations,
-                   time.perf_counter() - started, jac)
+                   time.perf_counter() - started, jac, multipliers)
 
     def moduli_si(self, x: np.ndarray) -> np.ndarray:
         """θ in Pa (b at P_ref = 1 MPa) from the NLP's MPa vector."""

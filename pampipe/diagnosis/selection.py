@@ -5,7 +5,9 @@
 * Cross-validation: K folds across pressure bands: within each test the cells' distinct pressures
   are ranked, cut into 2K bands and fold = band mod K (with stepped pressures a band is a pressure
   level; a ramp is cut by pressure all the same). Each fold is refitted without its cells (weights
-  0, same NLP) from the full fit, and predicts them: cv_rmse = √(Σ held-out (n r̄² + SS_within) / (rows − m)).
+  0, same NLP) from the full fit (warm-started from its primal-dual solution; solved again from its
+  point with a cold barrier when the warm start does not converge), and predicts them:
+  cv_rmse = √(Σ held-out (n r̄² + SS_within) / (rows − m)).
 * Intervals: Gauss-Newton covariance σ̂²(JᵀJ)⁻¹ of all fitted parameters jointly at the fit,
   σ̂² = SSE/(n − k − m), m the within-cell line coefficients of binned cells (:mod:`.cells`);
   95 % = ±1.96 sd, clipped to the parameter's bounds.
@@ -46,10 +48,14 @@ def cross_validate(refitter: Refitter, full: Fit, *, k: int = FOLDS) -> float:
         held = fold == f
         if not held.any() or held.all():
             continue
+        weight = np.where(held, 0.0, cells.count)
         try:
-            fit = refitter.fit(full.effects, full.theta, known=known, weight=np.where(held, 0.0, cells.count))
+            fit = refitter.fit(full.effects, full.theta, known=known, weight=weight, warm=full)
         except SolverError:
-            continue
+            try:
+                fit = refitter.fit(full.effects, full.theta, known=known, weight=weight)
+            except SolverError:
+                continue
         total += float(np.sum(cells.count[held] * fit.residual[held] ** 2) + np.sum(cells.within_ss[held]))
         count += float(cells.count[held].sum() - cells.within_fitted[held].sum())
     return float(np.sqrt(total / count)) if count else float("nan")

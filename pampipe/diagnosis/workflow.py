@@ -130,7 +130,7 @@ def diagnose(data: ExperimentData, *, effects: list[str] | None = None, folds: i
         return structure.assess(data, cells, fit, floors, anchoring_pressures(data, refitter, fit))
 
     def refit(chosen, start: Model) -> Fit:
-        return refitter.fit(chosen, start.fit.theta, known=start.fit.eta(), jacobian=True)
+        return refitter.fit(chosen, start.fit.theta, known=start.fit.eta(), jacobian=True, trial=True)
 
     search = Search(cells, refit, assess, lambda fit: selection.cross_validate(refitter, fit, k=folds), say)
     baseline = search.taken(search.model(base_fit))

@@ -7,9 +7,13 @@
   and effects outside the library; the default magnitude, with new seeds, for single effects; new
   seeds for clean data). Only the tests use it, after the thresholds were fixed.
 
-Run a whole set and print its confusion matrices (2 worker processes):
+Run a whole set and print its confusion matrices (2 worker processes unless ``--workers``):
 
   .venv/bin/python -m tests.support.diagnose_suite test        (or tuning, round3; then groups: single,pair)
+  .venv/bin/python -m tests.support.diagnose_suite round3 pair --seeds 43500-43505 --workers 1
+
+Each case prints its wall time, the CPU time [s] of the process that ran it, the most IPOPT iterations
+of a converged trial refit and the number of failed ones.
 """
 
 from __future__ import annotations
@@ -77,12 +81,16 @@ def run_case(case: Case) -> dict:
     from tests.support.problems import PROBLEMS
 
     pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
-    started = time.perf_counter()
+    started, cpu = time.perf_counter(), time.process_time()
     result = diagnose(hidden_experiment(pam, case.effects or None, seed=case.seed, scale=case.scale))
+    trials = [t for s in result.steps for t in s.trials]
     return {"case": case, "verdict": result.verdict.verdict, "named": result.selected_effects,
             "confounded": tuple(c["with"] for c in result.confounded),
             "groups": tuple(result.verdict.indistinguishable),
-            "rmse_after": [t.rmse for t in result.chosen.tests], "time": time.perf_counter() - started}
+            "rmse_after": [t.rmse for t in result.chosen.tests], "time": time.perf_counter() - started,
+            "iterations": max((t.model.fit.iterations for t in trials if t.model), default=0),
+            "failed": sum(t.model is None for t in trials),
+            "cpu": time.process_time() - cpu}
 
 
 def outcome_class(outcome: dict) -> str:
@@ -125,22 +133,32 @@ def confusion(outcomes: list[dict]) -> str:
     return "\n".join(lines)
 
 
-def main(which: str) -> None:
+def main(argv: list[str]) -> None:
+    import argparse
     from multiprocessing import get_context
 
-    cases = {"tuning": tuning_cases, "test": held_out_cases, "round3": round3_cases}[which]()
-    groups = sys.argv[2].split(",") if len(sys.argv) > 2 else None
-    cases = [c for c in cases if groups is None or c.group in groups]
+    parser = argparse.ArgumentParser(prog="python -m tests.support.diagnose_suite")
+    parser.add_argument("which", nargs="?", default="tuning", choices=("tuning", "test", "round3"))
+    parser.add_argument("groups", nargs="?", help="comma-separated groups (clean,single,pair,foreign)")
+    parser.add_argument("--seeds", help="an inclusive seed range FIRST-LAST")
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args(argv)
+    cases = {"tuning": tuning_cases, "test": held_out_cases, "round3": round3_cases}[args.which]()
+    groups = args.groups.split(",") if args.groups else None
+    first, last = map(int, args.seeds.split("-")) if args.seeds else (0, 10**9)
+    cases = [c for c in cases if (groups is None or c.group in groups) and first <= c.seed <= last]
     started = time.perf_counter()
-    with get_context("spawn").Pool(2) as pool:
+    with get_context("spawn").Pool(args.workers) as pool:
         outcomes = []
         for outcome in pool.imap(run_case, cases):
             outcomes.append(outcome)
             print(f"{outcome['case'].label} ×{outcome['case'].scale:g} seed {outcome['case'].seed}: "
-                  f"{outcome['verdict']} {outcome['named']} ({outcome['time']:.1f} s)", flush=True)
+                  f"{outcome['verdict']} {outcome['named']} groups {outcome['groups']} "
+                  f"({outcome['time']:.1f} s, CPU {outcome['cpu']:.1f} s; trial refits: at most "
+                  f"{outcome['iterations']} iterations, {outcome['failed']} failed)", flush=True)
     print(confusion(outcomes))
     print(f"\n{len(cases)} cases in {time.perf_counter() - started:.0f} s")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "tuning")
+    main(sys.argv[1:])
