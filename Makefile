@@ -7,7 +7,7 @@ LOCK   := requirements.lock
 LATEST := .venv-latest
 DOCS_VENV := .docs-venv
 
-.PHONY: demo test test-slow test-latest lock lint bench fuzz mutate docs clean
+.PHONY: demo test test-slow test-latest lock lint bench bench-all fuzz mutate docs clean
 
 # pip shows errors only: a build log would hide what the target is for
 PIP    := -m pip install -qq --disable-pip-version-check
@@ -62,7 +62,17 @@ mutate: $(STAMP)  ## mutation testing of the safety modules (scripts/mutate.py; 
 lint: $(STAMP)
 	$(BIN)/ruff check pampipe tests benchmarks
 
-bench: $(STAMP)  ## all benchmarks (prints timings and ratios)
+# the scripts docs/performance.md quotes, each with >= 5 alternated rounds (median, spread, load); BENCH_BASELINE=TREE
+# (a checkout of main, say) also times that tree's big-mission plan in the same rounds
+BENCH_BASELINE ?=
+bench: $(STAMP)  ## the benchmarks docs/performance.md quotes (median and spread of >= 5 alternated runs, the load)
+	@echo "== benchmarks/bench_startup.py --repeat 7"; $(BIN)/python benchmarks/bench_startup.py --repeat 7
+	@echo "== benchmarks/bench_big_mission.py --sections 100000 --repeat 5"; $(BIN)/python \
+		benchmarks/bench_big_mission.py --sections 100000 --repeat 5 $(if $(BENCH_BASELINE),--baseline $(BENCH_BASELINE))
+	@echo "== benchmarks/bench_identify.py --repeat 5"; $(BIN)/python benchmarks/bench_identify.py --repeat 5
+	@echo "== benchmarks/bench_identify_floor.py --repeat 5"; $(BIN)/python benchmarks/bench_identify_floor.py --repeat 5
+
+bench-all: $(STAMP)  ## every script in benchmarks/ with its defaults (some print no spread: their figures are not quoted)
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done
 
 clean:

@@ -11,7 +11,7 @@ resident memory (a separate run, started by a small launcher process), also per 
 
 Goals (issues 25, 39): the text report of 10⁵ sections in ≤ 2.5 s CPU; --json ≤ 1.5× the text report.
 
-    .venv/bin/python benchmarks/bench_big_mission.py [--sections 100000] [--repeat 5]
+    .venv/bin/python benchmarks/bench_big_mission.py [--sections 100000] [--repeat 5] [--baseline TREE]
 """
 
 from __future__ import annotations
@@ -36,11 +36,11 @@ LAUNCHER = ("import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdo
 PEER = "import sys, yaml; yaml.load(open(sys.argv[1], encoding='utf-8'), Loader=yaml.CSafeLoader)"
 
 
-def measured(args: list[str], env: dict) -> tuple[float, float]:
-    """(CPU [s], wall [s]) of one child process."""
+def measured(args: list[str], env: dict, cwd: Path = ROOT) -> tuple[float, float]:
+    """(CPU [s], wall [s]) of one child process started in ``cwd``."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
-    child = subprocess.run(args, capture_output=True, env=env, cwd=ROOT)
+    child = subprocess.run(args, capture_output=True, env=env, cwd=cwd)
     wall = time.perf_counter() - started
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if child.returncode:
@@ -48,9 +48,9 @@ def measured(args: list[str], env: dict) -> tuple[float, float]:
     return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall
 
 
-def peak_kb(args: list[str], env: dict) -> int:
-    """Peak resident memory [kB] of ``args``, started by a small launcher process."""
-    out = subprocess.run([sys.executable, "-c", LAUNCHER, *args], capture_output=True, env=env, cwd=ROOT)
+def peak_kb(args: list[str], env: dict, cwd: Path = ROOT) -> int:
+    """Peak resident memory [kB] of ``args``, started in ``cwd`` by a small launcher process."""
+    out = subprocess.run([sys.executable, "-c", LAUNCHER, *args], capture_output=True, env=env, cwd=cwd)
     return int(out.stdout)
 
 
@@ -58,6 +58,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sections", type=int, default=100_000)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--baseline", type=Path, help="another pampipe source tree (a checkout of main): its "
+                        "text report and --json run from there in the same rounds, as 'baseline: ...'")
     args = parser.parse_args()
     compileall.compile_dir(ROOT / "pampipe", quiet=1)  # bytecode, as installed (PYTHONDONTWRITEBYTECODE)
     env = {**os.environ, **THREADS}
@@ -70,25 +72,32 @@ def main() -> None:
             "pampipe plan --json": [sys.executable, "-m", "pampipe", "plan", mission, "--json"],
             "pampipe plan -o plan.json": [sys.executable, "-m", "pampipe", "plan", mission, "-o", out],
         }
+        places = dict.fromkeys(commands, (env, ROOT))  # python -m imports the pampipe of the folder it is in
+        if args.baseline is not None:
+            tree = args.baseline.resolve()
+            compileall.compile_dir(tree / "pampipe", quiet=1)
+            for name in ("pampipe plan (text report)", "pampipe plan --json"):
+                commands[f"baseline: {name}"] = commands[name]
+                places[f"baseline: {name}"] = ({**env, "PYTHONPATH": str(tree)}, tree)
         runs: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
         load_before = os.getloadavg()[0]
         repeat = max(args.repeat, 5)
         for _ in range(repeat):
             for name, command in commands.items():
-                runs[name].append(measured(command, env))
+                runs[name].append(measured(command, *places[name]))
         load = f"load {load_before:.2f}-{os.getloadavg()[0]:.2f}"
         print(f"{args.sections:,} sections; {load}; one BLAS thread; median and spread of {repeat} "
               "alternated whole processes")
         peer = statistics.median(cpu for cpu, _ in runs[next(iter(commands))])
         bare = peak_kb([sys.executable, "-c", "pass"], env)
-        print(f"{'command':<32} {'CPU s':>7} {'CPU spread s':>13} {'wall s':>7} {'CPU / peer':>10} "
+        print(f"{'command':<38} {'CPU s':>7} {'CPU spread s':>13} {'wall s':>7} {'CPU / peer':>10} "
               f"{'peak MB':>8} {'kB/section':>10}")
         cpu = {name: statistics.median(c for c, _ in values) for name, values in runs.items()}
         for name, values in runs.items():
             cpus = [c for c, _ in values]
             wall = statistics.median(w for _, w in values)
-            peak = peak_kb(commands[name], env)
-            print(f"{name:<32} {cpu[name]:>7.2f} {f'{min(cpus):.2f}-{max(cpus):.2f}':>13} {wall:>7.2f} "
+            peak = peak_kb(commands[name], *places[name])
+            print(f"{name:<38} {cpu[name]:>7.2f} {f'{min(cpus):.2f}-{max(cpus):.2f}':>13} {wall:>7.2f} "
                   f"{cpu[name] / peer:>9.2f}x {peak / 1024:>8.0f} {(peak - bare) / args.sections:>10.2f}")
         print("kB/section: the peak resident memory above a bare interpreter's, per section")
         text, json_cpu = cpu["pampipe plan (text report)"], cpu["pampipe plan --json"]
@@ -96,6 +105,12 @@ def main() -> None:
                                                         runs["pampipe plan (text report)"], strict=True))
         verdict = ("met" if text <= 2.5 else "NOT met") if args.sections == 100_000 else "not judged"
         print(f"text report: {text:.2f} s CPU (goal 2.5 s at 10⁵ sections: {verdict}; {load})")
+        if args.baseline is not None:
+            for name in ("pampipe plan (text report)", "pampipe plan --json"):
+                pairs = zip(runs[f"baseline: {name}"], runs[name], strict=True)
+                each = sorted(b / c for (b, _), (c, _) in pairs)
+                print(f"baseline / this tree, {name}: {cpu[f'baseline: {name}'] / cpu[name]:.2f}x CPU "
+                      f"(round by round {each[0]:.2f}-{each[-1]:.2f}x; {load})")
         print(f"--json / text report: {json_cpu / text:.2f}x CPU (round by round "
               f"{ratios[0]:.2f}-{ratios[-1]:.2f}x; goal 1.5x: "
               f"{'met' if json_cpu / text <= 1.5 else 'NOT met'}; {load})")

@@ -15,6 +15,7 @@ from typing import Annotated, Any, Literal
 from pydantic import AfterValidator, Field
 
 from pampipe.errors import InputError
+from pampipe.io.distinct_sections import DistinctSections, distinct_sections
 from pampipe.io.file_units import read_units
 from pampipe.io.pam_schema import PamSchema, resolve_pam
 from pampipe.io.plausible import unit_slips
@@ -136,7 +137,7 @@ def load_mission(path: str | Path, *, raw: dict | None = None) -> Mission:
 
 
 def _load_mission(path: Path, content: dict) -> Mission:
-    schema = validate(path, MissionSchema, content)
+    schema, distinct = _validated(path, content)
     segments = tuple(Segment(s.name, resolve_pam(path, s.pam, f"robot.segments[{i}].pam"), s.mass,
                              relative(path, s.pam) if isinstance(s.pam, str) else None, s.unit)
                      for i, s in enumerate(schema.robot.segments))
@@ -162,9 +163,8 @@ def _load_mission(path: Path, content: dict) -> Mission:
         route = network_route(path, schema.route, segments, grip.friction, elbow=elbow)
         sections = [("route", schema.route.friction, schema.route.pipe_material)]
     else:
-        route = listed_route(path, schema.route, grip.friction, elbow=elbow)
-        sections = [(f"route[{i}] ({s.name})", s.friction, s.pipe_material)
-                    for i, s in enumerate(schema.route)]
+        route = listed_route(path, schema.route, grip.friction, elbow=elbow, distinct=distinct)
+        sections = _sections(schema.route, distinct)
     warnings += grip.material_warnings(sections) + grip.effective_warning(schema.load_path is not None)
     load_path, kappa, kappa_sd = schema.load_path or "through_anchor", None, 0.0
     if schema.load_path is None and grip.coupling() is not None:
@@ -173,6 +173,34 @@ def _load_mission(path: Path, content: dict) -> Mission:
                    load_path, schema.tether_drag, route, dict(schema.gait or {}), warnings,
                    kappa_sd=kappa_sd, load_coupling=kappa, steering=steering, bend_model=schema.bend_model,
                    joint_angle=schema.robot.joint_angle, tether=build_tether(schema.tether))
+
+
+def _validated(path: Path, content: dict) -> tuple[MissionSchema, DistinctSections | None]:
+    """The mission's schema and, for a long listed route, where its sections lie among the distinct ones
+    that were validated (:mod:`pampipe.io.distinct_sections`); a problem is found and told by validating the
+    whole file, as for a short route."""
+    distinct = distinct_sections(content.get("route")) if isinstance(content, dict) else None
+    if distinct is not None:
+        try:
+            shown = {**content, "route": distinct.distinct(content["route"])}
+            return validate(path, MissionSchema, shown), distinct
+        except InputError:
+            pass  # validated whole below: the message names the section and its place
+    return validate(path, MissionSchema, content), None
+
+
+def _sections(route: list[SectionSchema], distinct: DistinctSections | None) -> list[tuple]:
+    """(where, friction, pipe material) of the sections whose measured friction may not fit their pipe
+    (:meth:`MeasuredGrip.material_warnings`), in travel order: every section of a route given whole; of a
+    long one, the places of the distinct sections that name a material and give no friction."""
+    if distinct is None:
+        return [(f"route[{i}] ({s.name})", s.friction, s.pipe_material) for i, s in enumerate(route)]
+    warned = {k for k, s in enumerate(route)
+              if s.friction in (None, "from_pam") and s.pipe_material is not None}
+    if not warned:
+        return []
+    return [(f"route[{i}] ({distinct.names[i]})", route[k].friction, route[k].pipe_material)
+            for i, k in enumerate(distinct.index.tolist()) if k in warned]
 
 
 def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:

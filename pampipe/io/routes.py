@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from pampipe.errors import InfeasibleError, InputError
+from pampipe.io.distinct_sections import DistinctSections
 from pampipe.specs.mission import NetworkRoute, Route
 from pampipe.specs.pipes import BoreSpec, bore
 from pampipe.specs.turns import turn_directions
@@ -78,24 +79,30 @@ def elbow_radius(path: Path, value, where: str) -> Radius:
     return Radius(radius, False, str(value))
 
 
-def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = None) -> Route:
+def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = None,
+                 distinct: DistinctSections | None = None) -> Route:
     """The columns of a validated list of sections (``SectionSchema`` objects).
 
     ``measured(where)`` → (μ, σ_μ) of the robot's PAM files, for sections whose friction is
     ``from_pam`` or absent. A section's ``bend`` without a radius takes ``elbow``; a radius in bores
     (``k D``) is k times the bore the steering segment passes (:func:`_bend_bore`), as in a network route.
+    ``distinct``: ``sections`` are the distinct sections of a long route
+    (:mod:`pampipe.io.distinct_sections`, which has no bends): each is read once, at its first place, and
+    the columns are expanded back to every place.
     """
-    names = [s.name for s in sections]
+    names = [s.name for s in sections] if distinct is None else distinct.names
     if len(set(names)) != len(names):
         raise InputError(f"{path}: route: section names must be unique.")
+    places = range(len(sections)) if distinct is None else distinct.first
     cache: dict = {}
     bores = [_bore(path, s.inner_diameter, f"route[{i}].inner_diameter", cache)
-             for i, s in enumerate(sections)]
-    friction = [_friction(s.friction, measured, f"route[{i}].friction") for i, s in enumerate(sections)]
-
-    def column(values) -> np.ndarray:
-        return np.fromiter(values, dtype=float, count=len(sections))
-
+             for i, s in zip(places, sections, strict=True)]
+    friction = [_friction(s.friction, measured, f"route[{i}].friction")
+                for i, s in zip(places, sections, strict=True)]
+    if distinct is not None:  # every column taken from the distinct sections' at each place
+        columns = [column[distinct.index] for column in _columns(sections, bores, friction)]
+        labels = np.array([b.label for b in bores], dtype=str)[distinct.index]
+        return Route(np.array(names, dtype=str), *columns, label=labels)
     bends = {}
     if any(s.bend is not None for s in sections):
         angle, radius, direction = np.zeros(len(sections)), np.full(len(sections), np.nan), np.full(
@@ -113,11 +120,20 @@ def listed_route(path: Path, sections, measured=None, *, elbow: Radius | None = 
                                  where=where if s.bend.radius is not None else f"elbow_radius (route[{i}])")
         bends = {"bend_angle": angle, "bend_radius": radius, "bend_direction": direction,
                  "bend_radius_assumed": assumed}
-    return Route(np.array(names, dtype=str), column(s.length for s in sections),
-                 column(b.nominal for b in bores), column(s.incline for s in sections),
-                 column(f[0] for f in friction),
-                 column(f[1] for f in friction), column(b.low for b in bores), column(b.high for b in bores),
-                 column(b.sd for b in bores), label=np.array([b.label for b in bores], dtype=str), **bends)
+    return Route(np.array(names, dtype=str), *_columns(sections, bores, friction),
+                 label=np.array([b.label for b in bores], dtype=str), **bends)
+
+
+def _columns(sections, bores, friction) -> tuple[np.ndarray, ...]:
+    """The float columns of :class:`Route` after its names: length, nominal bore, incline, μ, σ_μ, the bore's
+    low and high ends and its sd."""
+    def column(values) -> np.ndarray:
+        return np.fromiter(values, dtype=float, count=len(sections))
+
+    return (column(s.length for s in sections), column(b.nominal for b in bores),
+            column(s.incline for s in sections), column(f[0] for f in friction),
+            column(f[1] for f in friction), column(b.low for b in bores), column(b.high for b in bores),
+            column(b.sd for b in bores))
 
 
 def _bend_bore(bores, i: int) -> float:

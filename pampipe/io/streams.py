@@ -36,9 +36,21 @@ def _escape(match: re.Match) -> str:
     return f"\\x{code:02x}" if code < 0x100 else f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}"
 
 
+#: The ASCII bytes that pass unchanged (all but :data:`UNSAFE_ASCII`'s).
+_SAFE_ASCII = bytes(code for code in range(128) if not UNSAFE_ASCII.match(chr(code)))
+
+
 def safe_text(text: str) -> str:
-    """``text`` with every character of :data:`UNSAFE` escaped (``\\x1b[2J`` shows as text)."""
-    return (UNSAFE_ASCII if text.isascii() else UNSAFE).sub(_escape, text)
+    """``text`` with every character of :data:`UNSAFE` escaped (``\\x1b[2J`` shows as text).
+
+    An ASCII text with nothing to escape (a JSON document: its encoder escapes the controls) is found so
+    by deleting its safe bytes (``bytes.translate``, about 4× faster than the expression's scan, which
+    took seconds on the 239 MB of a 10⁵-section ``plan --json``) and returned as it is."""
+    if text.isascii():
+        if not text.encode("ascii").translate(None, _SAFE_ASCII):
+            return text
+        return UNSAFE_ASCII.sub(_escape, text)
+    return UNSAFE.sub(_escape, text)
 
 
 class GuardedStream:

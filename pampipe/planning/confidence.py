@@ -155,6 +155,26 @@ class Confidence:
                 "pressure_at_Pa": {k: _finite(v[s, i]) for k, v in self.pressure_at.items()},
                 "pressure_ci95_Pa": [_finite(x) for x in self.pressure_ci95[s, i]], **opened}
 
+    def element_columns(self, rows: slice, complete: np.ndarray) -> dict | None:
+        """The entries of :meth:`element_document` of sections ``rows`` as columns for the column-wise JSON
+        writer (:mod:`pampipe.io.json_columns`): one value per segment of each complete section, sections
+        first, as :meth:`pampipe.planning.result.MissionPlan.section_columns` lays out its segments. None
+        where a segment there is stopped or has an undetermined shift: their entries differ from segment to
+        segment (the writer then takes the documents)."""
+        def flat(column: np.ndarray) -> np.ndarray:
+            return column[rows][complete].ravel()
+
+        if self.stopped is not None and flat(self.stopped).any():
+            return None
+        if self.open_shift is not None and not np.isnan(flat(self.open_shift)).all():
+            return None
+        return {"unit": list(self.units) * int(complete.sum()),
+                "holding_probability": flat(self.holding_probability),
+                "holding_probability_se": flat(self.holding_se),
+                "contact_probability": flat(self.contact_probability),
+                "pressure_at_Pa": {key: flat(value) for key, value in self.pressure_at.items()},
+                "pressure_ci95_Pa": self.pressure_ci95[rows][complete].reshape(-1, 2)}
+
 
 def _finite(value) -> float | None:
     """A pressure [Pa] for a document: None where it is infinite (no pressure holds in that share)."""

@@ -290,12 +290,17 @@ class MissionPlan:
         """Sections ``start:stop`` of :meth:`section_documents` as columns, for a column-wise JSON writer:
         (the sections' keys → one value each; {"segments": (the segments' keys → one value per segment
         of each complete section, sections first; segments per section; ``complete``)}), the floats
-        unrounded, as the documents hold them. None with --confidence (each segment's document then
-        gains entries of its own)."""
-        if self.uncertainty is not None:
-            return None
+        unrounded, as the documents hold them. With --confidence each segment's entries of
+        :meth:`~pampipe.planning.confidence.Confidence.element_columns` join them; None where those are
+        not columns (a segment stopped by an undetermined direction, or with its shift)."""
         a, r, rows = self.arrays, self.arrays.route, slice(start, stop)
         complete = a.complete[rows]
+        segments = self._segment_columns(rows, complete)
+        if self.uncertainty is not None:
+            sampled = self.uncertainty.element_columns(rows, complete)
+            if sampled is None:
+                return None
+            segments.update(sampled)
         reasons = [a.reasons.get(s) for s in range(start, stop)]
         sections = {"name": r.name[rows].tolist(), "feasible": np.array([x is None for x in reasons], bool),
                     "reason": reasons, "length_m": r.length[rows], "inner_diameter_m": r.diameter[rows],
@@ -311,7 +316,7 @@ class MissionPlan:
             sections["tether"] = {"tension_in_N": self.tether.tension_in[rows],
                                   "tension_out_N": self.tether.tension_out[rows]}
         width = len(a.segment_names)
-        return sections, {"segments": (self._segment_columns(rows, complete), width, complete)}
+        return sections, {"segments": (segments, width, complete)}
 
     def reducer_columns(self, start: int, stop: int) -> tuple[dict, dict]:
         """Reducers ``start:stop`` of the document as columns (:func:`~pampipe.bends.plan.reducer_columns`),
@@ -321,8 +326,8 @@ class MissionPlan:
         return reducer_columns(self.reducers[start:stop]), {}
 
     def _segment_columns(self, rows: slice, complete: np.ndarray) -> dict:
-        """The segments' columns of :meth:`section_columns`: (complete sections × segments), flattened (no
-        nominal pressure: it comes with --confidence only)."""
+        """The segments' columns of :meth:`section_columns`: (complete sections × segments), flattened (the
+        nominal pressure with --confidence only)."""
         a = self.arrays
 
         def flat(column):
@@ -345,6 +350,8 @@ class MissionPlan:
                    "largest_bore_anchoring_pressure_Pa": touch, "contact_margin_Pa": p - touch,
                    "contact_cost_1mm_bore_Pa": cost_bore, "contact_cost_1deg_braid_Pa": cost_angle,
                    "thin_contact_margin": np.asarray(thin, bool)}
+        if a.nominal_pressure is not None:
+            columns["nominal_pressure_Pa"] = flat(a.nominal_pressure)
         return columns
 
     def as_document(self, *, sections=None, reducers=None) -> dict:

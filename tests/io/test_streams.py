@@ -62,6 +62,9 @@ def test_safe_text_escapes_what_a_terminal_would_obey():
     ascii_text = "".join(map(chr, range(128)))  # an ASCII text takes a shorter scan: the same escapes
     expected = "".join(c if c in "\n\t" or " " <= c <= "~" else f"\\x{ord(c):02x}" for c in ascii_text)
     assert safe_text(ascii_text) == expected
+    for c in ascii_text:  # one character in an otherwise safe text (most texts: returned as they are)
+        escaped = c if c in "\n\t" or " " <= c <= "~" else f"\\x{ord(c):02x}"
+        assert safe_text(f'{{"name": "s{c}"}}') == f'{{"name": "s{escaped}"}}'
 
 
 def test_a_hostile_section_name_reaches_the_terminal_escaped(tmp_path, capsys):

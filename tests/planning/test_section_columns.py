@@ -54,3 +54,40 @@ def test_the_reducers_columns_are_their_documents():
     for i, reducer in enumerate(plan.reducers):
         assert {key: value[i] for key, value in columns.items()} == pytest.approx(reducer.as_document())
     assert json.loads(_streamed(plan, chunk=2))["reducers"] == json.loads(to_json(plan.to_dict()))["reducers"]
+
+
+def _confident():
+    mission = api.load_mission(MISSIONS / "riser-uncertain-friction.yaml")
+    return api.plan(mission, confidence=0.95, samples=400, seed=3)
+
+
+def test_confidence_columns_write_the_documents_bytes():
+    plan = _confident()
+    assert plan.section_columns(0, len(plan.arrays.route)) is not None  # column-wise, not the documents
+    assert _streamed(plan, chunk=2) == to_json(plan.to_dict(), indent=None)
+
+
+@pytest.mark.parametrize("change", ["stopped", "undetermined shift", "no pressure holds"])
+def test_confidence_segments_unlike_the_others_are_their_documents(change):
+    plan = _confident()
+    u = plan.uncertainty
+    shape = u.holding_probability.shape
+    if change == "stopped":
+        stopped = np.zeros(shape, bool)
+        stopped[-1, 1] = True
+        u = dataclasses.replace(u, stopped=stopped)
+    elif change == "undetermined shift":
+        shift = np.full(shape, np.nan)
+        shift[0, 0] = 1234.5
+        u = dataclasses.replace(u, open_shift=shift)
+    else:
+        ci = u.pressure_ci95.copy()
+        ci[0, 2, 1] = np.inf
+        u = dataclasses.replace(u, pressure_ci95=ci)
+    changed = dataclasses.replace(plan, uncertainty=u)
+    rows = len(plan.arrays.route)
+    assert changed.section_columns(0, rows) is None or change == "no pressure holds"
+    text = _streamed(changed, chunk=1)
+    assert text == to_json(changed.to_dict(), indent=None)
+    assert {"stopped": '"pressure_Pa": null', "undetermined shift": '"undetermined_shift_Pa": 1234.5',
+            "no pressure holds": ', null]'}[change] in text
