@@ -101,6 +101,7 @@ def test_each_command_left_out_by_default_is_run_by_a_named_default_test():
         if "::" in where:
             path, name = where.split("::")
             source = (ROOT / path).read_text(encoding="utf-8")
+            assert f"def {name}(" in source, f"{where}: no such test"
             head = source[:source.index(f"def {name}(")].rsplit("\n\n\n", 1)[-1]
             assert "slow" not in head and "pytestmark" not in source, where
         else:
