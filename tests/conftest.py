@@ -12,6 +12,7 @@ import pytest
 from hypothesis import HealthCheck, settings
 
 from pampipe.io.pam_schema import load_pam
+from tests.support.order import shuffled
 from tests.support.problems import PROBLEMS
 
 #: No test depends on the machine's speed: hypothesis neither times examples nor calls slow data generation
@@ -66,6 +67,21 @@ def pytest_unconfigure(config):
         shutil.rmtree(folder, ignore_errors=True)
         os.environ.pop("PAMPIPE_NLP_CACHE", None)
         os.environ.pop("PAMPIPE_TEST_NLP_CACHE", None)
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """``PAMPIPE_TEST_SHUFFLE=SEED`` runs the tests in an order drawn from SEED (an integer), to find tests
+    that depend on another test having run first: the modules in a shuffled order, and the tests of each
+    module shuffled among themselves (a module's tests stay together: its module fixtures are built once).
+    Every pytest-xdist worker draws the same order, as it must. The seed is printed in the header."""
+    seed = os.environ.get("PAMPIPE_TEST_SHUFFLE")
+    if seed:
+        items[:] = shuffled(items, int(seed))
+
+
+def pytest_report_header(config):
+    seed = os.environ.get("PAMPIPE_TEST_SHUFFLE")
+    return f"test order shuffled: PAMPIPE_TEST_SHUFFLE={seed}" if seed else None
 
 
 def pytest_terminal_summary(terminalreporter):

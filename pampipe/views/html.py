@@ -201,6 +201,11 @@ def _facts(rows: Sequence[tuple[str, str]], css: str) -> str:
     return f"<table class='{css}'>{cells}</table>" if cells else ""
 
 
+def utc_stamp() -> str:
+    """When a report was written, to the minute, in UTC ("2026-11-29 04:20 UTC"): both reports say it."""
+    return datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+
+
 def render(command: str, *, title: str, inputs: Iterable[Path], text: str, document: dict,
            warnings: Sequence[str] = (), reasons: Sequence[str] = (), figures: Sequence[str] = (),
            folder: Path | None = None) -> str:
@@ -213,7 +218,7 @@ def render(command: str, *, title: str, inputs: Iterable[Path], text: str, docum
     why = "".join(f"<li>{esc(r)}</li>" for r in reasons)
     plots = "".join(f"<figure>{svg}</figure>" for svg in figures)
     assumptions = "".join(_assumption(*a, folder) for a in ASSUMPTIONS.get(command, []))
-    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    stamp = utc_stamp()
     said = verdict(text)
     bad = " bad" if said.startswith(BAD) or reasons else ""
     return (f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"

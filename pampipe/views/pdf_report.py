@@ -1,11 +1,11 @@
 """`--report FILE.pdf`: the report to send as a PDF, drawn by matplotlib alone (no browser needed).
 
-The same parts as the HTML report (:mod:`pampipe.views.html`) in the same order: the verdict and the
-headline numbers, the inputs (settings, and the files with their SHA-256), the warnings and reasons, the
-command's text report (its tables, in a monospace face, lines longer than :data:`COLUMNS` characters
-wrapped), then one page per figure. Pages are A4 portrait (210 × 297 mm) with 12 mm margins; the text is
-written as text, so a PDF reader can search and copy it. Curves of many points are drawn as images, as in
-the HTML report.
+The same parts as the HTML report (:mod:`pampipe.views.html`) in the same order: the version, the command
+and when it ran (UTC), the verdict and the headline numbers, the inputs (settings, and the files with their
+SHA-256), the warnings and reasons, the command's text report (its tables, in a monospace face, lines longer
+than :data:`COLUMNS` characters wrapped), then one page per figure. Pages are A4 portrait (210 × 297 mm) with
+12 mm margins; the text is written as text, so a PDF reader can search and copy it. Curves of many points are
+drawn as images, as in the HTML report.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 from pampipe._version import __version__
 from pampipe.io.files import atomic_write
 from pampipe.units.display import localize
-from pampipe.views.html import BAD, rasterize_dense, sha256
+from pampipe.views.html import BAD, rasterize_dense, sha256, utc_stamp
 from pampipe.views.report_summary import headline, report_inputs, verdict
 
 #: A4 in inches, and the margin (12 mm).
@@ -63,7 +63,7 @@ def lines(command: str, *, title: str, inputs: Iterable[Path], text: str, docume
                                                            drop_whitespace=False) or [""])
 
     add(title, TITLE)
-    add(f"pampipe {__version__}, pampipe {command}", BODY)
+    add(f"pampipe {__version__}, pampipe {command}, {utc_stamp()}", BODY)
     out.append(("", GAP))
     add(said, BAD_VERDICT if said.startswith(BAD) or reasons else VERDICT)
     for name, value in headline(command, document):

@@ -61,14 +61,19 @@ def sections():
     return rows
 
 
-def test_reasons_and_pressures_per_segment(uneven):
+@pytest.fixture(scope="module")
+def answers(uneven):
+    """``sections()`` with their independent (reason, pressures), worked out once for both laws."""
+    return [(row, *expected(uneven, *row)) for row in sections()]
+
+
+def test_reasons_and_pressures_per_segment(uneven, answers):
     law = mission_law(uneven)
     assert law.narrowest == pytest.approx(0.0635, rel=1e-12)
     assert law.widest == pytest.approx(min(braid_limits()), rel=1e-5)
     seen = set()
-    for row in sections():
+    for row, want, independent in answers:
         reason, pressures = law.evaluate(*row)
-        want, independent = expected(uneven, *row)
         assert reason == want, (row, reason, want)
         seen.add(want)
         if independent is not None:
@@ -77,16 +82,15 @@ def test_reasons_and_pressures_per_segment(uneven):
             np.testing.assert_allclose(pressures[finite], independent[finite], rtol=1e-8)
     assert seen == {Reason.OK, Reason.NARROW, Reason.WIDE, Reason.ABOVE_SUPPLY}
     # the supply check is per segment: in the last special row only the rated segment is above its limit
-    pressures = expected(uneven, 0.108, math.pi / 2, 0.3, 5.0)[1]
+    pressures = next(p for row, _, p in answers if row == (0.108, math.pi / 2, 0.3, 5.0))
     np.testing.assert_array_equal(pressures > law.limits, [False, False, True])
 
 
 @pytest.mark.skipif(export_c.compiler() is None, reason="no host C compiler (gcc or cc) found")
-def test_the_c_law_answers_as_the_segments_do(uneven, tmp_path):
+def test_the_c_law_answers_as_the_segments_do(uneven, answers, tmp_path):
     export_c.write_export(uneven, tmp_path)
-    codes, pressures = export_c.run_law(export_c.build(tmp_path), sections())
-    for row, code, got in zip(sections(), codes, pressures, strict=True):
-        want, independent = expected(uneven, *row)
+    codes, pressures = export_c.run_law(export_c.build(tmp_path), [row for row, _, _ in answers])
+    for (row, want, independent), code, got in zip(answers, codes, pressures, strict=True):
         assert code == want, (row, code, want)
         if code == Reason.OK:
             np.testing.assert_allclose(got, independent, rtol=1e-8)

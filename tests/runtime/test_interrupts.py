@@ -72,3 +72,26 @@ def test_interrupt_inside_ipopt_exits_130(signum):
     assert process.returncode == 128 + signum, rest[-2000:]
     assert rest.strip().splitlines()[-1] == "pampipe diagnose: interrupted; no partial output was written."
     assert "Traceback" not in rest
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_gait_stops_inside_ipopt_on_either_signal(signum, tmp_path):
+    """`gait --optimal` (issue 42): SIGTERM takes Ctrl-C's path out of IPOPT's minimum-time solve: 128 + the
+    signal, one line, no traceback, no plot folder. The signal goes when IPOPT prints its first iteration
+    header (a condition, not a delay)."""
+    plots = tmp_path / "plots"
+    process = subprocess.Popen([sys.executable, "-u", "-c", IPOPT_VISIBLE, "gait",
+                                str(PROBLEMS / "missions" / "vertical-climb-3in.yaml"), "--optimal",
+                                "--plots", str(plots)],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=ROOT,
+                               env={**os.environ, "PAMPIPE_NLP_CACHE": "off"})
+    seen = [""]
+    while not seen[-1].startswith("iter "):  # IPOPT iterates
+        seen.append(process.stdout.readline())
+        assert seen[-1], seen[-20:]  # the run ended before IPOPT iterated
+    process.send_signal(signum)
+    rest, _ = process.communicate(timeout=600)  # a guard against a hang, not a measurement
+    assert process.returncode == 128 + signum, rest[-2000:]
+    assert rest.strip().splitlines()[-1] == "pampipe gait: interrupted; no partial output was written."
+    assert "Traceback" not in rest
+    assert not list(tmp_path.iterdir())

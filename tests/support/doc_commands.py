@@ -39,6 +39,27 @@ from tests.support.problems import PROBLEMS, ROOT
 DOCS = ("README.md", "docs/workflows.md")
 #: The reference of every command: its ```sh blocks run in a shell of their own (tests/docs/test_docs_run.py).
 REFERENCE = ("docs/commands.md",)
+#: Doc commands that a named default test (or doc line) runs with the same inputs and options but where the
+#: output goes (``-o``, ``--plots``, ``--json``, ``--report``), or that only read such a command's output: the
+#: default run leaves them out of the doc's shell, since the named test runs the same computation; the slow
+#: run of the doc runs every command as written (issue 40: the default run within 10 minutes). No command
+#: left in may read what a left-out one wrote (tests/docs/test_docs_run.py checks it, and that the named test
+#: exists and is not slow); a quote still reads the commands left in of its ```sh block.
+ALSO_RUN = {
+    ("README.md", "pampipe route ky4 --from J-315 --to J-897 --max-bore"):
+        "tests/specs/test_network.py::test_cli_writes_a_mission_that_plan_reads",
+    ("README.md", "pampipe design problems/inventories/riser.yaml -o"):
+        "tests/commands/test_design.py::test_riser_json_has_the_interface_keys_and_writes_the_pam",
+    ("README.md", "pampipe identify problems/experiments/paper-protocol.yaml -o out/fit.yaml --plots"):
+        "docs/workflows.md:35",
+    ("README.md", "pampipe simulate out/fit.yaml"): "docs/workflows.md:69",
+    ("README.md", "pampipe rehearse problems/missions/tethered-climb.yaml --plots"):
+        "tests/rehearsal/test_rehearse.py::test_the_tethered_mission_reports_the_tensions_and_its_plots",
+    ("README.md", "pampipe diagnose problems/experiments/hidden-contact-stiffening.yaml --plots"):
+        "tests/diagnosis/test_diagnose.py::test_bundled_example_writes_plots_and_a_pam_that_simulate_accepts",
+    ("README.md", "pampipe simulate out/pam.yaml"):
+        "tests/diagnosis/test_diagnose.py::test_bundled_example_writes_plots_and_a_pam_that_simulate_accepts",
+}
 EXPECTED = re.compile(r"#\s*exits\s+(\d+)\s*$")
 HEREDOC = re.compile(r"<<-?\s*(['\"]?)(\w+)\1")
 FENCE = "```"
@@ -84,6 +105,12 @@ def commands(docs=DOCS, root: Path = ROOT) -> list[Command]:
             match = EXPECTED.search(head if HEREDOC.search(head) else line)
             found.append(Command(doc, block, start, text, int(match.group(1)) if match else 0))
     return found
+
+
+def also_run(step: Command) -> str | None:
+    """The test (``path::name``) or doc line (``doc:line``) that runs ``step``'s computation, if listed."""
+    return next((where for (doc, start), where in ALSO_RUN.items()
+                 if step.doc == doc and step.text.startswith(start)), None)
 
 
 def script(steps: list[Command], status: Path) -> str:

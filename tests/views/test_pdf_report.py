@@ -6,6 +6,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+from pampipe._version import __version__
 from pampipe.views.pdf_report import MONO, PAGE, lines, write_pdf
 from tests.support.pdf_text import pdf_lines
 from tests.support.problems import PROBLEMS, ROOT
@@ -26,6 +27,19 @@ def test_plan_report_pdf_opens_with_the_verdict_and_holds_text_and_plots(tmp_pat
     assert sum(line.startswith("Fit per") or "Segments" in line or "PAM1" in line for line in text) > 0
     assert data.count(b"/Type /Page\n") + data.count(b"/Type /Page ") >= 3  # text page(s) and plots
     assert not list(tmp_path.glob(".*"))  # written atomically: no temporary file left
+
+
+def test_the_pdf_says_when_it_was_written_in_utc(tmp_path):
+    """As the HTML report does (issue 42): the second line names the version, the command and the UTC minute
+    it was written, read back from the PDF and compared with the clock before and after."""
+    from datetime import datetime, timedelta, timezone
+
+    before = datetime.now(timezone.utc).replace(second=0, microsecond=0)
+    target = write_pdf(tmp_path / "r.pdf", "plan", title="t", inputs=[], text="feasible: yes", document={})
+    after = datetime.now(timezone.utc)
+    minutes = [before + timedelta(minutes=k) for k in range(int((after - before).total_seconds() // 60) + 1)]
+    second = pdf_lines(target.read_bytes())[1]
+    assert second in [f"pampipe {__version__}, pampipe plan, {m:%Y-%m-%d %H:%M} UTC" for m in minutes], second
 
 
 def test_long_lines_wrap_and_pages_break(tmp_path):
