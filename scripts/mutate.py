@@ -57,7 +57,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
                                   "tests/planning/test_limits.py"),
     "pampipe/export/law.py": ("tests/export/test_law_uneven.py", "tests/export/test_export.py",
                               "tests/export/test_law_domain.py"),
-    "pampipe/export/cgen.py": ("tests/export/test_export.py",),
+    "pampipe/export/cgen.py": ("tests/export/test_cgen.py", "tests/export/test_export.py"),
     "pampipe/slip/law.py": ("tests/slip/test_law.py", "tests/slip/test_slip.py::test_friction_law_check"),
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
 }
