@@ -71,3 +71,15 @@ def test_statements_compute_what_casadi_computes():
         assert scope["out"] == pytest.approx(want, rel=1e-15)
     with pytest.raises(ValueError, match="one C name per input"):
         cgen.statements(function, ["in_x"], ["out[0]", "out[1]"])
+
+
+def test_a_long_comment_holds_the_label_and_the_whole_text_in_lines_of_96():
+    text = "".join(chr(ord("a") + k % 26) for k in range(200))
+    assert cgen.long_comment("law", text, indent="  ") == (
+        f"  /* law\n   * {text[:96]}\n   * {text[96:192]}\n   * {text[192:]} */")
+
+
+def test_a_c_string_line_holds_exactly_96_characters_and_escapes_delete():
+    assert cgen.string("z" * 96, indent="") == '"' + "z" * 96 + '"'
+    assert cgen.string("z" * 97, indent="") == '"' + "z" * 96 + '"\n"z"'
+    assert cgen.string("~\x7f", indent="") == '"~\\177"'  # DEL (127) is no printable character
