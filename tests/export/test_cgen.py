@@ -83,3 +83,7 @@ def test_a_c_string_line_holds_exactly_96_characters_and_escapes_delete():
     assert cgen.string("z" * 96, indent="") == '"' + "z" * 96 + '"'
     assert cgen.string("z" * 97, indent="") == '"' + "z" * 96 + '"\n"z"'
     assert cgen.string("~\x7f", indent="") == '"~\\177"'  # DEL (127) is no printable character
+
+
+def test_a_comment_blanks_control_characters_and_delete():
+    assert cgen.comment("a\x07b\x7fc\td~") == "a b c d~"
