@@ -4,7 +4,9 @@ Each mutant changes one thing in one module — an arithmetic or comparison oper
 constant, ``min``↔``max``, ``all``↔``any`` (numpy's ``minimum``↔``maximum``, ``fmin``↔``fmax`` too),
 ``and``↔``or`` — and runs that module's tests against it
 (in a fresh interpreter, stopping at the first failure). A mutant is *killed* when a test fails or the
-run times out, *survives* when every test passes. Mutants judged equivalent (no input can tell them
+run times out, *survives* when every test passes. The mutants run in copies of a ``git archive`` snapshot
+of HEAD, not of the working tree: commit what is to be tested; editing files while a run goes on changes
+nothing it judges. Mutants judged equivalent (no input can tell them
 from the original) are listed with the reason in ``scripts/mutants-equivalent.txt`` as
 ``module:line:column:description  # why`` and left out of the score.
 
@@ -13,7 +15,9 @@ from the original) are listed with the reason in ``scripts/mutants-equivalent.tx
     python scripts/mutate.py --module pampipe/slip/law.py --list
     python scripts/mutate.py --module pampipe/slip/law.py --match 'Gt->GtE'  # the mutants matching a text
 
-Prints killed, survived and the score per module, and each survivor (the line to write a test for).
+Prints each mutant's verdict as it is judged with the module's running score (``--results FILE`` appends
+the same lines to a file: a stopped run keeps what it found), then killed, survived and the score per
+module, and each survivor (the line to write a test for).
 """
 
 from __future__ import annotations
@@ -39,8 +43,8 @@ EQUIVALENT = ROOT / "scripts" / "mutants-equivalent.txt"
 
 #: module -> the tests that guard it (paths relative to the repository)
 TARGETS: dict[str, tuple[str, ...]] = {
-    "pampipe/model/forces.py": ("tests/model/test_identities.py", "tests/model/test_published.py",
-                                "tests/model/test_paths.py"),
+    "pampipe/model/forces.py": ("tests/model/test_forces.py", "tests/model/test_identities.py",
+                                "tests/model/test_published.py", "tests/model/test_paths.py"),
     "pampipe/model/muscle.py": ("tests/model/test_muscle_roots.py", "tests/model/test_identities.py",
                                 "tests/model/test_paths.py",
                                 "tests/planning/test_planner.py", "tests/api/test_one_door.py"),
@@ -53,7 +57,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
                                   "tests/planning/test_limits.py"),
     "pampipe/export/law.py": ("tests/export/test_law_uneven.py", "tests/export/test_export.py",
                               "tests/export/test_law_domain.py"),
-    "pampipe/export/cgen.py": ("tests/export/test_export.py",),
+    "pampipe/export/cgen.py": ("tests/export/test_cgen.py", "tests/export/test_export.py"),
     "pampipe/slip/law.py": ("tests/slip/test_law.py", "tests/slip/test_slip.py::test_friction_law_check"),
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
 }
@@ -186,11 +190,12 @@ def mutants(source: str) -> list[Mutant]:
     return out
 
 
-def equivalents() -> set[str]:
-    """The keys of :data:`EQUIVALENT`: each line ``key  # why`` (a line starting with ``#`` is a comment)."""
-    if not EQUIVALENT.exists():
+def equivalents(path: Path = EQUIVALENT) -> set[str]:
+    """The keys of ``path`` (:data:`EQUIVALENT`): each line ``key  # why`` (a line starting with ``#`` is a
+    comment)."""
+    if not path.exists():
         return set()
-    lines = (line.strip() for line in EQUIVALENT.read_text(encoding="utf-8").splitlines())
+    lines = (line.strip() for line in path.read_text(encoding="utf-8").splitlines())
     return {line.partition("  # ")[0].strip() for line in lines if line and not line.startswith("#")}
 
 
@@ -200,16 +205,26 @@ def stale(module: str, found: list[Mutant], keys: set[str]) -> set[str]:
 
 
 #: what a mutant's copy of the repository leaves out
-SKIP = shutil.ignore_patterns(".git", ".venv*", "__pycache__", ".hypothesis", ".pytest_cache", ".ruff_cache",
-                              "build", "*.egg-info")
+SKIP = shutil.ignore_patterns("__pycache__", ".hypothesis", ".pytest_cache")
 
 
-def _copy(work: str) -> Path:
-    """A copy of the repository in ``work`` (tests, problems and package together: pytest puts the folder
-    above ``tests/`` first on sys.path, so a mutated package on PYTHONPATH alone would not be the one
+def snapshot(root: Path, work: str) -> Path:
+    """HEAD of the git repository at ``root``, extracted into ``work`` (``git archive``): what the mutants
+    run in, so that edits made to the working tree during a run change nothing the run judges."""
+    head = Path(work) / "head"
+    head.mkdir()
+    archive = subprocess.run(["git", "-C", str(root), "archive", "--format=tar", "HEAD"], capture_output=True,
+                             check=True)
+    subprocess.run(["tar", "-x", "-C", str(head)], input=archive.stdout, check=True)  # links stay links
+    return head
+
+
+def _copy(source: Path, work: str) -> Path:
+    """A copy of the snapshot ``source`` in ``work`` (tests, problems and package together: pytest puts the
+    folder above ``tests/`` first on sys.path, so a mutated package on PYTHONPATH alone would not be the one
     imported)."""
     copy = Path(work) / "repo"
-    shutil.copytree(ROOT, copy, symlinks=True, ignore=SKIP)  # links as links: tests/bad_inputs has /dev/zero
+    shutil.copytree(source, copy, symlinks=True, ignore=SKIP)  # links as links: tests/bad_inputs has some
     return copy
 
 
@@ -217,10 +232,10 @@ def _env(copy: Path) -> dict:
     return {**os.environ, "PYTHONPATH": str(copy), "PYTHONDONTWRITEBYTECODE": "1"}
 
 
-def check_isolation() -> None:
+def check_isolation(source: Path) -> None:
     """Fail loudly unless a test run in a copy imports the copy's pampipe (else no mutant is ever seen)."""
     with tempfile.TemporaryDirectory() as work:
-        copy = _copy(work)
+        copy = _copy(source, work)
         probe = "import pampipe, sys; sys.stdout.write(pampipe.__file__)"
         done = subprocess.run([sys.executable, "-c", probe], cwd=copy, env=_env(copy), capture_output=True,
                               text=True, check=True)
@@ -229,11 +244,11 @@ def check_isolation() -> None:
                              "be tested")
 
 
-def covering(module: str, tests: tuple[str, ...], timeout: float) -> dict[str, set[int]]:
-    """{test id: the lines of ``module`` it runs} over ``tests`` on the unmutated repository, and under ""
-    the lines run outside any test (scripts/mutate_trace.py; in-process only)."""
+def covering(source: Path, module: str, tests: tuple[str, ...], timeout: float) -> dict[str, set[int]]:
+    """{test id: the lines of ``module`` it runs} over ``tests`` on the unmutated snapshot ``source``, and
+    under "" the lines run outside any test (scripts/mutate_trace.py; in-process only)."""
     with tempfile.TemporaryDirectory() as work:
-        copy = _copy(work)
+        copy = _copy(source, work)
         out = Path(work) / "lines.json"
         env = {**_env(copy), "PYTHONPATH": f"{copy}{os.pathsep}{copy / 'scripts'}",
                "MUTATE_TRACE": str(copy / module), "MUTATE_TRACE_OUT": str(out)}
@@ -252,10 +267,10 @@ def selected(mutant: Mutant, lines: dict[str, set[int]], tests: tuple[str, ...])
     return ids or tests
 
 
-def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
-    """Run ``tests`` (files or test ids) in a copy of the repository whose ``module`` is the mutant."""
+def killed(source: Path, module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) -> bool:
+    """Run ``tests`` (files or test ids) in a copy of the snapshot ``source``, its ``module`` the mutant."""
     with tempfile.TemporaryDirectory() as work:
-        copy = _copy(work)
+        copy = _copy(source, work)
         (copy / module).write_text(mutant.source, encoding="utf-8")
         try:
             done = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
@@ -264,6 +279,30 @@ def killed(module: str, mutant: Mutant, tests: tuple[str, ...], timeout: float) 
         except subprocess.TimeoutExpired:
             return True
         return done.returncode != 0
+
+
+def _runner(source: Path, module: str, tests: tuple[str, ...], lines: dict[str, set[int]] | None,
+            timeout: float) -> Callable[[Mutant], bool]:
+    """Whether a mutant of ``module`` is killed by ``tests`` (those that run its lines, given ``lines``)."""
+    def run(mutant: Mutant) -> bool:
+        chosen = tests if lines is None else selected(mutant, lines, tests)
+        return killed(source, module, mutant, chosen, timeout)
+    return run
+
+
+def judge(module: str, found: list[Mutant], run: Callable[[Mutant], bool],
+          report: Callable[[str], None]) -> list[Mutant]:
+    """Judge each mutant of ``found`` (``run(mutant)``: True when killed), reporting each verdict as it is
+    judged with the module's running score; the survivors."""
+    survivors = []
+    for i, m in enumerate(found, 1):
+        dead = run(m)
+        if not dead:
+            survivors.append(m)
+        kill = i - len(survivors)
+        report(f"{module}: {i}/{len(found)} {'killed  ' if dead else 'SURVIVED'} {m.where(module)}  "
+               f"{m.key(module)}  [so far {kill}/{i} killed: {kill / i:.0%}]")
+    return survivors
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -277,43 +316,54 @@ def main(argv: list[str] | None = None) -> int:
                              "of the module's tests first; a line run only in a subprocess is not seen: "
                              "its mutant runs every test)")
     parser.add_argument("--match", help="only the mutants whose place or key contains this text")
-    parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
+    parser.add_argument("--list", action="store_true",
+                        help="list the mutants of the working tree's modules, run nothing")
+    parser.add_argument("--results", type=Path, help="append each verdict to this file as it is judged")
     args = parser.parse_args(argv)
-    skip = equivalents()
-    if not args.list:
-        check_isolation()
-    total_kill = total_live = 0
-    for module, tests in TARGETS.items():
-        if args.module and module not in args.module:
-            continue
-        every = mutants((ROOT / module).read_text(encoding="utf-8"))
-        for key in sorted(stale(module, every, skip)):
-            print(f"mutate: {EQUIVALENT.name} names no mutant of today's {module}: {key}", file=sys.stderr)
-        found = [m for m in every if m.key(module) not in skip
-                 and (args.match is None or args.match in f"{m.where(module)} {m.key(module)}")]
-        if args.sample and len(found) > args.sample:
-            found = sorted(random.Random(f"{args.seed}:{module}").sample(found, args.sample),
-                           key=lambda m: (m.line, m.column))
-        if args.list:
-            for m in found:
-                print(f"{m.where(module)}  {m.key(module)}")
-            continue
-        survivors = []
-        lines = covering(module, tests, args.timeout) if args.select and found else {}
-        for i, m in enumerate(found, 1):
-            print(f"\r{module}: {i}/{len(found)}", end="", file=sys.stderr, flush=True)
-            if not killed(module, m, selected(m, lines, tests) if args.select else tests, args.timeout):
-                survivors.append(m)
-        print(file=sys.stderr)
-        kill = len(found) - len(survivors)
-        total_kill, total_live = total_kill + kill, total_live + len(survivors)
-        score = kill / len(found) if found else 1.0
-        print(f"{module}: {kill} killed, {len(survivors)} survived of {len(found)}: score {score:.0%}")
-        for m in survivors:
-            print(f"  survived {m.where(module)}  {m.key(module)}")
-    if not args.list and total_kill + total_live:
-        score = total_kill / (total_kill + total_live)
-        print(f"all: {total_kill} killed, {total_live} survived: score {score:.0%}")
+    with tempfile.TemporaryDirectory() as work, \
+            (open(args.results, "a", encoding="utf-8") if args.results else io.StringIO()) as results:
+        source = ROOT if args.list else snapshot(ROOT, work)
+        if not args.list:
+            check_isolation(source)
+            dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
+                                   capture_output=True, text=True, check=True).stdout
+            if dirty:
+                print("mutate: the working tree has uncommitted changes; testing HEAD", file=sys.stderr)
+
+        def report(line: str) -> None:
+            print(line, flush=True)
+            results.write(line + "\n")
+            results.flush()
+
+        skip = equivalents(source / EQUIVALENT.relative_to(ROOT))
+        total_kill = total_live = 0
+        for module, tests in TARGETS.items():
+            if args.module and module not in args.module:
+                continue
+            every = mutants((source / module).read_text(encoding="utf-8"))
+            for key in sorted(stale(module, every, skip)):
+                print(f"mutate: {EQUIVALENT.name} names no mutant of {module}: {key}", file=sys.stderr)
+            found = [m for m in every if m.key(module) not in skip
+                     and (args.match is None or args.match in f"{m.where(module)} {m.key(module)}")]
+            if args.sample and len(found) > args.sample:
+                found = sorted(random.Random(f"{args.seed}:{module}").sample(found, args.sample),
+                               key=lambda m: (m.line, m.column))
+            if args.list:
+                for m in found:
+                    print(f"{m.where(module)}  {m.key(module)}")
+                continue
+            lines = covering(source, module, tests, args.timeout) if args.select and found else {}
+            survivors = judge(module, found, _runner(source, module, tests, lines if args.select else None,
+                                                     args.timeout), report)
+            kill = len(found) - len(survivors)
+            total_kill, total_live = total_kill + kill, total_live + len(survivors)
+            score = kill / len(found) if found else 1.0
+            report(f"{module}: {kill} killed, {len(survivors)} survived of {len(found)}: score {score:.0%}")
+            for m in survivors:
+                report(f"  survived {m.where(module)}  {m.key(module)}")
+        if not args.list and total_kill + total_live:
+            score = total_kill / (total_kill + total_live)
+            report(f"all: {total_kill} killed, {total_live} survived: score {score:.0%}")
     return 0
 
 

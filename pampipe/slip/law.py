@@ -64,27 +64,40 @@ def power_law_model(muscle, pressure, diameter, kappa: float, reference: float):
 
 
 def check_law(muscle, pressure, diameter, load, censored, coulomb: Fit, noise: str) -> LawCheck | None:
-    """Fit μ₀ and n at Coulomb's κ and compare (None with fewer than 3 slipped trials)."""
-    from scipy.special import chdtrc
-
+    """Fit μ₀ and n at Coulomb's κ and compare (None with fewer than 3 slipped trials, or none touching)."""
     if int(np.sum(~np.asarray(censored))) < 3:
         return None
-    contact = np.asarray(muscle.contact_pressure(
-        np.maximum(np.asarray(muscle.radial_force(pressure, diameter, 0.0), float), 0.0), diameter), float)
-    positive = contact[contact > 0]
-    if positive.size == 0:
+    reference = reference_pressure(muscle, pressure, diameter)
+    if reference is None:
         return None
-    reference = float(np.exp(np.mean(np.log(positive))))
     like = Likelihood(np.asarray(load, float), np.asarray(censored, bool),
                       power_law_model(muscle, pressure, diameter, coulomb.kappa, reference), noise)
     # the exponent rides in maximise's second slot (its "κ"), searched over EXPONENT_BOUNDS
     alternative = maximise(like, start=(coulomb.mu, 0.0), kappa_bounds=EXPONENT_BOUNDS,
                            sigma=coulomb.log_sigma, multistart=False)
-    ratio = max(2 * (alternative.loglik - coulomb.loglik), 0.0)
-    p_value = float(chdtrc(1, ratio))
-    delta_bic = math.log(len(load)) - ratio
+    ratio, p_value, delta_bic = evidence(alternative.loglik, coulomb.loglik, len(load))
     return LawCheck(alternative.kappa, alternative.mu, reference, ratio, p_value, delta_bic,
                     verdict(delta_bic, p_value))
+
+
+def reference_pressure(muscle, pressure, diameter) -> float | None:
+    """p_ref [Pa]: the geometric mean of the unloaded contact pressures F_r(P, D, 0)/(D·L_p) of the trials
+    that touch (F_r > 0); None where none does."""
+    contact = np.asarray(muscle.contact_pressure(
+        np.maximum(np.asarray(muscle.radial_force(pressure, diameter, 0.0), float), 0.0), diameter), float)
+    positive = contact[contact > 0]
+    if positive.size == 0:
+        return None
+    return float(np.exp(np.mean(np.log(positive))))
+
+
+def evidence(alternative: float, coulomb: float, trials: int) -> tuple[float, float, float]:
+    """(LR, p, ΔBIC) from the two maximised log-likelihoods: LR = max(2(ℓ_n − ℓ_0), 0) (the alternative
+    nests Coulomb, so a shortfall is the optimiser's), p = P(χ²₁ > LR), ΔBIC = ln N − LR."""
+    from scipy.special import chdtrc
+
+    ratio = max(2 * (alternative - coulomb), 0.0)
+    return ratio, float(chdtrc(1, ratio)), math.log(trials) - ratio
 
 
 def verdict(delta_bic: float, p_value: float) -> str:

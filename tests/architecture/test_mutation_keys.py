@@ -97,3 +97,42 @@ def test_select_runs_the_tests_that_run_the_mutated_line(tmp_path):
     assert chosen["m.py: 2.0->2.02 @8: LIMIT = 2.0"] == tests  # module level: every test
     assert mutate.selected(dataclasses.replace(mutate.mutants(SOURCE)[0], line=99, end_line=99), lines,
                            tests) == tests  # a line no test runs here (a subprocess may): every test
+
+
+def test_the_mutants_run_in_a_snapshot_of_head_not_in_the_working_tree(tmp_path):
+    """Editing the tree while a run goes on must not give false kills: the run's files are HEAD's (git
+    archive), an edit or an untracked file left out, a link kept a link."""
+    repo, work = tmp_path / "repo", tmp_path / "work"
+    repo.mkdir()
+    work.mkdir()
+    (repo / "m.py").write_text(SOURCE)
+    (repo / "link").symlink_to("/dev/zero")
+    git = ["git", "-C", str(repo), "-c", "user.name=t", "-c", "user.email=t@t", "-c", "commit.gpgsign=false"]
+    subprocess.run([*git, "init", "-q"], check=True)
+    subprocess.run([*git, "add", "."], check=True)
+    subprocess.run([*git, "commit", "-q", "-m", "one"], check=True)
+    (repo / "m.py").write_text(SOURCE.replace("LIMIT = 2.0", "LIMIT = 3.0"))  # edited after the commit
+    (repo / "new.py").write_text("x = 1\n")
+    head = mutate.snapshot(repo, str(work))
+    assert (head / "m.py").read_text() == SOURCE
+    assert not (head / "new.py").exists()
+    assert os.readlink(head / "link") == "/dev/zero"
+    copy = mutate._copy(head, str(work / "mutant"))
+    assert (copy / "m.py").read_text() == SOURCE and os.readlink(copy / "link") == "/dev/zero"
+
+
+def test_each_verdict_is_reported_as_it_is_judged_so_a_stopped_run_keeps_it():
+    found = mutate.mutants(SOURCE)[:3]
+    verdicts = iter([True, False])
+
+    def run(mutant):
+        return next(verdicts)  # the third mutant: StopIteration, as a run stopped by hand
+
+    reported = []
+    with pytest.raises(StopIteration):
+        mutate.judge("m.py", found, run, reported.append)
+    assert len(reported) == 2
+    assert reported[0].startswith("m.py: 1/3 killed ") and reported[0].endswith("[so far 1/1 killed: 100%]")
+    assert reported[1].startswith("m.py: 2/3 SURVIVED ") and reported[1].endswith("[so far 1/2 killed: 50%]")
+    assert found[1].key("m.py") in reported[1]
+    assert mutate.judge("m.py", found[:2], lambda m: m is found[0], reported.append) == [found[1]]

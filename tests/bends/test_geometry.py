@@ -122,3 +122,17 @@ def test_elbow_radius_needed_below_two_bores():
     by_hand = ((length / 2) ** 2 + (d - a) ** 2 - a**2) / (2 * (a - (d - a)))
     needed = elbow_radius_needed(bore=BORE, angle=math.pi / 2, diameter=d, length=length)
     assert needed == pytest.approx(by_hand, rel=1e-9) and needed < 2 * BORE
+
+
+def test_elbow_radius_needed_is_inf_beyond_a_hundred_bores_and_never_below_half_a_bore():
+    """A short thin cylinder passes the tightest elbow, R = D/2 (docs/physics.md §14.1: R ≥ D/2). A 250 mm
+    cylinder 1 mm narrower than a 50 mm bore needs R = ((L/2)²/(D − d) − d)/2 ≈ 156 D at 90° (the classical
+    chord 2√((D − d)(2R + d)) = L solved by hand; the chord is far shorter than the arc there): inf within
+    the default 100 bores, that R within 200."""
+    assert elbow_radius_needed(bore=0.05, angle=math.pi / 2, diameter=0.01, length=0.01) == 0.025
+    bore, d, length = 0.05, 0.049, 0.25
+    by_hand = ((length / 2) ** 2 / (bore - d) - d) / 2
+    assert 150 * bore < by_hand < 200 * bore
+    assert elbow_radius_needed(bore=bore, angle=math.pi / 2, diameter=d, length=length) == math.inf
+    needed = elbow_radius_needed(bore=bore, angle=math.pi / 2, diameter=d, length=length, largest=200.0)
+    assert needed == pytest.approx(by_hand, rel=1e-9)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from pampipe.model.muscle import Muscle
-from pampipe.slip.law import power_law_model, verdict
+from pampipe.slip.law import evidence, power_law_model, reference_pressure, verdict
 from tests.support import slip_data
 
 BORES = (0.0635, 0.0762, 0.0889)
@@ -94,3 +94,68 @@ def test_check_law_evidence_from_its_definitions(muscle):
     assert checks[0].reference_pressure == pytest.approx(math.exp(np.mean(np.log(touching))), rel=1e-9)
     assert checks[1].likelihood_ratio - checks[0].likelihood_ratio == pytest.approx(2.0, rel=1e-6)
     assert check_law(muscle, *_trials(muscle, 2)[:3], _trials(muscle, 2)[3], coulomb[0], "relative") is None
+
+
+class _Linear:
+    """A muscle whose radial force is c·P − A·F_a [N] (negative: not touching) and contact pressure
+    F_r/(D·L) with L = 0.3 m: every answer below by hand."""
+
+    c, amp, length = 1e-3, 3.0, 0.3
+
+    def radial_force(self, pressure, diameter, axial_load):
+        return self.c * np.asarray(pressure, float) - self.amp * np.asarray(axial_load, float) + 0 * diameter
+
+    def contact_pressure(self, radial, diameter):
+        return np.asarray(radial, float) / (np.asarray(diameter, float) * self.length)
+
+
+def test_the_reference_pressure_is_the_geometric_mean_over_the_trials_that_touch():
+    """p_ref (docs/physics.md §13.4) over unloaded trials (no axial load): one pulling off the wall (F_r < 0),
+    one just at it (F_r = 0), one pressing 0.3 Pa, two pressing hundreds of N; with one touching trial p_ref
+    is its pressure, with none there is no check."""
+    muscle, bore = _Linear(), 0.08
+    pressure = np.array([-1e5, 0.0, 0.3 * bore * 0.3 / 1e-3, 2e5, 8e5])
+    touching = [0.3, 200.0 / (bore * 0.3), 800.0 / (bore * 0.3)]
+    got = reference_pressure(muscle, pressure, np.full(5, bore))
+    assert got == pytest.approx((touching[0] * touching[1] * touching[2]) ** (1 / 3), rel=1e-12)
+    assert reference_pressure(muscle, pressure[[0, 1, 3]], np.full(3, bore)) == pytest.approx(touching[1],
+                                                                                               rel=1e-12)
+    assert reference_pressure(muscle, pressure[:2], np.full(2, bore)) is None
+
+
+def test_the_evidence_from_two_log_likelihoods_by_hand():
+    """LR = 2(ℓ_n − ℓ_0) floored at 0 (n = 0 is Coulomb, so ℓ_n ≥ ℓ_0 but for the optimiser), p = P(χ²₁ > LR)
+    = erfc(√(LR/2)), ΔBIC = ln N − LR."""
+    ratio, p_value, delta_bic = evidence(-37.0, -40.0, 20)
+    assert ratio == pytest.approx(6.0, rel=1e-12)
+    assert p_value == pytest.approx(math.erfc(math.sqrt(3.0)), rel=1e-9)
+    assert delta_bic == pytest.approx(math.log(20) - 6.0, rel=1e-12)
+    assert evidence(-40.0, -40.0, 20) == (0.0, 1.0, math.log(20))
+    assert evidence(-40.000001, -40.0, 12) == (0.0, 1.0, math.log(12))  # the optimiser fell short of Coulomb
+
+
+def test_a_muscle_that_barely_touches_slips_at_coulombs_closed_form():
+    """F = μπ·F_r(κF) with F_r = r₀ − A·κF gives F = μπr₀/(1 + μπAκ): r₀ = 0.1 mN, far below any floor of the
+    radial force; r₀ ≤ 0 slips at 0."""
+    muscle, mu, kappa = _Linear(), 0.5, 0.8
+    pressure = np.array([0.1, -5.0, 0.0])  # r0 = 1e-4 N, -5e-3 N, 0
+    got = power_law_model(muscle, pressure, np.full(3, 0.08), kappa, 2e5)(mu, 0.0)
+    r0 = 1e-4
+    assert got[0] == pytest.approx(mu * math.pi * r0 / (1 + mu * math.pi * muscle.amp * kappa), rel=1e-9)
+    assert got[1] == 0.0 and got[2] == 0.0
+
+
+@pytest.mark.parametrize(("exponent", "bound"), [(2.0, 1.0), (-2.0, -0.5)])
+def test_the_exponent_is_searched_over_the_documented_range(exponent, bound):
+    """docs/physics.md §13.4: n is searched over [−0.5, 1]; slip loads made with n = ±2 (8 trials, ±1 %) fit
+    at the nearer end."""
+    from pampipe.slip.fit import Fit
+    from pampipe.slip.law import check_law
+
+    muscle, trials = _Linear(), 8
+    pressure, diameter = np.linspace(1e5, 8e5, trials), np.full(trials, 0.08)
+    load = power_law_model(muscle, pressure, diameter, 0.0, 1.5e4)(0.3, exponent)
+    load = load * (1 + 0.01 * (-1) ** np.arange(trials))
+    coulomb = Fit(0.3, 0.0, math.log(0.05), -100.0, True)
+    check = check_law(muscle, pressure, diameter, load, np.zeros(trials, bool), coulomb, "relative")
+    assert check.exponent == bound
