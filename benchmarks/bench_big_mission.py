@@ -36,8 +36,8 @@ LAUNCHER = ("import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdo
 PEER = "import sys, yaml; yaml.load(open(sys.argv[1], encoding='utf-8'), Loader=yaml.CSafeLoader)"
 
 
-def measured(args: list[str], env: dict) -> tuple[float, float]:
-    """(CPU [s], wall [s]) of one child process."""
+def measured(args: list[str], env: dict, *, out: list | None = None) -> tuple[float, float]:
+    """(CPU [s], wall [s]) of one child process; its standard output is appended to ``out`` if given."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
     child = subprocess.run(args, capture_output=True, env=env, cwd=ROOT)
@@ -45,6 +45,8 @@ def measured(args: list[str], env: dict) -> tuple[float, float]:
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if child.returncode:
         raise RuntimeError(f"{args[:5]} failed: {child.stderr.decode()[-2000:]}")
+    if out is not None:
+        out.append(child.stdout)
     return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall
 
 
