@@ -72,10 +72,11 @@ def main() -> None:
             print(f"\n{rows:,} rows, load average {os.getloadavg()[0]:.2f}")
             for name, values in cpu.items():
                 doc = json.loads(out[name][0])
-                sse = f"SSE {doc['sse_N2']:.10g}" + (f", plain SSE {doc['sse_plain_N2']:.10g}"
-                                                     if "sse_plain_N2" in doc else "")
                 if "fit" in doc:
                     sse = f"SSE {doc['fit']['sse_N2']:.10g} (slack rows as max(0, F))"
+                else:
+                    sse = f"SSE {doc['sse_N2']:.10g}" + (f", plain SSE {doc['sse_plain_N2']:.10g}"
+                                                         if "sse_plain_N2" in doc else "")
                 print(f"  {name:<11} {t[name]:7.3f} [{min(values):.3f}-{max(values):.3f}] s  "
                       f"{peak_kb(commands[name], env) / 1024:7.0f} MB  {sse}", flush=True)
             peers = [name for name in t if name.startswith("trf-")]
