@@ -36,8 +36,9 @@ LAUNCHER = ("import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:], stdo
 PEER = "import sys, yaml; yaml.load(open(sys.argv[1], encoding='utf-8'), Loader=yaml.CSafeLoader)"
 
 
-def measured(args: list[str], env: dict, cwd: Path = ROOT) -> tuple[float, float]:
-    """(CPU [s], wall [s]) of one child process started in ``cwd``."""
+def measured(args: list[str], env: dict, cwd: Path = ROOT, *, out: list | None = None) -> tuple[float, float]:
+    """(CPU [s], wall [s]) of one child process started in ``cwd``; its standard output is appended to ``out``
+    if given."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     started = time.perf_counter()
     child = subprocess.run(args, capture_output=True, env=env, cwd=cwd)
@@ -45,6 +46,8 @@ def measured(args: list[str], env: dict, cwd: Path = ROOT) -> tuple[float, float
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if child.returncode:
         raise RuntimeError(f"{args[:5]} failed: {child.stderr.decode()[-2000:]}")
+    if out is not None:
+        out.append(child.stdout)
     return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall
 
 

@@ -26,6 +26,11 @@ ACTIVE = 1e-6
 STEPS = 40
 #: Multipliers above −TOLERANCE·max|λ| are taken as non-negative.
 TOLERANCE = 1e-10
+#: The last step of a converged solve is at most this, relative to max(1, |x|) (a quadratic objective's
+#: second step is rounding; a Newton step on a smooth one this small has converged).
+SETTLED = 1e-7
+#: The reduced Hessian of a unique minimum has no eigenvalue below this times its largest.
+UNIQUE = 1e-9
 
 
 def applies(structure) -> bool:
@@ -35,14 +40,32 @@ def applies(structure) -> bool:
 
 def polish(nlp, p: np.ndarray, x: np.ndarray, lbx: np.ndarray, ubx: np.ndarray) -> np.ndarray:
     """The minimum of (SSE + prior)/2 over the bounds and the Drucker rows, from IPOPT's ``x``."""
+    return minimum(nlp, p, x, lbx, ubx)[0]
+
+
+def minimum(nlp, p: np.ndarray, x: np.ndarray, lbx: np.ndarray, ubx: np.ndarray, *, steps: int = STEPS,
+            refine: int = 2, model: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
+    """(x*, free): at most ``steps`` active-set steps of the module docstring from ``x`` (which may lie off
+    the constraints: those it violates start in the working set), ending after ``refine`` steps that
+    neither add nor drop a constraint, or from the second of them on at one below :data:`SETTLED`; x* is
+    the start if they end infeasible or above it. ``free`` is None unless the steps ended at a point with
+    no blocking constraint and no negative multiplier, their last step below :data:`SETTLED` (relative to
+    x), feasible and not above the start; then it holds (columns) the directions along which the minimum
+    is not unique: Z·V, Z the null space of the constraints with a positive multiplier, V the eigenvectors
+    of ZᵀHZ below :data:`UNIQUE` times its largest eigenvalue (none: x* is the one minimum, which any
+    solver reaches). ``model``: between the steps that add or drop a constraint the quadratic model is
+    moved (g + H·Δx, H kept) instead of evaluated; it is evaluated afresh before every other step."""
     a, b = _constraints(nlp, p, x, lbx, ubx)
     size = np.maximum(np.abs(a).max(axis=1), 1e-300) * (1.0 + np.abs(x).max())
     working = list(np.flatnonzero(a @ x - b <= ACTIVE * size))
     start, best = x, _objective(nlp, x, p)
-    refined = 0
-    for _ in range(STEPS):
-        gradient = np.asarray(nlp.gradient(x, p)[1], dtype=float).ravel()
-        hessian = np.asarray(nlp.hessian(x, p), dtype=float)
+    refined, free = 0, None
+    fresh = True
+    for _ in range(steps):
+        if fresh or not model:
+            gradient = np.asarray(nlp.gradient(x, p)[1], dtype=float).ravel()
+            hessian = np.asarray(nlp.hessian(x, p), dtype=float)
+        fresh = False
         step, multipliers = _equality_step(hessian, gradient, a[working], b[working] - a[working] @ x)
         slack, rate = a @ x - b, a @ step
         others = np.setdiff1d(np.arange(b.size), working)
@@ -51,18 +74,44 @@ def polish(nlp, p: np.ndarray, x: np.ndarray, lbx: np.ndarray, ubx: np.ndarray) 
             fractions = np.maximum(slack[blocking], 0.0) / -rate[blocking]
             k = int(np.argmin(fractions))
             x = x + min(fractions[k], 1.0) * step
+            gradient = gradient + min(fractions[k], 1.0) * (hessian @ step)
             working.append(int(blocking[k]))
             continue
         x = x + step
+        gradient = gradient + hessian @ step
         if multipliers.size and multipliers.min() < -TOLERANCE * max(np.abs(multipliers).max(), 1.0):
             working.pop(int(np.argmin(multipliers)))
             continue
-        refined += 1
-        if refined == 2 or not np.any(step):  # once more from the new point: the residual's rounding
+        refined, fresh = refined + 1, True
+        settled = float(np.abs(step).max()) <= SETTLED * (1.0 + float(np.abs(x).max()))
+        if refined == refine or not np.any(step) or (settled and refined >= 2):  # from the second on: once
+            # more from the new point, the residual's rounding
+            if settled:
+                binding = multipliers > TOLERANCE * max(float(np.abs(multipliers).max(initial=0.0)), 1.0)
+                free = undetermined(hessian, a[working][binding])
             break
     x = np.clip(x, lbx, ubx)
     feasible = np.all(a @ x - b >= -ACTIVE * size)
-    return x if feasible and _objective(nlp, x, p) <= best else start
+    if feasible and _objective(nlp, x, p) <= best:
+        return x, free
+    return start, None
+
+
+def undetermined(hessian: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """Z·V (columns): Z the null space of ``rows`` (all of x without rows), V the eigenvectors of ZᵀHZ whose
+    eigenvalue is below :data:`UNIQUE` times the largest |eigenvalue|."""
+    basis = _null_space(rows) if rows.size else np.eye(hessian.shape[0])
+    if basis.shape[1] == 0:
+        return basis
+    values, vectors = np.linalg.eigh(basis.T @ hessian @ basis)
+    return basis @ vectors[:, values <= UNIQUE * max(float(np.abs(values).max()), 1e-300)]
+
+
+def _null_space(rows: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of {d: rows·d = 0} (columns)."""
+    _, singular, vt = np.linalg.svd(rows)
+    rank = int(np.sum(singular > singular.max() * max(rows.shape) * np.finfo(float).eps))
+    return vt[rank:].T
 
 
 def _objective(nlp, x, p) -> float:
@@ -88,9 +137,7 @@ def _equality_step(hessian, gradient, rows, gaps):
     n = gradient.size
     if gaps.size:
         d0 = np.linalg.lstsq(rows, gaps, rcond=None)[0]
-        _, singular, vt = np.linalg.svd(rows)
-        rank = int(np.sum(singular > singular.max() * max(rows.shape) * np.finfo(float).eps))
-        basis = vt[rank:].T
+        basis = _null_space(rows)
     else:
         d0, basis = np.zeros(n), np.eye(n)
     y = np.linalg.lstsq(basis.T @ hessian @ basis, -basis.T @ (gradient + hessian @ d0), rcond=None)[0]

@@ -31,6 +31,7 @@ from pampipe.identification.covariance import analyse
 from pampipe.identification.fit_setup import Setup, set_up, updater_for
 from pampipe.identification.fit_warnings import fit_warnings
 from pampipe.identification.grip import identify_grip
+from pampipe.identification.held_out import refit as refit_from_full
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
 from pampipe.identification.result import MPA, Calibration, IdentifyResult, SolverInfo
@@ -46,13 +47,17 @@ from pampipe.specs.experiment import ExperimentData
 LAW_NAMES = problem.LAW_NAMES
 
 
-def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None) -> IdentifyResult:
+def identify(data: ExperimentData, options: FitOptions | None = None, *, progress=None,
+             refits: str = "active_set") -> IdentifyResult:
     """Fit the moduli (and the calibrated geometry) of ``data.pam`` to the experiment's tests (§6).
 
     The slack hinge (docs/physics.md §6.2): measured axial rows where the fitted model predicts no
     tension are scored by max(0, F) = 0, like the report and the plots score them. They are found
     after a fit, moved to cells whose hinge the fit updates, and the fit is repeated from its
     solution until no measured row outside the cells predicts ≤ 0 (at most :data:`HINGE_ROUNDS`).
+
+    ``refits``: how the model error's held-out fits are solved (:func:`_refit`): "active_set" (from the full
+    fit, where least squares allows) or "ipopt" (each an IPOPT fit, the reference the tests check it by).
     """
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
@@ -87,7 +92,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
                      "predict a negative force and are scored by it (the slack hinge did not settle).")
     result, finish = fitted.report()  # only for the fit reported
     _check_fitted(data, result.geometry)
-    model_error, joint, fit_quality, predictions, warnings = finish()
+    model_error, joint, fit_quality, predictions, warnings = finish(refits=refits)
     warnings = (*warnings, *quality.warnings(fit_quality, result.calibration, options.calibrate), *notes)
     result = replace(result, model_error=model_error, parameter_uncertainty=joint, quality=fit_quality,
                      predictions=predictions, warnings=warnings)
@@ -288,9 +293,10 @@ def _report(data: ExperimentData, options: FitOptions, setup: Setup, solve: Solv
 
 
 def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, data_only, models, minimum,
-            calibration):
+            calibration, refits: str = "active_set"):
     """(model error, written joint uncertainty, fit quality, predictions the data determine, warnings) of the
-    reported round (:func:`_report`)."""
+    reported round (:func:`_report`); ``refits``: how the model error's held-out fits are solved
+    (:func:`_refit`)."""
     structure, stats, names, x = setup.structure, setup.stats, setup.names, fit.x
     lbx, ubx = setup.lbx, setup.ubx
 
@@ -298,7 +304,7 @@ def _finish(data, options, setup: Setup, fit: Fit, hessian, uncertainty, data_on
         return problem.muscles_of(structure, stats, data.pam.geometry, xv)
 
     fit_quality = quality.assess(data, models, names, uncertainty.at_bound)
-    model_error = model_errors.estimate(data, muscles_at, x, partial(_refit, options, fit),
+    model_error = model_errors.estimate(data, muscles_at, x, partial(_refit, options, fit, hessian, refits),
                                         slack=options.slack, noise=fit_quality.noise_floor)
     top = max(float(t.pressure.max()) for t in data.tests)
     joint = written.parameter_uncertainty(uncertainty, x, names, structure, hessian, lbx, ubx,
@@ -372,14 +378,22 @@ def _check(data: ExperimentData, options: FitOptions) -> None:
             check_pipe_diameter(geometry, test.spec.pipe_diameter, where=f"test {test.name}: pipe_diameter")
 
 
-def _refit(options: FitOptions, fit: Fit, data: ExperimentData):
+def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data: ExperimentData):
     """(muscle, {pipe: muscle}) of the fit to ``data`` (the experiment with a block of the protocol withheld,
-    :mod:`.model_error`): one solve of the same NLP structure (cached), the slack hinge not repeated, a
-    calibrated geometry held at the full fit's; only the round's geometry and moduli, not its report (the
-    Hessian, the uncertainty, each test's scores, the Drucker minimum)."""
+    :mod:`.model_error`), a calibrated geometry held at the full fit's, the slack hinge not repeated
+    (``hessian``: the full fit's Hessian at its solution).
+    ``refits`` "active_set": solved from the full fit by :func:`.held_out.refit` where that applies (least
+    squares), else, and always with "ipopt", by one IPOPT fit of the same NLP structure (cached); only the
+    round's geometry and moduli, not its report (the Hessian, the uncertainty, each test's scores, the
+    Drucker minimum)."""
+    x, moduli = fit.x, slice(0, fit.x.size - len(options.calibrate))  # the geometry is x's last block
     if options.calibrate:
         data = replace(data, pam=replace(data.pam, geometry=fit.geometry))
         options = replace(options, calibrate=())
+    if refits == "active_set":
+        found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli])
+        if found is not None:
+            return found
     fitted = _fit(data, options, lambda _text: None, {}, None, Memo()).fit
     return problem.muscles(fitted.geometry, fitted.moduli, fitted.pipe_moduli)
 

@@ -6,8 +6,10 @@
 pressure (quantiles of the tested pressures, over every test) and, for an axial test that holds its
 lengths (a force map's columns: :func:`.noise.held_length_paths`), each held length. Each block is
 withheld in turn, the fit is solved again on the rest (``refit``: the same NLP structure, cached, fed
-the remaining rows through its parameters; a calibrated geometry is held at the full fit's) and the
-withheld rows are predicted. With B blocks of
+the remaining rows through its parameters; a calibrated geometry is held at the full fit's; with least
+squares from the full fit θ̂ by active-set steps, the first θ̂ − H₋ᵦ⁻¹g₋ᵦ with H₋ᵦ [N²/MPa²] and g₋ᵦ [N²/MPa]
+the rest's Hessian and gradient at θ̂, :mod:`.held_out`, else by IPOPT) and the withheld rows are
+predicted. With B blocks of
 held-out RMSE e_b the written model error is what the user meets beyond the noise,
 
     s_cv² = (1/B) Σ_b e_b²,    model_error = √max(0, s_cv² − σ_n²),   with B − 1 degrees of freedom,
