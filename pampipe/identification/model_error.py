@@ -34,7 +34,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pampipe.errors import PampipeError
-from pampipe.identification.noise import held_length_paths
+from pampipe.identification.noise import evenly_spaced, held_length_paths
 
 #: Pressure bands held out in turn.
 BANDS = 4
@@ -103,7 +103,7 @@ def sample_rows(data, slack: str, *, limit: int | None = None) -> RowSample:
         if limit is None or used.size <= limit:  # every row (linspace(0, n − 1, n) is 0, 1, …, n − 1)
             pick = used
         else:
-            pick = used[np.unique(np.linspace(0, used.size - 1, limit).astype(np.int64))]
+            pick = used[evenly_spaced(used.size, limit)]
         parts.append((np.full(pick.size, t), pick, test.pressure[pick], test.force[pick],
                       np.full(pick.size, used.size / pick.size)))
     return RowSample(*(np.concatenate([p[k] for p in parts]) for k in range(5)))
@@ -214,8 +214,7 @@ def thinned(data, limit: int):
     tests = []
     for test in data.tests:
         keep = np.zeros(test.points, dtype=bool)
-        keep[np.unique(np.linspace(0, test.points - 1, max(int(np.ceil(share * test.points)), 2))
-                       .astype(np.int64))] = True
+        keep[evenly_spaced(test.points, max(int(np.ceil(share * test.points)), 2))] = True
         tests.append(test.subset(keep) if not keep.all() else test)
     return replace(data, tests=tuple(tests))
 

@@ -46,7 +46,7 @@ def local_floor(x: np.ndarray, force: np.ndarray, group: np.ndarray) -> tuple[fl
     centre = np.concatenate([np.arange(s, s + n) for s, n in zip(starts[long_enough], lengths[long_enough],
                                                                  strict=True)])
     if centre.size > CENTRES:
-        pick = np.unique(np.linspace(0, centre.size - 1, CENTRES).astype(np.int64))
+        pick = evenly_spaced(centre.size, CENTRES)
         centre, first, size = centre[pick], first[pick], size[pick]
     low = first + np.clip(centre - first - NEIGHBOURS // 2, 0, size - window)
     rows = low[:, None] + np.arange(window)[None, :]
@@ -60,6 +60,11 @@ def local_floor(x: np.ndarray, force: np.ndarray, group: np.ndarray) -> tuple[fl
     error = force[centre] - beta[:, 0]
     values = error**2 / (1 + inverse[:, 0, 0])
     return math.sqrt(float(np.median(values)) / CHI2_MEDIAN), int(values.size)
+
+
+def evenly_spaced(size: int, count: int) -> np.ndarray:
+    """Indices of ``count`` rows evenly spaced over 0 … size − 1, in order (fewer where two round to one)."""
+    return np.unique(np.linspace(0, size - 1, count).astype(np.int64))
 
 
 def held_length_paths(length: np.ndarray, *, most: int = 30, fewest: int = 3) -> np.ndarray | None:
