@@ -45,8 +45,8 @@ EQUIVALENT = ROOT / "scripts" / "mutants-equivalent.txt"
 TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/model/forces.py": ("tests/model/test_forces.py", "tests/model/test_identities.py",
                                 "tests/model/test_published.py", "tests/model/test_paths.py"),
-    "pampipe/model/muscle.py": ("tests/model/test_muscle_roots.py", "tests/model/test_identities.py",
-                                "tests/model/test_paths.py",
+    "pampipe/model/muscle.py": ("tests/model/test_muscle_model.py", "tests/model/test_muscle_roots.py",
+                                "tests/model/test_identities.py", "tests/model/test_paths.py",
                                 "tests/planning/test_planner.py", "tests/api/test_one_door.py"),
     "pampipe/planning/law.py": ("tests/planning/test_evaluator.py",),
     "pampipe/planning/evaluator.py": ("tests/planning/test_evaluator.py",
