@@ -55,3 +55,30 @@ def test_the_limits_are_each_segments_or_the_supply(law):
     reason, pressure = law.evaluate(0.0762, 1.0, 0.3, 2.0)
     assert reason == Reason.OK and np.all(pressure > 120e3)  # the lower limit of one segment is passed
     assert lower.evaluate(0.0762, 1.0, 0.3, 2.0)[0] == Reason.ABOVE_SUPPLY
+
+
+def test_the_widest_bore_is_where_the_braid_or_its_rating_stops(law):
+    """D(L) = √(B² − L²)/(Nπ) with B = L₀/cos α₀, Nπ = B·sin α₀/D₀ (docs/physics.md §1-§2): the widest bore
+    is D(B/√3), or D((1 − c)L₀) where the maker's max_contraction c stops the muscle first; the segment
+    with the lowest such bore sets the law's WIDE (reason 2)."""
+    mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
+    g = mission.segments[0].pam.geometry
+    braid = g.initial_length / math.cos(g.braid_angle)
+    n_pi = braid * math.sin(g.braid_angle) / g.initial_diameter
+
+    def diameter(length):
+        return math.sqrt(braid**2 - length**2) / n_pi
+
+    assert law.largest_diameters[0] == pytest.approx(diameter(braid / math.sqrt(3)), rel=1e-12)
+    rated = dataclasses.replace(mission.segments[1].pam, max_contraction=0.2)
+    loose = dataclasses.replace(mission.segments[2].pam, max_contraction=0.9)  # beyond B/√3: the braid stops
+    segments = (mission.segments[0], dataclasses.replace(mission.segments[1], pam=rated),
+                dataclasses.replace(mission.segments[2], pam=loose))
+    rated_law = mission_law(dataclasses.replace(mission, segments=segments))
+    want = diameter(0.8 * g.initial_length)
+    assert want < diameter(braid / math.sqrt(3))
+    assert rated_law.largest_diameters[1] == pytest.approx(want, rel=1e-12)
+    assert rated_law.largest_diameters[2] == pytest.approx(law.largest_diameters[2], rel=1e-12)
+    assert rated_law.widest == pytest.approx(want, rel=1e-12)
+    assert rated_law.evaluate(want * 1.001, 1.0, 0.3, 2.0)[0] == Reason.WIDE
+    assert law.evaluate(want * 1.001, 1.0, 0.3, 2.0)[0] != Reason.WIDE
