@@ -82,3 +82,17 @@ def test_the_widest_bore_is_where_the_braid_or_its_rating_stops(law):
     assert rated_law.widest == pytest.approx(want, rel=1e-12)
     assert rated_law.evaluate(want * 1.001, 1.0, 0.3, 2.0)[0] == Reason.WIDE
     assert law.evaluate(want * 1.001, 1.0, 0.3, 2.0)[0] != Reason.WIDE
+
+
+def test_the_edges_belong_to_the_refusals_and_a_pressure_at_its_limit_is_ok(law):
+    """D = D₀ (the sleeve at rest) is narrow (1), D = D(B/√3) wide (2), both as documented ("not wider than
+    a muscle at rest", "wider than the braid can fill" from that diameter on); a pressure exactly at its
+    segment's limit is OK (P ≤ limit), a limit one ulp below it is exceeded (4)."""
+    assert law.evaluate(law.narrowest, 1.0, 0.3, 2.0)[0] == Reason.NARROW
+    assert law.evaluate(law.widest, 1.0, 0.3, 2.0)[0] == Reason.WIDE
+    assert law.evaluate(math.nextafter(law.widest, 0.0), 1.0, 0.3, 2.0)[0] != Reason.WIDE
+    _, pressure = law.evaluate(0.0762, 1.0, 0.3, 2.0)
+    at = dataclasses.replace(law, pressure_limits=tuple(float(p) for p in pressure))
+    assert at.evaluate(0.0762, 1.0, 0.3, 2.0)[0] == Reason.OK
+    below = dataclasses.replace(law, pressure_limits=tuple(math.nextafter(float(p), 0.0) for p in pressure))
+    assert below.evaluate(0.0762, 1.0, 0.3, 2.0)[0] == Reason.ABOVE_SUPPLY
