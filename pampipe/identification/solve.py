@@ -43,7 +43,8 @@ SCALE_FLOOR = 1e-3
 ROWS_MOVED = 1e-3
 
 
-def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update, centred=None):
+def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update, centred=None, *,
+              exact_rounds: bool = True):
     """IPOPT, re-solved from its last point while ``update(x, seen)`` changes the data of the problem.
 
     ``update`` (see :func:`_updater`) moves slack cells between clipped and live and, with a
@@ -51,13 +52,15 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
     A re-solve of least squares at a fixed geometry (:func:`.exact.applies`) is the active-set solve of
     :func:`.exact.resolved` from the last point instead, where that finds the one minimum IPOPT would
     (IPOPT for the rest); so is the first solve when ``x0`` is an IPOPT solution and ``centred`` the
-    Hessian of its problem there (the slack hinge's next round, :func:`.fit.identify`).
+    Hessian of its problem there (the slack hinge's next round, :func:`.fit.identify`). ``exact_rounds``
+    False: every round by IPOPT (a held-out refit of the model error, whose withheld rows may see a
+    direction its own data leave flat: there IPOPT's choice along it is the reference).
     Returns (solution, statistics summed over the solves).
     """
     iterations, wall = 0, 0.0
     x, last, seen = x0, None, set()
     for round_ in range(UPDATE_ROUNDS):
-        if centred is not None and exact.applies(structure):
+        if centred is not None and exact_rounds and exact.applies(structure):
             scale(nlp, values, x, stats, structure)  # as IPOPT's solve from x would be
             found = exact.resolved(nlp, values, x, lbx, ubx, centred)
             if found is not None:
@@ -84,7 +87,7 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
             solution, info = last[0], last[1]
             break
         last = (solution, info, {k: np.array(v, copy=True) for k, v in values.items()})
-        if exact.applies(structure):
+        if exact_rounds and exact.applies(structure):
             centred = np.asarray(nlp.hessian(x, nlp.layout.pack(values)), dtype=float)
         if not update(x, seen):
             break
