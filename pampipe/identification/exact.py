@@ -29,6 +29,9 @@ TOLERANCE = 1e-10
 #: The last step of a converged solve is at most this, relative to max(1, |x|) (a quadratic objective's
 #: second step is rounding; a Newton step on a smooth one this small has converged).
 SETTLED = 1e-7
+#: Active-set steps at most of :func:`resolved`: from a neighbouring minimum the answer may slide along a
+#: chain of Drucker rows (one added, the previous dropped, per step): up to ~70 on the paper protocol.
+RESOLVE_STEPS = 200
 #: The reduced Hessian of a unique minimum has no eigenvalue below this times its largest.
 UNIQUE = 1e-9
 
@@ -95,6 +98,28 @@ def minimum(nlp, p: np.ndarray, x: np.ndarray, lbx: np.ndarray, ubx: np.ndarray,
     if feasible and _objective(nlp, x, p) <= best:
         return x, free
     return start, None
+
+
+def resolved(nlp, values: dict, x: np.ndarray, lbx: np.ndarray, ubx: np.ndarray, centred: np.ndarray,
+             *, steps: int = RESOLVE_STEPS) -> np.ndarray | None:
+    """The minimum of the problem of parameter values ``values`` by at most ``steps`` active-set steps from
+    ``x`` (:func:`minimum`, the quadratic model moved between them), where it is the one an IPOPT solve
+    would give: None where the steps do not settle, or the minimum is not unique along a direction that
+    ``centred`` sees (the Hessian of the problem an IPOPT solve reached ``x`` in: along a direction flat for
+    both, the steps leave x where that solve's barrier put it; along one it saw, the place the minimum is
+    taken at would be the steps' choice, not IPOPT's)."""
+    x, free = minimum(nlp, nlp.layout.pack(values), np.clip(x, lbx, ubx), lbx, ubx, steps=steps,
+                      refine=steps, model=True)
+    return x if free is not None and unseen(free, centred) else None
+
+
+def unseen(directions: np.ndarray, hessian: np.ndarray) -> bool:
+    """Whether the objective of Hessian ``hessian`` is flat along every column of ``directions`` (dᵀHd at most
+    :data:`UNIQUE` times H's largest entry)."""
+    if directions.shape[1] == 0:
+        return True
+    seen = np.abs(np.diag(directions.T @ hessian @ directions)).max()
+    return bool(seen <= UNIQUE * max(float(np.abs(hessian).max()), 1e-300))
 
 
 def undetermined(hessian: np.ndarray, rows: np.ndarray) -> np.ndarray:

@@ -65,11 +65,11 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
         return identify_grip(data, options)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
-    fitted, warm, wall_time, iterations, builds, notes = None, None, 0.0, 0, [], []
+    fitted, warm, centred, wall_time, iterations, builds, notes = None, None, None, 0.0, 0, [], []
     memo = Memo()  # what the hinge's refits reuse of the first reduction
     for round_ in range(HINGE_ROUNDS):
         try:
-            fitted = _fit(data, options, say, hinge, warm, memo, round_)
+            fitted = _fit(data, options, say, hinge, warm, memo, round_, centred)
         except SolverError as error:
             if round_ == 0:
                 raise
@@ -86,7 +86,7 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
             "refitting them as max(0, F)")
         hinge = {i: np.union1d(hinge.get(i, np.zeros(0, dtype=np.int64)), more.get(i, ()))
                  for i in set(hinge) | set(more)}
-        warm = fitted.x
+        warm, centred = fitted.x, fitted.hessian()
     else:
         notes.append(f"after {HINGE_ROUNDS} fits {sum(r.size for r in more.values())} measured row(s) still "
                      "predict a negative force and are scored by it (the slack hinge did not settle).")
@@ -136,11 +136,13 @@ class Round(NamedTuple):
     report: Callable  # () -> (IdentifyResult, finish), computed when asked for: only the reported round is
     axial_model: dict[int, np.ndarray]  # test index -> F_ax of every row [N], before the hinge
     fit: Fit  # the round's geometry and moduli (a refit of the model error needs no report)
+    hessian: Callable  # () -> the Hessian of the round's problem at x
 
 
 def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo,
-         round_: int = 0) -> Round:
-    """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution) if given. Its
+         round_: int = 0, centred=None, exact_rounds: bool = True) -> Round:
+    """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution, ``centred`` the Hessian
+    of its problem there: see :func:`.solve.solve_fit`, as ``exact_rounds``) if given. Its
     report gives the IdentifyResult and ``finish``; ``finish()`` gives its (model error, written joint
     uncertainty, fit quality, predictions the data determine, warnings), which the result leaves out
     (None, no warnings). Both are computed only for the fit reported, not for every round of the hinge,
@@ -160,10 +162,13 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
         say(f"solving the {setup.x0.size}-parameter NLP with IPOPT ({options.mode}, {options.objective})"
             + which)
         solution, info = solve_fit(setup.nlp, setup.values, setup.x0, setup.lbx, setup.ubx, setup.stats,
-                                   setup.structure, updater_for(setup.values, data, options, setup))
+                                   setup.structure, updater_for(setup.values, data, options, setup),
+                                   centred if warm is not None and warm.size == setup.x0.size else None,
+                                   exact_rounds=exact_rounds)
         solve = Solve(solution, info, setup.values, 0.0, 0, None, None)
     fit = _solved(data, options, setup, solve)
-    return Round(fit.x, fit.solver, cache(lambda: _report(data, options, setup, solve, fit)), fit.axial, fit)
+    return Round(fit.x, fit.solver, cache(lambda: _report(data, options, setup, solve, fit)), fit.axial, fit,
+                 lambda: np.asarray(setup.nlp.hessian(fit.x, fit.p), dtype=float))
 
 
 class Solve(NamedTuple):
@@ -383,7 +388,8 @@ def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data
     :mod:`.model_error`), a calibrated geometry held at the full fit's, the slack hinge not repeated
     (``hessian``: the full fit's Hessian at its solution).
     ``refits`` "active_set": solved from the full fit by :func:`.held_out.refit` where that applies (least
-    squares), else, and always with "ipopt", by one IPOPT fit of the same NLP structure (cached); only the
+    squares), else, and always with "ipopt", by one IPOPT fit of the same NLP structure (cached; every round
+    by IPOPT, :func:`.solve.solve_fit`); only the
     round's geometry and moduli, not its report (the Hessian, the uncertainty, each test's scores, the
     Drucker minimum)."""
     x, moduli = fit.x, slice(0, fit.x.size - len(options.calibrate))  # the geometry is x's last block
@@ -394,7 +400,7 @@ def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data
         found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli])
         if found is not None:
             return found
-    fitted = _fit(data, options, lambda _text: None, {}, None, Memo()).fit
+    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), exact_rounds=False).fit
     return problem.muscles(fitted.geometry, fitted.moduli, fitted.pipe_moduli)
 
 

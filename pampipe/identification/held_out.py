@@ -30,10 +30,6 @@ from pampipe.identification.solve import UPDATE_ROUNDS
 from pampipe.identification.statistics import Memo
 from pampipe.specs.experiment import ExperimentData
 
-#: Active-set steps at most per solve: from the full fit the minimum may slide along a chain of Drucker
-#: rows (one added, the previous dropped, per step), measured up to ~40 on the paper protocol.
-STEPS = 200
-
 
 def refit(data: ExperimentData, options: FitOptions, x_full: np.ndarray, hessian: np.ndarray):
     """(muscle, {pipe: muscle}) of the least-squares fit to ``data`` (a block withheld, the geometry as
@@ -48,21 +44,10 @@ def refit(data: ExperimentData, options: FitOptions, x_full: np.ndarray, hessian
     x, seen = np.clip(x_full, setup.lbx, setup.ubx), set()
     update(x, seen)  # the slack cells' sides at the full fit
     for _ in range(UPDATE_ROUNDS):
-        x, free = exact.minimum(setup.nlp, setup.nlp.layout.pack(values), x, setup.lbx, setup.ubx,
-                                steps=STEPS, refine=STEPS, model=True)
-        if free is None or not _unseen(free, hessian):
+        x = exact.resolved(setup.nlp, values, x, setup.lbx, setup.ubx, hessian)
+        if x is None:
             return None
         if not update(x, seen):
             moduli, pipe_moduli, _ = problem.moduli_of(setup.structure, setup.stats, x)
             return problem.muscles(data.pam.geometry, moduli, pipe_moduli)
     return None
-
-
-def _unseen(directions: np.ndarray, hessian: np.ndarray) -> bool:
-    """Whether the full fit's objective is flat along every column of ``directions`` (dᵀHd at most
-    :data:`.exact.UNIQUE` times H's largest entry): no row, withheld or not, sees them, so the
-    predictions do not depend on where along them the minimum is taken."""
-    if directions.shape[1] == 0:
-        return True
-    seen = np.abs(np.diag(directions.T @ hessian @ directions)).max()
-    return bool(seen <= exact.UNIQUE * max(float(np.abs(hessian).max()), 1e-300))

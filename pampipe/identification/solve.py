@@ -13,14 +13,14 @@ import casadi as ca
 import numpy as np
 
 from pampipe.errors import SolverError
-from pampipe.identification import drucker
+from pampipe.identification import drucker, exact
 from pampipe.identification import geometry as geo
 from pampipe.identification.fit_nlp import Structure
 from pampipe.identification.moment_cells import FIELDS
 from pampipe.identification.options import FitOptions
 from pampipe.identification.statistics import MPA, Statistics
 from pampipe.model import forces
-from pampipe.runtime.ipopt import solve
+from pampipe.runtime.ipopt import SolverStats, ipopt_version, solve
 
 #: What an IPOPT failure means for this fit (the generic words are in
 #: :data:`pampipe.runtime.ipopt.IPOPT_STATUS`).
@@ -43,16 +43,33 @@ SCALE_FLOOR = 1e-3
 ROWS_MOVED = 1e-3
 
 
-def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update):
+def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update, centred=None, *,
+              exact_rounds: bool = True):
     """IPOPT, re-solved from its last point while ``update(x, seen)`` changes the data of the problem.
 
     ``update`` (see :func:`_updater`) moves slack cells between clipped and live and, with a
     calibrated geometry, puts the Drucker intervals where the fitted geometry's strains are.
+    A re-solve of least squares at a fixed geometry (:func:`.exact.applies`) is the active-set solve of
+    :func:`.exact.resolved` from the last point instead, where that finds the one minimum IPOPT would
+    (IPOPT for the rest); so is the first solve when ``x0`` is an IPOPT solution and ``centred`` the
+    Hessian of its problem there (the slack hinge's next round, :func:`.fit.identify`). ``exact_rounds``
+    False: every round by IPOPT (a held-out refit of the model error, whose withheld rows may see a
+    direction its own data leave flat: there IPOPT's choice along it is the reference).
     Returns (solution, statistics summed over the solves).
     """
     iterations, wall = 0, 0.0
     x, last, seen = x0, None, set()
     for round_ in range(UPDATE_ROUNDS):
+        if centred is not None and exact_rounds and exact.applies(structure):
+            scale(nlp, values, x, stats, structure)  # as IPOPT's solve from x would be
+            found = exact.resolved(nlp, values, x, lbx, ubx, centred)
+            if found is not None:
+                x, solution = found, {"x": found, "f": _objective(nlp, values, found)}
+                last = (solution, last[1] if last else _no_solve(), {k: np.array(v, copy=True)
+                                                                     for k, v in values.items()})
+                if not update(x, seen):
+                    break
+                continue
         try:
             for attempt in range(2):  # a stalled solve is restarted once from where it stopped, rescaled
                 scale(nlp, values, x, stats, structure)
@@ -70,9 +87,23 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
             solution, info = last[0], last[1]
             break
         last = (solution, info, {k: np.array(v, copy=True) for k, v in values.items()})
+        if exact_rounds and exact.applies(structure):
+            centred = np.asarray(nlp.hessian(x, nlp.layout.pack(values)), dtype=float)
         if not update(x, seen):
             break
-    return solution, replace(info, iterations=iterations, wall_time=wall)
+    info = last[1]
+    return last[0], replace(info, iterations=iterations, wall_time=wall)
+
+
+def _objective(nlp, values, x) -> float:
+    """IPOPT's objective (SSE + prior)/scale at ``x`` (least squares; the scale of :func:`scale`)."""
+    return float(nlp.gradient(x, nlp.layout.pack(values))[0]) * 2 / float(values["scale"])
+
+
+def _no_solve() -> SolverStats:
+    """The statistics of a fit no IPOPT solve was needed for (the hinge's round finished by active-set steps
+    from the previous round's IPOPT solution, whose status it keeps)."""
+    return SolverStats("ipopt", "Solve_Succeeded", True, 0, 0.0, ca.__version__, ipopt_version())
 
 
 def updater(values, stats: Statistics, structure: Structure, stated, options: FitOptions, pressures, low):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from pampipe.identification import noise
 from pampipe.identification.noise import held_length_paths, local_floor
 
 
@@ -32,3 +33,17 @@ def test_repeats_give_their_scatter():
 def test_held_lengths_are_paths_and_sweeps_are_not():
     assert held_length_paths(np.repeat([0.237, 0.25, 0.267], 4)).tolist() == [0] * 4 + [1] * 4 + [2] * 4
     assert held_length_paths(np.linspace(0.2, 0.3, 50)) is None
+
+
+def test_the_windows_are_inverted_as_numpys_pseudo_inverse_does():
+    """Row 0 of the local fits' (XᵀX)⁺, from the cofactors where well conditioned, equals numpy's pinv (an SVD
+    each) on windows of distinct x, of repeats only (rank 1) and of two repeated values (rank 2)."""
+    rng = np.random.default_rng(6)
+    x = np.sort(rng.uniform(-1, 1, (200, 6)), axis=1)
+    x[:20] = 0.0
+    x[20:40, :3], x[20:40, 3:] = -0.5, 0.5
+    design = x[:, :, None] ** np.arange(3)[None, None, :]
+    gram = np.einsum("mki,mkj->mij", design, design)
+    reference = np.linalg.pinv(gram)[:, 0, :]
+    row = noise._first_row_of_inverse(gram)
+    assert np.allclose(row, reference, rtol=1e-10, atol=1e-10 * np.abs(reference).max())
