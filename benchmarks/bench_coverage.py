@@ -40,6 +40,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from scipy.special import ndtri, stdtrit
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -142,7 +143,8 @@ def plans(mission, pam: Pam, samples: int, seed: int, levels=LEVELS) -> dict:
             out[unit][c] = (plan.arrays.pressure[0].copy(), stopped)
             alone[unit][c] = {k: float(v[0][0]) for k, v in plan.uncertainty.shifts.items()}
             nominal = plan.arrays.nominal_pressure[0].copy()
-    return {"plans": out, "nominal": nominal, "alone": alone}
+    dof = getattr(pam.uncertainty, "model_error_dof", None)
+    return {"plans": out, "nominal": nominal, "alone": alone, "model_error_dof": dof}
 
 
 def trial(mission, size: float, level: float, k: int, seed: int, samples: int, data_sets=DATA_SETS,
@@ -160,7 +162,7 @@ def trial(mission, size: float, level: float, k: int, seed: int, samples: int, d
                                       friction=FRICTION, incline=math.pi / 2) for s in mission.route)
     mission = dataclasses.replace(mission, route=route)  # a tuple of Sections: Mission makes the columns
     out = {"true": least(truth, riser, load, mission),
-           "siblings": [least(s, riser, load, mission) for s in siblings], "data": {}}
+           "siblings": [least(s, riser, load, mission) for s in siblings], "data": {}, "trial": k}
     protocols = {"axial + radial": Protocol(pipes=(TESTED * stated.geometry.initial_diameter,), loads=(0.0,),
                                             cycles=1),
                  "axial only": Protocol(pipes=(), cycles=1)}
@@ -228,8 +230,10 @@ def decomposition(rows: list[dict], name: str = DATA_SETS[0], c: float = 0.95) -
     model_error: the Student-t shift; prior: the undetermined directions), all over the nominal; then the
     independent check of the spread: the smallest factor λ on every trial's (P_C − P_nom) with which a
     share ≥ C of the trials hold (λ < 1: the plans are wider than the truths' scatter needs; λ > 1: narrower),
-    and the median overhead P/P_true at that λ."""
-    lines, gaps, tops = [], [], []
+    and the median overhead P/P_true at that λ; and z = (P_true − P_nom)/(s/F₁), the truth's miss in model
+    errors s (s/F₁ [Pa]: the model error's shift alone over the quantile it was drawn at, t_ν(C) or the
+    normal's), whose RMS near 1 says s is the scale of what the plans meet."""
+    lines, gaps, tops, zs = [], [], [], []
     for k, r in enumerate(rows):
         d = r["data"].get(name)
         if d is None or "failed" in d or c not in d["plans"]["tested"]:
@@ -239,8 +243,13 @@ def decomposition(rows: list[dict], name: str = DATA_SETS[0], c: float = 0.95) -
         alone = d["alone"]["tested"][c]
         gaps.append((r["true"] - nominal, planned - nominal, nominal, r["true"]))
         words = "  ".join(f"{s} +{v / nominal:.3%}" for s, v in sorted(alone.items()))
-        lines.append(f"trial {k}: P_true/P_nom {r['true'] / nominal:.4f}  "
-                     f"P_{c:g}/P_nom {planned / nominal:.4f}  alone: {words}")
+        dof = d.get("model_error_dof")
+        quantile = float(stdtrit(dof, c)) if dof else float(ndtri(c))
+        scale = alone.get("model_error", 0.0) / quantile  # s/F₁ [Pa]
+        z = (r["true"] - nominal) / scale if scale > 0 else math.nan
+        zs.append(z)
+        lines.append(f"trial {r.get('trial', k)}: P_true/P_nom {r['true'] / nominal:.4f}  "
+                     f"P_{c:g}/P_nom {planned / nominal:.4f}  z {z:+.2f} (nu {dof})  alone: {words}")
         tops.append(planned / nominal)
     if not gaps:
         return lines
@@ -251,7 +260,8 @@ def decomposition(rows: list[dict], name: str = DATA_SETS[0], c: float = 0.95) -
                  f"{np.median(true / nominal):.4f}, sd {np.std(true / nominal, ddof=1):.4f}; "
                  f"least lambda holding {c:g} of the trials: {lam:.3f}, its median overhead "
                  f"{np.median((nominal + lam * spread) / true):.4f} (lambda 1: "
-                 f"{np.median((nominal + spread) / true):.4f})")
+                 f"{np.median((nominal + spread) / true):.4f}); "
+                 f"z RMS {math.sqrt(np.nanmean(np.square(zs))):.3f}")
     return lines
 
 

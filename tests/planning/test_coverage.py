@@ -90,8 +90,10 @@ def test_the_decomposition_finds_the_least_spread_that_holds_by_hand():
                                      "alone": {"tested": {0.95: {"model_error": 9e3, "moduli": 1e3}}}}}}
             for i in range(20)]
     lines = decomposition(rows)
-    assert lines[0].startswith("trial 0: P_true/P_nom 1.0000  P_0.95/P_nom 1.1000  alone: model_error +9.000%"
-                               ), lines[0]
+    assert lines[1].startswith("trial 1: P_true/P_nom 1.0050  P_0.95/P_nom 1.1000  z +0.09 (nu None)  alone: "
+                               "model_error +9.000%"), lines[1]  # z = 500 Pa / (9 kPa / 1.6449)
     assert "least lambda holding 0.95 of the trials: 0.900" in lines[-1], lines[-1]
     overhead = np.median([109e3 / (100e3 + 500.0 * i) for i in range(20)])
     assert f"its median overhead {overhead:.4f}" in lines[-1], lines[-1]
+    z = np.array([500.0 * i / (9e3 / 1.6448536269514722) for i in range(20)])
+    assert f"z RMS {np.sqrt(np.mean(z**2)):.3f}" in lines[-1], lines[-1]
