@@ -21,18 +21,26 @@ data set, the fits IPOPT could not finish (no PAM, no plan).
 
     .venv/bin/python benchmarks/bench_coverage.py [--trials 30] [--seed 1] [--sizes 1,0.5] [--levels 0.5,1]
     .venv/bin/python benchmarks/bench_coverage.py --quick    # 6 trials, the paper's muscle, stated tolerance
+    .venv/bin/python benchmarks/bench_coverage.py --fits FITS --sizes 1 --levels 1    # fits cached in FITS
+
+``--fits DIR`` keeps each fitted PAM as the PAM file ``identify -o`` would write (one per seed, trial, size,
+level and data set; a fit IPOPT could not finish as a ``.failed`` file holding its message) and reuses it when
+present: the truths are redrawn from the seed, so a change to planning is re-judged without refitting.
+Delete the folder after a change to identification.
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
 import math
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+from scipy.special import ndtri, stdtrit
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -42,6 +50,7 @@ from pampipe.identification import identify  # noqa: E402
 from pampipe.identification.options import FitOptions  # noqa: E402
 from pampipe.io.mission_schema import load_mission  # noqa: E402
 from pampipe.io.pam_schema import load_pam  # noqa: E402
+from pampipe.io.pamfile import write_pam  # noqa: E402
 from pampipe.model import no_slip as slip  # noqa: E402
 from pampipe.model.muscle import Muscle  # noqa: E402
 from pampipe.model.pam import Pam  # noqa: E402
@@ -88,6 +97,32 @@ def fitted(stated: Pam, truth: Pam, protocol: Protocol, seed: int, calibrate: tu
     return dataclasses.replace(result.fitted_pam(base), geometry_sd=dict(stated.geometry_sd))
 
 
+def cached_fit(fits: Path | None, key: str, fit) -> Pam | str:
+    """The PAM ``fit()`` returns, or its :class:`SolverError` message; kept as ``fits/key.yaml`` (or
+    ``fits/key.failed``) and read back from there when present (``fits`` None: no cache)."""
+    if fits is None:
+        try:
+            return fit()
+        except SolverError as exc:
+            return str(exc)
+    pam_file, failed_file = fits / f"{key}.yaml", fits / f"{key}.failed"
+    if failed_file.exists():
+        return failed_file.read_text()
+    if not pam_file.exists():
+        try:
+            write_pam(pam_file, fit())
+        except SolverError as exc:
+            failed_file.write_text(str(exc))
+            return str(exc)
+    return load_pam(pam_file)
+
+
+def fit_key(seed: int, k: int, size: float, level: float, name: str) -> str:
+    """The cache name of one fit: ``seed1-trial13-size1-level1-radial``."""
+    data = "radial" if "radial" in name else "axial"
+    return f"seed{seed}-trial{k}-size{size:g}-level{level:g}-{data}"
+
+
 def least(pam: Pam, bore: float, load: float, mission) -> float:
     """The closed-form least holding pressure of ``pam`` [Pa] (inf where none holds)."""
     return float(Muscle.from_pam(pam).least_holding_pressure(
@@ -95,22 +130,25 @@ def least(pam: Pam, bore: float, load: float, mission) -> float:
 
 
 def plans(mission, pam: Pam, samples: int, seed: int, levels=LEVELS) -> dict:
-    """{unit: {C: (pressures (segments,), stopped (segments,) bool)}} and the nominal pressures."""
-    out, nominal = {}, None
+    """{unit: {C: (pressures (segments,), stopped (segments,) bool)}}, the nominal pressures and, per unit and
+    C, what each source adds alone to the first segment's C-quantile [Pa] (the planner's dominance table)."""
+    out, alone, nominal = {}, {}, None
     for unit in UNITS:
         segments = tuple(dataclasses.replace(s, pam=pam, pam_file=None, unit=unit) for s in mission.segments)
         m = dataclasses.replace(mission, segments=segments)
-        out[unit] = {}
+        out[unit], alone[unit] = {}, {}
         for c in levels:
             plan = plan_mission(m, confidence=c, samples=samples, seed=seed)
             stopped = plan.uncertainty.stopped[0].copy()
             out[unit][c] = (plan.arrays.pressure[0].copy(), stopped)
+            alone[unit][c] = {k: float(v[0][0]) for k, v in plan.uncertainty.shifts.items()}
             nominal = plan.arrays.nominal_pressure[0].copy()
-    return {"plans": out, "nominal": nominal}
+    dof = getattr(pam.uncertainty, "model_error_dof", None)
+    return {"plans": out, "nominal": nominal, "alone": alone, "model_error_dof": dof}
 
 
 def trial(mission, size: float, level: float, k: int, seed: int, samples: int, data_sets=DATA_SETS,
-          levels=LEVELS) -> dict:
+          levels=LEVELS, fits: Path | None = None) -> dict:
     """One tested muscle, its siblings, and the plans of each data set's fit (see the module docstring)."""
     stated = stated_muscle(size, level)
     rng = np.random.default_rng([seed, int(size * 1000), int(level * 1000), k])
@@ -124,17 +162,17 @@ def trial(mission, size: float, level: float, k: int, seed: int, samples: int, d
                                       friction=FRICTION, incline=math.pi / 2) for s in mission.route)
     mission = dataclasses.replace(mission, route=route)  # a tuple of Sections: Mission makes the columns
     out = {"true": least(truth, riser, load, mission),
-           "siblings": [least(s, riser, load, mission) for s in siblings], "data": {}}
+           "siblings": [least(s, riser, load, mission) for s in siblings], "data": {}, "trial": k}
     protocols = {"axial + radial": Protocol(pipes=(TESTED * stated.geometry.initial_diameter,), loads=(0.0,),
                                             cycles=1),
                  "axial only": Protocol(pipes=(), cycles=1)}
     for name in data_sets:
         protocol = protocols[name]
         calibrate = ("braid_angle",) if protocol.pipes else ()
-        try:
-            pam = fitted(stated, truth, protocol, seed * 1000 + k, calibrate)
-        except SolverError as exc:  # no PAM, no plan: counted, not hidden
-            out["data"][name] = {"failed": str(exc)}
+        pam = cached_fit(fits, fit_key(seed, k, size, level, name),
+                         functools.partial(fitted, stated, truth, protocol, seed * 1000 + k, calibrate))
+        if isinstance(pam, str):  # no PAM, no plan: counted, not hidden
+            out["data"][name] = {"failed": pam}
             continue
         out["data"][name] = plans(mission, pam, samples, seed=k, levels=levels)
     return out
@@ -186,14 +224,56 @@ def summary(rows: list[dict]) -> list[tuple]:
     return table
 
 
+def decomposition(rows: list[dict], name: str = DATA_SETS[0], c: float = 0.95) -> list[str]:
+    """Lines of where the ``unit: tested`` C-quantile above the nominal plan comes from, per trial: the true
+    least pressure, the nominal plan, the plan, and what each source adds alone (moduli: the fit's posterior;
+    model_error: the Student-t shift; prior: the undetermined directions), all over the nominal; then the
+    independent check of the spread: the smallest factor λ on every trial's (P_C − P_nom) with which a
+    share ≥ C of the trials hold (λ < 1: the plans are wider than the truths' scatter needs; λ > 1: narrower),
+    and the median overhead P/P_true at that λ; and z = (P_true − P_nom)/(s/F₁), the truth's miss in model
+    errors s (s/F₁ [Pa]: the model error's shift alone over the quantile it was drawn at, t_ν(C) or the
+    normal's), whose RMS near 1 says s is the scale of what the plans meet."""
+    lines, gaps, tops, zs = [], [], [], []
+    for k, r in enumerate(rows):
+        d = r["data"].get(name)
+        if d is None or "failed" in d or c not in d["plans"]["tested"]:
+            continue
+        nominal = float(d["nominal"][0])
+        planned = float(d["plans"]["tested"][c][0][0])
+        alone = d["alone"]["tested"][c]
+        gaps.append((r["true"] - nominal, planned - nominal, nominal, r["true"]))
+        words = "  ".join(f"{s} +{v / nominal:.3%}" for s, v in sorted(alone.items()))
+        dof = d.get("model_error_dof")
+        quantile = float(stdtrit(dof, c)) if dof else float(ndtri(c))
+        scale = alone.get("model_error", 0.0) / quantile  # s/F₁ [Pa]
+        z = (r["true"] - nominal) / scale if scale > 0 else math.nan
+        zs.append(z)
+        lines.append(f"trial {r.get('trial', k)}: P_true/P_nom {r['true'] / nominal:.4f}  "
+                     f"P_{c:g}/P_nom {planned / nominal:.4f}  z {z:+.2f} (nu {dof})  alone: {words}")
+        tops.append(planned / nominal)
+    if not gaps:
+        return lines
+    need, spread, nominal, true = (np.array(x) for x in zip(*gaps, strict=True))
+    ratio = np.where(spread > 0, need / np.where(spread > 0, spread, 1.0), np.where(need <= 0, 0.0, np.inf))
+    lam = float(np.quantile(ratio, c, method="inverted_cdf"))  # the least λ with a share ≥ c holding
+    lines.append(f"{len(gaps)} plans: P_{c:g}/P_nom median {np.median(tops):.4f}; P_true/P_nom median "
+                 f"{np.median(true / nominal):.4f}, sd {np.std(true / nominal, ddof=1):.4f}; "
+                 f"least lambda holding {c:g} of the trials: {lam:.3f}, its median overhead "
+                 f"{np.median((nominal + lam * spread) / true):.4f} (lambda 1: "
+                 f"{np.median((nominal + spread) / true):.4f}); "
+                 f"z RMS {math.sqrt(np.nanmean(np.square(zs))):.3f}")
+    return lines
+
+
 def run(trials: int, seed: int, samples: int = 4000, progress=None, data_sets=DATA_SETS, size: float = 1.0,
-        level: float = 1.0, levels=LEVELS) -> list[dict]:
-    """``trials`` trials of one muscle size and tolerance level, planned at each C of ``levels``."""
+        level: float = 1.0, levels=LEVELS, fits: Path | None = None) -> list[dict]:
+    """``trials`` trials of one muscle size and tolerance level, planned at each C of ``levels`` (``fits``:
+    the folder of cached fits, see the module docstring)."""
     mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
     mission = dataclasses.replace(mission, route=mission.route[:1])
     rows = []
     for k in range(trials):
-        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels))
+        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels, fits))
         if progress:
             progress(k, rows[-1])
     return rows
@@ -208,10 +288,18 @@ def main(argv=None) -> int:
     parser.add_argument("--levels", default="0.5,1", help="tolerance levels, as factors of the stated sds")
     parser.add_argument("--data", default="both", choices=("both", "radial", "axial"))
     parser.add_argument("--quick", action="store_true", help="6 trials, size 1, level 1")
+    parser.add_argument("--fits", type=Path, help="folder of cached fitted PAMs (made if missing, reused)")
+    parser.add_argument("--fit-only", action="store_true", help="fit (into --fits) and plan nothing")
+    parser.add_argument("--decompose", action="store_true",
+                        help="also print, per trial, what each source adds to the tested C = 0.95 plan")
     args = parser.parse_args(argv)
     if args.quick:
         args.trials, args.sizes, args.levels = 6, "1", "1"
     data_sets = {"both": DATA_SETS, "radial": DATA_SETS[:1], "axial": DATA_SETS[1:]}[args.data]
+    if args.fits:
+        args.fits.mkdir(parents=True, exist_ok=True)
+    if args.fit_only and not args.fits:
+        parser.error("--fit-only needs --fits DIR")
     headers = ("data", "unit", "C", "plans", "holds (± se)", "median P/P_true", "p90 P/P_true", "exit 3",
                "fits failed")
     for size in (float(x) for x in args.sizes.split(",")):
@@ -221,12 +309,15 @@ def main(argv=None) -> int:
             def progress(k, row, size=size, level=level):
                 words = [f"{n}: " + ("identify failed" if "failed" in d else
                                      f"tested {d['plans']['tested'][0.95][0][0] / 1e3:.1f} vs "
-                                     f"{row['true'] / 1e3:.1f} kPa")
+                                     f"{row['true'] / 1e3:.1f} kPa" if d["plans"]["tested"] else "fitted")
                          for n, d in row["data"].items()]
                 print(f"  size {size:g} level {level:g} trial {k}: " + "; ".join(words), file=sys.stderr,
                       flush=True)
 
-            rows = run(args.trials, args.seed, args.samples, progress, data_sets, size, level)
+            rows = run(args.trials, args.seed, args.samples, progress, data_sets, size, level,
+                       levels=() if args.fit_only else LEVELS, fits=args.fits)
+            if args.fit_only:
+                continue
             d0 = 57.15 * size
             print(f"\ncoverage over {args.trials} tested muscles (seed {args.seed}, {args.samples} draws): "
                   f"D0 {d0:.4g} mm, riser {RISER * d0:.4g} mm (untested), radial test at {TESTED * d0:.4g} "
@@ -237,6 +328,10 @@ def main(argv=None) -> int:
             widths = [max(len(str(x)) for x in col) for col in zip(headers, *table, strict=True)]
             for line in (headers, *table):
                 print("  ".join(str(x).rjust(w) for x, w in zip(line, widths, strict=True)), flush=True)
+            if args.decompose:
+                for name in data_sets:
+                    print(f"\n{name}, unit: tested, C = 0.95, over the nominal plan:")
+                    print("\n".join(decomposition(rows, name)), flush=True)
     return 0
 
 

@@ -226,8 +226,8 @@ def _calibrated(data: ExperimentData, options: FitOptions, say, setup: Setup) ->
         f"calibrating {', '.join(options.calibrate)})")
     totals = [0.0, 0]
 
-    def run(start):
-        own, x0 = _copied(values), guess_at(start)
+    def run(start, x0=None):
+        own, x0 = _copied(values), guess_at(start) if x0 is None else x0
         update = updater_for(own, data, options, setup)
         update(x0, set())  # the Drucker rows and slack cells of the start's geometry, not the stated one's
         free, second = solve_fit(nlp, own, x0, lbx, ubx, stats, structure, update)
@@ -236,8 +236,10 @@ def _calibrated(data: ExperimentData, options: FitOptions, say, setup: Setup) ->
         x_free = np.asarray(free["x"], dtype=float).ravel()
         return (free, second, own), float(nlp.sse(x_free, nlp.layout.pack(own))), x_free[fixed]
 
-    search, (solution, info, values) = multistart.search(run, starts, structure.calibrate, stats.points,
-                                                         seed, screened)
+    held_start = np.asarray(x_held, dtype=float).ravel()
+    search, (solution, info, values) = multistart.search(
+        run, starts, structure.calibrate, stats.points, seed, screened,
+        fallback=(multistart.FALLBACK, held_start[fixed], lambda: run(held_start[fixed], held_start)))
     info = replace(info, wall_time=totals[0], iterations=totals[1])
     return Solve(solution, info, values, wall_time, iterations, stated_fit, search)
 

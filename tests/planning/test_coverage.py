@@ -8,10 +8,16 @@ explains). The full study (≥ 30 trials) is the benchmark, its table in docs/co
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from benchmarks.bench_coverage import DATA_SETS, _judged, run
+from benchmarks.bench_coverage import DATA_SETS, TOLERANCE, _judged, cached_fit, decomposition, plans, run
+from pampipe.errors import SolverError
+from pampipe.io.mission_schema import load_mission
+from pampipe.io.pam_schema import load_pam
+from tests.support.problems import PROBLEMS
 
 
 @pytest.mark.slow
@@ -38,3 +44,56 @@ def test_one_trial_holds_with_a_bounded_overhead():
         for held, overhead, stopped in judged:
             assert np.all(held | stopped), (unit, held, stopped)
             assert np.all(np.asarray(overhead)[~np.asarray(stopped)] <= 1.5), (unit, overhead)
+
+
+def test_a_cached_fit_plans_as_the_fit_itself_and_is_not_refitted(tmp_path):
+    """``--fits DIR`` (benchmarks/bench_coverage.py): the PAM file kept for a fit plans the pressures the fit
+    itself plans (the file holds every number at full precision), the second call reads it without fitting,
+    and a fit IPOPT could not finish is kept as its message, not refitted either."""
+    pam = dataclasses.replace(load_pam(PROBLEMS / "pams" / "paper-radial-pam-uncertain.yaml"),
+                              geometry_sd=dict(TOLERANCE))
+    calls = []
+
+    def fit():
+        calls.append(1)
+        return pam
+
+    first = cached_fit(tmp_path, "seed1-trial0-size1-level1-radial", fit)
+    again = cached_fit(tmp_path, "seed1-trial0-size1-level1-radial", fit)
+    assert len(calls) == 1 and (tmp_path / "seed1-trial0-size1-level1-radial.yaml").exists()
+    mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
+    mission = dataclasses.replace(mission, route=mission.route[:1])
+    direct = plans(mission, pam, samples=300, seed=3, levels=(0.95,))["plans"]
+    for cached in (first, again):
+        kept = plans(mission, cached, samples=300, seed=3, levels=(0.95,))["plans"]
+        for unit in ("tested", "lot"):
+            np.testing.assert_allclose(kept[unit][0.95][0], direct[unit][0.95][0], rtol=1e-9)
+
+    def failing():
+        calls.append(1)
+        raise SolverError("IPOPT stopped: Maximum_Iterations_Exceeded")
+
+    for _ in range(2):
+        assert cached_fit(tmp_path, "k", failing) == "IPOPT stopped: Maximum_Iterations_Exceeded"
+    assert len(calls) == 2 and (tmp_path / "k.failed").exists()
+    assert cached_fit(None, "k", failing).startswith("IPOPT")  # no folder: no cache
+
+
+def test_the_decomposition_finds_the_least_spread_that_holds_by_hand():
+    """20 made-up trials, each planned 10 kPa over a nominal 100 kPa, whose truths lie 0, 0.5, …, 9.5 kPa
+    over it: a share ≥ 0.95 (19 of 20) holds from λ = 0.9 of the planned spread (the 19th smallest need
+    over spread, 9/10) on, where the median overhead is (100 + 9)/104.75 over the median truth."""
+    stopped = np.zeros(1, dtype=bool)
+    rows = [{"true": 100e3 + 500.0 * i,
+             "data": {DATA_SETS[0]: {"nominal": np.array([100e3]),
+                                     "plans": {"tested": {0.95: (np.array([110e3]), stopped)}},
+                                     "alone": {"tested": {0.95: {"model_error": 9e3, "moduli": 1e3}}}}}}
+            for i in range(20)]
+    lines = decomposition(rows)
+    assert lines[1].startswith("trial 1: P_true/P_nom 1.0050  P_0.95/P_nom 1.1000  z +0.09 (nu None)  alone: "
+                               "model_error +9.000%"), lines[1]  # z = 500 Pa / (9 kPa / 1.6449)
+    assert "least lambda holding 0.95 of the trials: 0.900" in lines[-1], lines[-1]
+    overhead = np.median([109e3 / (100e3 + 500.0 * i) for i in range(20)])
+    assert f"its median overhead {overhead:.4f}" in lines[-1], lines[-1]
+    z = np.array([500.0 * i / (9e3 / 1.6448536269514722) for i in range(20)])
+    assert f"z RMS {np.sqrt(np.mean(z**2)):.3f}" in lines[-1], lines[-1]
