@@ -25,8 +25,8 @@ from pampipe.io.experiment_schema import ExperimentSchema  # noqa: E402
 from pampipe.io.file_units import KEY, SI  # noqa: E402
 from pampipe.io.inventory_file import InventorySchema  # noqa: E402
 from pampipe.io.menu_file import MenuSchema  # noqa: E402
-from pampipe.io.mission_schema import MissionSchema  # noqa: E402
-from pampipe.io.pam_schema import PamSchema  # noqa: E402
+from pampipe.io.mission_model import MissionSchema  # noqa: E402
+from pampipe.io.pam_model import PamSchema  # noqa: E402
 from pampipe.pneumatics.options import GaitSchema  # noqa: E402
 from pampipe.specs.schema import bare_si_schema  # noqa: E402
 

@@ -13,9 +13,11 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.io.field_rules import relative
 from pampipe.io.file_units import read_units
-from pampipe.io.pam_schema import PamSchema, load_pam, resolve_pam
-from pampipe.io.schema_fields import Force, Length, Pressure, relative
+from pampipe.io.pam_model import PamSchema
+from pampipe.io.pam_schema import load_pam, resolve_pam
+from pampipe.io.schema_fields import Force, Length, Pressure
 from pampipe.model.domain import check_kind
 from pampipe.specs.schema import Strict, validate
 

@@ -33,7 +33,8 @@ from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
 from pampipe.io.file_units import read_units
-from pampipe.io.pam_schema import PamSchema, build_pam, load_pam
+from pampipe.io.pam_model import PamSchema
+from pampipe.io.pam_schema import build_pam, load_pam
 from pampipe.specs.inventory import DesignSpace, Inventory, Objective, Pipes
 from pampipe.specs.pipes import bore
 from pampipe.specs.schema import Strict, quantity, validate

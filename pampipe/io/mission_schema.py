@@ -1,123 +1,29 @@
-"""The mission file (docs/formats.md §4): its strict pydantic schema and :func:`load_mission`.
+"""The mission file (docs/formats.md §4): :func:`load_mission`.
 
-The robot's PAM files are read too (:mod:`.pam_schema`), the route is listed or taken from a pipe network
-(:mod:`.routes`), and the measured wall contact of the PAM files is checked to agree where the mission uses
-it.
-Any problem raises :class:`InputError` naming the file, the key, the value and what is allowed.
+A well-formed file is read by its quick check (:data:`pampipe.io.quick_schemas.MISSION`); any other is
+validated by its strict pydantic schema (:mod:`.mission_model`, imported only then), so that a problem
+raises :class:`InputError` naming the file, the key, the value and what is allowed. The robot's PAM files
+are read too (:mod:`.pam_schema`), the route is listed or taken from a pipe network (:mod:`.routes`), and
+the measured wall contact of the PAM files is checked to agree where the mission uses it.
 """
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
-from typing import Annotated, Any, Literal
-
-from pydantic import AfterValidator, Field
 
 from pampipe.errors import InputError
 from pampipe.io.distinct_sections import DistinctSections, distinct_sections
+from pampipe.io.field_rules import relative
 from pampipe.io.file_units import read_units
-from pampipe.io.pam_schema import PamSchema, resolve_pam
+from pampipe.io.pam_schema import resolve_pam
 from pampipe.io.plausible import unit_slips
+from pampipe.io.quick_check import Fallback
+from pampipe.io.quick_schemas import MISSION
 from pampipe.io.routes import elbow_radius, listed_route, network_route
-from pampipe.io.schema_fields import (
-    Friction,
-    Incline,
-    Length,
-    Mass,
-    NonNegativeForce,
-    PositivePressure,
-    RouteLength,
-    relative,
-)
-from pampipe.io.tether_schema import TetherSchema, build_tether
 from pampipe.model.domain import check_kind
 from pampipe.runtime.collector import paused
 from pampipe.specs.mission import Mission, Segment, Steering
-from pampipe.specs.schema import Strict, quantity, validate
-
-
-class SegmentSchema(Strict):
-    name: str = Field(min_length=1)
-    pam: str | PamSchema
-    mass: Mass
-    unit: Literal["tested", "lot"] = "lot"  # which muscle it carries (docs/physics.md §15)
-
-
-def _three_segments(segments: list) -> list:
-    if len(segments) != 3:
-        raise ValueError(f"needs exactly 3 segments (rear to front), got {len(segments)}")
-    return segments
-
-
-class SteeringSchema(Strict):
-    """``robot.steering``: extensile PAMs in parallel at ``radius`` from the axis (docs/physics.md §14.4)."""
-
-    pam: str | PamSchema
-    count: Literal[3] = 3
-    radius: Length
-
-
-class RobotSchema(Strict):
-    segments: Annotated[list[SegmentSchema], AfterValidator(_three_segments)]
-    payload: Mass = 0.0
-    steering: SteeringSchema | None = None
-    joint_angle: quantity("angle", gt=0, le=math.pi, unit="rad") | None = None  # largest joint deflection
-
-
-class BendSchema(Strict):
-    """``bend: {angle, radius, direction}`` at the end of a section (docs/formats.md §4)."""
-
-    angle: quantity("angle", ge=0, le=math.pi, unit="rad",
-                    hint="a bend turns the route by 0 to 180 deg (the angle between the pipes' directions; "
-                         "which way it turns is 'direction')")
-    radius: str | float | int | None = None  # a length or a multiple of the bore, "1.5 D"; None: elbow_radius
-    direction: quantity("angle", ge=-2 * math.pi, le=2 * math.pi, unit="rad") = math.pi
-
-
-class UncertainFriction(Strict):
-    value: Friction
-    sd: quantity("dimensionless", ge=0, le=10) = 0.0
-
-
-#: A section's friction: a number, {value, sd}, or from_pam / absent: the PAM files' measured contact block.
-SectionFriction = Literal["from_pam"] | Friction | UncertainFriction | None
-
-
-class SectionSchema(Strict):
-    name: str = Field(min_length=1)
-    length: RouteLength
-    inner_diameter: Any  # a length or a standard size with a tolerance: read by pampipe.specs.pipes.bore
-    incline: Incline = 0.0
-    friction: SectionFriction = None
-    pipe_material: str | None = Field(None, min_length=1, max_length=100)
-    bend: BendSchema | None = None
-
-
-class NetworkRouteSchema(Strict):
-    """``route: {network, from, to, friction}``: a path through a pipe network (docs/commands.md §7)."""
-
-    network: str = Field(min_length=1)
-    from_node: str | int | None = Field(default=None, alias="from")
-    to_node: str | int | None = Field(default=None, alias="to")
-    friction: SectionFriction = None
-    tolerance: str | float | int | None = None  # of every pipe's bore: a length or a percentage
-    sd: str | float | int | None = None  # standard deviation of every pipe's bore
-    pipe_material: str | None = Field(None, min_length=1, max_length=100)
-
-
-class MissionSchema(Strict):
-    robot: RobotSchema
-    supply_pressure: PositivePressure
-    safety_factor: quantity("dimensionless", ge=1, le=100) | None = None
-    load_path: Literal["through_anchor", "distributed", "none"] | None = None  # None: the PAMs' κ or through
-    tether_drag: NonNegativeForce = 0.0
-    route: Annotated[list[SectionSchema], Field(min_length=1)] | NetworkRouteSchema
-    gait: dict[str, Any] | None = None  # options of `gait`; validated there
-    elbow_radius: str | float | int = "1.5 D"  # default centreline radius of a bend: a length or "k D"
-    bend_model: Literal["rigid", "flexible"] = "rigid"
-    tether: TetherSchema | None = None  # the tether, hose and compressor (pampipe.io.tether_schema)
-
+from pampipe.specs.tether import Compressor, Hose, Tether
 
 #: The safety factor of a mission that gives none, and what the commands say about it.
 DEFAULT_SAFETY_FACTOR = 1.0
@@ -159,7 +65,7 @@ def _load_mission(path: Path, content: dict) -> Mission:
     steering = _steering(path, schema.robot.steering)
     elbow = elbow_radius(path, schema.elbow_radius, "elbow_radius")
     grip = MeasuredGrip(path, segments)
-    if isinstance(schema.route, NetworkRouteSchema):
+    if not isinstance(schema.route, list):  # a path through a network
         route = network_route(path, schema.route, segments, grip.friction, elbow=elbow)
         sections = [("route", schema.route.friction, schema.route.pipe_material)]
     else:
@@ -175,21 +81,29 @@ def _load_mission(path: Path, content: dict) -> Mission:
                    joint_angle=schema.robot.joint_angle, tether=build_tether(schema.tether))
 
 
-def _validated(path: Path, content: dict) -> tuple[MissionSchema, DistinctSections | None]:
-    """The mission's schema and, for a long listed route, where its sections lie among the distinct ones
-    that were validated (:mod:`pampipe.io.distinct_sections`); a problem is found and told by validating the
-    whole file, as for a short route."""
+def _validated(path: Path, content: dict):
+    """The mission validated (a :class:`~pampipe.io.quick_check.Record` of the quick check, or a
+    ``MissionSchema`` of the schema) and, for a long listed route, where its sections lie among the distinct
+    ones that were validated (:mod:`pampipe.io.distinct_sections`); a problem is found and told by
+    validating the whole file with the schema, as for a short route."""
     distinct = distinct_sections(content.get("route")) if isinstance(content, dict) else None
+    shown = content if distinct is None else {**content, "route": distinct.distinct(content["route"])}
+    try:
+        return MISSION(shown), distinct
+    except Fallback:
+        pass
+    from pampipe.io.mission_model import MissionSchema
+    from pampipe.specs.schema import validate
+
     if distinct is not None:
         try:
-            shown = {**content, "route": distinct.distinct(content["route"])}
             return validate(path, MissionSchema, shown), distinct
         except InputError:
             pass  # validated whole below: the message names the section and its place
     return validate(path, MissionSchema, content), None
 
 
-def _sections(route: list[SectionSchema], distinct: DistinctSections | None) -> list[tuple]:
+def _sections(route: list, distinct: DistinctSections | None) -> list[tuple]:
     """(where, friction, pipe material) of the sections whose measured friction may not fit their pipe
     (:meth:`MeasuredGrip.material_warnings`), in travel order: every section of a route given whole; of a
     long one, the places of the distinct sections that name a material and give no friction."""
@@ -203,7 +117,7 @@ def _sections(route: list[SectionSchema], distinct: DistinctSections | None) -> 
             for i, k in enumerate(distinct.index.tolist()) if k in warned]
 
 
-def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:
+def _steering(path: Path, schema) -> Steering | None:
     """The steering module of ``robot.steering``: its PAM must be extensile."""
     if schema is None:
         return None
@@ -214,6 +128,17 @@ def _steering(path: Path, schema: SteeringSchema | None) -> Steering | None:
         raise InputError(f"{path}: {exc}") from None
     return Steering(pam, schema.count, schema.radius,
                     relative(path, schema.pam) if isinstance(schema.pam, str) else None)
+
+
+def build_tether(schema) -> Tether | None:
+    """The SI :class:`Tether` of a validated ``tether:`` block (None stays None)."""
+    if schema is None:
+        return None
+    friction, sd = ((schema.friction.value, schema.friction.sd)
+                    if hasattr(schema.friction, "sd") else (schema.friction, 0.0))
+    hose = None if schema.hose is None else Hose(schema.hose.inner_diameter, schema.hose.roughness)
+    compressor = None if schema.compressor is None else Compressor(schema.compressor.free_air_delivery)
+    return Tether(schema.weight, friction, schema.back_tension, schema.length, sd, hose, compressor)
 
 
 class MeasuredGrip:

@@ -21,9 +21,9 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.io import bundled, yamlwrite
 from pampipe.io.epanet import load_network
+from pampipe.io.field_rules import relative
 from pampipe.io.files import check_not_input
 from pampipe.io.routes import turn_angles, turn_directions_after
-from pampipe.io.schema_fields import relative
 from pampipe.io.yamlfile import load_mapping
 from pampipe.specs.network import Network, Sections, route_sections
 from pampipe.specs.turns import turn_name

@@ -1,21 +1,24 @@
-"""The PAM file (docs/formats.md §2): its strict pydantic schema, the SI :class:`~pampipe.model.pam.Pam` built
-from it, and :func:`load_pam`.
+"""The PAM file (docs/formats.md §2): :func:`load_pam`, and the SI :class:`~pampipe.model.pam.Pam` built from
+its validated content.
 
-Any problem raises :class:`InputError` naming the file, the key, the value and what is allowed.
+A well-formed file is read by its quick check (:data:`pampipe.io.quick_schemas.PAM`); any other is
+validated by its strict pydantic schema (:mod:`.pam_model`, imported only then), so that a problem raises
+:class:`InputError` naming the file, the key, the value and what is allowed.
 """
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from pydantic import Field, model_validator
 
 from pampipe.errors import InputError
+from pampipe.io.field_rules import relative
 from pampipe.io.file_units import read_units
-from pampipe.io.schema_fields import Angle, Coefficient, Length, NonNegativeForce, PositivePressure, relative
+from pampipe.io.quick_check import Fallback, Record
+from pampipe.io.quick_schemas import PAM
 from pampipe.model.domain import check_geometry, check_spread
 from pampipe.model.effects import LIBRARY
 from pampipe.model.pam import TIES, Geometry, Grip, Moduli, Pam
@@ -25,129 +28,23 @@ from pampipe.model.uncertainty import (
     UndeterminedDirection,
     moduli_names,
 )
-from pampipe.specs.schema import Strict, quantity, validate
 from pampipe.units.quantities import to_si
 
-
-class UncertainLength(Strict):
-    """``{value: 57.15 mm, sd: 0.2 mm}``: a length with its standard deviation (a tolerance)."""
-
-    value: Length
-    sd: quantity("length", ge=0, le=10.0, unit="m")
-
-
-class UncertainAngle(Strict):
-    """``{value: 24 deg, sd: 1 deg}``: an angle with its standard deviation."""
-
-    value: Angle
-    sd: quantity("angle", ge=0, lt=math.pi / 2, unit="rad")
-
-
-class GeometrySchema(Strict):
-    initial_length: Length | UncertainLength
-    initial_diameter: Length | UncertainLength
-    braid_angle_from_transverse: Angle | UncertainAngle | None = None
-    braid_angle_from_axis: Angle | UncertainAngle | None = None
-    bladder_thickness: Length | UncertainLength
-    wall: Literal["thick", "thin"] = "thick"
-    fitting_length: quantity("length", ge=0, le=10.0, unit="m") = 0.0  # rigid end fittings, both ends
-
-    @model_validator(mode="after")
-    def _one_angle(self):
-        given = [self.braid_angle_from_transverse is not None, self.braid_angle_from_axis is not None]
-        if sum(given) != 1:
-            raise ValueError("give exactly one of braid_angle_from_transverse (the paper's convention, "
-                             "e.g. '65.92 deg') or braid_angle_from_axis (e.g. '24.08 deg'); "
-                             f"{'both were' if all(given) else 'neither was'} given")
-        return self
+if TYPE_CHECKING:
+    from pampipe.io.pam_model import (
+        GripSchema,
+        ModuliSchema,
+        PamSchema,
+        UncertaintySchema,
+        UndeterminedSchema,
+    )
 
 
 def _value_sd(entry) -> tuple[float, float | None]:
     """(value, sd) of a plain or ``{value, sd}`` geometry entry (sd None when plain)."""
-    if isinstance(entry, UncertainLength | UncertainAngle):
+    if hasattr(entry, "sd"):
         return entry.value, entry.sd
     return entry, None
-
-
-class LawSchema(Strict):
-    a: list[Coefficient] = Field(min_length=1, max_length=8)
-    b: list[Coefficient] = Field(min_length=1, max_length=8)
-
-    @model_validator(mode="after")
-    def _same_length(self):
-        if len(self.a) != len(self.b):
-            raise ValueError(f"'a' has {len(self.a)} coefficients and 'b' has {len(self.b)}; "
-                             "they must have the same length (degree + 1)")
-        return self
-
-
-class ContactSchema(Strict):
-    axial: LawSchema
-    hoop: LawSchema
-
-
-class ModuliSchema(Strict):
-    unit: str = "MPa"
-    reference_pressure: quantity("pressure", ge=1e3, le=1e8, unit="Pa") = 1e6  # P_ref: 1 kPa .. 100 MPa
-    axial: LawSchema
-    hoop: LawSchema
-    contact: ContactSchema | None = None
-
-    @model_validator(mode="after")
-    def _consistent(self):
-        to_si(f"1 {self.unit}", "pressure", where=f"unit {self.unit!r}")
-        sizes = {len(self.axial.a), len(self.hoop.a)}
-        if self.contact is not None:
-            sizes |= {len(self.contact.axial.a), len(self.contact.hoop.a)}
-        if len(sizes) != 1:
-            raise ValueError("axial, hoop (and contact) laws must have the same number of coefficients")
-        return self
-
-
-class UndeterminedSchema(Strict):
-    """One direction the data do not determine (docs/formats.md §2 ``uncertainty.undetermined``)."""
-
-    direction: dict[str, Coefficient] = Field(min_length=1)  # parameter name -> weight, scaled coordinates
-    scale: quantity("dimensionless", gt=0, le=1e12) = 1.0  # the width left open [scaled units]
-    moves: dict[str, Coefficient] = Field(default_factory=dict)  # prediction -> change per scale
-    test: str = ""  # the test that would determine it
-
-
-class UncertaintySchema(Strict):
-    """Joint covariance of ``parameters`` (moduli rows in ``unit``, geometry rows in m or rad)."""
-
-    unit: str = "MPa"
-    parameters: list[str] | None = Field(None, min_length=1, max_length=64)
-    covariance: list[list[Coefficient]]
-    model_error: NonNegativeForce = 0.0
-    model_error_dof: int | None = Field(None, ge=1)  # degrees of freedom of model_error² (identify's blocks)
-    undetermined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
-    prior_determined: list[UndeterminedSchema] = Field(default_factory=list, max_length=64)
-
-
-class MeasuredValue(Strict):
-    value: quantity("dimensionless", ge=0, le=10)
-    sd: quantity("dimensionless", ge=0, le=10) = 0.0
-
-
-class GripSchema(Strict):
-    """The top-level ``contact:`` block: wall friction and load coupling from slip tests (formats.md §2)."""
-
-    friction: MeasuredValue
-    load_coupling: MeasuredValue | None = None
-    pipe_material: str | None = Field(None, min_length=1, max_length=100)
-    tested_pipe_diameters: list[Length] | None = Field(None, max_length=100)
-
-
-class PamSchema(Strict):
-    name: str = Field(min_length=1)
-    geometry: GeometrySchema
-    moduli: ModuliSchema | None = None
-    uncertainty: UncertaintySchema | None = None
-    effects: dict[str, dict[str, Any]] | None = None  # docs/physics.md §9; checked by build_effects
-    contact: GripSchema | None = None  # measured wall friction (moduli.contact: stiffening increments)
-    max_pressure: PositivePressure | None = None  # the maker's rated (gauge) pressure
-    max_contraction: quantity("dimensionless", gt=0, lt=1) | None = None  # largest 1 - L/L0 allowed
 
 
 def build_effects(raw: dict[str, dict[str, Any]] | None) -> dict[str, dict[str, float]] | None:
@@ -302,10 +199,10 @@ def load_pam(path: str | Path, *, raw: dict | None = None) -> Pam:
         return _build(path, content)
 
 
-def resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:
+def resolve_pam(owner: Path, ref: str | PamSchema | Record, key: str) -> Pam:
     """The PAM the file ``owner`` names at ``key``: a PAM file's path (beside ``owner``) or an inline
-    block."""
-    if isinstance(ref, PamSchema):
+    block (validated)."""
+    if not isinstance(ref, str):
         return _build(owner, ref, prefix=key)
     target = relative(owner, ref)
     try:
@@ -314,8 +211,20 @@ def resolve_pam(owner: Path, ref: str | PamSchema, key: str) -> Pam:
         raise InputError(f"{owner}: {key}: {exc}") from None
 
 
+def validated_pam(path: Path, raw) -> PamSchema | Record:
+    """The PAM file ``path``'s content ``raw`` validated: by the quick check if it plainly accepts it, else
+    by the schema (whose message names the problem)."""
+    try:
+        return PAM(raw)
+    except Fallback:
+        from pampipe.io.pam_model import PamSchema
+        from pampipe.specs.schema import validate
+
+        return validate(path, PamSchema, raw)
+
+
 def _build(path: Path, raw, prefix: str = "") -> Pam:
-    schema = raw if isinstance(raw, PamSchema) else validate(path, PamSchema, raw)
+    schema = raw if hasattr(raw, "geometry") else validated_pam(path, raw)  # a mapping has no attributes
     try:
         return build_pam(schema)
     except (InputError, ValueError) as exc:

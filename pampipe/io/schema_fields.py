@@ -1,40 +1,27 @@
-"""What the file schemas share (docs/formats.md §1-§4): the quantity fields with their SI ranges, and where a
-path written in a file points.
+"""What the file schemas share (docs/formats.md §1-§4): the quantity fields with their SI ranges, made of
+the rules of :mod:`.field_rules`.
 
-The PAM (:mod:`.pam_schema`), experiment (:mod:`.experiment_schema`) and mission (:mod:`.mission_schema`)
+The PAM (:mod:`.pam_model`), experiment (:mod:`.experiment_schema`) and mission (:mod:`.mission_model`)
 schemas read their lengths, pressures, forces and angles through these fields.
 """
 
 from __future__ import annotations
 
-import math
-from pathlib import Path
 from typing import Annotated
 
 from pydantic import AfterValidator
 
-from pampipe.specs.schema import quantity
+from pampipe.io import field_rules as rules
+from pampipe.specs.schema import quantity_field
 
-Length = quantity("length", gt=0, le=10.0, unit="m")  # a PAM dimension or a pipe diameter
-RouteLength = quantity("length", gt=0, le=1e7, unit="m")
-Pressure = quantity("pressure", ge=0, le=1e8, unit="Pa")
-PositivePressure = quantity("pressure", gt=0, le=1e8, unit="Pa")
-Force = quantity("force", ge=-1e7, le=1e7, unit="N")
-NonNegativeForce = quantity("force", ge=0, le=1e7, unit="N")
-Mass = quantity("mass", ge=0, le=1e5, unit="kg")
-Angle = quantity("angle", gt=0, lt=math.pi / 2, unit="rad")
-Incline = quantity("angle", ge=-math.pi / 2, le=math.pi / 2, unit="rad")
-Friction = quantity("dimensionless", ge=0, le=10)
-Coefficient = Annotated[float, AfterValidator(lambda v: _finite(v))]
-
-
-def _finite(value: float) -> float:
-    if not math.isfinite(value):
-        raise ValueError(f"{value!r} is not a finite number")
-    return value
-
-
-def relative(owner: Path, ref: str) -> Path:
-    """The path ``ref`` written in the file ``owner``: absolute as given (``~`` expanded), else beside it."""
-    target = Path(ref).expanduser()
-    return target if target.is_absolute() else owner.parent / target
+Length = quantity_field(rules.LENGTH)
+RouteLength = quantity_field(rules.ROUTE_LENGTH)
+Pressure = quantity_field(rules.PRESSURE)
+PositivePressure = quantity_field(rules.POSITIVE_PRESSURE)
+Force = quantity_field(rules.FORCE)
+NonNegativeForce = quantity_field(rules.NON_NEGATIVE_FORCE)
+Mass = quantity_field(rules.MASS)
+Angle = quantity_field(rules.ANGLE)
+Incline = quantity_field(rules.INCLINE)
+Friction = quantity_field(rules.FRICTION)
+Coefficient = Annotated[float, AfterValidator(rules.finite)]

@@ -17,7 +17,9 @@ list entry holding one flow mapping of plain names and values on one line. Such 
 :func:`_flow_lines` (a regular expression and the same 1.2-core resolution), and the parser sees one
 plain placeholder scalar instead of their 12 events; the document is the same. The shortcut is kept
 only if every such line came back as a list entry at its place; otherwise, or on any error, the file
-is parsed again without it, so messages and line/column marks are those of the parser.
+is parsed again without it, so messages and line/column marks are those of the parser. A long route's lines
+differ mostly in their first value (the name): the pairs after a plain first one are read once per distinct
+text (10⁵ sections of ``benchmarks/bench_big_mission.py`` hold 1,260), each line getting its own mappings.
 """
 
 from __future__ import annotations
@@ -74,6 +76,8 @@ _OUTER = rf"{_NAME}: +(?:\{{ *{_PAIR}(?:, *{_PAIR})* *\}}|{_PLAIN})"
 _FLOW_LINE = re.compile(rf"^( *- )\{{ *({_OUTER}(?:, *{_OUTER})*) *\}}(?: +#[^\n]*)?$", re.M)
 _FLOW_PAIR = re.compile(rf"({_NAME}): +(?:\{{([^{{}}]*)\}}|([^,{{}}]*))(?:,|$)")
 _PLAIN_PAIR = re.compile(rf" *({_NAME}): +([^,]*?) *(?:,|$)")
+#: The first pair of a flow line's mapping when its value is plain, and the comma after it.
+_FIRST_PAIR = re.compile(rf" *({_NAME}): +([^,{{}}]*?) *, *")
 #: What the parser reads in place of a flow line's mapping (see the module's docstring).
 _FLOW = "__pampipe_flow_line__"
 
@@ -147,9 +151,10 @@ def _flow_lines(text: str) -> tuple[dict, str]:
     for each line ``- {key: value, ...}`` of plain names and values without a repeated key."""
     flows: dict[tuple[int, int], tuple[dict, int, int]] = {}
     resolved = _Resolved()  # route lines repeat their keys and units
+    rests: dict[str, tuple[dict | None, int]] = {}  # and all but their names
     pieces, done, line = [], 0, 0
     for match in _FLOW_LINE.finditer(text):
-        mapping, nodes = _flow_mapping(match.group(2), resolved)
+        mapping, nodes = _named_flow_mapping(match.group(2), resolved, rests)
         if mapping is None:
             continue
         line += text.count("\n", done, match.start())
@@ -160,6 +165,26 @@ def _flow_lines(text: str) -> tuple[dict, str]:
         return flows, text
     pieces.append(text[done:])
     return flows, "".join(pieces)
+
+
+def _named_flow_mapping(body: str, resolved: _Resolved, rests: dict) -> tuple[dict | None, int]:
+    """:func:`_flow_mapping` of ``body``, its pairs after a plain first one (a section's name) read once per
+    distinct text (``rests``: text → (mapping, nodes)); each line gets its own mappings."""
+    first = _FIRST_PAIR.match(body)
+    if first is None:
+        return _flow_mapping(body, resolved)
+    rest = body[first.end():]
+    parsed = rests.get(rest)
+    if parsed is None:
+        parsed = rests[rest] = _flow_mapping(rest, resolved)
+    mapping, nodes = parsed
+    key = resolved[first.group(1)]
+    if mapping is None or key in mapping:
+        return None, 0
+    if "{" in rest:  # a nested mapping is the line's own
+        return {key: resolved[first.group(2)], **{k: dict(v) if type(v) is dict else v
+                                                  for k, v in mapping.items()}}, nodes + 2
+    return {key: resolved[first.group(2)], **mapping}, nodes + 2
 
 
 def _flow_mapping(body: str, resolved: _Resolved) -> tuple[dict | None, int]:

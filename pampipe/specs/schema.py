@@ -8,8 +8,6 @@ the value, what is allowed, a did-you-mean for misspelt keys, at most :data:`MAX
 
 from __future__ import annotations
 
-import math
-import operator
 import re
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -22,17 +20,11 @@ import pydantic
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from pampipe.errors import InputError
-from pampipe.units.quantities import NUMBER, example, show, to_si
+from pampipe.specs.quantity_rule import QuantityRule
+from pampipe.units.quantities import NUMBER, example, show
 
-#: Distinct quantity strings remembered per schema field (a route of 10⁶ distinct lengths is not kept).
-MAX_CONVERTED = 10_000
 #: Problems listed in one message; the rest are counted.
 MAX_PROBLEMS = 10
-
-
-#: Each kind of bound: (the test a value passes, its words in a message).
-_BOUNDS = {"gt": (operator.gt, "greater than"), "ge": (operator.ge, "at least"),
-           "lt": (operator.lt, "less than"), "le": (operator.le, "at most")}
 
 
 class Strict(BaseModel):
@@ -43,57 +35,14 @@ class Strict(BaseModel):
 
 def quantity(dimension: str, *, gt: float | None = None, ge: float | None = None,
              lt: float | None = None, le: float | None = None, unit: str = "", hint: str = ""):
-    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked.
-
-    A value out of range is answered in the unit it was given ("720 deg must be at most 360 deg", not
-    "12.5664 rad must be at most 6.28319 rad"; :func:`given_unit`), a number without one in ``unit``, the
-    SI unit; ``hint`` follows the message (what the value means)."""
-
-    converted: dict[str, float] = {}  # quantity string -> SI value: a route repeats its "3 in"
-    bounds = [(kind, bound) for kind, bound in (("gt", gt), ("ge", ge), ("lt", lt), ("le", le))
-              if bound is not None]
-
-    def convert(value: Any) -> float:
-        if type(value) is not str:
-            return to_si(value, dimension)
-        number = converted.get(value)
-        if number is None:
-            number = to_si(value, dimension)
-            if len(converted) < MAX_CONVERTED:
-                converted[value] = number
-        return number
-
-    def read(given: Any) -> float:
-        value = convert(given)
-        for kind, bound in bounds:
-            if _BOUNDS[kind][0](value, bound):
-                continue
-            if kind in ("ge", "le") and _within_rounding(value, bound):
-                value = bound
-                continue
-            shown, scale, text = given_unit(given, value, unit)
-            raise ValueError(f"{shown} must be {_BOUNDS[kind][1]} {bound / scale:.6g}{text}"
-                             + (f": {hint}" if hint else ""))
-        return value
-
-    def _within_rounding(value: float, bound: float) -> bool:
-        """An angle one ulp beyond a closed bound is the bound: '100 grad' and '5400 arcmin' are π/2
-        rounded up by the conversion (100·π/200 = 1.5707963267948968 > π/2)."""
-        return dimension == "angle" and abs(value - bound) <= math.ulp(bound)
-
-    return Annotated[float, BeforeValidator(read), QuantityJson(dimension, unit)]
+    """A schema field holding a ``dimension`` quantity, converted to SI and range-checked
+    (:class:`~pampipe.specs.quantity_rule.QuantityRule`)."""
+    return quantity_field(QuantityRule(dimension, gt=gt, ge=ge, lt=lt, le=le, unit=unit, hint=hint))
 
 
-def given_unit(given: Any, value: float, unit: str) -> tuple[str, float, str]:
-    """(the value as given, SI per given unit, " unit") for a message: a quantity string in its own unit
-    ("180.0001 deg", π/180, " deg"), anything else as ``value`` in the SI ``unit`` (scale 1)."""
-    suffix = f" {unit}" if unit else ""
-    if isinstance(given, str):
-        found = re.match(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$", given)
-        number = float(found.group(1)) if found else 0.0
-        if found and found.group(2) and number != 0 and math.isfinite(value) and value != 0:
-            return f"{found.group(1)} {found.group(2)}", value / number, f" {found.group(2)}"
-    return f"{value:.6g}{suffix}", 1.0, suffix
+def quantity_field(rule: QuantityRule):
+    """The schema field of a :class:`~pampipe.specs.quantity_rule.QuantityRule`."""
+    return Annotated[float, BeforeValidator(rule), QuantityJson(rule.dimension, rule.unit)]
 
 
 # ------------------------------------------------------------------------------------- JSON Schema

@@ -2,8 +2,10 @@
 
 The closed-form holding law is one source (:class:`~pampipe.model.muscle.Muscle`) evaluated two ways:
 numerically through :mod:`pampipe.model.ops` without CasADi, and as a CasADi graph for the NLPs and the
-exported code. The two must agree. A mission read before must load from the cache without pydantic or
-CasADi, give the same plan, and be validated again as soon as any file it read changes.
+exported code. The two must agree. A mission read before must load from the cache without reading its
+YAML, give the same plan, and be validated again as soon as any file it read changes; a well-formed new
+mission is validated by the quick check (pampipe.io.quick_schemas) without pydantic, a broken one by the
+schema.
 """
 
 from __future__ import annotations
@@ -60,17 +62,18 @@ def _untimed(stdout: str) -> dict:
 
 
 def _plan_in_fresh_interpreter(mission, cache, cwd=ROOT):
-    """(exit code, stdout, names of casadi/pydantic/scipy modules loaded) of `pampipe plan MISSION --json`
-    (SciPy's import alone costs more than the whole demo plan)."""
-    return in_fresh_interpreter(["plan", str(mission), "--json"], {"casadi", "pydantic", "scipy"}, cache, cwd)
+    """(exit code, stdout, names of casadi/pydantic/scipy/yaml modules loaded) of `pampipe plan MISSION
+    --json` (SciPy's import alone costs more than the whole demo plan; yaml is loaded when a file is read)."""
+    return in_fresh_interpreter(["plan", str(mission), "--json"], {"casadi", "pydantic", "scipy", "yaml"},
+                                cache, cwd)
 
 
-def test_demo_plan_read_before_loads_neither_casadi_nor_pydantic(tmp_path):
+def test_demo_plan_loads_no_casadi_nor_pydantic_and_read_before_no_yaml(tmp_path):
     first = _plan_in_fresh_interpreter(DEMO, tmp_path / "cache")
     second = _plan_in_fresh_interpreter(DEMO, tmp_path / "cache")
     assert first[0] == second[0] == 0
     assert "casadi" not in first[2]  # the closed form needs no CasADi even on the first run
-    assert first[2] == ["pydantic"]  # the first run validates the file
+    assert first[2] == ["yaml"]  # the first run reads and validates the file, without pydantic
     assert second[2] == []
     assert _untimed(second[1]) == _untimed(first[1])
 
@@ -90,24 +93,24 @@ def test_cached_mission_is_validated_again_when_a_file_it_read_changes(tmp_path)
     assert "axial: {a: [1.5," in text
     pam.write_text(text.replace("axial: {a: [1.5,", "axial: {a: [2.5,"))  # a stiffer bladder
     code, edited, loaded = _plan_in_fresh_interpreter(mission, cache)
-    assert code == 0 and loaded == ["pydantic"]
+    assert code == 0 and loaded == ["yaml"]  # read again, well-formed: the quick check validates it
     assert _untimed(edited) != _untimed(before)
     assert _untimed(edited) == _untimed(_plan_in_fresh_interpreter(mission, "off")[1])
     pam.write_text(text.replace("reference_pressure:", "reference_pressure_was:"))
     code, _, loaded = _plan_in_fresh_interpreter(mission, cache)
-    assert code == 2 and loaded == ["pydantic"]
+    assert code == 2 and loaded == ["pydantic", "yaml"]  # broken: the schema tells what is wrong
     pam.write_text(text)
     code, again, loaded = _plan_in_fresh_interpreter(mission, cache)  # one entry per mission: kept anew
-    assert code == 0 and loaded == ["pydantic"] and _untimed(again) == _untimed(before)
+    assert code == 0 and loaded == ["yaml"] and _untimed(again) == _untimed(before)
     code, again, loaded = _plan_in_fresh_interpreter(mission, cache)
     assert code == 0 and loaded == [] and _untimed(again) == _untimed(before)
 
 
 def test_mission_cache_off_validates_every_time(tmp_path):
     code, _, loaded = _plan_in_fresh_interpreter(DEMO, "off")
-    assert code == 0 and loaded == ["pydantic"]
+    assert code == 0 and loaded == ["yaml"]
     code, _, loaded = _plan_in_fresh_interpreter(DEMO, "off")
-    assert loaded == ["pydantic"]
+    assert loaded == ["yaml"]
 
 
 def test_plan_without_json_or_report_exits_0():
@@ -126,4 +129,4 @@ def test_large_mission_files_are_not_kept(tmp_path):
     mission.write_text(DEMO.read_text() + "#" * LARGEST_KEPT + "\n")
     for _ in range(2):
         code, _, loaded = _plan_in_fresh_interpreter(mission, tmp_path / "cache")
-        assert code == 0 and loaded == ["pydantic"]
+        assert code == 0 and loaded == ["yaml"]

@@ -193,3 +193,19 @@ def test_pure_python_parser_reads_flow_lines_alike(monkeypatch):
     expected = loads(FLOW_ROUTE)
     monkeypatch.setattr(yamlfile, "_Parser", yamlfile._PyParser)
     assert loads(FLOW_ROUTE) == expected
+
+
+def test_flow_lines_that_differ_only_in_their_first_value_are_each_their_own():
+    """Lines whose pairs after the first (plain) one are the same text are read once (issue 39); each line
+    still gets its own mappings, its first value resolved on its own, and a repeated key is refused."""
+    text = ("route:\n" + "".join(f"  - {{name: {n}, d: {{nps: 3, schedule: 40}}, f: 0.2}}\n"
+                                 for n in ("s0", "1", "true", "s3"))
+            + "  - {name: s4, name: s5}\n")
+    with pytest.raises(InputError, match="line 6, column 16: duplicate key 'name'"):
+        loads(text)
+    text = text.rsplit("  - {name: s4", 1)[0]
+    route = loads(text)["route"]
+    assert route == _outcome(text, flow_lines=False)["route"]
+    assert [entry["name"] for entry in route] == ["s0", 1, True, "s3"]
+    route[0]["d"]["nps"] = 4  # one section's bore, edited, is not another's
+    assert route[1]["d"] == {"nps": 3, "schedule": 40}
