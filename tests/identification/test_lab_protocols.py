@@ -107,14 +107,15 @@ def test_without_calibration_the_mismatch_is_named(radial_pam, force_map_data):
 def test_no_geometry_verdict_without_a_test_at_the_rest_length(radial_pam, muscle):
     """Ramps only at 0.80-0.93 L₀: the moduli's pressure terms can absorb the braid angle there, so no
     blocked-force verdict is given (none naming a wrong angle), and calibrating says the geometry is
-    not determined instead of reporting a number as if it were."""
+    not determined instead of reporting a number as if it were. Linear moduli (degree 1) suffice: their
+    pressure terms already absorb the angle (the cubic fit gives the same verdict at 2.6× the CPU)."""
     g = radial_pam.geometry
     cols = isometric_ramps(muscle, [0.250, 0.270, 0.290], noise=SIGMA, rng=np.random.default_rng(3))
     data = experiment(radial_pam, [(axial(), cols)], stated=off_by(g, angle_deg=3))
     plain = identify(data, FitOptions(degree=1))
     assert plain.calibration.blocked_force is None
     assert not any("blocked-force" in w for w in plain.warnings)
-    calibrated = identify(data, FitOptions(calibrate=("braid_angle",)))
+    calibrated = identify(data, FitOptions(degree=1, calibrate=("braid_angle",)))
     assert calibrated.calibration.intervals["braid_angle"] is None
     assert any("do not determine the calibrated braid_angle" in w for w in calibrated.warnings)
 
