@@ -186,12 +186,14 @@ def test_contact_increments_are_recovered(radial_pam):
 
 
 def test_nlp_size_does_not_depend_on_the_row_count(radial_pam):
+    """~1.1e3 and ~1.1e5 rows give one NLP (sufficient statistics), built once: linear moduli, since the
+    rows enter through the same statistics at any degree (the cubic fits cost 2.6x the CPU)."""
     small = experiment(radial_pam, Protocol(points_per_leg=15, radial_points=5))  # ~1.1e3 rows
     large = experiment(radial_pam, Protocol(points_per_leg=1500, radial_points=500))  # ~1.1e5 rows
     assert small.points < 2000 and large.points > 100_000
     for objective in ("least_squares", "sum_rmse"):
-        a = identify(small, FitOptions(objective=objective))
-        b = identify(large, FitOptions(objective=objective))
+        a = identify(small, FitOptions(objective=objective, degree=1))
+        b = identify(large, FitOptions(objective=objective, degree=1))
         assert a.provenance["nlp_nodes"] == b.provenance["nlp_nodes"]
         assert a.provenance["parameters"] == b.provenance["parameters"]
         assert a.provenance["constraints"] == b.provenance["constraints"]

@@ -107,27 +107,35 @@ def test_without_calibration_the_mismatch_is_named(radial_pam, force_map_data):
 def test_no_geometry_verdict_without_a_test_at_the_rest_length(radial_pam, muscle):
     """Ramps only at 0.80-0.93 L₀: the moduli's pressure terms can absorb the braid angle there, so no
     blocked-force verdict is given (none naming a wrong angle), and calibrating says the geometry is
-    not determined instead of reporting a number as if it were."""
+    not determined instead of reporting a number as if it were. Linear moduli (degree 1) suffice: their
+    pressure terms already absorb the angle (the cubic fit gives the same verdict at 2.6× the CPU)."""
     g = radial_pam.geometry
     cols = isometric_ramps(muscle, [0.250, 0.270, 0.290], noise=SIGMA, rng=np.random.default_rng(3))
     data = experiment(radial_pam, [(axial(), cols)], stated=off_by(g, angle_deg=3))
     plain = identify(data, FitOptions(degree=1))
     assert plain.calibration.blocked_force is None
     assert not any("blocked-force" in w for w in plain.warnings)
-    calibrated = identify(data, FitOptions(calibrate=("braid_angle",)))
+    calibrated = identify(data, FitOptions(degree=1, calibrate=("braid_angle",)))
     assert calibrated.calibration.intervals["braid_angle"] is None
     assert any("do not determine the calibrated braid_angle" in w for w in calibrated.warnings)
 
 
-@pytest.mark.parametrize(("angle", "length_mm"), [(5.0, 0.0), (-4.0, 1.0), (3.0, -1.0)])
-def test_calibration_from_a_rough_statement_on_isometric_ramps(radial_pam, muscle, angle, length_mm):
+#: (stated angle off [deg], rest length off [mm], degree of the moduli). The cubic fit from 5° off takes 24 s
+#: of CPU (IPOPT meets NaNs on the way), the linear one 2.5 s: by default 5° with linear moduli and the
+#: cubic fit from 4° and 3° (cubic calibration from 15-45° stated: test_a_stated_angle_only_seeds_the_
+#: calibration in tests/commands/test_identify_writes.py); the cubic 5° case is slow.
+ROUGH = [(5.0, 0.0, 1), (-4.0, 1.0, 3), (3.0, -1.0, 3), pytest.param(5.0, 0.0, 3, marks=pytest.mark.slow)]
+
+
+@pytest.mark.parametrize(("angle", "length_mm", "degree"), ROUGH)
+def test_calibration_from_a_rough_statement_on_isometric_ramps(radial_pam, muscle, angle, length_mm, degree):
     """Isometric ramps at four held lengths (3200 rows), braid angle stated up to 5° off: the
     calibrated geometry comes back within 0.2° and 0.2 mm."""
     g = radial_pam.geometry
     cols = isometric_ramps(muscle, [0.250, 0.270, 0.290, g.initial_length], noise=SIGMA,
                            rng=np.random.default_rng(3))
     data = experiment(radial_pam, [(axial(), cols)], stated=off_by(g, angle_deg=angle, length_mm=length_mm))
-    result = identify(data, FitOptions(calibrate=CALIBRATE))
+    result = identify(data, FitOptions(degree=degree, calibrate=CALIBRATE))
     assert abs(math.degrees(result.geometry.braid_angle - g.braid_angle)) < 0.2
     assert abs(result.geometry.initial_length - g.initial_length) < 0.2e-3
     assert _rmse_measured(result, data) < 1.1 * SIGMA  # ~2000 measured rows: 1/sqrt(2n) = 1.6 %

@@ -212,14 +212,15 @@ def test_a_small_systematic_misfit_is_called_structured(radial_pam, muscle):
 
 
 def test_the_report_prints_the_quality_and_the_true_skip_reason(radial_pam, muscle, tmp_path, cli):
+    """One fit: under --json the text report is the one text mode prints (commands/common.py's emit
+    writes the same string to stderr instead of stdout), the document on stdout."""
     cols = lab.short_force_map(muscle, rng=np.random.default_rng(34))
     path = lab.write_lab(tmp_path, Pam(radial_pam.name, lab.off_by(radial_pam.geometry, angle_deg=4)),
                          [(lab.axial("map"), cols, None)])
-    out = cli("identify", path, "--degree", "1")
-    assert out.returncode == 0
-    assert "RMSE / noise floor" in out.stdout and "warning: the fit misses the data" in out.stdout
-    assert "fewer than 3" not in out.stdout and "1.3 % below the rest length" in out.stdout
     out = cli("identify", path, "--degree", "1", "--json")
+    assert out.returncode == 0
+    assert "RMSE / noise floor" in out.stderr and "warning: the fit misses the data" in out.stderr
+    assert "fewer than 3" not in out.stderr and "1.3 % below the rest length" in out.stderr
     quality = json.loads(out.stdout)["fit"]["quality"]
     assert quality["rmse_over_floor"] > 5 and isinstance(quality["structured"], bool)
 

@@ -24,17 +24,15 @@ class Layout:
 
 
 def layout(page: Path, folder: Path, width: int = 1280) -> Layout:
-    """Open ``page`` in headless Chromium at ``width`` px: its scroll width, a screenshot, a PDF print."""
+    """Open ``page`` in headless Chromium at ``width`` px: its scroll width, a screenshot, a PDF print. One
+    launch does all three (on a copy whose title reports the width: the script draws nothing)."""
     measured = folder / f"{page.stem}-measured.html"
     measured.write_text(page.read_text(encoding="utf-8").replace("</body>", MEASURE + "</body>"),
                         encoding="utf-8")
-    window = f"--window-size={width},1600"
-    dom = subprocess.run([CHROMIUM, *FLAGS, window, "--dump-dom", measured.as_uri()],
+    shot, pdf = folder / f"{page.stem}.png", folder / f"{page.stem}.pdf"
+    dom = subprocess.run([CHROMIUM, *FLAGS, f"--window-size={width},1600", "--dump-dom",
+                          f"--screenshot={shot}", "--no-pdf-header-footer", f"--print-to-pdf={pdf}",
+                          measured.as_uri()],
                          capture_output=True, text=True, timeout=180).stdout
     found = re.search(r"scrollWidth=(\d+)", dom)
-    shot, pdf = folder / f"{page.stem}.png", folder / f"{page.stem}.pdf"
-    subprocess.run([CHROMIUM, *FLAGS, window, f"--screenshot={shot}", page.as_uri()],
-                   capture_output=True, text=True, timeout=180)
-    subprocess.run([CHROMIUM, *FLAGS, "--no-pdf-header-footer", f"--print-to-pdf={pdf}", page.as_uri()],
-                   capture_output=True, text=True, timeout=180)
     return Layout(int(found.group(1)) if found else -1, shot, pdf)
