@@ -75,7 +75,9 @@ STALL = {"acceptable_tol": 1e-4, "acceptable_iter": 5, "acceptable_obj_change_to
 #: cold as ``fold``, within 100 more, see selection.cross_validate) and ``trial``. On seed 43509 the
 #: stall stop took the CV of braid_extensibility + prestrain + geometry:initial_length from 241 s of CPU
 #: (three folds at the limits, 100 warm + 500 cold, two of them dropped) to 46 s with the 300-iteration
-#: cold limit; the folds that converged both ways agree to 1e-5 of their objective.
+#: cold limit; the folds that converged both ways agree to 1e-5 of their objective. The five slowest
+#: round-3 pairs, CPU s before -> after (with the cheaper objective; same verdicts, names and tie groups):
+#: 43509 270 -> 114, 43506 265 -> 201, 43518 156 -> 75, 43514 148 -> 113, 43511 115 -> 99 (load 4-13).
 VARIANTS = {"warm": {"max_iter": 100, "warm_start_init_point": "yes", "mu_init": 1e-6,
                      "warm_start_bound_push": 1e-9, "warm_start_bound_frac": 1e-9,
                      "warm_start_slack_bound_push": 1e-9, "warm_start_slack_bound_frac": 1e-9,
