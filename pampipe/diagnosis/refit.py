@@ -16,7 +16,9 @@ own bounds; Drucker stability E₁ᵗ ≥ 0, E₂ᵗ ≥ 0 on a fixed (P, L) gri
 
 Built once per (effects, wall, degree, padded cell counts): a per-cell residual ``casadi.Function``
 (one evaluation for exact cells, the two-point mean of :mod:`.cells` for binned ones) is mapped over
-the cells with ``.map(n)``, so the build does not grow with the data; cell counts are
+the cells with ``.map(n)``, so the build does not grow with the data (the objective, which IPOPT's line
+search evaluates several times per iteration, maps the same residual without its gradient: 11 ms instead of
+19 ms at 1,360 cells, the same values bit for bit); cell counts are
 padded up to a few fixed sizes (zero-weight cells) so that data sets of similar size share a build.
 Every cell value, the weights, the geometry and the grid are NLP parameters; cross-validation only
 changes the weights. Two more solvers of the same NLP are built on first use (:data:`VARIANTS`):
@@ -62,13 +64,25 @@ SMOOTHING = 1.0
 IPOPT_OPTIONS = {"tol": 1e-9, "acceptable_tol": 1e-8, "max_iter": 500, "bound_relax_factor": 1e-8}
 #: Iteration limit of the search's candidate refits.
 TRIAL_ITERATIONS = 300
+#: The stagnation stop of the fold refits: IPOPT's acceptable termination once the objective has moved by
+#: less than 1e-7 of itself (or of 1 N²) in each of 5 iterations in a row, with the scaled KKT error
+#: below 1e-4. A fold in a flat valley (two effects' columns nearly collinear) otherwise crawls along it
+#: to the iteration limit with 7-8 line-search evaluations per iteration; what it predicts for its
+#: held-out cells has stopped changing (cross-validation compares RMSEs to :data:`.search.CV_MARGIN`).
+STALL = {"acceptable_tol": 1e-4, "acceptable_iter": 5, "acceptable_obj_change_tol": 1e-7}
 #: Options of the other solvers of each NLP over IPOPT_OPTIONS: ``warm`` (a fold refit from the full
 #: fit's primal-dual solution; a fold that has not converged within 100 iterations is solved again
-#: cold, see selection.cross_validate) and ``trial``.
+#: cold as ``fold``, within 100 more, see selection.cross_validate) and ``trial``. On seed 43509 the
+#: stall stop took the CV of braid_extensibility + prestrain + geometry:initial_length from 241 s of CPU
+#: (three folds at the limits, 100 warm + 500 cold, two of them dropped) to 46 s with the 300-iteration
+#: cold limit; the folds that converged both ways agree to 1e-5 of their objective. The five slowest
+#: round-3 pairs, CPU s before -> after (with the cheaper objective; same verdicts, names and tie groups):
+#: 43509 270 -> 114, 43506 265 -> 201, 43518 156 -> 75, 43514 148 -> 113, 43511 115 -> 99 (load 4-13).
 VARIANTS = {"warm": {"max_iter": 100, "warm_start_init_point": "yes", "mu_init": 1e-6,
                      "warm_start_bound_push": 1e-9, "warm_start_bound_frac": 1e-9,
                      "warm_start_slack_bound_push": 1e-9, "warm_start_slack_bound_frac": 1e-9,
-                     "warm_start_mult_bound_push": 1e-9},
+                     "warm_start_mult_bound_push": 1e-9, **STALL},
+            "fold": {"max_iter": 100, **STALL},
             "trial": {"max_iter": TRIAL_ITERATIONS}}
 
 
@@ -193,7 +207,7 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     p_expr = ca.vertcat(g_fit, pref, xs[:n_theta] * MPA, xs[n_theta:n_theta + n_library] * scales)
     inputs = [row, xs, g, pref, smooth]
     shift = ca.vertcat(row[5], row[6], ca.DM.zeros(ROWS - 2, 1))
-    cell_functions = []
+    cell_functions, value_functions = [], []
     for kind, binned in BLOCKS:
         model = models[kind]
         if binned:  # two-point (unscented) mean over the cell's spread
@@ -201,22 +215,25 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
         else:
             value = model(row, p_expr, smooth)
         cell_functions.append(ca.Function(f"{kind}_cell", inputs, [value - row[3], ca.gradient(value, xs)]))
+        value_functions.append(ca.Function(f"{kind}_value", inputs, [value - row[3]]))
 
     nx = n_theta + len(params)
     x = ca.MX.sym("x", nx)
     blocks = [ca.MX.sym(f"block{b}", ROWS, n) for b, n in enumerate(sizes)]
     g_p, pref_p, smooth_p = ca.MX.sym("g", 4), ca.MX.sym("pref"), ca.MX.sym("smooth")
     grid_p, grid_l = ca.MX.sym("grid_p", GRID[0] * GRID[1]), ca.MX.sym("grid_l", GRID[0] * GRID[1])
-    res_parts, jac_parts, w_parts = [], [], []
-    for fun, block, n in zip(cell_functions, blocks, sizes, strict=True):
+    res_parts, value_parts, jac_parts, w_parts = [], [], [], []
+    for fun, value_fun, block, n in zip(cell_functions, value_functions, blocks, sizes, strict=True):
         if n:
             r, j = fun.map(n)(block, x, g_p, pref_p, smooth_p)
             res_parts.append(r)
+            value_parts.append(value_fun.map(n)(block, x, g_p, pref_p, smooth_p))
             jac_parts.append(j)
             w_parts.append(block[4, :])
     res, jac_t, w = ca.horzcat(*res_parts), ca.horzcat(*jac_parts), ca.horzcat(*w_parts)  # 1×n, nx×n
+    res_value = ca.horzcat(*value_parts)  # the same residuals without their gradient (objective, line search)
     total = ca.sum2(w)
-    objective = ca.sum2(w * res**2) / total
+    objective = ca.sum2(w * res_value**2) / total
     g_x = ca.vertcat(*_geometry(g_p, x, effects, n_theta))
     drucker = _drucker_function(wall, degree).map(GRID[0] * GRID[1])(grid_p.T, grid_l.T, x[:n_theta],
                                                                      g_x, pref_p)
@@ -228,11 +245,11 @@ def build_problem(effects: tuple[str, ...], wall: str, degree: int, sizes: tuple
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", constraints.shape[0])
     hessian = ca.Function("hess_lag", [x, p, lam_f, lam_g],
                           [ca.triu(lam_f * 2 * ca.mtimes(weighted_jac, jac_t.T) / total)])
-    grad_f = ca.Function("grad_f", [x, p], [objective, gradient])
+    grad_f = ca.Function("grad_f", [x, p], [ca.sum2(w * res**2) / total, gradient])
     nlp = {"x": x, "p": p, "f": objective, "g": constraints}
     label = "_".join(effects).replace(":", "_") or "baseline"
     solver = nlpsol(f"refit_{label}", nlp, ipopt=IPOPT_OPTIONS, hess_lag=hessian, grad_f=grad_f)
-    residuals = ca.Function("residuals", [x, p], [res.T])
+    residuals = ca.Function("residuals", [x, p], [res_value.T])
     jacobian = ca.Function("jacobian", [x, p], [(jac_t * ca.repmat(ca.sqrt(w), nx, 1)).T])
 
     @cache
@@ -364,12 +381,13 @@ class Refitter:
 
     def fit(self, effects, theta0: np.ndarray, *, known: dict[str, np.ndarray] | None = None,
             weight: np.ndarray | None = None, jacobian: bool = False, warm: Fit | None = None,
-            trial: bool = False) -> Fit:
+            trial: bool = False, fold: bool = False) -> Fit:
         """Solve from θ₀ (MPa) and η₀ (``known`` or null); raise SolverError on failure.
 
         ``weight`` replaces the cell counts as weights (cross-validation: 0 for held-out cells);
         ``warm``, a solved fit of the same effects, is the primal-dual start of a warm-started solve
-        (θ₀ and ``known`` are then not used); ``trial`` stops at :data:`TRIAL_ITERATIONS`.
+        (θ₀ and ``known`` are then not used); ``trial`` stops at :data:`TRIAL_ITERATIONS`; ``fold`` (a cold
+        fold refit) at 100 iterations or when the objective stalls (:data:`STALL`).
         """
         effects = canonical(effects)
         started = time.perf_counter()
@@ -379,7 +397,7 @@ class Refitter:
         p = self.parameters(blocks)
         label = " + ".join(effects) or "baseline"
         start = {"x0": np.clip(self.start(effects, theta0, known), low, high)}
-        solver = problem.variant("trial") if trial else problem.solver
+        solver = problem.variant("fold") if fold else problem.variant("trial") if trial else problem.solver
         if warm is not None and warm.multipliers is not None and warm.effects == effects:
             start = {"x0": warm.x, "lam_x0": warm.multipliers[0], "lam_g0": warm.multipliers[1]}
             solver = problem.variant("warm")

@@ -99,11 +99,17 @@ class Search:
         self.cache: dict[tuple[str, ...], Model] = {}
         self.cv_values: dict[tuple[str, ...], float] = {}
         self.refit_times: list[float] = []  # [s] of every refit solved, for the progress estimate
+        self.cv_times: list[float] = []  # [s] of every cross-validation, for the progress estimate
 
     def cv(self, model: Model) -> float:
-        """The model's cross-validated RMSE [N], computed once (only when a decision needs it)."""
+        """The model's cross-validated RMSE [N], computed once (only when a decision needs it); the progress
+        says which model is cross-validated and its time at the mean cross-validation so far."""
         if model.effects not in self.cv_values:
+            eta = f", about {np.mean(self.cv_times):.0f} s at the mean so far" if self.cv_times else ""
+            self.say(f"cross-validating {' + '.join(model.effects) or 'baseline'} (fold refits{eta})")
+            started = time.perf_counter()
             self.cv_values[model.effects] = self._cv(model.fit)
+            self.cv_times.append(time.perf_counter() - started)
         return self.cv_values[model.effects]
 
     def with_cv(self, model: Model) -> Model:

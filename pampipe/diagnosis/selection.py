@@ -6,7 +6,8 @@
   are ranked, cut into 2K bands and fold = band mod K (with stepped pressures a band is a pressure
   level; a ramp is cut by pressure all the same). Each fold is refitted without its cells (weights
   0, same NLP) from the full fit (warm-started from its primal-dual solution; solved again from its
-  point with a cold barrier when the warm start does not converge), and predicts them:
+  point with a cold barrier when the warm start does not converge; both stop when the objective stalls,
+  :data:`.refit.STALL`), and predicts them:
   cv_rmse = √(Σ held-out (n r̄² + SS_within) / (rows − m)).
 * Intervals: Gauss-Newton covariance σ̂²(JᵀJ)⁻¹ of all fitted parameters jointly at the fit,
   σ̂² = SSE/(n − k − m), m the within-cell line coefficients of binned cells (:mod:`.cells`);
@@ -53,7 +54,7 @@ def cross_validate(refitter: Refitter, full: Fit, *, k: int = FOLDS) -> float:
             fit = refitter.fit(full.effects, full.theta, known=known, weight=weight, warm=full)
         except SolverError:
             try:
-                fit = refitter.fit(full.effects, full.theta, known=known, weight=weight)
+                fit = refitter.fit(full.effects, full.theta, known=known, weight=weight, fold=True)
             except SolverError:
                 continue
         total += float(np.sum(cells.count[held] * fit.residual[held] ** 2) + np.sum(cells.within_ss[held]))
