@@ -52,7 +52,7 @@ ALSO_RUN = {
         "tests/commands/test_design.py::test_riser_json_has_the_interface_keys_and_writes_the_pam",
     ("README.md", "pampipe identify problems/experiments/paper-protocol.yaml -o out/fit.yaml --plots"):
         "docs/workflows.md:35",
-    ("README.md", "pampipe simulate out/fit.yaml"): "docs/workflows.md:69",
+    ("README.md", "pampipe simulate out/fit.yaml"): "docs/workflows.md:70",
     ("README.md", "pampipe rehearse problems/missions/tethered-climb.yaml --plots"):
         "tests/rehearsal/test_rehearse.py::test_the_tethered_mission_reports_the_tensions_and_its_plots",
     ("README.md", "pampipe diagnose problems/experiments/hidden-contact-stiffening.yaml --plots"):
