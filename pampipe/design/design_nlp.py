@@ -139,7 +139,7 @@ def build(structure: Structure, objective: Objective, size: int) -> tuple[ca.Fun
         f = glob[GLOBALS.index("speed_norm")] * ca.sum2(speed)
     problem = {"x": x, "p": p, "f": f, "g": g}
     # the starts may leave the model's domain (NaN); IPOPT then backs off, and CasADi need not warn
-    solver = nlp.nlpsol(f"design_{objective.value}", problem, ipopt=IPOPT_OPTIONS, show_eval_warnings=False)
+    solver = nlp.nlpsol(f"design_{objective.value}", problem, ipopt=IPOPT_OPTIONS)
     return solver, ca.Function("design_fg", [x, p], [f, g])
 
 

@@ -64,9 +64,12 @@ class SolverStats:
 
 def nlpsol(name: str, problem: dict, *, ipopt: dict | None = None, **options) -> ca.Function:
     """An IPOPT solver for ``problem`` ({x, p, f, g}) with the defaults, ``ipopt`` overrides and
-    CasADi ``options`` (e.g. ``hess_lag``)."""
+    CasADi ``options`` (e.g. ``hess_lag``). CasADi's per-evaluation "NaN detected" warnings are off: IPOPT
+    answers a NaN by cutting its step back, and a solve that cannot go on ends in a status that
+    :func:`solve` names (a calibration from a far-off angle printed thousands of such lines)."""
     return ca.nlpsol(name, "ipopt", problem,
-                     {"print_time": False, **options, "ipopt": {**IPOPT_DEFAULTS, **(ipopt or {})}})
+                     {"print_time": False, "show_eval_warnings": False, **options,
+                      "ipopt": {**IPOPT_DEFAULTS, **(ipopt or {})}})
 
 
 def solve(solver: ca.Function, *, what: str, accept_acceptable: bool = False,

@@ -70,3 +70,12 @@ def test_the_same_problem_without_the_nan_region_solves():
 
 def test_ipopt_checks_derivatives_for_nan_and_inf():
     assert ipopt.IPOPT_DEFAULTS["check_derivatives_for_naninf"] == "yes"
+
+
+def test_nan_evaluations_on_the_way_print_no_casadi_warnings(capfd):
+    """√x from x₀ = −1: every evaluation there is NaN; the solve fails by its status, named, without CasADi's
+    per-evaluation "NaN detected" lines (a far-off calibration printed thousands)."""
+    with pytest.raises(SolverError):
+        ipopt.solve(_solver(lambda x: ca.sqrt(x) + (x - 2) ** 2), what="toy", x0=-1.0)
+    printed = capfd.readouterr()
+    assert "NaN detected" not in printed.out + printed.err
