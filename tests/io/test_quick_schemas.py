@@ -161,3 +161,50 @@ def test_a_well_formed_mission_loads_without_pydantic():
             f"m = load_mission({str(demo)!r}); print(len(m.route), 'pydantic' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["2", "False"]
+
+
+def _shapes(check, found: dict) -> dict:
+    """Every quick-check Shape reachable from ``check`` (its fields' checks, the closures they are made of
+    and the module names a plain function reads), by kind."""
+    from pampipe.io.quick_check import Shape
+
+    if isinstance(check, Shape):
+        if check.kind in found:
+            return found
+        found[check.kind] = check
+        for inner, _ in check.fields.values():
+            _shapes(inner, found)
+    inners = [cell.cell_contents for cell in getattr(check, "__closure__", None) or ()]
+    code = getattr(check, "__code__", None)
+    if code is not None:
+        inners += [check.__globals__[name] for name in code.co_names if name in check.__globals__]
+    for inner in inners:
+        for each in inner if isinstance(inner, tuple | list) else (inner,):
+            if callable(each) and not isinstance(each, type):
+                _shapes(each, found)
+    return found
+
+
+def test_every_quick_shape_mirrors_its_schema_class_field_for_field():
+    """A field added to (or a default changed in) a schema class without its mirror fails here, before any
+    file exercises it: the same field names, aliases and defaults, class by class."""
+    from pydantic_core import PydanticUndefined
+
+    from pampipe.io import mission_model, pam_model, tether_schema
+    from pampipe.io.quick_check import REQUIRED
+
+    classes = {name: cls for module in (mission_model, pam_model, tether_schema)
+               for name, cls in vars(module).items()
+               if isinstance(cls, type) and issubclass(cls, pydantic.BaseModel)}
+    shapes = {**_shapes(MISSION, {}), **_shapes(PAM, {})}
+    assert {"MissionSchema", "PamSchema", "SectionSchema", "TetherSchema", "HoseSchema"} <= set(shapes)
+    for kind, shape in shapes.items():
+        fields = classes[kind].model_fields
+        assert set(shape.fields) == set(fields), kind
+        for name, (_, default) in shape.fields.items():
+            want = fields[name].get_default(call_default_factory=True)
+            assert (default is REQUIRED) == (want is PydanticUndefined), (kind, name)
+            if default is not REQUIRED:
+                assert repr(default) == repr(want), (kind, name)
+            alias = next(key for key, field in shape.keys.items() if field == name)
+            assert alias == (fields[name].alias or name), (kind, name)
