@@ -65,8 +65,7 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
             found = exact.resolved(nlp, values, x, lbx, ubx, centred)
             if found is not None:
                 x, solution = found, {"x": found, "f": _objective(nlp, values, found)}
-                last = (solution, last[1] if last else _no_solve(), {k: np.array(v, copy=True)
-                                                                     for k, v in values.items()})
+                last = (solution, last[1] if last else _no_solve(), _kept(values))
                 if not update(x, seen):
                     break
                 continue
@@ -84,15 +83,18 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
             if round_ == 0:
                 raise
             values.update(last[2])  # a refinement failed: keep the previous solve and its data
-            solution, info = last[0], last[1]
             break
-        last = (solution, info, {k: np.array(v, copy=True) for k, v in values.items()})
+        last = (solution, info, _kept(values))
         if exact_rounds and exact.applies(structure):
             centred = np.asarray(nlp.hessian(x, nlp.layout.pack(values)), dtype=float)
         if not update(x, seen):
             break
-    info = last[1]
-    return last[0], replace(info, iterations=iterations, wall_time=wall)
+    return last[0], replace(last[1], iterations=iterations, wall_time=wall)
+
+
+def _kept(values: dict) -> dict:
+    """A copy of the problem's parameter values, to restore if a later round fails."""
+    return {k: np.array(v, copy=True) for k, v in values.items()}
 
 
 def _objective(nlp, values, x) -> float:
