@@ -22,24 +22,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
-#: Directions ψ sampled on [0, θ/2] before the golden-section refinement of the least chord.
-DIRECTIONS = 181
-
 
 @dataclass(frozen=True)
 class Passage:
     """The longest rigid cylinder of one diameter that passes one bend, and where it binds.
 
-    ``longest`` [m] is L* (0 when the cylinder is not narrower than the bore); ``direction`` [rad] the axis
-    direction ψ* of the binding position, from the bend's middle (0: the symmetric mid-bend chord; ±θ/2:
-    aligned with the inlet or outlet); ``where`` says it in words: ``"mid-bend, ends on the arc"``,
-    ``"mid-bend, ends in the straight pipes"``, ``"entry/exit"`` (or ``"bore"``: it does not fit the pipe).
+    ``longest`` [m] is L* (0 when the cylinder is not narrower than the bore); it binds in the symmetric
+    mid-bend position (axis direction ψ = 0), and ``where`` says where its ends lie:
+    ``"mid-bend, ends on the arc"`` or ``"mid-bend, ends in the straight pipes"`` (or ``"bore"``: it does not
+    fit the pipe; ``"straight"``: no bend).
     """
 
     longest: float  # [m]
-    direction: float  # [rad]
     where: str
 
 
@@ -80,47 +74,30 @@ def chord(direction: float, *, bore: float, radius: float, angle: float, diamete
 
 
 def rigid_passage(*, bore: float, radius: float, angle: float, diameter: float) -> Passage:
-    """L* = min over ψ ∈ [0, θ/2] of :func:`chord` (symmetric in ψ), by a scan and golden-section refinement.
+    """L* = min over ψ of :func:`chord` = chord(0) = 2·E(R_i + d, θ/2) [m] (docs/physics.md §14.2).
 
-    ``bore`` D [m], ``radius`` R [m] of the centreline (R ≥ D/2), ``angle`` θ [rad] in (0, π], ``diameter``
-    d [m] of the cylinder. A straight run (θ = 0) passes any length.
+    E(h, δ) = √(R_o² − h²) if atan(√(R_o² − h²)/h) ≤ δ (the end on the arc), else (R_o − h cos δ)/sin δ
+    (in the straight pipe): chord(ψ) = E(h, θ/2 − ψ) + E(h, θ/2 + ψ) with h = R_i + d (the outer side
+    binds: E falls with h), and E is convex and non-increasing in δ, so the symmetric direction ψ = 0
+    binds. ``bore`` D [m],
+    ``radius`` R [m] of the centreline (R ≥ D/2), ``angle`` θ [rad] in (0, π], ``diameter`` d [m] of the
+    cylinder. A straight run (θ = 0) passes any length.
     """
     if diameter >= bore:
-        return Passage(0.0, 0.0, "bore")
+        return Passage(0.0, "bore")
     if angle <= 0.0:
-        return Passage(math.inf, 0.0, "straight")
-
-    def length(psi: float) -> float:
-        return chord(psi, bore=bore, radius=radius, angle=angle, diameter=diameter)
-
-    grid = np.linspace(0.0, angle / 2, DIRECTIONS)
-    values = np.array([length(psi) for psi in grid])
-    k = int(np.argmin(values))
-    low, high = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-    ratio = (math.sqrt(5) - 1) / 2
-    for _ in range(60):
-        m1, m2 = high - ratio * (high - low), low + ratio * (high - low)
-        if length(m1) <= length(m2):
-            high = m2
-        else:
-            low = m1
-    best = 0.5 * (low + high)
-    longest = min(length(best), float(values[k]))
-    psi = best if length(best) <= values[k] else float(grid[k])
-    if _on_arc(longest, bore, radius, diameter):
-        where = "mid-bend, ends on the arc"
-    elif psi <= 1e-3 * angle:
-        where = "mid-bend, ends in the straight pipes"
-    else:
-        where = "entry/exit"
-    return Passage(longest, psi, where)
+        return Passage(math.inf, "straight")
+    a = bore / 2
+    h, outer = radius - a + diameter, radius + a
+    longest = 2 * _end(h, outer, angle / 2)
+    where = ("mid-bend, ends on the arc" if _on_arc(longest, bore, radius, diameter)
+             else "mid-bend, ends in the straight pipes")
+    return Passage(longest, where)
 
 
 def _on_arc(longest: float, bore: float, radius: float, diameter: float) -> bool:
     """True where L* is the classical both-ends-on-the-arc chord 2√(R_o² − (R_i + d)²)."""
-    a = bore / 2
-    h = radius - a + diameter
-    classical = 2 * math.sqrt(max((radius + a) ** 2 - h * h, 0.0))
+    classical = classical_chord(bore=bore, radius=radius, diameter=diameter)
     return abs(longest - classical) <= 1e-9 * max(classical, 1e-3)
 
 

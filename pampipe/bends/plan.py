@@ -49,7 +49,6 @@ class SegmentPassage:
     passable: bool
     flexible: bool = False  # passes only bent (bend_model: flexible, too long to pass rigid)
     least_bend_radius: float = math.nan  # [m]
-    direction: float = 0.0  # [rad] axis direction ψ of the binding position, from the bend's middle
     passes_bent: bool = False  # its least bend radius fits the bend (§14.3), whatever the bend_model
 
     @property
@@ -105,11 +104,11 @@ class BendPlan:
 
     @property
     def binding_chord(self) -> tuple[float, float]:
-        """(τ_back, τ_front) [m]: where the limiting segment may lie along its binding direction ψ*, from
-        the inner wall's tangent point (:func:`pampipe.bends.geometry.chord_interval`)."""
+        """(τ_back, τ_front) [m]: where the limiting segment may lie in its binding, symmetric mid-bend
+        position (ψ = 0), from the inner wall's tangent point
+        (:func:`pampipe.bends.geometry.chord_interval`)."""
         s = self.limiting
-        return chord_interval(s.direction, bore=self.bore, radius=self.radius, angle=self.angle,
-                              diameter=s.diameter)
+        return chord_interval(0.0, bore=self.bore, radius=self.radius, angle=self.angle, diameter=s.diameter)
 
     def reason(self) -> str | None:
         """Why the robot cannot pass (None if it can): the bend, the segment, by how much, what would pass."""
@@ -261,4 +260,4 @@ def _segment(seg, bore: float, radius: float, angle: float, model: str) -> Segme
     rigid = passage.longest >= length
     only_bent = model == "flexible" and not rigid and bent
     return SegmentPassage(seg.name, length, g.initial_diameter, passage.longest, passage.where,
-                          rigid or only_bent, only_bent, least, passage.direction, bent)
+                          rigid or only_bent, only_bent, least, bent)

@@ -30,7 +30,6 @@ def tightest_bend(plan, folder: Path) -> Path | None:
     for offset in (-a, a, 0.0):  # the walls, and the centreline dash-dotted
         ax.plot(*_wall(radius + offset, theta, straight), color="k" if offset else "0.6",
                 lw=1.5 if offset else 0.8, ls="-" if offset else "-.")
-    psi = s.direction
     back, front = bend.binding_chord
     middle = 0.5 * (back + front)
     too_long = s.length > s.longest
@@ -40,7 +39,7 @@ def tightest_bend(plan, folder: Path) -> Path | None:
              + (" (too long)" if too_long else "")),
             (s.longest, {"fill": False, "ls": "--", "color": "k"},
              f"longest that passes: {s.longest * 1e3:.4g} mm")):
-        corners = _rectangle(radius - a, psi, middle, length, s.diameter)
+        corners = _rectangle(radius - a, middle, length, s.diameter)
         ax.fill(*corners.T, label=label, **({"lw": 1.2} | style))
     ax.set_aspect("equal")
     ax.set(xlabel="x from the elbow's centre of curvature [m]",
@@ -64,10 +63,10 @@ def _wall(r: float, theta: float, straight: float) -> np.ndarray:
     return np.concatenate([inlet, arc, outlet], axis=1)
 
 
-def _rectangle(inner: float, psi: float, middle: float, length: float, width: float) -> np.ndarray:
-    """Corners of the L × d rectangle whose inner side lies on p·e(ψ) = R_i, centred at τ = ``middle``."""
-    e = np.array([math.cos(psi), math.sin(psi)])
-    t = np.array([-math.sin(psi), math.cos(psi)])
+def _rectangle(inner: float, middle: float, length: float, width: float) -> np.ndarray:
+    """Corners of the L × d rectangle in the binding mid-bend position (ψ = 0): its inner side on x = R_i,
+    centred at y = ``middle``."""
+    e, t = np.array([1.0, 0.0]), np.array([0.0, 1.0])
     base = inner * e + middle * t
     half = 0.5 * length * t
     return np.array([base - half, base + half, base + half + width * e, base - half + width * e])
