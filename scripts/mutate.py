@@ -63,7 +63,7 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/slip/law.py": ("tests/slip/test_law.py", "tests/slip/test_slip.py::test_friction_law_check"),
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
     "pampipe/planning/tension.py": ("tests/planning/test_tension.py", "tests/planning/test_tether.py"),
-    "pampipe/planning/reach.py": ("tests/planning/test_tether.py",),
+    "pampipe/planning/reach.py": ("tests/planning/test_reach.py", "tests/planning/test_tether.py"),
 }
 
 SWAPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,
