@@ -5,6 +5,12 @@ Protocol (the paper's Sections 3-4, as far as the text describes it):
 * **axial test:** at each pressure 69…689 kPa (10 psi steps) the muscle is cycled ``cycles`` times
   between its blocked length L₀ and its free-contraction length L_free(P): a shortening leg
   L₀ → L_free then a lengthening leg L_free → L₀, ``points_per_leg`` samples each, linear in L;
+* **held-length axial test** (``held_lengths`` N > 0, a force map instead of the sweep): the length is
+  held at N values L_j = L₀ − (j/N)(L₀ − L_free(P_max)), j = 0 … N − 1, spread over the tested
+  contraction range; at each the pressure is ramped ``cycles`` times up from P*_j to the protocol's
+  highest pressure P_max and down again, ``points_per_leg`` samples per leg, linear in P. P*_j is the
+  least of 101 pressures evenly spaced over the protocol's range at which the muscle is taut at L_j
+  (L_free(P) ≤ L_j, so F ≥ 0: a force map records tension only); 2·N·cycles·points_per_leg rows;
 * **radial tests:** the muscle is inflated inside split pipes of 76.2 mm and 88.9 mm, without and
   with a 1024.74 N hanging axial load; at each pressure level (0 and 69…689 kPa)
   ``radial_points`` samples of the split-pipe force are recorded (zero below anchoring).
@@ -37,6 +43,7 @@ class Protocol:
     """What to generate (SI). The defaults give 3000 axial and 1760 radial rows."""
 
     pressures: tuple[float, ...] = PAPER_PRESSURES  # axial levels [Pa]
+    held_lengths: int = 0  # N > 0: hold the length at N values, ramp the pressure (a force map); 0: sweep
     cycles: int = 3
     points_per_leg: int = 50
     pipes: tuple[float, ...] = PAPER_PIPES  # [m]
@@ -81,6 +88,8 @@ def synthetic_tests(pam: Pam, protocol: Protocol, *, seed: int, slip: SlipProtoc
 
 
 def _axial(muscle: Muscle, protocol: Protocol, rng) -> dict[str, np.ndarray]:
+    if protocol.held_lengths > 0:
+        return _held(muscle, protocol, rng)
     geometry = muscle.geometry
     levels = np.asarray(protocol.pressures, dtype=float)
     shortest = muscle.free_length(levels)
@@ -95,6 +104,31 @@ def _axial(muscle: Muscle, protocol: Protocol, rng) -> dict[str, np.ndarray]:
     pressure, length = np.concatenate(parts_p), np.concatenate(parts_l)
     leg = np.tile(np.repeat([-1.0, 1.0], m), protocol.cycles * levels.size)
     force = np.asarray(muscle.axial_force(pressure, length, leg=leg), dtype=float)
+    return _noisy(pressure, force, length, protocol, rng)
+
+
+#: Pressures over the protocol's range searched for the least one at which a held length is taut.
+TAUT_GRID = 101
+
+
+def _held(muscle: Muscle, protocol: Protocol, rng) -> dict[str, np.ndarray]:
+    """The held-length (isometric) axial test of the module docstring."""
+    low, high = min(protocol.pressures), max(protocol.pressures)
+    grid = np.linspace(low, high, TAUT_GRID)
+    free = muscle.free_length(grid)  # decreasing in P
+    initial = muscle.geometry.initial_length
+    m = protocol.points_per_leg
+    parts_p, parts_l, parts_leg = [], [], []
+    for j in range(protocol.held_lengths):
+        held = initial - j / protocol.held_lengths * (initial - free[-1])
+        start = grid[np.argmax(free <= held * (1 + 1e-12))]  # the least grid pressure with L_free ≤ L_j
+        up = np.linspace(start, high, m, endpoint=False)
+        down = np.linspace(high, start, m, endpoint=False)
+        parts_p.append(np.tile(np.concatenate([up, down]), protocol.cycles))
+        parts_l.append(np.full(parts_p[-1].size, held))
+        parts_leg.append(np.tile(np.repeat([1.0, -1.0], m), protocol.cycles))
+    pressure, length, rate = (np.concatenate(x) for x in (parts_p, parts_l, parts_leg))
+    force = np.asarray(muscle.axial_force(pressure, length, pressure_leg=rate), dtype=float)
     return _noisy(pressure, force, length, protocol, rng)
 
 
