@@ -125,3 +125,19 @@ def test_a_held_length_protocol_is_a_force_map_of_the_closed_form(radial_pam):
     data = make_test_data(spec, axial)
     assert data.protocol == "isometric"
     assert np.unique(held_length_paths(axial["length"])).size == 6
+
+
+def test_synth_held_lengths_cli(tmp_path, capsys):
+    """`synth --held-lengths N` writes the force map (N held lengths, 2 × points × cycles rows each) that
+    identify reads as an isometric test; more lengths than identify reads as held ones exit 2."""
+    args = ["synth", str(tmp_path), "--held-lengths", "5", "--points-per-leg", "6", "--cycles", "1"]
+    assert main(args) == 0
+    data = load_experiment_data(load_experiment(tmp_path / "experiment.yaml"))
+    axial = next(t for t in data.tests if t.kind == "axial")
+    assert axial.points == 5 * 2 * 6 and axial.protocol == "isometric"
+    assert np.unique(np.round(axial.length, 5)).size == 5
+    assert "held at 5 lengths" in (tmp_path / "experiment.yaml").read_text()
+    capsys.readouterr()
+    assert main(["synth", str(tmp_path / "x"), "--held-lengths", "31"]) == 2
+    assert "held_lengths: 31 is not allowed; give 0 (the paper's length cycles) to 30" in \
+        capsys.readouterr().err
