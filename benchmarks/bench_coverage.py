@@ -4,7 +4,11 @@ Truth known independently of the planner. Each trial, for each muscle size and t
 1. the TESTED muscle: the stated geometry (the paper's radial-test muscle, or it scaled to another size)
    plus a draw from the stated tolerance (the sds below × the level), with the demo moduli;
 2. synthetic tests of it (:mod:`pampipe.simulation.synthetic`, force noise 2 N): the axial test alone, and the
-   axial test plus one radial test in a bore 1.556 D₀ (88.9 mm for the paper's muscle);
+   axial test plus one radial test in a bore 1.556 D₀ (88.9 mm for the paper's muscle). The axial test
+   (``--protocol``, :data:`AXIAL`) is ``held`` (the default: a force map, 8 held lengths, the pressure ramped
+   at each) or ``sweep`` (the length cycled at each of the paper's 10 pressures), about 1000 rows each. The
+   protocol sets the model error's degrees of freedom (its cross-validation holds out 4 pressure bands and
+   each held length: ν = 11 held, 3 swept), so the plans' width depends on it;
 3. ``identify`` on each, from the STATED geometry, calibrating the braid angle where a radial test is; the
    written PAM keeps the stated sd of every entry, the calibrated angle's too (the lot's tolerance:
    ``fitted_pam`` drops the calibrated entry's sd today, and a ``unit: lot`` plan needs it);
@@ -22,11 +26,13 @@ data set, the fits IPOPT could not finish (no PAM, no plan).
     .venv/bin/python benchmarks/bench_coverage.py [--trials 30] [--seed 1] [--sizes 1,0.5] [--levels 0.5,1]
     .venv/bin/python benchmarks/bench_coverage.py --quick    # 6 trials, the paper's muscle, stated tolerance
     .venv/bin/python benchmarks/bench_coverage.py --fits FITS --sizes 1 --levels 1    # fits cached in FITS
+    .venv/bin/python benchmarks/bench_coverage.py --fit-only --fits FITS --shard 0/2 ...  # trials 0, 2, 4, …
 
 ``--fits DIR`` keeps each fitted PAM as the PAM file ``identify -o`` would write (one per seed, trial, size,
 level and data set; a fit IPOPT could not finish as a ``.failed`` file holding its message) and reuses it when
 present: the truths are redrawn from the seed, so a change to planning is re-judged without refitting.
-Delete the folder after a change to identification.
+Delete the folder after a change to identification. ``--shard I/N`` runs only the trials k with k % N = I:
+N ``--fit-only`` processes fill one folder in parallel, then one run without ``--shard`` judges them all.
 """
 
 from __future__ import annotations
@@ -67,6 +73,11 @@ TOLERANCE = {"initial_length": 1e-3, "initial_diameter": 0.5e-3, "braid_angle": 
 RISER = 76.2 / 57.15  # the planned bore / D₀: not tested
 TESTED = 88.9 / 57.15  # the one radial test's bore / D₀
 DATA_SETS = ("axial + radial", "axial only")
+#: The axial test of each ``--protocol`` (one cycle): ``sweep`` cycles the length at each of the paper's 10
+#: pressures, 2 × 50 rows each (1000 rows); ``held`` holds 8 lengths over the contraction range and ramps the
+#: pressure at each, 2 × 62 rows (992 rows), as a lab's force map is recorded.
+AXIAL = {"sweep": {"cycles": 1}, "held": {"cycles": 1, "held_lengths": 8, "points_per_leg": 62}}
+PROTOCOLS = tuple(AXIAL)
 FRICTION = 0.3
 
 
@@ -117,10 +128,12 @@ def cached_fit(fits: Path | None, key: str, fit) -> Pam | str:
     return load_pam(pam_file)
 
 
-def fit_key(seed: int, k: int, size: float, level: float, name: str) -> str:
-    """The cache name of one fit: ``seed1-trial13-size1-level1-radial``."""
+def fit_key(seed: int, k: int, size: float, level: float, name: str, protocol: str = "held") -> str:
+    """The cache name of one fit: ``seed1-trial13-size1-level1-radial-held`` (``sweep``: no suffix, the
+    names of the caches made before ``--protocol``)."""
     data = "radial" if "radial" in name else "axial"
-    return f"seed{seed}-trial{k}-size{size:g}-level{level:g}-{data}"
+    suffix = "" if protocol == "sweep" else f"-{protocol}"
+    return f"seed{seed}-trial{k}-size{size:g}-level{level:g}-{data}{suffix}"
 
 
 def least(pam: Pam, bore: float, load: float, mission) -> float:
@@ -148,8 +161,9 @@ def plans(mission, pam: Pam, samples: int, seed: int, levels=LEVELS) -> dict:
 
 
 def trial(mission, size: float, level: float, k: int, seed: int, samples: int, data_sets=DATA_SETS,
-          levels=LEVELS, fits: Path | None = None) -> dict:
-    """One tested muscle, its siblings, and the plans of each data set's fit (see the module docstring)."""
+          levels=LEVELS, fits: Path | None = None, protocol: str = "held") -> dict:
+    """One tested muscle, its siblings, and the plans of each data set's fit (see the module docstring;
+    ``protocol``: the axial test's, a key of :data:`AXIAL`)."""
     stated = stated_muscle(size, level)
     rng = np.random.default_rng([seed, int(size * 1000), int(level * 1000), k])
     truth = drawn_around(stated, stated.geometry_sd, rng)
@@ -163,14 +177,15 @@ def trial(mission, size: float, level: float, k: int, seed: int, samples: int, d
     mission = dataclasses.replace(mission, route=route)  # a tuple of Sections: Mission makes the columns
     out = {"true": least(truth, riser, load, mission),
            "siblings": [least(s, riser, load, mission) for s in siblings], "data": {}, "trial": k}
+    axial = AXIAL[protocol]
     protocols = {"axial + radial": Protocol(pipes=(TESTED * stated.geometry.initial_diameter,), loads=(0.0,),
-                                            cycles=1),
-                 "axial only": Protocol(pipes=(), cycles=1)}
+                                            **axial),
+                 "axial only": Protocol(pipes=(), **axial)}
     for name in data_sets:
-        protocol = protocols[name]
-        calibrate = ("braid_angle",) if protocol.pipes else ()
-        pam = cached_fit(fits, fit_key(seed, k, size, level, name),
-                         functools.partial(fitted, stated, truth, protocol, seed * 1000 + k, calibrate))
+        made = protocols[name]
+        calibrate = ("braid_angle",) if made.pipes else ()
+        pam = cached_fit(fits, fit_key(seed, k, size, level, name, protocol),
+                         functools.partial(fitted, stated, truth, made, seed * 1000 + k, calibrate))
         if isinstance(pam, str):  # no PAM, no plan: counted, not hidden
             out["data"][name] = {"failed": pam}
             continue
@@ -266,17 +281,31 @@ def decomposition(rows: list[dict], name: str = DATA_SETS[0], c: float = 0.95) -
 
 
 def run(trials: int, seed: int, samples: int = 4000, progress=None, data_sets=DATA_SETS, size: float = 1.0,
-        level: float = 1.0, levels=LEVELS, fits: Path | None = None) -> list[dict]:
+        level: float = 1.0, levels=LEVELS, fits: Path | None = None, protocol: str = "held",
+        shard: tuple[int, int] = (0, 1)) -> list[dict]:
     """``trials`` trials of one muscle size and tolerance level, planned at each C of ``levels`` (``fits``:
-    the folder of cached fits, see the module docstring)."""
+    the folder of cached fits, see the module docstring); of those, the trials k with k % N = I for
+    ``shard`` = (I, N)."""
     mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
     mission = dataclasses.replace(mission, route=mission.route[:1])
     rows = []
-    for k in range(trials):
-        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels, fits))
+    index, count = shard
+    for k in range(index, trials, count):
+        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels, fits, protocol))
         if progress:
             progress(k, rows[-1])
     return rows
+
+
+def shard_of(text: str) -> tuple[int, int]:
+    """``I/N`` (0 ≤ I < N) as (I, N); anything else an argparse error (exit 2) naming what is allowed."""
+    try:
+        index, count = (int(x) for x in text.split("/"))
+    except ValueError:
+        index, count = -1, 0
+    if not 0 <= index < count:
+        raise argparse.ArgumentTypeError(f"{text!r}: give I/N with whole numbers 0 <= I < N, e.g. 0/2")
+    return index, count
 
 
 def main(argv=None) -> int:
@@ -290,6 +319,10 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="6 trials, size 1, level 1")
     parser.add_argument("--fits", type=Path, help="folder of cached fitted PAMs (made if missing, reused)")
     parser.add_argument("--fit-only", action="store_true", help="fit (into --fits) and plan nothing")
+    parser.add_argument("--protocol", default="held", choices=PROTOCOLS,
+                        help="the axial test: held lengths, pressure ramped (a force map), or length sweeps")
+    parser.add_argument("--shard", type=shard_of, default=(0, 1), metavar="I/N",
+                        help="run only the trials k with k %% N == I (N processes in parallel)")
     parser.add_argument("--decompose", action="store_true",
                         help="also print, per trial, what each source adds to the tested C = 0.95 plan")
     args = parser.parse_args(argv)
@@ -315,11 +348,13 @@ def main(argv=None) -> int:
                       flush=True)
 
             rows = run(args.trials, args.seed, args.samples, progress, data_sets, size, level,
-                       levels=() if args.fit_only else LEVELS, fits=args.fits)
+                       levels=() if args.fit_only else LEVELS, fits=args.fits, protocol=args.protocol,
+                       shard=args.shard)
             if args.fit_only:
                 continue
             d0 = 57.15 * size
-            print(f"\ncoverage over {args.trials} tested muscles (seed {args.seed}, {args.samples} draws): "
+            print(f"\ncoverage over {len(rows)} tested muscles (seed {args.seed}, {args.samples} draws, "
+                  f"{args.protocol} axial protocol): "
                   f"D0 {d0:.4g} mm, riser {RISER * d0:.4g} mm (untested), radial test at {TESTED * d0:.4g} "
                   "mm; "
                   f"tolerance sd x {level:g}: L0 {level:g} mm, D0 {0.5 * level:g} mm, braid angle {level:g} "

@@ -70,15 +70,17 @@ def synth(out_dir: str | os.PathLike, *, pam=None, name: str = "experiment", see
           pressure_noise=0.0, points_per_leg: int = 50, cycles: int = 3, radial_points: int = 40,
           slip_pipe=None, friction=0.3, load_coupling=1.0, slip_scatter=0.03, stick_slip: bool = False,
           slip_pressure=None, held_trial=None, pipe_material: str | None = None, slip_only: bool = False,
-          force: bool = False, **unexpected) -> CommandResult:
+          force: bool = False, held_lengths: int = 0, **unexpected) -> CommandResult:
     """Write a synthetic experiment (YAML + CSV) of the known moduli of ``pam`` (default: the bundled
     paper-radial-pam.yaml) into ``out_dir`` (`pampipe synth`); ``to_dict()["experiment"]`` is the file to
     pass to :func:`pampipe.identify`. The paper's protocol: ``cycles`` axial cycles of ``points_per_leg``
-    samples per leg, ``radial_points`` per radial level, Gaussian ``force_noise`` and ``pressure_noise``
-    (SI or unit strings, ``"2 N"``) from ``seed``. With ``slip_pipe`` (bores) also slip tests of
-    ``friction``, ``load_coupling``, ``slip_scatter`` at ``slip_pressure`` (default 250 to 600 kPa),
-    ``held_trial`` (1-based) never slipping; ``slip_only`` writes those alone. Existing files are replaced
-    only with ``force``."""
+    samples per leg (with ``held_lengths`` N > 0 instead N held lengths, the pressure ramped up and down at
+    each, ``points_per_leg`` samples per ramp: a force map), ``radial_points`` per radial level, Gaussian
+    ``force_noise`` and ``pressure_noise`` (SI or unit strings, ``"2 N"``) from ``seed``. With ``slip_pipe``
+    (bores) also slip tests of ``friction``, ``load_coupling``, ``slip_scatter`` at ``slip_pressure``
+    (default 250 to 600 kPa), ``held_trial`` (1-based) never slipping; ``slip_only`` writes those alone.
+    Existing files are replaced only with ``force``."""
+    from pampipe.identification.noise import MOST_HELD_LENGTHS
     from pampipe.io import bundled
     from pampipe.io.csvfile import check_rows
     from pampipe.io.pam_schema import load_pam
@@ -93,13 +95,18 @@ def synth(out_dir: str | os.PathLike, *, pam=None, name: str = "experiment", see
         pressure_noise, "pressure", "pressure_noise")
     protocol = Protocol(cycles=arg.whole(cycles, "cycles", least=1),
                         points_per_leg=arg.whole(points_per_leg, "points_per_leg", least=1),
+                        held_lengths=arg.whole(held_lengths, "held_lengths", least=0),
                         radial_points=arg.whole(radial_points, "radial_points", least=1),
                         force_noise=force_noise, pressure_noise=pressure_noise)
-    rows = {"axial": len(protocol.pressures) * protocol.cycles * 2 * protocol.points_per_leg,
+    rows = {"axial": (protocol.held_lengths or len(protocol.pressures)) * protocol.cycles * 2
+            * protocol.points_per_leg,
             "radial": len(protocol.radial_pressures) * protocol.radial_points}
     for kind, count in rows.items():
         check_rows(count, where=f"synth: the {kind} test's",
                    advice="lower --cycles, --points-per-leg or --radial-points")
+    if protocol.held_lengths > MOST_HELD_LENGTHS:
+        raise InputError(f"held_lengths: {protocol.held_lengths} is not allowed; give 0 (the paper's "
+                         f"length cycles) to {MOST_HELD_LENGTHS} (identify reads more lengths as a sweep).")
     if force_noise < 0 or pressure_noise < 0:
         raise InputError("--force-noise and --pressure-noise must not be negative.")
     if not isinstance(name, str) or not name or "/" in name or name.startswith("."):

@@ -29,6 +29,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="samples per loading or unloading leg of the axial cycles (default 50)")
     parser.add_argument("--cycles", type=integer_type("--cycles", ge=1), default=3, metavar="N",
                         help="axial cycles per pressure (3)")
+    parser.add_argument("--held-lengths", type=integer_type("--held-lengths", ge=0), default=0,
+                        metavar="N",
+                        help="hold the axial test's length at N values over the contraction range and ramp "
+                             "the pressure at each, as a force map (default 0: the paper's length cycles)")
     parser.add_argument("--radial-points", type=integer_type("--radial-points", ge=1), default=40,
                         metavar="N",
                         help="samples per pressure level of each radial test (default 40)")
@@ -65,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
     result = api.synth(
         args.out_dir, pam=args.pam, name=args.name, seed=args.seed, force_noise=args.force_noise,
         pressure_noise=args.pressure_noise, points_per_leg=args.points_per_leg, cycles=args.cycles,
+        held_lengths=args.held_lengths,
         radial_points=args.radial_points, slip_pipe=args.slip_pipe, friction=args.friction,
         load_coupling=args.load_coupling, slip_scatter=args.slip_scatter, stick_slip=args.stick_slip,
         slip_pressure=args.slip_pressure, held_trial=args.held_trial, pipe_material=args.pipe_material,

@@ -87,7 +87,12 @@ def evenly_spaced(size: int, count: int) -> np.ndarray:
     return np.unique(np.linspace(0, size - 1, count).astype(np.int64))
 
 
-def held_length_paths(length: np.ndarray, *, most: int = 30, fewest: int = 3) -> np.ndarray | None:
+#: More distinct lengths than this in an axial test is a sweep, not held lengths (:func:`held_length_paths`).
+MOST_HELD_LENGTHS = 30
+
+
+def held_length_paths(length: np.ndarray, *, most: int = MOST_HELD_LENGTHS, fewest: int = 3
+                      ) -> np.ndarray | None:
     """The held length of each row as a path index, for a test whose rows sit at 2..``most`` distinct
     lengths (to 0.1 mm), each held for at least ``fewest`` rows; None for a test that sweeps its length."""
     held = np.round(np.asarray(length, float), 4)

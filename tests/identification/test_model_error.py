@@ -105,3 +105,24 @@ def test_a_large_experiment_is_cross_validated_on_an_even_subset(radial_pam, mon
     assert held(thin) == held(whole)
     assert thin.cv_rmse == pytest.approx(whole.cv_rmse, rel=0.05)
     assert whole.cv_rmse == pytest.approx(2.0, rel=0.1) and thin.dof == whole.dof
+
+
+def test_a_held_length_protocol_gives_a_block_per_held_length(radial_pam):
+    """The synthetic force map (``Protocol(held_lengths=N)``, simulation/synthetic.py) is cross-validated
+    over 4 pressure bands and its N held lengths: 4 + N blocks, ν = 3 + N (the swept protocol: 4, ν = 3)."""
+    from pampipe.simulation.synthetic import Protocol, generate
+    from pampipe.specs.experiment import ExperimentData
+
+    def error(protocol):
+        tests = tuple(make_test_data(spec, cols) for spec, cols in generate(radial_pam, protocol, seed=4))
+        stated = Pam(radial_pam.name, radial_pam.geometry)
+        return identify(ExperimentData(PROBLEMS / "generated.yaml", stated, tests, {})).model_error
+
+    held = error(Protocol(held_lengths=6, points_per_leg=15, cycles=1, pipes=()))
+    lengths = sorted(b.low for b in held.blocks if b.kind == "length")
+    assert len(held.bands) == 4 and len(lengths) == 6 and held.dof == 9 and held.method == "held_blocks"
+    g = radial_pam.geometry
+    assert lengths[-1] == pytest.approx(g.initial_length, abs=1e-4)  # L₀ held, rounded to 0.1 mm
+    assert all(b.rows == 30 for b in held.blocks if b.kind == "length")  # 2 legs x 15 points
+    swept = error(Protocol(points_per_leg=5, cycles=1, pipes=()))
+    assert len(swept.blocks) == 4 and swept.dof == 3

@@ -22,7 +22,7 @@ from tests.support.problems import PROBLEMS
 
 @pytest.mark.slow
 def test_confidence_plans_hold_on_the_muscles_their_unit_names_with_a_bounded_overhead():
-    rows = run(4, seed=7, samples=2000)
+    rows = run(4, seed=7, samples=2000, protocol="sweep")  # the bound's protocol: held, axial only, lot 1.53x
     for name in DATA_SETS:
         for unit in ("tested", "lot"):
             judged = [(held, overhead) for held, overhead, stopped in _judged(rows, name, unit, 0.95)
@@ -97,3 +97,46 @@ def test_the_decomposition_finds_the_least_spread_that_holds_by_hand():
     assert f"its median overhead {overhead:.4f}" in lines[-1], lines[-1]
     z = np.array([500.0 * i / (9e3 / 1.6448536269514722) for i in range(20)])
     assert f"z RMS {np.sqrt(np.mean(z**2)):.3f}" in lines[-1], lines[-1]
+
+
+def test_the_protocol_option_picks_the_axial_test_and_its_cache_name(monkeypatch):
+    """``--protocol held`` (the default) fits a force map of 8 held lengths (992 axial rows, near the sweep's
+    1000), ``sweep`` the paper's length cycles; the cache names them apart (sweep keeps the old names)."""
+    import benchmarks.bench_coverage as bench
+    from pampipe.simulation.synthetic import generate
+
+    seen = {}
+
+    def no_fit(fits, key, fit):
+        seen[key] = fit.args[2]  # fitted(stated, truth, protocol, seed, calibrate)
+        return "not fitted here"
+
+    monkeypatch.setattr(bench, "cached_fit", no_fit)
+    mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
+    mission = dataclasses.replace(mission, route=mission.route[:1])
+    for protocol in ("held", "sweep"):
+        row = bench.trial(mission, 1.0, 1.0, 3, 1, 100, protocol=protocol)
+        assert row["data"]["axial + radial"] == {"failed": "not fitted here"}
+    assert sorted(seen) == ["seed1-trial3-size1-level1-axial", "seed1-trial3-size1-level1-axial-held",
+                            "seed1-trial3-size1-level1-radial", "seed1-trial3-size1-level1-radial-held"]
+    held = seen["seed1-trial3-size1-level1-radial-held"]
+    assert held.held_lengths == 8 and held.pipes and not seen["seed1-trial3-size1-level1-axial-held"].pipes
+    axial = {key: generate(bench.stated_muscle(1.0, 1.0), p, seed=0)[0][1] for key, p in seen.items()}
+    assert axial["seed1-trial3-size1-level1-radial-held"]["force"].size == 992
+    assert np.unique(axial["seed1-trial3-size1-level1-radial-held"]["length"]).size == 8
+    assert axial["seed1-trial3-size1-level1-radial"]["force"].size == 1000
+
+
+def test_a_shard_runs_every_nth_trial_and_a_bad_shard_exits_2(monkeypatch, capsys):
+    """``--shard I/N`` runs the trials k with k % N == I; the shards together are every trial once."""
+    import benchmarks.bench_coverage as bench
+
+    monkeypatch.setattr(bench, "trial", lambda *args: {"trial": args[3]})
+    shards = [[r["trial"] for r in bench.run(7, 1, shard=(i, 3))] for i in range(3)]
+    assert shards == [[0, 3, 6], [1, 4], [2, 5]]
+    assert bench.shard_of("1/2") == (1, 2)
+    for bad in ("2/2", "-1/2", "1", "a/b", "0/0"):
+        with pytest.raises(SystemExit) as stop:
+            bench.main([f"--shard={bad}", "--fit-only", "--fits", "unused"])
+        assert stop.value.code == 2
+        assert "give I/N with whole numbers 0 <= I < N" in capsys.readouterr().err

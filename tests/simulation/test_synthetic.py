@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from pampipe.cli import main
 from pampipe.errors import InputError
+from pampipe.identification.noise import held_length_paths
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.experiment_schema import load_experiment
 from pampipe.io.pamfile import write_experiment
 from pampipe.model import forces
 from pampipe.model.muscle import Muscle
 from pampipe.simulation.synthetic import PAPER_LOAD, PAPER_PIPES, Protocol, generate
+from pampipe.specs.experiment import make_test_data
 
 
 def test_protocol_shape_and_noise_free_values(radial_pam):
@@ -87,3 +91,53 @@ def test_synth_force_noise_bare_zero_is_noise_free(tmp_path):
     bare = sorted((tmp_path / "bare").rglob("*.csv"))
     assert bare and [p.read_bytes() for p in bare] == [
         (tmp_path / "newton" / p.relative_to(tmp_path / "bare")).read_bytes() for p in bare]
+
+
+def test_a_held_length_protocol_is_a_force_map_of_the_closed_form(radial_pam):
+    """``Protocol(held_lengths=N)``: N lengths L₀ − (j/N)(L₀ − L_free(689 kPa)) (L_free 209.3 mm for the
+    demo muscle, docs/physics.md §7), each held while the pressure ramps up to 689 kPa and down; every row
+    taut; the seeded noisy forces are the closed form F_ax(P, L) (forces.axial_force) plus 2 N noise."""
+    protocol = Protocol(held_lengths=6, points_per_leg=20, cycles=2, pipes=())
+    (spec, axial), = generate(radial_pam, protocol, seed=3)
+    assert axial["force"].size == 6 * 2 * 2 * 20
+    g, theta = radial_pam.geometry, radial_pam.moduli.as_vector()
+    lengths = np.unique(axial["length"])
+    expected = g.initial_length - np.arange(6)[::-1] / 6 * (g.initial_length - 0.2093)
+    np.testing.assert_allclose(lengths, expected, atol=2e-4)
+    model = forces.axial_force(axial["pressure"], axial["length"], g, theta)
+    miss = axial["force"] - model
+    assert np.std(miss) == pytest.approx(2.0, rel=0.1) and abs(np.mean(miss)) < 4 * 2.0 / np.sqrt(miss.size)
+    assert np.all(model >= 0)  # taut: a force map records tension only
+    for length in lengths:
+        mine = axial["length"] == length
+        pressure = axial["pressure"][mine]
+        assert pressure.max() == pytest.approx(Protocol().pressures[-1], rel=0.06)  # up to 689 kPa
+        step = (Protocol().pressures[-1] - Protocol().pressures[0]) / 100
+        below = max(pressure.min() - step, Protocol().pressures[0])  # one step lower: slack (or the least P)
+        if below < pressure.min():
+            assert forces.axial_force(below, length, g, theta) < 0
+        order = np.argmax(pressure)  # one ramp up, then down, per cycle
+        assert np.all(np.diff(pressure[:order]) > 0) and pressure[0] == pressure.min()
+    clean = generate(radial_pam, dataclasses.replace(protocol, force_noise=0.0), seed=3)[0][1]
+    np.testing.assert_allclose(clean["force"], model)
+    again = generate(radial_pam, protocol, seed=3)[0][1]
+    np.testing.assert_array_equal(again["force"], axial["force"])
+    data = make_test_data(spec, axial)
+    assert data.protocol == "isometric"
+    assert np.unique(held_length_paths(axial["length"])).size == 6
+
+
+def test_synth_held_lengths_cli(tmp_path, capsys):
+    """`synth --held-lengths N` writes the force map (N held lengths, 2 × points × cycles rows each) that
+    identify reads as an isometric test; more lengths than identify reads as held ones exit 2."""
+    args = ["synth", str(tmp_path), "--held-lengths", "5", "--points-per-leg", "6", "--cycles", "1"]
+    assert main(args) == 0
+    data = load_experiment_data(load_experiment(tmp_path / "experiment.yaml"))
+    axial = next(t for t in data.tests if t.kind == "axial")
+    assert axial.points == 5 * 2 * 6 and axial.protocol == "isometric"
+    assert np.unique(np.round(axial.length, 5)).size == 5
+    assert "held at 5 lengths" in (tmp_path / "experiment.yaml").read_text()
+    capsys.readouterr()
+    assert main(["synth", str(tmp_path / "x"), "--held-lengths", "31"]) == 2
+    assert "held_lengths: 31 is not allowed; give 0 (the paper's length cycles) to 30" in \
+        capsys.readouterr().err
