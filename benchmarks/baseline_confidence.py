@@ -17,12 +17,13 @@ C-quantile (the inverted-CDF rank ⌈nC⌉ − 1, by ``np.partition``). Drawn, a
 * the bore δ ~ N(0, sd²), one draw per bore statement; κ ~ N(κ̂, sd²) clipped at 0, one per mission.
 
 Its own random streams (not pampipe's): it agrees with pampipe within Monte Carlo error
-(tests/planning/test_confidence_baseline.py), and shares with it only the mission reader, the worst bore of a
-range (the deterministic plan's search) and the muscle's coefficients F₀, F₁, A
-(``Muscle.affine_coefficients`` over draws × distinct bores, 10⁴ × a few: not the costly part). Segments with
-the same PAM file, mass and unit have the same distribution: each is sampled once. Sections are grouped by
-their bores and sampled in chunks of ``chunk`` values per array. Not covered: undetermined directions,
-tethers, effects, contact increments (ValueError).
+(tests/planning/test_confidence_baseline.py), and shares with it only the mission reader
+(``pampipe.load_mission``, its cache of a file read before included), the worst bore of a range (the
+deterministic plan's search) and the muscle's coefficients F₀, F₁, A (``Muscle.affine_coefficients`` over
+draws × distinct bores, 10⁴ × a few: not the costly part). Segments with the same PAM file, mass and unit have
+the same distribution: each is sampled once. Sections are grouped by their bores and sampled in chunks of
+``chunk`` values per array. Not covered: undetermined directions, tethers, effects, contact increments
+(ValueError).
 
     .venv/bin/python benchmarks/baseline_confidence.py MISSION [--confidence 0.95] [--samples 10000]
 """
@@ -39,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from pampipe.io.mission_schema import load_mission
+from pampipe.api import load_mission
 from pampipe.model.muscle import PRESSURE_LIMIT, Muscle
 from pampipe.model.no_slip import STANDARD_GRAVITY
 from pampipe.model.pam import Geometry
