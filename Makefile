@@ -71,6 +71,8 @@ bench: $(STAMP)  ## the benchmarks docs/performance.md quotes (median and spread
 		benchmarks/bench_big_mission.py --sections 100000 --repeat 5 $(if $(BENCH_BASELINE),--baseline $(BENCH_BASELINE))
 	@echo "== benchmarks/bench_identify.py --repeat 5"; $(BIN)/python benchmarks/bench_identify.py --repeat 5
 	@echo "== benchmarks/bench_identify_floor.py --repeat 5"; $(BIN)/python benchmarks/bench_identify_floor.py --repeat 5
+	@echo "== benchmarks/bench_confidence.py --sections '' --distinct 100000 --repeat 5"; $(BIN)/python \
+		benchmarks/bench_confidence.py --sections '' --distinct 100000 --repeat 5
 
 bench-all: $(STAMP)  ## every script in benchmarks/ with its defaults (some print no spread: their figures are not quoted)
 	for b in benchmarks/bench_*.py; do echo "== $$b"; $(BIN)/python $$b || exit 1; done

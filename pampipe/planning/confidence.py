@@ -35,7 +35,9 @@ from pampipe.planning.feasibility import pressure_limits
 from pampipe.planning.quantiles import level_text, tail
 from pampipe.planning.sampling import (
     BYTES_PER_DRAW,
+    CANDIDATE_CHUNKS,
     MEMORY_BUDGET,
+    by_candidates,
     chunk_classes,
     drawn_muscles,
     sample_chunk,
@@ -254,7 +256,7 @@ def plan_confidence(mission, muscles, elements, confidence: float, *, samples: i
     problem, classes, inverse = sampling_problem(mission, muscles, elements, confidence, samples=samples,
                                                  seed=seed, prior=prior, with_payload=with_payload)
     uncertainties = problem.uncertainties
-    size = chunk_classes(samples, budget)
+    size = chunk_classes(samples, budget) * (CANDIDATE_CHUNKS if by_candidates(problem, classes) else 1)
     tasks = [(problem, classes.part(slice(start, start + size))) for start in range(0, len(classes), size)]
     # a sampling that takes more than a second says what it does; several chunks are counted as they finish
     with executor(workers=workers, scheduler=scheduler) as pool, deferred() as later:

@@ -110,7 +110,7 @@ class Evaluator:
             self.bores.insert(0, worst)
         if not np.array_equal(low, high):
             self.bores.insert(0, low)
-        self.mu = classes.mu[rows]
+        self.mu, self.mu_sd = classes.mu[rows], classes.mu_sd[rows]
         statement = (low, high, classes.bore_sd[rows])  # keys the bore draw
         self.groups = [_groups(b, statement) for b in self.bores]
         incline = classes.incline[rows]
@@ -126,6 +126,11 @@ class Evaluator:
         (default: the muscle's parameter vector); R = n for what is drawn, 1 for what is not (the
         evaluation runs over classes × draws: a class's draws are contiguous).
         ``drawn_scalar``: the values of the one drawn source κ or e (its deviations) instead of its draws."""
+        p, bore, kappa, error = self._muscle_inputs(sources, nominal, drawn_scalar)
+        return p, bore, self.friction_load("friction" in sources)[0], kappa, error
+
+    def _muscle_inputs(self, sources, nominal, drawn_scalar) -> tuple:
+        """:meth:`inputs` but μ: (p, δ, κ, e), what the per-draw terms (:func:`law.per_draw`) depend on."""
         d, i = self.draws, self.i
         drawn = tuple(key for key in ("moduli", "geometry", "prior") if key in sources)
         if nominal is None:  # the same in every chunk: kept per process
@@ -133,13 +138,12 @@ class Evaluator:
         else:
             p = self._parameters(nominal, drawn)
         bore = self.bore.T if "bore" in sources else np.zeros((self.mu.size, 1))
-        mu = self.friction_load("friction" in sources)[0]
         kappa, error = d.kappa, d.model_error[i]
         if drawn_scalar is not None:
             kappa, error = drawn_scalar, drawn_scalar
         kappa = np.maximum(self.problem.kappa + (kappa if "kappa" in sources else np.zeros(1)), 0.0)
         error = error if "model_error" in sources else np.zeros(1)
-        return p, bore, mu, kappa, error
+        return p, bore, kappa, error
 
     def _parameters(self, nominal: np.ndarray, drawn: tuple[str, ...]) -> np.ndarray:
         """The parameter vectors (n, size) with the ``drawn`` sources added to ``nominal`` ((1, size) with
@@ -160,16 +164,22 @@ class Evaluator:
         draw of its friction where ``tether``."""
         key = (drawn, tether and self.drag_draws is not None)
         if key not in self._loads:
-            pr = self.problem
             mu = self.mu[:, None] + (self.friction.T if drawn else np.zeros((1, 1)))
-            slope, at_zero = incline_load_affine(pr.total_mass, pr.masses[self.i], self.rise, self.run,
-                                                 pr.tether_drag if self.drag is None else 0.0)
+            slope, at_zero = self.load_affine()
             load = np.multiply(mu, slope[:, None])
             load += at_zero[:, None]
             if self.drag is not None:
                 load = load + (self.drag_draws if key[1] else self.drag[:, None])
             self._loads[key] = mu, load
         return self._loads[key]
+
+    def load_affine(self) -> tuple[np.ndarray, np.ndarray]:
+        """(∂W/∂μ [N], W at μ = 0 [N]) (C,) of each class's anchor load without the tether's tension
+        (:func:`pampipe.model.no_slip.incline_load_affine`; the mission's ``tether_drag`` where it has no
+        tether)."""
+        pr = self.problem
+        return incline_load_affine(pr.total_mass, pr.masses[self.i], self.rise, self.run,
+                                   pr.tether_drag if self.drag is None else 0.0)
 
     def per_class(self, drawn: bool, tether: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """:func:`law.per_class` (W, W/μ [N]) of :meth:`friction_load`, once per evaluator."""
@@ -250,15 +260,12 @@ class Evaluator:
         """(raw P* (C, R) [Pa], touch at the largest bore (C, R) [Pa]) of :meth:`evaluate` by the affine form
         (:func:`law.raw_least`, four passes per bore), run by run of classes in one bore (the classes come
         sorted by bore), with each bore's :class:`law.Terms` kept per process (:meth:`_terms`)."""
-        p, bore, _, kappa, error = self.inputs(sources, nominal, drawn_scalar)
         w, per_mu = self.per_class("friction" in sources, "tether" in sources)
-        shape = np.broadcast_shapes(w.shape, (1, p.shape[0]), (1, bore.shape[1]), (1, kappa.size),
-                                    (1, error.size))
-        spare, least = np.empty(shape), None
-        for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True):
-            terms = [self._terms(p, bore_nominal[first[g]] + bore[first[g]], sources, kappa, error,
-                                 None if nominal is not None else tuple(bores[:, g].tolist()),
-                                 drawn_scalar is None) for g in range(first.size)]
+        shape, spare, least = None, None, None
+        for group, terms in self.bore_terms(sources, nominal, drawn_scalar):
+            if shape is None:
+                shape = np.broadcast_shapes(w.shape, *((1, np.size(v)) for v in vars(terms[0]).values()))
+                spare = np.empty(shape)
             out = np.empty(shape)
             for g, run in _runs(group):
                 raw_least(w[run], per_mu[run], terms[g], out[run], spare[run])
@@ -269,6 +276,28 @@ class Evaluator:
         for g, run in _runs(group):
             touch[run] = -terms[g].f
         return least, touch
+
+    def touch_share(self, sources, pressure: np.ndarray) -> np.ndarray:
+        """The share of draws (C,) in which the unloaded muscle touches the largest bore at ``pressure`` (C,)
+        [Pa], P_a(D_high + δ, 0) = −f ≤ P, with ``sources`` drawn (as quantiles.share_at_most of
+        :meth:`evaluate`'s touch, sorted once per drawn bore)."""
+        group, terms = self.bore_terms(sources)[-1]
+        out = np.empty(pressure.shape)
+        for g, t in enumerate(terms):
+            rows = group == g
+            touch = np.sort(-t.f)
+            out[rows] = np.searchsorted(touch, pressure[rows], side="right") / touch.size
+        return out
+
+    def bore_terms(self, sources, nominal=None, drawn_scalar=None) -> list[tuple[np.ndarray, list[Terms]]]:
+        """Per bore of the ranges, the largest last: (each class's group (C,), the :class:`law.Terms` (R,)
+        of each group's drawn bore) with only ``sources`` drawn (``nominal``, ``drawn_scalar``: as
+        :meth:`inputs`), kept per process where they are the draws' (:meth:`_terms`)."""
+        p, bore, kappa, error = self._muscle_inputs(sources, nominal, drawn_scalar)
+        return [(group, [self._terms(p, bore_nominal[first[g]] + bore[first[g]], sources, kappa, error,
+                                     None if nominal is not None else tuple(bores[:, g].tolist()),
+                                     drawn_scalar is None) for g in range(first.size)])
+                for bore_nominal, (bores, group, first) in zip(self.bores, self.groups, strict=True)]
 
     def _terms(self, p: np.ndarray, d: np.ndarray, sources, kappa, error, bore: tuple | None,
                keep: bool) -> Terms:

@@ -22,6 +22,7 @@ import numpy as np
 
 from pampipe.planning.classes import Classes, Problem
 from pampipe.planning.evaluator import Evaluator
+from pampipe.planning.family import chunk_statistics, families
 from pampipe.planning.law import settle
 from pampipe.planning.quantiles import lower_rank, order_statistics, share_at_most, upper_rank
 from pampipe.planning.sources import MuscleDraws, draw_muscles, keyed_normal
@@ -30,6 +31,9 @@ from pampipe.runtime.heap import retain_freed_memory
 LEVELS = (0.9, 0.99, 0.999)  # the pressures every confidence plan reports
 #: Memory a chunk may use for its draws × classes arrays [B].
 MEMORY_BUDGET = 64 << 20
+#: How many times more classes a chunk sampled from candidate draws takes (:func:`by_candidates`): its
+#: arrays are a block of at most family.LARGEST_BLOCK classes, its Python work per chunk is shared.
+CANDIDATE_CHUNKS = 16
 #: Bytes one draw of one class costs at the peak of a chunk (the temporaries of the closed form over a
 #: range's bores, the sorted copies): the peak resident memory grew by 137–167 B per draw and class for
 #: chunks of 21 and 180 classes at 10⁴ draws (the riser robot, 180 kinds of section).
@@ -92,7 +96,6 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
     retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.runtime.heap)
     draws = muscle_draws(problem)
     n, count, m = problem.samples, len(classes), len(problem.structures)
-    bore, friction = class_deviations(problem, classes)
     shape = (count, m)
     out = ChunkResult(np.full(shape, np.inf), np.zeros(shape), np.zeros(shape),
                       {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}, np.full((*shape, 2), np.inf),
@@ -112,34 +115,62 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         if rows.size == 0 or twin != i:  # a twin's draws and inputs are the same: so is its plan
             _copy(out, twin, i)
             continue
-        take = slice(None) if rows.size == count else rows  # every class: no copy
-        ev = Evaluator(problem, draws, classes, i, rows, bore[take].T, friction[take].T)
+        part = classes if rows.size == count else classes.part(rows)
+        ev = Evaluator(problem, draws, classes, i, rows, Deviations(problem, part, "bore"),
+                       Deviations(problem, part, "friction"))
         supply = None if problem.supply is None else problem.supply[i]
-        least, touch, held = ev.evaluate(problem.active, supply, raw=True)
-        base = None
-        if problem.uncertainties[i].unresolved:
-            least, touch, held, base, which = cover_open(problem, ev, least, touch, held, supply)
-            out.open_direction[rows, i] = which
-        (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True, overwrite=True,
-                                                                  settle=settle)
-        out.pressure[rows, i] = planned
-        if base is not None:
-            out.open_base[rows, i] = base
-            out.open_shift[rows, i], out.stopped[rows, i] = stop_open(planned, base, problem.limits[i])
-        out.contact[rows, i] = share_at_most(touch, planned)
+        plain = supply is None and not problem.uncertainties[i].unresolved and ev.drag_draws is None
+        found = by_families(ev, problem.active, ranks, share=True) if plain else None
+        if found is not None:  # the classes' statistics from a few draws each (pampipe.planning.family)
+            (planned, *rest), out.holding[rows, i] = found
+            out.pressure[rows, i] = planned
+            out.contact[rows, i] = ev.touch_share(problem.active, planned)
+        else:
+            rest = _whole_rows(out, problem, ev, supply, ranks, rows, i)
         out.band[rows, i] = np.stack(rest[:2], axis=1)
         for key, value in zip(out.levels, rest[2:], strict=True):
             out.levels[key][rows, i] = value
-        del least, touch
-        if held is not None:
-            out.payload[rows, i] = order_statistics(held, [lower_rank(n, problem.level)])[0]
         certain = ev.evaluate(())[0][0]
         out.certain[rows, i] = certain
         for name in problem.active:
-            high, low = ev.alone(name, alone_ranks)
+            alone = by_families(ev, (name,), alone_ranks, share=False) if plain and not ev.monotone(name) \
+                else None
+            high, low = ev.alone(name, alone_ranks) if alone is None else alone[0]
             out.shifts[name][rows, i] = high - certain
             out.low_shifts[name][rows, i] = low - certain
     return out
+
+
+def by_families(ev: Evaluator, sources, ranks: list[int], share: bool):
+    """(settled order statistics (len(ranks), C), shares or None) of the evaluator's classes with
+    ``sources`` drawn, from the candidate draws of each family (:mod:`pampipe.planning.family`); None
+    where they do not apply (the whole rows are evaluated then)."""
+    found = families(ev, sources)
+    if found is None:
+        return None
+    return chunk_statistics(found, ranks, ev.problem.samples, ev.mu.size, share)
+
+
+def _whole_rows(out: ChunkResult, problem: Problem, ev: Evaluator, supply, ranks, rows, i: int) -> list:
+    """Segment i's plan from every draw of every class (payload, undetermined directions, tether draws):
+    fills the pressure, holding, contact, payload and open-direction entries; returns the other
+    statistics (band, levels)."""
+    n = problem.samples
+    least, touch, held = ev.evaluate(problem.active, supply, raw=True)
+    base = None
+    if problem.uncertainties[i].unresolved:
+        least, touch, held, base, which = cover_open(problem, ev, least, touch, held, supply)
+        out.open_direction[rows, i] = which
+    (planned, *rest), out.holding[rows, i] = order_statistics(least, ranks, share=True, overwrite=True,
+                                                              settle=settle)
+    out.pressure[rows, i] = planned
+    if base is not None:
+        out.open_base[rows, i] = base
+        out.open_shift[rows, i], out.stopped[rows, i] = stop_open(planned, base, problem.limits[i])
+    out.contact[rows, i] = share_at_most(touch, planned)
+    if held is not None:
+        out.payload[rows, i] = order_statistics(held, [lower_rank(n, problem.level)])[0]
+    return rest
 
 
 def cover_open(problem: Problem, ev: Evaluator, least, touch, held, supply):
@@ -173,6 +204,30 @@ def stop_open(planned: np.ndarray, base: np.ndarray, limit: float) -> tuple[np.n
     with np.errstate(invalid="ignore"):
         shift = planned - base
         return shift, (base <= limit) & ~(shift <= OPEN_SHARE * (limit - base))
+
+
+def by_candidates(problem: Problem, classes: Classes) -> bool:
+    """True where every segment's classes are sampled from candidate draws (:mod:`pampipe.planning.family`):
+    no payload, no undetermined direction left open, no tether draws, no contact increments or effects.
+    Their chunks then hold no draws × classes arrays, and may be :data:`CANDIDATE_CHUNKS` times larger."""
+    return (problem.supply is None and classes.drag_draws is None
+            and not any(u.unresolved for u in problem.uncertainties)
+            and not any(s.contact or s.effects for s in problem.structures))
+
+
+class Deviations:
+    """The (n, C) deviations of one kind ("bore" or "friction") of a chunk's classes (rows of
+    :func:`class_deviations`), drawn on first use: ``.T`` is the (C, n) array. The candidates' path
+    (:mod:`pampipe.planning.family`) draws each statement's row itself and never builds it."""
+
+    def __init__(self, problem: Problem, classes: Classes, kind: str):
+        self._problem, self._classes, self._kind, self._rows = problem, classes, kind, None
+
+    @property
+    def T(self) -> np.ndarray:
+        if self._rows is None:
+            self._rows = class_deviations(self._problem, self._classes)[0 if self._kind == "bore" else 1]
+        return self._rows
 
 
 def class_deviations(problem: Problem, classes: Classes) -> tuple[np.ndarray, np.ndarray]:

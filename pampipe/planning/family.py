@@ -1,0 +1,283 @@
+"""Exact order statistics of alike classes from a few of their draws (docs/physics.md §15, *Families*).
+
+The classes of a chunk that share every bore's drawn terms k, r, f (:class:`law.Terms`: the muscle, κ, e, the
+drawn bore) and the friction statement (μ̂, sd) form a **family**: in draw d, class c's raw P* is
+
+    v_c(d) = max over the bores b of  W_c(d)·k_b(d) + (W_c(d)/μ(d))·r_b(d) − f_b(d),
+    W_c(d) = μ(d)·s_c + z_c (+ the tether's tension t_c),
+
+the same features k, r, f, μ for every member, and the class's own load slope s_c [N] and load at μ = 0
+z_c [N] (its incline). Two members differ in any draw by at most
+
+    D = ΔW·max|k| + Δ(W/μ)·max|r|,   ΔW ≤ |Δs|·max μ + |Δz| + |Δt|,   Δ(W/μ) ≤ |Δs| + (|Δz| + |Δt|)·max 1/μ
+
+(exactly |ΔW|, |Δ(W/μ)| where μ is not drawn), and each computed value is within E = 32u of its terms' size of
+the exact one (u = 2⁻⁵³). A reference member's n values name the **candidates**: the K draws where it is
+largest (for the high ranks, K = n − the lowest high rank + a margin) and the K' where it is smallest (the
+low ranks); off the candidates it lies within [T_lo, T_hi]. Member c's values are computed on the candidates
+only, by the operations of :func:`law.raw_least` (the same bits as the whole row), and its statistics among
+them are its statistics among all n draws where they clear the bound: its lowest high statistic above
+T_hi + D + E (every other draw lies below it), its highest low statistic below T_lo − D − E. A member that
+does not clear it is evaluated over all n draws. Either way the numbers equal those of the whole row's
+partition bit for bit; they cost about 2K/n of it where neighbours in the chunk (sorted by incline within a
+family) are close.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pampipe.planning.law import Terms, settle
+from pampipe.planning.sources import keyed_normal
+
+#: Rounding allowance of one value against its terms' size (law.raw_least: five rounded operations after
+#: the load's two or three; 32u is more than their sum).
+SLACK = 32 * np.finfo(float).eps / 2
+#: Candidates beyond a tail's ranks: MARGIN_SHARE of the tail, at least MARGIN.
+MARGIN, MARGIN_SHARE = 32, 0.25
+#: Members per reference: the first block, and the bounds the block size moves within (halved where more
+#: than a quarter of a block is evaluated in full, doubled where none is).
+FIRST_BLOCK, LARGEST_BLOCK = 8, 256
+
+
+@dataclass(frozen=True)
+class Family:
+    """Classes of a chunk with the same features: their rows, per bore their terms, μ, loads."""
+
+    rows: np.ndarray  # (m,) the evaluator's classes, in chunk order
+    terms: list[Terms]  # per bore of the ranges, the largest last; fields (n,) or (1,)
+    mu: np.ndarray  # (n,) the drawn μ(d), or (m,) each member's μ̂ where friction is not drawn
+    drawn: bool
+    slope: np.ndarray  # (m,) ∂W/∂μ [N]
+    at_zero: np.ndarray  # (m,) W at μ = 0 [N]
+    drag: np.ndarray | None  # (m,) the tether's tension [N] (None: no tether)
+    size: int  # n, the draws
+
+
+def families(ev, sources) -> list[Family] | None:
+    """The families of evaluator ``ev``'s classes with only ``sources`` drawn; None where some draw does not
+    hold (F₁ ≤ 0, μ ≤ 0, a non-finite term): the whole rows are evaluated then."""
+    per_bore = ev.bore_terms(sources)
+    slope, at_zero = ev.load_affine()
+    friction = "friction" in sources
+    keys = np.stack([*(group for group, _ in per_bore), ev.mu, ev.mu_sd if friction else 0 * ev.mu])
+    _, inverse = np.unique(keys, axis=1, return_inverse=True)
+    inverse = np.asarray(inverse).reshape(-1)
+    out = []
+    for f in range(int(inverse.max()) + 1 if inverse.size else 0):
+        rows = np.flatnonzero(inverse == f)
+        c = int(rows[0])
+        terms = [all_terms[group[c]] for group, all_terms in per_bore]
+        sd = float(ev.mu_sd[c]) if friction else 0.0
+        if sd > 0:  # μ(d) as Evaluator.friction_load sums it: μ̂ + sd·ξ(d)
+            mu = ev.mu[c] + keyed_normal(ev.problem.seed, "friction", (ev.mu[c], sd), ev.problem.samples) * sd
+        else:
+            mu = ev.mu[rows] + np.zeros(1)
+        finite = all(np.all(np.isfinite(v)) for t in terms for v in vars(t).values())
+        per_draw = sd > 0 or any(np.size(v) > 1 for t in terms for v in vars(t).values())
+        if not (finite and per_draw and np.min(mu) > 0):
+            return None
+        drag = None if ev.drag is None else ev.drag[rows]
+        out.append(Family(rows, terms, mu, sd > 0, slope[rows], at_zero[rows], drag, ev.problem.samples))
+    return out
+
+
+def chunk_statistics(found: list[Family], ranks: list[int], n: int, count: int, share: bool):
+    """(settled statistics (len(ranks), count), shares (count,) or None) of every class of the families
+    ``found`` (:func:`family_statistics`); None where candidates do not pay."""
+    stats, shares = np.empty((len(ranks), count)), np.empty(count) if share else None
+    for family in found:
+        result = family_statistics(family, ranks, n, share)
+        if result is None:
+            return None
+        stats[:, family.rows] = result[0]
+        if share:
+            shares[family.rows] = result[1]
+    return stats, shares
+
+
+def values(family: Family, members: np.ndarray, columns: np.ndarray | None) -> np.ndarray:
+    """Raw P* (len(members), K) of ``members`` (positions in the family) in draws ``columns`` (None: all n),
+    by the operations of Evaluator.friction_load, law.per_class and law.raw_least (the same bits)."""
+    if family.drawn:
+        mu = (family.mu if columns is None else family.mu[columns])[None, :]
+    else:
+        mu = family.mu[members, None]
+    load = np.multiply(mu, family.slope[members, None])
+    load += family.at_zero[members, None]
+    if family.drag is not None:
+        load = load + family.drag[members, None]
+    per_mu = np.divide(load, mu)
+    shape = (members.size, family.size if columns is None else columns.size)
+    least = None
+    for t in family.terms:
+        k, r, f = (v if v.size == 1 or columns is None else v[columns] for v in (t.k, t.r, t.f))
+        out = np.multiply(load, k, out=np.empty(shape))
+        out += np.multiply(per_mu, r)
+        out -= f
+        least = out if least is None else np.maximum(least, out, out=least)
+    return least
+
+
+@dataclass(frozen=True)
+class Extremes:
+    """What bounds a member's values against the reference's (per bore of the family): the extremes of
+    X and Y over the draws, their largest size, and each member's terms' size [Pa]."""
+
+    a: np.ndarray  # (m,) the members' coefficient of X (before the reference's is taken off)
+    b: np.ndarray  # (m,) of Y
+    x: list[tuple[float, float]]  # per bore (min X, max X)
+    y: list[tuple[float, float]]
+    scale: float  # max |X| + max |Y| over the bores
+    size: np.ndarray  # (m,) max over the bores of |W|·max|k| + |W/μ|·max|r| + max|f| [Pa]
+
+
+def extremes(family: Family) -> Extremes:
+    """v_c − v_ref = (a_c − a_ref)·X + (b_c − b_ref)·Y per bore in every draw (exact arithmetic): a = s,
+    b = z + t, X = μk + r, Y = k + r/μ where μ is drawn (W = μs + z + t), a = W, b = W/μ, X = k, Y = r
+    where it is not."""
+    drag = np.zeros(family.slope.size) if family.drag is None else family.drag
+    if family.drawn:
+        mu = family.mu
+        a, b = family.slope, family.at_zero + drag
+        features = [(mu * t.k + t.r, t.k + t.r / mu) for t in family.terms]
+        top, inverse = float(np.max(mu)), float(np.max(1.0 / mu))
+        size_w = np.abs(family.slope) * top + np.abs(family.at_zero) + np.abs(drag)
+        size_p = np.abs(family.slope) + (np.abs(family.at_zero) + np.abs(drag)) * inverse
+    else:
+        a = family.mu * family.slope + family.at_zero + drag
+        b = a / family.mu
+        features = [(t.k, t.r) for t in family.terms]
+        size_w, size_p = np.abs(a), np.abs(b)
+    x = [(float(np.min(u)), float(np.max(u))) for u, _ in features]
+    y = [(float(np.min(v)), float(np.max(v))) for _, v in features]
+    scale = max(max(abs(x0), abs(x1)) + max(abs(y0), abs(y1))
+                for (x0, x1), (y0, y1) in zip(x, y, strict=True))
+    size = np.max([size_w * np.max(np.abs(t.k)) + size_p * np.max(np.abs(t.r)) + np.max(np.abs(t.f))
+                   for t in family.terms], axis=0)
+    return Extremes(a, b, x, y, scale, size)
+
+
+def _bound(e: Extremes, members: np.ndarray, reference: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lowest, highest) (len(members),) [Pa] that a member's value can lie from the reference's in any draw:
+    each bore's a·X + b·Y at X's and Y's extremes, widened by the rounding of both values (SLACK of their
+    terms' size and of the shift's)."""
+    a, b = e.a[members] - e.a[reference], e.b[members] - e.b[reference]
+    high = low = None
+    for (x0, x1), (y0, y1) in zip(e.x, e.y, strict=True):
+        up = np.maximum(a * x0, a * x1) + np.maximum(b * y0, b * y1)
+        down = np.minimum(a * x0, a * x1) + np.minimum(b * y0, b * y1)
+        high = up if high is None else np.maximum(high, up)
+        low = down if low is None else np.minimum(low, down)
+    slack = SLACK * (e.size[members] + e.size[reference] + (np.abs(a) + np.abs(b)) * e.scale)
+    return low - slack, high + slack
+
+
+def _select(part: np.ndarray, ranks: list[int], below: int):
+    """(raw statistics (len(ranks), m), ``part`` partitioned) of the full ranks ``ranks`` from candidates
+    ``part`` (m, K), ``below`` values known to lie under them (partitioned in place)."""
+    shifted = [k - below for k in ranks]
+    start = 0
+    for k in sorted(set(shifted)):
+        part[:, start:].partition(k - start, axis=1)
+        start = k + 1
+    return part[:, shifted].T
+
+
+def _exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, share: bool):
+    """(settled statistics, the share of n values ≤ the first, or None) as quantiles.order_statistics
+    gives them: the ties above the first rank after settle are counted."""
+    out = settle(stats)
+    if not share:
+        return out, None
+    above = settle(part[:, first - below + 1:])
+    return out, (first + 1 + np.count_nonzero(above == out[0][:, None], axis=1)) / n
+
+
+def family_statistics(family: Family, ranks: list[int], n: int, share: bool):
+    """(settled order statistics (len(ranks), m) of each member's n raw values, their share ≤ the first or
+    None) for 0-based ``ranks`` (the first a high rank where ``share``); None where the ranks' tails are
+    too wide for candidates to pay (more than half the draws)."""
+    high = [k for k in ranks if 2 * k >= n]
+    low = [k for k in ranks if 2 * k < n]
+    top = n - min(high) if high else 0
+    bottom = max(low) + 1 if low else 0
+    top += max(MARGIN, int(top * MARGIN_SHARE)) if high else 0
+    bottom += max(MARGIN, int(bottom * MARGIN_SHARE)) if low else 0
+    if 2 * (top + bottom) > n:
+        return None
+    m = family.rows.size
+    out = Statistics(np.empty((len(ranks), m)), np.empty(m) if share else None,
+                     [(high + low).index(k) for k in ranks])
+    bounds = extremes(family)
+    start, block = 0, FIRST_BLOCK
+    while start < m:
+        members = np.arange(start, min(start + block, m))
+        whole = _block(family, bounds, members, high, low, top, bottom, n, out)
+        if 4 * whole > members.size:
+            block = max(1, block // 2)
+        elif whole == 0:
+            block = min(2 * block, LARGEST_BLOCK)
+        start += members.size
+    return out.stats, out.shares
+
+
+@dataclass(frozen=True)
+class Statistics:
+    """What :func:`family_statistics` fills, per member."""
+
+    stats: np.ndarray  # (R, m) settled, in the order of the ranks asked
+    shares: np.ndarray | None  # (m,) the share of draws ≤ the first statistic
+    slots: list[int]  # row of each asked rank among the high ranks then the low ranks
+
+
+def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: Statistics) -> int:
+    """Fill ``stats`` (and ``shares``) of ``members`` from the candidates of the middle one; returns how many
+    were evaluated over all n draws."""
+    reference = int(members[members.size // 2])
+    row = values(family, np.array([reference]), None)[0]
+    if not np.all(np.isfinite(row)):
+        return _whole(family, members, high + low, n, out)
+    lowest, highest = _bound(bounds, members, reference)
+    good = np.ones(members.size, dtype=bool)
+    found = []
+    sorted_row = np.array(row)
+    if high:  # the candidates: every draw at or above the reference's (n − top)-th value
+        sorted_row.partition(n - top)
+        candidates = np.flatnonzero(row >= sorted_row[n - top])
+        below = n - candidates.size
+        part = values(family, members, candidates)
+        raw = _select(part, high, below)
+        ceiling = np.max(sorted_row[:n - top]) + highest  # the others lie at or below it
+        good &= raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling)
+        found.append((raw, part, below))
+    if low:  # every draw at or below the reference's bottom-th value
+        sorted_row[:n - top].partition(bottom - 1)
+        candidates = np.flatnonzero(row <= sorted_row[bottom - 1])
+        part = values(family, members, candidates)
+        raw = _select(part, low, 0)
+        floor = np.min(sorted_row[bottom:]) + lowest
+        good &= raw.max(axis=0) < floor - 4 * SLACK * np.abs(floor)
+        found.append((raw, part, 0))
+    settled = settle(np.concatenate([raw for raw, _, _ in found]))
+    out.stats[:, members[good]] = settled[out.slots][:, good]
+    if out.shares is not None:
+        raw, part, below = found[0]
+        out.shares[members[good]] = _exact(raw[:, good], part[good], high[0], below, n, True)[1]
+    bad = members[~good]
+    if bad.size:
+        _whole(family, bad, high + low, n, out)
+    return int(bad.size)
+
+
+def _whole(family, members, ranks, n, out: Statistics) -> int:
+    """Fill ``members`` from all n draws (the plain partition); returns how many."""
+    part = values(family, members, None)
+    raw = _select(part, ranks, 0)
+    settled, held = _exact(raw, part, ranks[0], 0, n, out.shares is not None)
+    out.stats[:, members] = settled[out.slots]
+    if held is not None:
+        out.shares[members] = held
+    return int(members.size)

@@ -1,0 +1,86 @@
+"""Order statistics from candidate draws (pampipe.planning.family): equal bit for bit to the partition of
+every class's n draws, where neighbours share the reference's candidates (inclines 0.01 deg apart) and where
+they do not and are evaluated in full (1.9 deg apart); with the bound taken away the far classes come out
+wrong, so the bound is what makes them exact."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pampipe.io.mission_schema import load_mission
+from pampipe.planning import family
+from pampipe.planning.confidence import sampling_problem
+from pampipe.planning.evaluator import Evaluator
+from pampipe.planning.law import settle
+from pampipe.planning.problem import build_elements, mission_muscles
+from pampipe.planning.quantiles import order_statistics, upper_rank
+from pampipe.planning.sampling import Deviations, by_families, muscle_draws
+from tests.support.problems import PROBLEMS
+
+UNCERTAIN = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
+BORES = ("3 in", "{value: 3.5 in, sd: 0.4 mm}", "{nps: 3, schedule: 40, tolerance: 1 %}")
+N = 3000
+
+
+def _evaluator(tmp_path, step_deg: float) -> Evaluator:
+    """The riser robot (fit covariance) on 90 sections of 3 bores (an sd, a tolerance) and 2 frictions with
+    an sd, each its own incline, ``step_deg`` apart."""
+    head = UNCERTAIN.read_text().split("route:")[0].replace("../pams", str(PROBLEMS / "pams"))
+    lines = [f"  - {{name: s{i}, length: 2 m, inner_diameter: {BORES[i % 3]}, "
+             f"incline: {i * step_deg - 85:.6f} deg, "
+             f"friction: {{value: {0.25 + 0.05 * (i % 2):g}, sd: 0.03}}}}" for i in range(90)]
+    path = tmp_path / "route.yaml"
+    path.write_text(head + "route:\n" + "\n".join(lines) + "\n")
+    mission = load_mission(path)
+    muscles = mission_muscles(mission)
+    elements = build_elements(mission, muscles)
+    problem, classes, _ = sampling_problem(mission, muscles, elements, 0.95, samples=N, seed=7)
+    assert set(problem.active) == {"moduli", "bore", "friction"}
+    return Evaluator(problem, muscle_draws(problem), classes, 0, np.arange(len(classes)),
+                     Deviations(problem, classes, "bore"), Deviations(problem, classes, "friction"))
+
+
+CASES = [("all", [upper_rank(N, 0.95), 2730, 2969, upper_rank(N, 0.9), upper_rank(N, 0.99)], True),
+         ("moduli", [upper_rank(N, 0.95), upper_rank(N, 0.05)], False),
+         ("bore", [upper_rank(N, 0.95), upper_rank(N, 0.05)], False),
+         ("friction", [upper_rank(N, 0.95), upper_rank(N, 0.05)], False)]
+
+
+def _compare(ev: Evaluator, name: str, ranks: list[int], share: bool) -> None:
+    sources = ev.problem.active if name == "all" else (name,)
+    expected = order_statistics(ev.evaluate(sources, raw=True)[0], ranks, share=share, settle=settle)
+    got = by_families(ev, sources, ranks, share)
+    assert got is not None
+    if share:
+        np.testing.assert_array_equal(got[0], expected[0])
+        np.testing.assert_array_equal(got[1], expected[1])
+    else:
+        np.testing.assert_array_equal(got[0], expected)
+
+
+@pytest.mark.parametrize("step_deg", [0.01, 1.9])
+@pytest.mark.parametrize(("name", "ranks", "share"), CASES)
+def test_the_candidates_statistics_are_the_whole_rows(tmp_path, monkeypatch, step_deg, name, ranks, share):
+    ev = _evaluator(tmp_path, step_deg)
+    whole = []
+    plain = family._whole
+    monkeypatch.setattr(family, "_whole",
+                        lambda f, members, *a: whole.append(members.size) or plain(f, members, *a))
+    _compare(ev, name, ranks, share)
+    if step_deg < 1 and name in ("all", "friction"):  # close neighbours: most classes from the candidates
+        assert sum(whole) < len(ev.mu) / 4
+    if step_deg > 1 and name == "all":  # far apart: the bound sends classes to their whole rows
+        assert sum(whole) > 0
+
+
+def test_without_the_bound_far_classes_come_out_wrong(tmp_path, monkeypatch):
+    ev = _evaluator(tmp_path, 1.9)
+    _, ranks, share = CASES[3]
+    monkeypatch.setattr(family, "MARGIN", 0)  # the candidates: the reference's own tails, no more
+    monkeypatch.setattr(family, "MARGIN_SHARE", 0.0)
+    _compare(ev, "friction", ranks, share)
+    monkeypatch.setattr(family, "_bound", lambda e, members, reference: (np.full(members.size, 1e300),
+                                                                         np.full(members.size, -1e300)))
+    with pytest.raises(AssertionError):
+        _compare(ev, "friction", ranks, share)
