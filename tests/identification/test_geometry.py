@@ -208,7 +208,8 @@ def test_a_row_exactly_near_below_the_longest_length_counts():
     edge = longest - 0.002 * L0
     rows = axial([longest, longest, longest, edge, np.nextafter(edge, 0.0)],
                  [100e3, 300e3, 500e3, 200e3, 400e3], [0.2e3, 0.6e3, 1.0e3, 0.5e3, 0.9e3])
-    assert geo.blocked_force(data(rows), geometry()).rows == 4
+    check = geo.blocked_force(data(rows), geometry())
+    assert check.rows == 4 and check.length == pytest.approx((3 * longest + edge) / 4, rel=1e-14)
 
 
 def test_no_axial_test_no_check():
@@ -234,6 +235,15 @@ def test_three_distinct_pressures_spanning_exactly_20_percent_are_enough():
     rows = axial(np.full(3, L0), [400e3, 450e3, 500e3], [0.8e3, 0.9e3, 1.0e3])
     assert geo.blocked_force_skipped(data(rows), geometry()) is None
     assert geo.blocked_force(data(rows), geometry()).slope == pytest.approx(2e-3, rel=1e-9)
+
+
+def test_three_noisy_rows_have_one_degree_of_freedom():
+    p = np.array([200e3, 400e3, 600e3])
+    f = np.array([0.41e3, 0.79e3, 1.22e3])
+    check = geo.blocked_force(data(axial(np.full(3, L0), p, f)), geometry())
+    slope, slope_se, p_th, p_th_se = textbook_line(p, f)
+    assert (check.slope, check.threshold) == pytest.approx((slope, p_th), rel=1e-9)
+    assert (check.slope_std, check.threshold_std) == pytest.approx((slope_se, p_th_se), rel=1e-9)
 
 
 def test_levels_one_percent_apart_are_distinct():
@@ -318,6 +328,12 @@ def test_the_widest_pipe_caps_the_braid_angle():
     low, high = geo.bounds(data(), options("braid_angle"), (0.03,))["braid_angle"]
     assert low == pytest.approx(1.0, rel=1e-12)
     assert _braid(high, L0).largest_diameter == pytest.approx(0.03 * 1.005, rel=1e-12)
+
+
+def test_a_braid_angle_range_of_one_point_is_refused():
+    given = (("braid_angle", math.radians(20.0), math.radians(20.0)),)
+    with pytest.raises(InputError, match="at least 20 deg and at most 20 deg"):
+        geo.bounds(data(), options("braid_angle", given=given), ())
 
 
 def test_no_braid_angle_in_the_domain_is_an_input_error_naming_the_file_and_the_limits():
