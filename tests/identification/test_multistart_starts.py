@@ -181,3 +181,19 @@ def test_an_rmse_beyond_1_25_times_the_best_is_no_runner_up():
 def test_every_start_failing_without_a_fallback_raises_the_first_failure():
     with pytest.raises(SolverError, match="start 1 failed"):
         multistart.search(fake({1.0: None, 2.0: None}), STARTS[:2], CAL, rows=1)
+
+
+def test_wall_thicknesses_are_one_start_within_0_05_mm_and_one_minimum_within_0_01_mm():
+    """1.05 − 1.0 is a hair above 0.05 in floating point (0.05000000000000004): a start of its own."""
+    starts, _ = multistart.start_points(("bladder_thickness",), [0.5], [2.0], [1.0],
+                                        [("stated", [1.0]), ("thicker", [1.05]), ("near", [1.04])], None)
+    assert [label for label, _ in starts] == ["stated", "thicker"]
+    ends = {1.0: (1.0, 1.0), 2.0: (2.0, 1.01), 3.0: (3.0, 1.009)}  # start -> (SSE, fitted thickness)
+
+    def run(x):
+        sse, fitted = ends[float(x[0])]
+        return "payload", sse, np.array([fitted])
+
+    starts = [(name, np.array([key])) for name, key in (("A", 1.0), ("B", 2.0), ("C", 3.0))]
+    report, _ = multistart.search(run, starts, ("bladder_thickness",), rows=1)
+    assert [m.starts for m in report.minima] == [("A", "C"), ("B",)]
