@@ -145,6 +145,7 @@ def test_a_threshold_pressure_is_the_intercept_of_the_line():
     s = area(L0, STATED)
     check = geo.blocked_force(data(ramp([100e3, 200e3, 300e3, 500e3], s, threshold=60e3)), geometry())
     assert check.threshold == pytest.approx(60e3, rel=1e-9) and check.has_threshold and check.consistent
+    assert check.slope_std < 1e-12 * check.slope and check.threshold_std < 1e-3  # a perfect line: no spread
 
 
 def _check(slope=51.0, slope_std=1e-9, geometry_slope=50.0, threshold=0.0, threshold_std=0.0):
