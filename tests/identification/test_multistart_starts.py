@@ -79,10 +79,10 @@ def test_seeds_are_clipped_into_the_bounds_and_a_missing_seed_is_skipped():
 def test_a_start_within_half_a_degree_and_half_a_millimetre_of_an_earlier_one_is_dropped():
     """Both entries must be close (``all``); 0.5 exactly is close."""
     seeds = [("a", [10.5, 150.0]), ("b", [10.5, 150.6]), ("c", [11.0, 150.0]), ("d", [10.0, 149.5]),
-             ("e", [10.75, 150.25])]
+             ("e", [10.75, 150.25]), ("f", [9.497, 150.0])]
     values = [9.5, 9.0, 1.0] + [9.0 + j for j in range(9)]  # one screened start: 10°
     starts, _ = multistart.start_points(CAL, LOWER, UPPER, [24.0, 150.0], seeds, profile_screen(values))
-    assert [label for label, _ in starts] == ["braid angle 10 deg (screened)", "b", "c"]
+    assert [label for label, _ in starts] == ["braid angle 10 deg (screened)", "b", "c", "f"]
 
 
 def test_without_a_calibrated_braid_angle_nothing_is_screened():
@@ -90,9 +90,9 @@ def test_without_a_calibrated_braid_angle_nothing_is_screened():
         raise AssertionError("no screening without the braid angle")
 
     starts, screened = multistart.start_points(("initial_length",), [140.0], [160.0], [150.0],
-                                               [("stated", [150.0]), ("slopes", [150.4]), ("far", [151.0])],
-                                               screen)
-    assert screened == 0 and [label for label, _ in starts] == ["stated", "far"]
+                                               [("stated", [150.0]), ("slopes", [150.4]), ("past", [150.503]),
+                                                ("far", [151.2])], screen)
+    assert screened == 0 and [label for label, _ in starts] == ["stated", "past", "far"]
 
 
 def fake(answers: dict):
@@ -147,6 +147,11 @@ def test_one_start_one_minimum_in_the_singular():
     report, _ = multistart.search(fake({1.0: (4.0, [20.0, 150.0]), 2.0: (5.0, [20.5, 150.0])}), STARTS[:2],
                                   CAL, rows=1)
     assert report.describe()[0].endswith("; 1 other local minimum")
+    report, _ = multistart.search(fake({1.0: (4.0, [20.0, 150.0]), 2.0: (5.0, [20.5, 150.0]),
+                                        3.0: (6.0, [21.0, 150.0])}), STARTS[:3], CAL, rows=1)
+    assert report.describe()[0].endswith("; 2 other local minima")
+    unscreened = multistart.Search(CAL, report.starts, report.minima, (), None)
+    assert unscreened.screened == 0 and unscreened.describe()[0].startswith("global calibration: 3 starts, ")
 
 
 def test_minima_are_one_within_0_05_in_each_entry():
