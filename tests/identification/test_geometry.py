@@ -222,7 +222,9 @@ def test_no_axial_test_no_check():
 
 
 @pytest.mark.parametrize(("pressures", "forces", "reason"), [
-    ([100e3, 100e3, 500e3, 500e3], [1.0, 1.0, 2.0, 2.0], "2 distinct pressure(s)"),
+    ([100e3, 100e3, 500e3, 500e3], [1.0, 1.0, 2.0, 2.0],
+     "2 distinct pressure(s) with tension at the longest tested length 150 mm (the check needs 3)"),
+    ([100e3, 300e3, 500e3], [0.0, -1.0, -2.0], "0 distinct pressure(s) with tension at the longest"),
     ([300e3, 600e3, 601e3], [1.0, 2.0, 2.1], "2 distinct pressure(s)"),  # 601 and 600 kPa round to one level
     ([100e3, 300e3], [1.0, 2.0], "2 distinct pressure(s)"),
     ([0.0, 100e3, 300e3, 500e3], [0.0, -1.0, 2.0, 3.0], "2 distinct pressure(s)"),  # slack rows do not count
