@@ -64,6 +64,9 @@ TARGETS: dict[str, tuple[str, ...]] = {
     "pampipe/bends/geometry.py": ("tests/bends/test_geometry.py",),
     "pampipe/planning/tension.py": ("tests/planning/test_tension.py", "tests/planning/test_tether.py"),
     "pampipe/planning/reach.py": ("tests/planning/test_reach.py", "tests/planning/test_tether.py"),
+    "pampipe/identification/geometry.py": ("tests/identification/test_geometry.py",),
+    "pampipe/identification/multistart.py": ("tests/identification/test_multistart_starts.py",
+                                             "tests/identification/test_multistart.py"),
 }
 
 SWAPS = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult,
