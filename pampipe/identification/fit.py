@@ -140,7 +140,7 @@ class Round(NamedTuple):
 
 
 def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo,
-         round_: int = 0, centred=None, exact_rounds: bool = True) -> Round:
+         round_: int = 0, centred=None, exact_rounds: bool = True, setup: Setup | None = None) -> Round:
     """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution, ``centred`` the Hessian
     of its problem there: see :func:`.solve.solve_fit`, as ``exact_rounds``) if given. Its
     report gives the IdentifyResult and ``finish``; ``finish()`` gives its (model error, written joint
@@ -149,12 +149,13 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
     which needs only the axial model to find the rows it moves.
     ``memo``: what the rounds of the hinge share of the reduction
     (:class:`~pampipe.identification.statistics.Memo`); ``round_``: which round (0: the first), named in
-    the progress line of every later one.
+    the progress line of every later one; ``setup``: :func:`.fit_setup.set_up` of these arguments if the
+    caller made it (this fit changes its parameter values).
 
     Steps: :func:`.fit_setup.set_up` (reduce, build, start), :func:`_calibrated` or one solve, :func:`_solved`
     (polish, moduli), and :func:`_report` when asked for.
     """
-    setup = set_up(data, options, say, hinge, warm, memo)
+    setup = setup or set_up(data, options, say, hinge, warm, memo)
     if options.calibrate:
         solve = _calibrated(data, options, say, setup)
     else:
@@ -398,11 +399,12 @@ def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data
     if options.calibrate:
         data = replace(data, pam=replace(data.pam, geometry=fit.geometry))
         options = replace(options, calibrate=())
+    setup = set_up(data, options, lambda _text: None, {}, None, Memo())  # for both solves: reduced once
     if refits == "active_set":
-        found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli])
+        found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli], setup)
         if found is not None:
             return found
-    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), exact_rounds=False).fit
+    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), exact_rounds=False, setup=setup).fit
     return problem.muscles(fitted.geometry, fitted.moduli, fitted.pipe_moduli)
 
 
