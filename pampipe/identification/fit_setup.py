@@ -79,9 +79,10 @@ def set_up(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Me
     inside = stated if not options.calibrate else geo.from_x(  # the stated geometry, within the bounds
         stated, structure.calibrate,
         np.clip(geo.stated_x(stated, structure.calibrate), lbx[fixed], ubx[fixed]))
-    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
-    if warm is not None and warm.size == x0.size:
+    if warm is not None and warm.size == lbx.size:  # the slack hinge's next round: no linear screen
         x0 = warm
+    else:
+        x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
     sse0 = float(nlp.sse(x0, nlp.layout.pack(values)))
     _weigh_prior(values, sse0, stats.points, x0.size, prior, data, options, n)
