@@ -24,13 +24,12 @@ import numpy as np
 
 from pampipe._version import __version__
 from pampipe.errors import InputError, SolverError
-from pampipe.identification import drucker, envelope, exact, multistart, problem, quality, seeds, written
+from pampipe.identification import drucker, envelope, exact, problem, quality, written
 from pampipe.identification import geometry as geo
 from pampipe.identification import model_error as model_errors
 from pampipe.identification.covariance import analyse
 from pampipe.identification.fit_setup import Setup, set_up, updater_for
 from pampipe.identification.fit_warnings import fit_warnings
-from pampipe.identification.grip import identify_grip
 from pampipe.identification.held_out import refit as refit_from_full
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
@@ -62,6 +61,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
     if not data.tests:  # slip tests only: μ and κ from the stated PAM's moduli
+        from pampipe.identification.grip import identify_grip
+
         return identify_grip(data, options)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
@@ -201,6 +202,8 @@ class Fit(NamedTuple):
 def _calibrated(data: ExperimentData, options: FitOptions, say, setup: Setup) -> Solve:
     """(4) with calibration: the fit at the stated geometry, then IPOPT from several starting geometries
     (:mod:`.multistart`), the best kept."""
+    from pampipe.identification import multistart, seeds  # imported here: only a calibration uses them
+
     nlp, structure, stats, stated = setup.nlp, setup.structure, setup.stats, data.pam.geometry
     lbx, ubx, fixed, values = setup.lbx, setup.ubx, setup.fixed, setup.values
     say("fitting at the stated geometry")
