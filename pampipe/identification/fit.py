@@ -24,13 +24,12 @@ import numpy as np
 
 from pampipe._version import __version__
 from pampipe.errors import InputError, SolverError
-from pampipe.identification import drucker, envelope, exact, multistart, problem, quality, seeds, written
+from pampipe.identification import drucker, envelope, exact, problem, quality, written
 from pampipe.identification import geometry as geo
 from pampipe.identification import model_error as model_errors
 from pampipe.identification.covariance import analyse
 from pampipe.identification.fit_setup import Setup, set_up, updater_for
 from pampipe.identification.fit_warnings import fit_warnings
-from pampipe.identification.grip import identify_grip
 from pampipe.identification.held_out import refit as refit_from_full
 from pampipe.identification.options import FitOptions, parse_fit_options
 from pampipe.identification.predict import evaluate_tests, predict
@@ -62,6 +61,8 @@ def identify(data: ExperimentData, options: FitOptions | None = None, *, progres
     options = options or parse_fit_options(data.fit, source=data.source)
     say = progress or (lambda _text: None)
     if not data.tests:  # slip tests only: μ and κ from the stated PAM's moduli
+        from pampipe.identification.grip import identify_grip
+
         return identify_grip(data, options)
     _check(data, options)
     hinge: dict[int, np.ndarray] = {}
@@ -140,7 +141,7 @@ class Round(NamedTuple):
 
 
 def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo,
-         round_: int = 0, centred=None, exact_rounds: bool = True) -> Round:
+         round_: int = 0, centred=None, exact_rounds: bool = True, setup: Setup | None = None) -> Round:
     """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution, ``centred`` the Hessian
     of its problem there: see :func:`.solve.solve_fit`, as ``exact_rounds``) if given. Its
     report gives the IdentifyResult and ``finish``; ``finish()`` gives its (model error, written joint
@@ -149,12 +150,13 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
     which needs only the axial model to find the rows it moves.
     ``memo``: what the rounds of the hinge share of the reduction
     (:class:`~pampipe.identification.statistics.Memo`); ``round_``: which round (0: the first), named in
-    the progress line of every later one.
+    the progress line of every later one; ``setup``: :func:`.fit_setup.set_up` of these arguments if the
+    caller made it (this fit changes its parameter values).
 
     Steps: :func:`.fit_setup.set_up` (reduce, build, start), :func:`_calibrated` or one solve, :func:`_solved`
     (polish, moduli), and :func:`_report` when asked for.
     """
-    setup = set_up(data, options, say, hinge, warm, memo)
+    setup = setup or set_up(data, options, say, hinge, warm, memo)
     if options.calibrate:
         solve = _calibrated(data, options, say, setup)
     else:
@@ -200,6 +202,8 @@ class Fit(NamedTuple):
 def _calibrated(data: ExperimentData, options: FitOptions, say, setup: Setup) -> Solve:
     """(4) with calibration: the fit at the stated geometry, then IPOPT from several starting geometries
     (:mod:`.multistart`), the best kept."""
+    from pampipe.identification import multistart, seeds  # imported here: only a calibration uses them
+
     nlp, structure, stats, stated = setup.nlp, setup.structure, setup.stats, data.pam.geometry
     lbx, ubx, fixed, values = setup.lbx, setup.ubx, setup.fixed, setup.values
     say("fitting at the stated geometry")
@@ -398,11 +402,12 @@ def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data
     if options.calibrate:
         data = replace(data, pam=replace(data.pam, geometry=fit.geometry))
         options = replace(options, calibrate=())
+    setup = set_up(data, options, lambda _text: None, {}, None, Memo())  # for both solves: reduced once
     if refits == "active_set":
-        found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli])
+        found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli], setup)
         if found is not None:
             return found
-    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), exact_rounds=False).fit
+    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), exact_rounds=False, setup=setup).fit
     return problem.muscles(fitted.geometry, fitted.moduli, fitted.pipe_moduli)
 
 

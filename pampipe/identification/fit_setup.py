@@ -16,7 +16,7 @@ import numpy as np
 from pampipe.errors import SolverError
 from pampipe.identification import drucker, problem
 from pampipe.identification import geometry as geo
-from pampipe.identification.fit_nlp import GEOMETRY, build_problem
+from pampipe.identification.fit_nlp import GEOMETRY, build_problem, with_held_room
 from pampipe.identification.options import FitOptions
 from pampipe.identification.result import MPA
 from pampipe.identification.solve import geometry_mask, updater
@@ -66,7 +66,8 @@ def set_up(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Me
     grid = _constraint_rows(stated, options, pressures, lengths, n)
     contact_base, contact_incr = problem.contact_rows(stats, options, pressures, stated)
     prior = problem.prior_kind(options)
-    structure = problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0], stated.wall, prior)
+    structure = with_held_room(problem.structure_of(stats, options, grid.shape[0], contact_base.shape[0],
+                                                    stated.wall, prior))
     before = build_problem.cache_info().misses
     nlp = build_problem(structure)
     build_time = nlp.build_time if build_problem.cache_info().misses > before else 0.0
@@ -78,9 +79,10 @@ def set_up(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Me
     inside = stated if not options.calibrate else geo.from_x(  # the stated geometry, within the bounds
         stated, structure.calibrate,
         np.clip(geo.stated_x(stated, structure.calibrate), lbx[fixed], ubx[fixed]))
-    x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
-    if warm is not None and warm.size == x0.size:
+    if warm is not None and warm.size == lbx.size:  # the slack hinge's next round: no linear screen
         x0 = warm
+    else:
+        x0 = problem.initial_guess(structure, stats, problem.reference_theta(data, n), lbx, ubx, inside)
     x0 = np.clip(x0, lbx + 1e-6 * (ubx - lbx), ubx - 1e-6 * (ubx - lbx))
     sse0 = float(nlp.sse(x0, nlp.layout.pack(values)))
     _weigh_prior(values, sse0, stats.points, x0.size, prior, data, options, n)

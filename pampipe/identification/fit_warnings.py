@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 
-from pampipe.identification import multistart
 from pampipe.identification.options import FitOptions
 from pampipe.identification.result import Calibration
 
@@ -33,6 +32,8 @@ def fit_warnings(status, u, names, minimum, options, structure, calibration, sta
                    "moduli are valid only in that pipe (see per_pipe in the JSON).")
     out += geometry_warnings(calibration, options)
     if calibration.search is not None and calibration.search.runner_ups():
+        from pampipe.identification import multistart  # imported here: only a calibration searches
+
         best, other = calibration.search.best, calibration.search.runner_ups()[0]
         shown = ", ".join(f"{name} {value:.4g} {multistart.UNITS[name]}"
                           for name, value in zip(calibration.calibrated, other.geometry, strict=True))

@@ -24,22 +24,25 @@ from __future__ import annotations
 import numpy as np
 
 from pampipe.identification import exact, problem
-from pampipe.identification.fit_setup import set_up, updater_for
+from pampipe.identification.fit_setup import Setup, set_up, updater_for
 from pampipe.identification.options import FitOptions
 from pampipe.identification.solve import UPDATE_ROUNDS
 from pampipe.identification.statistics import Memo
 from pampipe.specs.experiment import ExperimentData
 
 
-def refit(data: ExperimentData, options: FitOptions, x_full: np.ndarray, hessian: np.ndarray):
+def refit(data: ExperimentData, options: FitOptions, x_full: np.ndarray, hessian: np.ndarray,
+          setup: Setup | None = None):
     """(muscle, {pipe: muscle}) of the least-squares fit to ``data`` (a block withheld, the geometry as
     stated: a calibrated one is held by the caller) from the full fit's ``x_full`` (``hessian``: H of the
     full fit there), or None where the active-set solve does not apply, did not converge or its minimum
-    is not unique along a direction the full data see (module docstring)."""
-    setup = set_up(data, options, lambda _text: None, {}, None, Memo())
+    is not unique along a direction the full data see (module docstring). ``setup``: the fit's set-up of
+    ``data`` (:func:`.fit_setup.set_up`, no hinge, no start) if the caller made it (for IPOPT where this gives
+    None); it is left as it was (the steps change a copy of its parameter values)."""
+    setup = setup or set_up(data, options, lambda _text: None, {}, None, Memo())
     if not exact.applies(setup.structure) or x_full.size != setup.x0.size:
         return None
-    values = setup.values
+    values = {key: np.array(value, copy=True) for key, value in setup.values.items()}
     update = updater_for(values, data, options, setup)
     x, seen = np.clip(x_full, setup.lbx, setup.ubx), set()
     update(x, seen)  # the slack cells' sides at the full fit

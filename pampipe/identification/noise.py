@@ -69,16 +69,22 @@ def _first_row_of_inverse(gram: np.ndarray) -> np.ndarray:
     p̂(x_i) = row₀·Xᵀy and h_i = [(XᵀX)⁺]₀₀). Where XᵀX = [[a, b, c], [b, d, e], [c, e, f]] is well
     conditioned (its determinant above :data:`CONDITIONED` times adf; x is scaled to a unit span, so the
     entries are O(1)) it is the cofactors' row (df − e², ce − bf, be − cd) / det, elementwise over the
-    windows; numpy's pinv (an SVD each) where repeats make XᵀX singular or nearly. The two agree to ~1e-12
-    where both apply."""
+    windows; where every x of the window is x_i (repeats only: XᵀX = diag(a, 0, 0), a the rows) it is
+    (1/a, 0, 0), what pinv gives to the bit; numpy's pinv (an SVD each) where other repeats make XᵀX singular
+    or nearly (on a radial test of 3·10⁴ rows 99.7 % of the windows are repeats only). The cofactors and pinv
+    agree to ~1e-12 where both apply."""
     a, b, c = gram[:, 0, 0], gram[:, 0, 1], gram[:, 0, 2]
     d, e, f = gram[:, 1, 1], gram[:, 1, 2], gram[:, 2, 2]
     cofactors = np.stack([d * f - e * e, c * e - b * f, b * e - c * d], axis=1)
     determinant = a * cofactors[:, 0] + b * cofactors[:, 1] + c * cofactors[:, 2]
     regular = np.abs(determinant) > CONDITIONED * np.abs(a * d * f)
+    repeats = ~regular & (a > 0) & (gram.reshape(-1, 9)[:, 1:] == 0).all(axis=1)
     out = np.empty((gram.shape[0], 3))
     out[regular] = cofactors[regular] / determinant[regular, None]
-    out[~regular] = np.linalg.pinv(gram[~regular])[:, 0, :]
+    out[repeats] = 0.0
+    out[repeats, 0] = 1.0 / a[repeats]
+    rest = ~regular & ~repeats
+    out[rest] = np.linalg.pinv(gram[rest])[:, 0, :]
     return out
 
 

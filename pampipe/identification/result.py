@@ -13,7 +13,6 @@ from pampipe.identification.drucker import Minimum
 from pampipe.identification.envelope import Predictions
 from pampipe.identification.geometry import BlockedForce
 from pampipe.identification.model_error import ModelError
-from pampipe.identification.multistart import Search
 from pampipe.identification.options import FitOptions
 from pampipe.identification.predict import TestFit
 from pampipe.identification.quality import Quality
@@ -21,7 +20,8 @@ from pampipe.model.pam import Geometry, Moduli, Pam
 from pampipe.model.uncertainty import ParameterUncertainty
 from pampipe.results import frame, notebook
 
-if TYPE_CHECKING:  # the slip package loads only for slip tests
+if TYPE_CHECKING:  # the slip package loads only for slip tests, the calibration's search only to calibrate
+    from pampipe.identification.multistart import Search
     from pampipe.slip.result import SlipResult
 
 MPA = 1e6

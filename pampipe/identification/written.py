@@ -28,7 +28,6 @@ import numpy as np
 
 from pampipe.identification import problem
 from pampipe.model.uncertainty import ParameterUncertainty, UndeterminedDirection, moduli_names, scaled_unit
-from pampipe.specs.pipes import schedule_bores
 
 #: A direction with less than this share of its length in the written entries is not theirs.
 NEGLIGIBLE = 1e-3
@@ -53,7 +52,11 @@ def bores(data, options, geometry) -> list[float]:
     named = sorted({t.spec.pipe_diameter for t in data.tests if t.kind == "radial"}
                    | set(options.pipe_diameters))
     named = [d for d in named if low < d < high]
-    return named or [bore for _, bore in schedule_bores(low * 1.01, high * 0.99)]
+    if named:
+        return named
+    from pampipe.specs.pipes import schedule_bores  # imported here: a fit with radial tests needs no schedule
+
+    return [bore for _, bore in schedule_bores(low * 1.01, high * 0.99)]
 
 
 def parameter_uncertainty(u, x, names, structure, hessian, lower, upper, model_error, muscle_at,

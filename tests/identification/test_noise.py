@@ -47,3 +47,16 @@ def test_the_windows_are_inverted_as_numpys_pseudo_inverse_does():
     reference = np.linalg.pinv(gram)[:, 0, :]
     row = noise._first_row_of_inverse(gram)
     assert np.allclose(row, reference, rtol=1e-10, atol=1e-10 * np.abs(reference).max())
+
+
+def test_windows_of_repeats_only_are_inverted_to_the_bit_of_numpys_pseudo_inverse():
+    """A window whose x all equal x_i (XᵀX = diag(a, 0, 0)) gets row 0 of pinv exactly: (1/a, 0, 0), the
+    same floats: the floor of a test at held pressures is the number pinv on every window gives."""
+    design = np.zeros((5, 6, 3))
+    design[:, :, 0] = 1.0
+    design[3, :2, 0] = 0.0  # a window with 4 rows: a = 4
+    gram = np.einsum("mki,mkj->mij", design, design)
+    row = noise._first_row_of_inverse(gram)
+    reference = np.linalg.pinv(gram)[:, 0, :]
+    assert row.tobytes() == reference.tobytes()
+    assert row[3].tolist() == [0.25, 0.0, 0.0] and row[0].tolist() == [1 / 6, 0.0, 0.0]

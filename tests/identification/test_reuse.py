@@ -136,3 +136,22 @@ def test_the_tsqr_equals_stacking_each_chunks_level_rows_under_r_bit_for_bit(dat
     assert np.array_equal(got.r[mine], expected[:, :p, :p])
     assert np.array_equal(got.z[mine], expected[:, :p, p])
     assert np.array_equal(got.rest[mine], expected[:, p, p] ** 2)
+
+
+def test_a_refit_with_fewer_cells_takes_the_held_nlp_of_the_next_larger_capacity(monkeypatch):
+    """The model error's refits on a subset hold fewer slack cells than the fit: they take the NLP the
+    process holds that differs only by a larger capacity (the smallest such; the fit is the same, as
+    above), and nothing else: another structure, or no cells, keeps its own."""
+    from dataclasses import replace
+
+    from pampipe.identification import fit_nlp
+
+    base = fit_nlp.Structure("shared", "least_squares", 16, 1, True, 64, ((11, 0),), 1, 256, 0, "constant",
+                             "none", (), "thick", 1000, 1e-10)
+    held = [replace(base, cells=512), replace(base, cells=128), replace(base, cells=128, grid_rows=128)]
+    monkeypatch.setattr(fit_nlp, "_HELD", held)
+    assert fit_nlp.with_held_room(base) == replace(base, cells=128)
+    assert fit_nlp.with_held_room(replace(base, cells=256)) == replace(base, cells=512)
+    assert fit_nlp.with_held_room(replace(base, cells=1024)) == replace(base, cells=1024)
+    assert fit_nlp.with_held_room(replace(base, grid_rows=64)) == replace(base, grid_rows=64)
+    assert fit_nlp.with_held_room(replace(base, cells=0)) == replace(base, cells=0)
