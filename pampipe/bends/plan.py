@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from itertools import pairwise
+from itertools import pairwise, repeat
 from typing import NamedTuple
 
 import numpy as np
@@ -210,9 +210,8 @@ def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
     route = mission.route
     widest = max(seg.pam.geometry.initial_diameter for seg in mission.segments)
     changes = np.flatnonzero(route.diameter[:-1] != route.diameter[1:])  # one pass over the columns
-    reducers = tuple(ReducerPlan(name, before, after, widest) for name, before, after in zip(
-        route.name[changes].tolist(), route.diameter[changes].tolist(), route.diameter[changes + 1].tolist(),
-        strict=True))
+    reducers = tuple(map(ReducerPlan, route.name[changes].tolist(), route.diameter[changes].tolist(),
+                         route.diameter[changes + 1].tolist(), repeat(widest, changes.size)))
     if route.bend_angle is None:
         return (), reducers
     steering = mission.steering

@@ -13,10 +13,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from functools import partial
 
 import numpy as np
 
 from pampipe.model.muscle import Muscle
+from pampipe.runtime.alike import per_distinct
 
 BORE_STEP = 1e-3  # [m]
 ANGLE_STEP = math.radians(1.0)  # [rad]
@@ -30,12 +32,17 @@ def contact_costs(muscles, diameter_high: np.ndarray, valid: np.ndarray) -> np.n
         if rows.size == 0:
             continue
         d = diameter_high[rows, i] if np.ndim(diameter_high) == 2 else diameter_high[rows]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            touch = muscle.anchoring_pressure(d, 0.0)
-            out[rows, i, 0] = muscle.anchoring_pressure(d + BORE_STEP, 0.0) - touch
-            tilted = [_tilted(muscle, sign).anchoring_pressure(d, 0.0) for sign in (1.0, -1.0)]
-            out[rows, i, 1] = np.maximum(*tilted) - touch
+        out[rows, i] = per_distinct(partial(_costs, muscle), d)  # a long route repeats its bores
     return out
+
+
+def _costs(muscle: Muscle, d: np.ndarray) -> np.ndarray:
+    """(ΔP_D, ΔP_α) [Pa] of ``muscle`` at each largest bore ``d`` [m], shape (n, 2)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        touch = muscle.anchoring_pressure(d, 0.0)
+        tilted = [_tilted(muscle, sign).anchoring_pressure(d, 0.0) for sign in (1.0, -1.0)]
+        return np.stack([muscle.anchoring_pressure(d + BORE_STEP, 0.0) - touch, np.maximum(*tilted) - touch],
+                        axis=1)
 
 
 def _tilted(muscle: Muscle, sign: float) -> Muscle:

@@ -18,6 +18,7 @@ from pampipe.planning.reach import plan_tether
 from pampipe.planning.result import MissionPlan, PlanArrays
 from pampipe.planning.solve import Solution, solve
 from pampipe.planning.warnings import plan_warnings, route_coverage
+from pampipe.runtime.alike import per_distinct
 
 #: Largest accepted relative disagreement between the NLP and its cross-check.
 CHECK_TOLERANCE = 1e-6
@@ -105,11 +106,13 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
 
 
 def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
-    """(holding capacity, F_r, p_c) of segment i in every section, from its muscle at the plan."""
-    d, load = e.diameter[:, i], e.load[:, i]
-    radial = np.asarray(muscle.radial_force(pressure, d, e.kappa * load), dtype=float) * np.ones_like(d)
-    capacity = e.friction[:, i] * np.pi * radial
-    return capacity, radial, muscle.contact_pressure(radial, d)
+    """(holding capacity, F_r, p_c) of segment i in every section, from its muscle at the plan (once per
+    distinct element of a long route, :func:`~pampipe.runtime.alike.per_distinct`)."""
+    def evaluate(pressure, d, load, friction):
+        radial = np.asarray(muscle.radial_force(pressure, d, e.kappa * load), dtype=float) * np.ones_like(d)
+        return friction * np.pi * radial, radial, muscle.contact_pressure(radial, d)
+
+    return per_distinct(evaluate, pressure, e.diameter[:, i], e.load[:, i], e.friction[:, i])
 
 
 def _determined(sampled, shape) -> np.ndarray:
