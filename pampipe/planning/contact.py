@@ -18,21 +18,21 @@ from functools import partial
 import numpy as np
 
 from pampipe.model.muscle import Muscle
-from pampipe.runtime.alike import per_distinct
 
 BORE_STEP = 1e-3  # [m]
 ANGLE_STEP = math.radians(1.0)  # [rad]
 
 
-def contact_costs(muscles, diameter_high: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    """(ΔP_D, ΔP_α) [Pa] per element, shape (sections, segments, 2); NaN where the element is invalid."""
+def contact_costs(muscles, elements) -> np.ndarray:
+    """(ΔP_D, ΔP_α) [Pa] per element of ``elements`` (:class:`~pampipe.planning.problem.Elements`), shape
+    (sections, segments, 2), at each element's largest bore; NaN where the element is invalid. Once per
+    distinct section (:meth:`~pampipe.planning.problem.Elements.per_section`)."""
+    valid = elements.valid
     out = np.full((*valid.shape, 2), np.nan)
     for i, muscle in enumerate(muscles):
-        rows = np.flatnonzero(valid[:, i])
-        if rows.size == 0:
-            continue
-        d = diameter_high[rows, i] if np.ndim(diameter_high) == 2 else diameter_high[rows]
-        out[rows, i] = per_distinct(partial(_costs, muscle), d)  # a long route repeats its bores
+        if valid[:, i].any():
+            costs = elements.per_section(partial(_costs, muscle), elements.diameter_high[:, i])
+            out[:, i] = np.where(valid[:, i, None], costs, np.nan)
     return out
 
 

@@ -27,7 +27,7 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.tension import section_drag
-from pampipe.runtime.alike import distinct_rows
+from pampipe.runtime.alike import distinct_rows, per_distinct
 
 #: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
 #: table itself, linear in elements (benchmarks/bench_plan.py).
@@ -60,6 +60,9 @@ class Elements:
     safety_factor: float  # SF
     valid: np.ndarray  # inside the model's domain over the whole range: D₀ < D_low, D_high < D(B/√3), μ > 0
     muscles: tuple = field(repr=False)  # the segments' Muscle objects
+    #: (first, index) where the elements were evaluated once per distinct section and taken back
+    #: (:func:`build_elements`), else None
+    alike: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
     def lower_bound(self) -> np.ndarray:
@@ -86,10 +89,10 @@ class Elements:
         """P_a(D_high, 0) [Pa]: the unloaded muscle first touches the wall everywhere in the range."""
         return self._per_segment(lambda m, i: m.anchoring_pressure(self.diameter_high[:, i], 0.0))
 
-    def take(self, index: np.ndarray) -> Elements:
+    def take(self, index: np.ndarray, *, alike: tuple | None = None) -> Elements:
         """The elements of the sections ``index`` (an index array), in that order: every array, and every
         report array already computed, taken row-wise in the same layout (a segment's column contiguous,
-        a broadcast view still broadcast)."""
+        a broadcast view still broadcast); ``alike``: their :attr:`alike`."""
         taken = {}
         for key, value in self.__dict__.items():
             if not isinstance(value, np.ndarray):
@@ -99,9 +102,21 @@ class Elements:
             else:
                 taken[key] = np.ascontiguousarray(value.T[:, index]).T
         kept = {key: taken.pop(key) for key in _REPORT if key in taken}
-        elements = dataclasses.replace(self, **taken)
+        elements = dataclasses.replace(self, **taken, alike=alike)
         elements.__dict__.update(kept)  # the cached report arrays, already taken
         return elements
+
+    def per_section(self, function, *columns):
+        """``function(*columns)`` of per-section arrays (first axis: the sections) that maps each section's
+        values to its outputs alone, evaluated once per distinct section: the alike sections of
+        :attr:`alike` where the columns repeat with them, else :func:`~pampipe.runtime.alike.per_distinct`
+        of the columns."""
+        if self.alike is not None:
+            first, index = self.alike
+            if all(np.array_equal(c, c[first][index], equal_nan=True) for c in columns):
+                out = function(*(c[first] for c in columns))
+                return tuple(o[index] for o in out) if isinstance(out, tuple) else out[index]
+        return per_distinct(function, *columns)
 
     def _per_segment(self, value) -> np.ndarray:
         out = np.empty(self.load.shape[::-1])
@@ -176,7 +191,7 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
         elements = _elements(mission, muscles, payload, distinct, drag[first] if np.ndim(drag) else drag)
         for key in _REPORT:
             getattr(elements, key)  # computed once per distinct section, then taken
-        return elements.take(index)
+        return elements.take(index, alike=alike)
     return _elements(mission, muscles, payload, r, drag)
 
 

@@ -44,9 +44,9 @@ def test_alike_sections_give_the_elements_of_every_section(repeated, monkeypatch
     """The same floats in every element array as evaluating each section, a segment's column contiguous
     as before; the whole plan's arrays too."""
     muscles = mission_muscles(repeated)
-    grouped, grouped_plan = build_elements(repeated, muscles), plan_mission(repeated)
+    grouped, grouped_plan = build_elements(repeated, muscles), plan_mission(repeated, with_max_payload=True)
     monkeypatch.setattr(alike, "LEAST", 10**9)
-    whole, whole_plan = build_elements(repeated, muscles), plan_mission(repeated)
+    whole, whole_plan = build_elements(repeated, muscles), plan_mission(repeated, with_max_payload=True)
     assert not whole.valid.all() and whole.valid.any()
     for name in FIELDS:
         a, b = getattr(grouped, name), getattr(whole, name)
@@ -58,3 +58,5 @@ def test_alike_sections_give_the_elements_of_every_section(repeated, monkeypatch
             assert np.array_equal(a, b, equal_nan=True), field.name
     assert grouped_plan.arrays.reasons == whole_plan.arrays.reasons
     assert grouped_plan.checks == whole_plan.checks and grouped_plan.warnings == whole_plan.warnings
+    assert grouped_plan.max_payload.as_document() == whole_plan.max_payload.as_document()
+    assert grouped.alike is not None and whole.alike is None
