@@ -12,6 +12,7 @@ must fit the smaller bore.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import pairwise
 from typing import NamedTuple
@@ -177,18 +178,43 @@ def _reducer_reason(small: float, widest: float) -> str:
             f"({small * 1e3:.4g} mm): the widest segment is {widest * 1e3:.4g} mm")
 
 
-def reducer_columns(reducers) -> dict:
+class Reducers(Sequence):
+    """Every change of bore of a route, in travel order, as columns (a long route has one per section):
+    ``after_section`` (names), the bores ``before`` and ``after`` [m] and the ``widest_segment``'s D₀ [m];
+    ``reducers[i]`` is its :class:`ReducerPlan`, a slice is :class:`Reducers`."""
+
+    def __init__(self, after_section: list[str], before: np.ndarray, after: np.ndarray,
+                 widest_segment: float) -> None:
+        self.after_section, self.before, self.after = after_section, before, after
+        self.widest_segment = widest_segment
+
+    def __len__(self) -> int:
+        return len(self.after_section)
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            return Reducers(self.after_section[index], self.before[index], self.after[index],
+                            self.widest_segment)
+        return ReducerPlan(self.after_section[index], float(self.before[index]), float(self.after[index]),
+                           self.widest_segment)
+
+    @property
+    def passable(self) -> np.ndarray:
+        """Per reducer: the widest segment fits the smaller bore."""
+        return self.widest_segment < np.minimum(self.before, self.after)
+
+
+def reducer_columns(reducers: Reducers) -> dict:
     """:meth:`ReducerPlan.as_document` of each of ``reducers`` as columns (key → one value per reducer), for
     a column-wise JSON writer; each distinct sentence is worded once."""
     if not reducers:
         return {}
-    names, before, after, widest = (list(column) for column in zip(*reducers, strict=True))
-    small = np.minimum(before, after)
-    pairs = list(zip(small.tolist(), widest, strict=True))
-    reasons = {pair: _reducer_reason(*pair) for pair in set(pairs)}
-    return {"after_section": names, "from_inner_diameter_m": np.array(before, dtype=float),
-            "to_inner_diameter_m": np.array(after, dtype=float), "passable": np.array(widest) < small,
-            "reason": list(map(reasons.__getitem__, pairs))}
+    small = np.minimum(reducers.before, reducers.after)
+    widest = reducers.widest_segment
+    reasons = {bore: _reducer_reason(bore, widest) for bore in set(small.tolist())}
+    return {"after_section": reducers.after_section, "from_inner_diameter_m": reducers.before,
+            "to_inner_diameter_m": reducers.after, "passable": reducers.passable,
+            "reason": list(map(reasons.__getitem__, small.tolist()))}
 
 
 def _finite(value: float) -> float | None:
@@ -204,14 +230,13 @@ def joint_angle(lengths, radius: float, angle: float) -> float:
     return min(max(half(a) + half(b) for a, b in pairwise(lengths)), angle)
 
 
-def plan_bends(mission) -> tuple[tuple[BendPlan, ...], tuple[ReducerPlan, ...]]:
+def plan_bends(mission) -> tuple[tuple[BendPlan, ...], Reducers]:
     """Every bend and reducer of ``mission``'s route, in travel order."""
     route = mission.route
     widest = max(seg.pam.geometry.initial_diameter for seg in mission.segments)
     changes = np.flatnonzero(route.diameter[:-1] != route.diameter[1:])  # one pass over the columns
-    reducers = tuple(ReducerPlan(name, before, after, widest) for name, before, after in zip(
-        route.name[changes].tolist(), route.diameter[changes].tolist(), route.diameter[changes + 1].tolist(),
-        strict=True))
+    reducers = Reducers(route.name[changes].tolist(), route.diameter[changes], route.diameter[changes + 1],
+                        widest)
     if route.bend_angle is None:
         return (), reducers
     steering = mission.steering

@@ -300,8 +300,11 @@ class Streamed:
 
 
 class JsonText(str):
-    """An item of a :class:`Streamed` list already encoded, as :func:`json_chunks` would encode it
-    (:mod:`pampipe.io.json_columns` writes long lists of records column-wise)."""
+    """Items of a :class:`Streamed` list already encoded, as :func:`json_chunks` would encode them, joined
+    by ``", "`` (:mod:`pampipe.io.json_columns` writes long lists of records column-wise); ``items``: how
+    many."""
+
+    items = 1
 
 
 #: Items of a :class:`Streamed` list encoded per chunk of :func:`json_chunks`.
@@ -320,9 +323,19 @@ def json_chunks(document: dict, *, timings: bool = True):
         yield before + "["
         batch: list[str] = []
         separator = ""  # before the next batch: none before the first
-        for i, item in enumerate(streamed[key].items):
-            batch.append(item if type(item) is JsonText else
-                         json.dumps(_clean(item, (((), key), i), timings), sort_keys=True, allow_nan=False))
+        place = 0  # of the next item in the list
+        for item in streamed[key].items:
+            if type(item) is JsonText:  # written as it is (it may be megabytes: not copied into a batch)
+                if batch:
+                    yield separator + ", ".join(batch)
+                    batch, separator = [], ", "
+                yield separator
+                yield item
+                separator, place = ", ", place + item.items
+                continue
+            batch.append(json.dumps(_clean(item, (((), key), place), timings), sort_keys=True,
+                                    allow_nan=False))
+            place += 1
             if len(batch) == STREAM_CHUNK:
                 yield separator + ", ".join(batch)
                 batch, separator = [], ", "

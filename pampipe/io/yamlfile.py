@@ -14,12 +14,14 @@ graph, no recursion, so a deep file cannot exhaust the stack.
 
 Long routes are lines like ``- {name: s1, length: 2 m, inner_diameter: {nps: 3, schedule: 40}}``: a
 list entry holding one flow mapping of plain names and values on one line. Such lines are read by
-:func:`_flow_lines` (a regular expression and the same 1.2-core resolution), and the parser sees one
-plain placeholder scalar instead of their 12 events; the document is the same. The shortcut is kept
-only if every such line came back as a list entry at its place; otherwise, or on any error, the file
-is parsed again without it, so messages and line/column marks are those of the parser. A long route's lines
-differ mostly in their first value (the name): the pairs after a plain first one are read once per distinct
-text (10⁵ sections of ``benchmarks/bench_big_mission.py`` hold 1,260), each line getting its own mappings.
+:func:`_flow_lines` (a regular expression and the same 1.2-core resolution), and the parser sees, for
+each run of such lines at one indentation, one plain placeholder list entry followed by empty lines (so
+that every later line keeps its number) instead of 12 events per line; the document is the same. The
+shortcut is kept only if every run came back as list entries at its place; otherwise, or on any error, the
+file is parsed again without it, so messages and line/column marks are those of the parser. A long route's
+lines differ mostly in their first value (the name): the pairs after a plain first one are read once per
+distinct text (10⁵ sections of ``benchmarks/bench_big_mission.py`` hold 1,260), each line getting its own
+mappings.
 """
 
 from __future__ import annotations
@@ -147,44 +149,74 @@ def _document(text: str):
 
 
 def _flow_lines(text: str) -> tuple[dict, str]:
-    """({(line, column): (mapping, nodes, depth)}, ``text`` with those mappings replaced by :data:`_FLOW`)
-    for each line ``- {key: value, ...}`` of plain names and values without a repeated key."""
-    flows: dict[tuple[int, int], tuple[dict, int, int]] = {}
+    """({(line, column): (mappings, nodes, depth)}, ``text`` with each run of consecutive lines
+    ``- {key: value, ...}`` (plain names and values, no repeated key) at one indentation replaced by one
+    list entry :data:`_FLOW` and as many line ends: the run's mappings in order, their nodes and deepest
+    nesting, at the run's first line."""
+    flows: dict[tuple[int, int], tuple[list, int, int]] = {}
     resolved = _Resolved()  # route lines repeat their keys and units
-    rests: dict[str, tuple[dict | None, int]] = {}  # and all but their names
-    pieces, done, line = [], 0, 0
+    rests: dict[str, tuple] = {}  # and all but their names
+    pieces: list[str] = []
+    done = line = 0  # text[:done] is written to pieces; line: the line at done
+    run: list = []  # the open run: [prefix, start, end, mappings, nodes, depth]
     for match in _FLOW_LINE.finditer(text):
-        mapping, nodes = _named_flow_mapping(match.group(2), resolved, rests)
+        prefix, body = match.group(1, 2)
+        mapping, nodes, depth = _named_flow_mapping(body, resolved, rests)
         if mapping is None:
             continue
-        line += text.count("\n", done, match.start())
-        flows[line, len(match.group(1))] = mapping, nodes, 1 + ("{" in match.group(2))  # depth
-        pieces += (text[done:match.end(1)], _FLOW)
-        done = match.end()
-    if not flows:
+        start = match.start()
+        if run and start == run[2] + 1 and prefix == run[0]:  # the next line, at the same indentation
+            run[2] = match.end()
+            run[3].append(mapping)
+            run[4] += nodes
+            run[5] = max(run[5], depth)
+            continue
+        if run:
+            line = _close_run(text, run, done, line, pieces, flows)
+            done = run[2]
+        run = [prefix, start, match.end(), [mapping], nodes, depth]
+    if not run:
         return flows, text
-    pieces.append(text[done:])
+    _close_run(text, run, done, line, pieces, flows)
+    pieces.append(text[run[2]:])
     return flows, "".join(pieces)
 
 
-def _named_flow_mapping(body: str, resolved: _Resolved, rests: dict) -> tuple[dict | None, int]:
-    """:func:`_flow_mapping` of ``body``, its pairs after a plain first one (a section's name) read once per
-    distinct text (``rests``: text → (mapping, nodes)); each line gets its own mappings."""
+def _close_run(text: str, run: list, done: int, line: int, pieces: list, flows: dict) -> int:
+    """Write ``text[done:]`` up to the end of ``run`` into ``pieces`` with the run replaced (see
+    :func:`_flow_lines`), enter the run into ``flows``; the line at the run's end."""
+    prefix, start, _, mappings, nodes, depth = run
+    line += text.count("\n", done, start)
+    flows[line, len(prefix)] = mappings, nodes, depth
+    pieces += (text[done:start], prefix, _FLOW, "\n" * (len(mappings) - 1))
+    return line + len(mappings) - 1
+
+
+def _named_flow_mapping(body: str, resolved: _Resolved, rests: dict) -> tuple[dict | None, int, int]:
+    """(mapping, nodes, depth) of :func:`_flow_mapping` of ``body``, its pairs after a plain first one (a
+    section's name) read once per distinct text (``rests``: text → (mapping, nodes, its nested keys)); each
+    line gets its own mappings. depth: 2 with a nested mapping, else 1."""
     first = _FIRST_PAIR.match(body)
     if first is None:
-        return _flow_mapping(body, resolved)
+        mapping, nodes = _flow_mapping(body, resolved)
+        return mapping, nodes, 1 + ("{" in body)
     rest = body[first.end():]
     parsed = rests.get(rest)
     if parsed is None:
-        parsed = rests[rest] = _flow_mapping(rest, resolved)
-    mapping, nodes = parsed
-    key = resolved[first.group(1)]
+        mapping, nodes = _flow_mapping(rest, resolved)
+        nested = () if mapping is None else tuple(k for k, v in mapping.items() if type(v) is dict)
+        parsed = rests[rest] = mapping, nodes, nested
+    mapping, nodes, nested = parsed
+    key, value = first.group(1, 2)
+    key = resolved[key]
     if mapping is None or key in mapping:
-        return None, 0
-    if "{" in rest:  # a nested mapping is the line's own
-        return {key: resolved[first.group(2)], **{k: dict(v) if type(v) is dict else v
-                                                  for k, v in mapping.items()}}, nodes + 2
-    return {key: resolved[first.group(2)], **mapping}, nodes + 2
+        return None, 0, 0
+    # a name is text unless it reads as something else (most names: 10⁵ distinct ones are not cached)
+    line = {key: value if value[:1] not in _NUMERIC_START and value not in _SPECIAL else resolved[value],
+            **mapping}
+    for k in nested:  # a nested mapping is the line's own
+        line[k] = dict(line[k])
+    return line, nodes + 2, 1 + bool(nested)
 
 
 def _flow_mapping(body: str, resolved: _Resolved) -> tuple[dict | None, int]:
@@ -246,7 +278,7 @@ class _Builder:
 
     def __init__(self, parser, flows: dict | None = None) -> None:
         self.parser = parser
-        self.flows = flows or {}  # (line, column) -> (mapping, nodes, depth) read by _flow_lines
+        self.flows = flows or {}  # (line, column) -> (mappings, nodes, depth) read by _flow_lines
         self.replaced = 0
         self.anchors: dict[str, tuple[object, int]] = {}
         self.open_anchors: set[str] = set()
@@ -266,9 +298,9 @@ class _Builder:
             kind = type(event)
             if kind is yaml.ScalarEvent:
                 if event.value == _FLOW and event.tag is None and event.implicit[0]:
-                    value, size = self.flow(event, stack)
-                else:
-                    value, size = self.scalar(event), 1
+                    self.flow(event, stack)  # a run of list entries, added to the list
+                    continue
+                value, size = self.scalar(event), 1
                 self.written += size
                 if event.anchor is not None:
                     self.anchors[event.anchor] = (value, 1)
@@ -313,14 +345,18 @@ class _Builder:
                 continue
             self.add(stack[-1], value, size, event)
 
-    def flow(self, event, stack: list[_Frame]) -> tuple[dict, int]:
-        """The mapping that :func:`_flow_lines` read for this placeholder, which must be a list entry."""
+    def flow(self, event, stack: list[_Frame]) -> None:
+        """Add the run of mappings that :func:`_flow_lines` read for this placeholder to the list it is an
+        entry of."""
         mark = event.start_mark
-        mapping, nodes, depth = self.flows.get((mark.line, mark.column), (None, 0, 0))
-        if mapping is None or not stack or stack[-1].seen is not None or len(stack) + depth > MAX_DEPTH:
+        mappings, nodes, depth = self.flows.get((mark.line, mark.column), (None, 0, 0))
+        if mappings is None or not stack or stack[-1].seen is not None or len(stack) + depth > MAX_DEPTH \
+                or event.anchor is not None:
             raise _Error("not a flow line read in place", mark)  # the caller parses without flow lines
         self.replaced += 1
-        return mapping, nodes
+        self.written += nodes
+        stack[-1].container.extend(mappings)
+        stack[-1].size += nodes
 
     def add(self, frame: _Frame, value, size: int, event) -> None:
         frame.size += size

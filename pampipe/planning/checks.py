@@ -11,10 +11,13 @@ plan with checks stays within a small factor of plan without them.
 
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from pampipe.model.muscle import Muscle
 from pampipe.planning.problem import Elements
+from pampipe.runtime.alike import per_distinct
 
 PRESSURE_FLOOR = 1e3  # [Pa] floor of the relative difference, so P ≈ 0 cannot blow it up
 SAMPLE = 4096  # elements checked per segment on long routes
@@ -37,36 +40,45 @@ def bisection_pressure(muscles: tuple[Muscle, ...], elements: Elements, upper: n
 
     Each pass tests k − 1 evenly spaced pressures inside every element's bracket at once and keeps
     the sub-interval where the model starts to hold: k = 2 is bisection; small samples take up to
-    k = 256 (8 bits per pass), so that few passes of whole arrays replace 64 calls on tiny ones.
+    k = 256 (8 bits per pass), so that few passes of whole arrays replace 64 calls on tiny ones. Alike
+    elements (a long route's repeated sections) are searched once
+    (:func:`~pampipe.runtime.alike.per_distinct`).
     """
     e = elements
     out = np.full((rows.size, len(muscles)), np.nan)
     for i, muscle in enumerate(muscles):
         col = rows[e.valid[rows, i] & np.isfinite(upper[rows, i])]
-        d, w, mu = e.diameter[col, i], e.load[col, i], e.friction[col, i]
-        length = muscle.anchored_length(d)
         bits = int(np.clip(np.log2(POINTS / max(col.size, 1)), 1, 8))
-        fractions = np.arange(1, 2**bits) / 2**bits
-
-        def holds(p, muscle=muscle, d=d, w=w, mu=mu, length=length):
-            shape = (-1,) + (1,) * (np.ndim(p) - 1)
-            d, w, mu, length = (np.reshape(v, shape) for v in (d, w, mu, length))
-            capacity = muscle.holding_capacity(p, d, w, kappa=e.kappa, friction=mu)
-            touching = muscle.axial_force(p, length) >= e.kappa * w
-            return (capacity >= e.safety_factor * w) & touching
-
-        low, high = np.zeros_like(d), upper[col, i].copy()
-        bracketed = holds(high) & ~holds(low)
-        for _ in range(-(-STEPS // bits)):
-            grid = low[:, None] + (high - low)[:, None] * fractions
-            ok = holds(grid)
-            first = np.argmax(ok, axis=1)  # the first tested pressure that holds (monotone in P)
-            rows_ = np.arange(grid.shape[0])
-            found = ok[rows_, first]
-            high = np.where(found, grid[rows_, first], high)
-            low = np.where(found, np.where(first > 0, grid[rows_, first - 1], low), grid[:, -1])
-        out[np.searchsorted(rows, col), i] = np.where(bracketed, high, np.nan)
+        least = per_distinct(partial(_bracketed, muscle, e.kappa, e.safety_factor, bits),
+                             e.diameter[col, i], e.load[col, i], e.friction[col, i], upper[col, i])
+        out[np.searchsorted(rows, col), i] = least
     return out
+
+
+def _bracketed(muscle: Muscle, kappa: float, safety_factor: float, bits: int, d, w, mu, upper) -> np.ndarray:
+    """The bracketing search of :func:`bisection_pressure` for elements (d, w, μ) on [0, upper], ``bits``
+    bits per pass: the least P that holds (NaN where [0, upper] does not bracket it), element by element."""
+    length = muscle.anchored_length(d)
+    fractions = np.arange(1, 2**bits) / 2**bits
+
+    def holds(p):
+        shape = (-1,) + (1,) * (np.ndim(p) - 1)
+        d_, w_, mu_, length_ = (np.reshape(v, shape) for v in (d, w, mu, length))
+        capacity = muscle.holding_capacity(p, d_, w_, kappa=kappa, friction=mu_)
+        touching = muscle.axial_force(p, length_) >= kappa * w_
+        return (capacity >= safety_factor * w_) & touching
+
+    low, high = np.zeros_like(d), upper.copy()
+    bracketed = holds(high) & ~holds(low)
+    for _ in range(-(-STEPS // bits)):
+        grid = low[:, None] + (high - low)[:, None] * fractions
+        ok = holds(grid)
+        first = np.argmax(ok, axis=1)  # the first tested pressure that holds (monotone in P)
+        rows_ = np.arange(grid.shape[0])
+        found = ok[rows_, first]
+        high = np.where(found, grid[rows_, first], high)
+        low = np.where(found, np.where(first > 0, grid[rows_, first - 1], low), grid[:, -1])
+    return np.where(bracketed, high, np.nan)
 
 
 def largest_difference(reference: np.ndarray, pressure: np.ndarray) -> float | None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from functools import partial
 
 import numpy as np
 
@@ -22,20 +23,26 @@ BORE_STEP = 1e-3  # [m]
 ANGLE_STEP = math.radians(1.0)  # [rad]
 
 
-def contact_costs(muscles, diameter_high: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    """(ΔP_D, ΔP_α) [Pa] per element, shape (sections, segments, 2); NaN where the element is invalid."""
+def contact_costs(muscles, elements) -> np.ndarray:
+    """(ΔP_D, ΔP_α) [Pa] per element of ``elements`` (:class:`~pampipe.planning.problem.Elements`), shape
+    (sections, segments, 2), at each element's largest bore; NaN where the element is invalid. Once per
+    distinct section (:meth:`~pampipe.planning.problem.Elements.per_section`)."""
+    valid = elements.valid
     out = np.full((*valid.shape, 2), np.nan)
     for i, muscle in enumerate(muscles):
-        rows = np.flatnonzero(valid[:, i])
-        if rows.size == 0:
-            continue
-        d = diameter_high[rows, i] if np.ndim(diameter_high) == 2 else diameter_high[rows]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            touch = muscle.anchoring_pressure(d, 0.0)
-            out[rows, i, 0] = muscle.anchoring_pressure(d + BORE_STEP, 0.0) - touch
-            tilted = [_tilted(muscle, sign).anchoring_pressure(d, 0.0) for sign in (1.0, -1.0)]
-            out[rows, i, 1] = np.maximum(*tilted) - touch
+        if valid[:, i].any():
+            costs = elements.per_section(partial(_costs, muscle), elements.diameter_high[:, i])
+            out[:, i] = np.where(valid[:, i, None], costs, np.nan)
     return out
+
+
+def _costs(muscle: Muscle, d: np.ndarray) -> np.ndarray:
+    """(ΔP_D, ΔP_α) [Pa] of ``muscle`` at each largest bore ``d`` [m], shape (n, 2)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        touch = muscle.anchoring_pressure(d, 0.0)
+        tilted = [_tilted(muscle, sign).anchoring_pressure(d, 0.0) for sign in (1.0, -1.0)]
+        return np.stack([muscle.anchoring_pressure(d + BORE_STEP, 0.0) - touch, np.maximum(*tilted) - touch],
+                        axis=1)
 
 
 def _tilted(muscle: Muscle, sign: float) -> Muscle:

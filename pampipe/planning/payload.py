@@ -66,8 +66,11 @@ def element_payloads(mission, muscles, elements: Elements) -> np.ndarray:
     ``max_pressure`` when lower), shape (S, segments)."""
     e = elements
     limits = pressure_limits(mission)
-    held = np.stack([m.largest_load(limits[i], e.diameter[:, i], kappa=e.kappa,
-                                    friction=e.friction[:, i], safety_factor=e.safety_factor)
+    def largest(muscle, limit):  # W_max of each distinct section, once
+        return lambda d, mu: muscle.largest_load(limit, d, kappa=e.kappa, friction=mu,
+                                                 safety_factor=e.safety_factor)
+
+    held = np.stack([e.per_section(largest(m, limits[i]), e.diameter[:, i], e.friction[:, i])
                      for i, m in enumerate(muscles)], axis=1)
     usable = e.valid & np.isfinite(e.free_anchoring) & (held >= 0)
     per_kg = np.where(usable, e.load_per_payload, 1.0)  # > 0 where valid (μ > 0)

@@ -101,15 +101,17 @@ def _arrays(mission, muscles, e: Elements, solution: Solution, reasons, codes, n
         nominal_pressure=nominal, segment_names=tuple(seg.name for seg in mission.segments),
         route=mission.route, reasons=reasons, diameter=np.array(e.diameter),
         largest_bore_anchoring=np.where(e.valid, e.largest_bore_anchoring, np.nan), reason_codes=codes,
-        contact_cost=contact_costs(muscles, e.diameter_high, e.valid))
+        contact_cost=contact_costs(muscles, e))
 
 
 def _evaluate(muscle, e: Elements, pressure: np.ndarray, i: int):
-    """(holding capacity, F_r, p_c) of segment i in every section, from its muscle at the plan."""
-    d, load = e.diameter[:, i], e.load[:, i]
-    radial = np.asarray(muscle.radial_force(pressure, d, e.kappa * load), dtype=float) * np.ones_like(d)
-    capacity = e.friction[:, i] * np.pi * radial
-    return capacity, radial, muscle.contact_pressure(radial, d)
+    """(holding capacity, F_r, p_c) of segment i in every section, from its muscle at the plan (once per
+    distinct section of a long route, :meth:`Elements.per_section`)."""
+    def evaluate(pressure, d, load, friction):
+        radial = np.asarray(muscle.radial_force(pressure, d, e.kappa * load), dtype=float) * np.ones_like(d)
+        return friction * np.pi * radial, radial, muscle.contact_pressure(radial, d)
+
+    return e.per_section(evaluate, pressure, e.diameter[:, i], e.load[:, i], e.friction[:, i])
 
 
 def _determined(sampled, shape) -> np.ndarray:

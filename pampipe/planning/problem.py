@@ -16,6 +16,7 @@ some step, so in every section each segment must hold the section's whole load a
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from functools import cached_property
 from operator import attrgetter
@@ -26,6 +27,7 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.tension import section_drag
+from pampipe.runtime.alike import distinct_rows, per_distinct
 
 #: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
 #: table itself, linear in elements (benchmarks/bench_plan.py).
@@ -58,6 +60,9 @@ class Elements:
     safety_factor: float  # SF
     valid: np.ndarray  # inside the model's domain over the whole range: D₀ < D_low, D_high < D(B/√3), μ > 0
     muscles: tuple = field(repr=False)  # the segments' Muscle objects
+    #: (first, index) where the elements were evaluated once per distinct section and taken back
+    #: (:func:`build_elements`), else None
+    alike: tuple | None = field(default=None, repr=False, compare=False)
 
     @property
     def lower_bound(self) -> np.ndarray:
@@ -84,11 +89,44 @@ class Elements:
         """P_a(D_high, 0) [Pa]: the unloaded muscle first touches the wall everywhere in the range."""
         return self._per_segment(lambda m, i: m.anchoring_pressure(self.diameter_high[:, i], 0.0))
 
+    def take(self, index: np.ndarray, *, alike: tuple | None = None) -> Elements:
+        """The elements of the sections ``index`` (an index array), in that order: every array, and every
+        report array already computed, taken row-wise in the same layout (a segment's column contiguous,
+        a broadcast view still broadcast); ``alike``: their :attr:`alike`."""
+        taken = {}
+        for key, value in self.__dict__.items():
+            if not isinstance(value, np.ndarray):
+                continue
+            if value.strides[1] == 0:  # one column broadcast to every segment
+                taken[key] = np.broadcast_to(value[index, :1], (index.size, value.shape[1]))
+            else:
+                taken[key] = np.ascontiguousarray(value.T[:, index]).T
+        kept = {key: taken.pop(key) for key in _REPORT if key in taken}
+        elements = dataclasses.replace(self, **taken, alike=alike)
+        elements.__dict__.update(kept)  # the cached report arrays, already taken
+        return elements
+
+    def per_section(self, function, *columns):
+        """``function(*columns)`` of per-section arrays (first axis: the sections) that maps each section's
+        values to its outputs alone, evaluated once per distinct section: the alike sections of
+        :attr:`alike` where the columns repeat with them, else :func:`~pampipe.runtime.alike.per_distinct`
+        of the columns."""
+        if self.alike is not None:
+            first, index = self.alike
+            if all(np.array_equal(c, c[first][index], equal_nan=True) for c in columns):
+                out = function(*(c[first] for c in columns))
+                return tuple(o[index] for o in out) if isinstance(out, tuple) else out[index]
+        return per_distinct(function, *columns)
+
     def _per_segment(self, value) -> np.ndarray:
         out = np.empty(self.load.shape[::-1])
         for i, muscle in enumerate(self.muscles):
             out[i] = value(muscle, i)
         return out.T
+
+
+#: The report arrays of :class:`Elements`, computed on first use (cached in the instance).
+_REPORT = ("length", "volume", "free_anchoring", "largest_bore_anchoring")
 
 
 def mission_muscles(mission) -> tuple[Muscle, ...]:
@@ -138,10 +176,27 @@ def build_elements(mission, muscles: tuple[Muscle, ...], *, payload: float | Non
     :meth:`Muscle.least_holding_pressure`) follow from its coefficients in the same pass; sin φ and
     cos φ are taken once per section; the work runs over :data:`CHUNK` sections at a time. Sections with
     a bore range are first searched for their worst bore (:func:`~pampipe.planning.bores.worst_bores`).
+    A long route whose sections repeat is evaluated once per distinct section
+    (:func:`~pampipe.runtime.alike.distinct_rows` of the numbers above: bores, incline, friction, drag),
+    with its report arrays, and taken back to every place (:meth:`Elements.take`): the same floats.
     """
     payload = mission.payload if payload is None else float(payload)
     drag = section_drag(mission) if drag is None else drag
     r = route_columns(mission.route if route is None else route)
+    alike = distinct_rows([r.diameter, r.low, r.high, r.incline, r.friction,
+                           np.broadcast_to(np.asarray(drag, dtype=float), r.diameter.shape)])
+    if alike is not None:
+        first, index = alike
+        distinct = RouteColumns(*(getattr(r, f.name)[first] for f in dataclasses.fields(r)))
+        elements = _elements(mission, muscles, payload, distinct, drag[first] if np.ndim(drag) else drag)
+        for key in _REPORT:
+            getattr(elements, key)  # computed once per distinct section, then taken
+        return elements.take(index, alike=alike)
+    return _elements(mission, muscles, payload, r, drag)
+
+
+def _elements(mission, muscles, payload: float, r: RouteColumns, drag) -> Elements:
+    """:func:`build_elements` of the route columns ``r`` (every section evaluated)."""
     count, segments = r.diameter.shape[0], len(muscles)
     total_mass = sum(seg.mass for seg in mission.segments) + payload
     valid = np.empty((segments, count), dtype=bool)

@@ -301,12 +301,12 @@ class MissionPlan:
             if sampled is None:
                 return None
             segments.update(sampled)
-        reasons = [a.reasons.get(s) for s in range(start, stop)]
+        reasons = [a.reasons.get(s) for s in range(start, stop)] if a.reasons else [None] * (stop - start)
         sections = {"name": r.name[rows].tolist(), "feasible": np.array([x is None for x in reasons], bool),
                     "reason": reasons, "length_m": r.length[rows], "inner_diameter_m": r.diameter[rows],
                     "inner_diameter_range_m": np.stack([r.diameter_low[rows], r.diameter_high[rows]], axis=1),
                     "inner_diameter_sd_m": r.diameter_sd[rows],
-                    "inner_diameter_label": [r.section_label(s) for s in range(start, stop)],
+                    "inner_diameter_label": r.section_labels(rows),
                     "incline_rad": r.incline[rows], "incline_deg": np.degrees(r.incline[rows]),
                     "friction": r.friction[rows], "friction_sd": r.friction_sd[rows]}
         networks = _network_columns(r.subset(rows))

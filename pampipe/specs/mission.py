@@ -170,6 +170,16 @@ class Route:
             return str(self.label[i])
         return f"{self.diameter[i] * 1e3:.6g} mm"
 
+    def section_labels(self, rows: slice) -> list[str]:
+        """:meth:`section_label` of each of the sections ``rows``."""
+        diameters = self.diameter[rows].tolist()
+        given = [""] * len(diameters) if self.label is None else self.label[rows].tolist()
+        if all(given):
+            return given
+        worded: dict[float, str] = {}  # a route repeats its bores
+        return [g or worded.get(d) or worded.setdefault(d, f"{d * 1e3:.6g} mm")
+                for g, d in zip(given, diameters, strict=True)]
+
     def elevation_profile(self) -> tuple[np.ndarray, np.ndarray]:
         """(distance along the route [m], elevation [m]) at the n + 1 section ends.
 

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from pampipe.bends.plan import Reducers
 from pampipe.planning.quantiles import level_text, probability_places
 from pampipe.units.display import counted
 from pampipe.units.quantities import to_si
@@ -283,26 +284,27 @@ def _limited(reasons: list[str]) -> list[str]:
 def _reducers_text(reducers) -> str:
     """'after NAME D1 -> D2 mm: passes (...)' per reducer; each change of bore is worded once (a long route
     repeats a few). More than :data:`LISTED_REDUCERS` reducers are summarised: one line per change of bore,
-    naming the first sections after which it comes and counting the rest (--json lists every reducer)."""
-    worded: dict[tuple[float, float, bool], str] = {}
-    after: dict[tuple[float, float, bool], list[str]] = {}
-    parts = []
-    for r in reducers:
-        key = (r.before, r.after, r.passable)
-        change = worded.get(key)
-        if change is None:
-            verdict = "passes" if r.passable else "does NOT pass"
-            change = worded[key] = (f" {r.before * 1e3:.4g} -> {r.after * 1e3:.4g} mm: {verdict} (a rigid "
-                                    "segment passes if it fits the smaller bore)")
-        after.setdefault(key, []).append(repr(r.after_section))
-        parts.append(f"after {r.after_section!r}{change}")
-    if len(parts) <= LISTED_REDUCERS:
-        return "; ".join(parts)
-    lines = [f"{len(parts)} changes of bore, {counted(len(worded), 'kind')} (--json lists every reducer):"]
-    for key, names in after.items():
-        more = f" and {len(names) - LISTED_REDUCERS} more" if len(names) > LISTED_REDUCERS else ""
-        lines.append(f"{worded[key].strip()}, {counted(len(names), 'time')}: after "
-                     f"{', '.join(names[:LISTED_REDUCERS])}{more}")
+    naming the first sections after which it comes and counting the rest (--json lists every reducer).
+    ``reducers``: a sequence of reducers, or their columns (:class:`~pampipe.bends.plan.Reducers`)."""
+    if isinstance(reducers, Reducers):
+        names, before, after = reducers.after_section, reducers.before.tolist(), reducers.after.tolist()
+        passable = reducers.passable.tolist()
+    else:
+        names, before, after, passable = ([getattr(r, key) for r in reducers]
+                                          for key in ("after_section", "before", "after", "passable"))
+    places: dict[tuple[float, float, bool], list[int]] = {}
+    for i, key in enumerate(zip(before, after, passable, strict=True)):
+        places.setdefault(key, []).append(i)
+    worded = {key: (f" {key[0] * 1e3:.4g} -> {key[1] * 1e3:.4g} mm: {'passes' if key[2] else 'does NOT pass'}"
+                    " (a rigid segment passes if it fits the smaller bore)") for key in places}
+    if len(names) <= LISTED_REDUCERS:
+        keys = list(zip(before, after, passable, strict=True))
+        return "; ".join(f"after {names[i]!r}{worded[key]}" for i, key in enumerate(keys))
+    lines = [f"{len(names)} changes of bore, {counted(len(worded), 'kind')} (--json lists every reducer):"]
+    for key, where in places.items():
+        more = f" and {len(where) - LISTED_REDUCERS} more" if len(where) > LISTED_REDUCERS else ""
+        lines.append(f"{worded[key].strip()}, {counted(len(where), 'time')}: after "
+                     f"{', '.join(repr(names[i]) for i in where[:LISTED_REDUCERS])}{more}")
     return "\n  ".join(lines)
 
 

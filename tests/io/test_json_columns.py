@@ -8,7 +8,17 @@ import json
 import numpy as np
 import pytest
 
-from pampipe.io.json_columns import NotFinite, Texts, float_texts, grouped, record_texts, rounded
+from pampipe.errors import SolverError
+from pampipe.io.files import JsonText, Streamed, json_chunks
+from pampipe.io.json_columns import (
+    NotFinite,
+    Texts,
+    float_texts,
+    grouped,
+    joined_records,
+    record_texts,
+    rounded,
+)
 
 
 def _twelve(x: float) -> float:
@@ -76,3 +86,24 @@ def test_a_nan_in_any_column_is_refused():
                    {"inner": np.array([0.0, -np.inf])}):
         with pytest.raises(NotFinite):
             record_texts({"key": column}, 2)
+
+
+def test_joined_records_are_the_records_in_parts_of_a_few():
+    """A column of distinct names is written into each record after its combination of the others."""
+    n = 23
+    fields = {"name": [f"s{i} 50%" for i in range(n)], "x%": np.arange(n) % 3 * 0.1,
+              "k": np.arange(n) % 2 == 0}
+    texts = list(joined_records(fields, n, part=5))
+    assert [t.items for t in texts] == [5, 5, 5, 5, 3]
+    assert ", ".join(texts) == ", ".join(json.dumps({"name": f"s{i} 50%", "x%": _twelve(i % 3 * 0.1),
+                                                     "k": i % 2 == 0}, sort_keys=True) for i in range(n))
+
+
+def test_a_bad_value_after_joined_items_is_named_at_its_place():
+    joined = JsonText("1, 2, 3")
+    joined.items = 3
+    document = {"xs": Streamed(iter([joined, {"v": float("nan")}]))}
+    with pytest.raises(SolverError, match=r"xs\[3\]"):
+        "".join(json_chunks(document))
+    written = "".join(json_chunks({"xs": Streamed(iter([joined, {"v": 1.5}]))}))
+    assert written == '{"xs": [1, 2, 3, {"v": 1.5}]}\n'

@@ -136,7 +136,8 @@ def _outcome(text: str, *, flow_lines: bool = True):
 
 def test_flow_lines_read_as_the_parser_reads_them():
     flows, _ = yamlfile._flow_lines(FLOW_ROUTE)
-    assert len(flows) == 4  # not the spaced, quoted or nested-list entries
+    # one run of 4 lines: not the spaced, quoted or nested-list entries
+    assert [(place, len(mappings)) for place, (mappings, _, _) in flows.items()] == [((1, 4), 4)]
     doc = loads(FLOW_ROUTE)
     assert doc == _outcome(FLOW_ROUTE, flow_lines=False)
     route = doc["route"]
@@ -149,6 +150,36 @@ def test_flow_lines_read_as_the_parser_reads_them():
     assert route[3] == {"name": True, "ok": None, "no": None}
     reference = _outcome(FLOW_ROUTE, flow_lines=False)["route"]
     assert [list(entry) for entry in route] == [list(entry) for entry in reference]  # the keys' order
+
+
+RUNS = """\
+a:
+  - {name: a0, x: 1}
+  - {name: a1, x: 1}
+  # a comment ends a run
+  - {name: a2, x: {k: 1}}
+
+  - {name: a3, x: {k: 1}}
+  - b:
+    - {name: b0, x: 1}
+    - {name: b1, x: 2}
+  - {name: a4, x: 1}
+c: [1, {d: 2}]
+"""
+
+
+def test_runs_of_flow_lines_are_one_entry_each_and_keep_the_lines_after_them():
+    """A run is consecutive lines at one indentation: a comment, an empty line or another indentation
+    starts the next; an error after the runs is told at its own line."""
+    flows, marked = yamlfile._flow_lines(RUNS)
+    assert [(place, len(mappings)) for place, (mappings, _, _) in flows.items()] == [
+        ((1, 4), 2), ((4, 4), 1), ((6, 4), 1), ((8, 6), 2), ((10, 4), 1)]
+    assert marked.count("\n") == RUNS.count("\n")
+    doc = loads(RUNS)
+    assert doc == _outcome(RUNS, flow_lines=False)
+    doc["a"][2]["x"]["k"] = 5  # each line's nested mapping is its own
+    assert doc["a"][3]["x"] == {"k": 1}
+    assert "line 13, column 1: duplicate key 'a'" in _outcome(RUNS + "a: 1\n")
 
 
 @pytest.mark.parametrize("text", [

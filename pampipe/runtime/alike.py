@@ -1,0 +1,77 @@
+"""Element-wise work done once per distinct row of a long table (issue 39).
+
+A long route repeats its sections: the 10⁵ sections of ``benchmarks/bench_big_mission.py`` hold 1,260
+distinct ones, and a network's pipes share a few bores and frictions. A function that maps each row of its
+input columns to its outputs by that row alone (every numpy step element by element) gives an alike row the
+same floats, so it is evaluated on the distinct rows and its outputs are taken back to every place.
+
+Two rows are alike when each of their values is the same float, bit for bit (``0.0`` and ``-0.0`` differ;
+a NaN matches only the same NaN). The rows are grouped by a 64-bit hash of their bits, sorted; a hash
+shared by unlike rows is found by comparing every row with its group's first, and the grouping then falls
+back to sorting the rows' bytes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Tables with fewer rows are evaluated row by row (the grouping would cost more than it saves).
+LEAST = 256
+#: The odd multipliers of the rows' hash (splitmix64's finaliser, which spreads every input bit over the
+#: output: a float's bits are mostly in its top 12, which a plain multiplication would keep there).
+_MIX = (np.uint64(0xBF58476D1CE4E5B9), np.uint64(0x94D049BB133111EB))
+
+
+def _mixed(key: np.ndarray) -> np.ndarray:
+    """splitmix64's finaliser of each uint64 of ``key`` (``key`` is overwritten)."""
+    key ^= key >> np.uint64(30)
+    key *= _MIX[0]
+    key ^= key >> np.uint64(27)
+    key *= _MIX[1]
+    key ^= key >> np.uint64(31)
+    return key
+
+
+def distinct_rows(columns) -> tuple[np.ndarray, np.ndarray] | None:
+    """(first, index) of the rows of ``columns`` (1-D arrays of one length n, as floats) by
+    :func:`grouped_rows`; None where n < :data:`LEAST` or fewer than half the rows repeat another."""
+    table = np.stack([np.asarray(c, dtype=float) for c in columns], axis=1)
+    if table.shape[0] < LEAST:
+        return None
+    first, index = grouped_rows(table.view(np.uint64))
+    return None if 2 * first.size > table.shape[0] else (first, index)
+
+
+def grouped_rows(bits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, index) of the rows of the 2-D array ``bits`` of 8-byte numbers, grouped by their bits:
+    ``first`` the place of each distinct row's first occurrence (ascending), ``index`` the distinct row at
+    each place, so that ``bits[first][index]`` is ``bits``."""
+    bits = np.ascontiguousarray(bits).view(np.uint64)
+    count = bits.shape[0]
+    if bits.shape[1] == 0 or count == 0:
+        return np.zeros(min(count, 1), dtype=np.intp), np.zeros(count, dtype=np.intp)
+    key = _mixed(bits[:, 0].copy())
+    for k in range(1, bits.shape[1]):
+        key = _mixed(key ^ bits[:, k])
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    if not np.array_equal(bits, bits[first][inverse]):  # a hash shared by unlike rows: group by bytes
+        rows = bits.view(np.dtype((np.void, bits.itemsize * bits.shape[1]))).ravel()
+        _, first, inverse = np.unique(rows, return_index=True, return_inverse=True)
+        inverse = inverse.ravel()
+    order = np.argsort(first)  # the distinct rows in the order they first appear
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    return first[order], rank[inverse]
+
+
+def per_distinct(function, *columns):
+    """``function(*columns)`` (a tuple of arrays, or one array, of the columns' length), evaluated once per
+    distinct row of ``columns`` (:func:`distinct_rows`) where the rows repeat; ``function`` must map each
+    row to its outputs by that row alone."""
+    alike = distinct_rows(columns)
+    if alike is None:
+        return function(*columns)
+    first, index = alike
+    out = function(*(np.asarray(c)[first] for c in columns))
+    return tuple(o[index] for o in out) if isinstance(out, tuple) else out[index]
