@@ -13,6 +13,7 @@ from pampipe.planning import plan_mission
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.runtime import alike
 from pampipe.specs.mission import Route, Section
+from tests.support.mixed_route import mixed_kinds
 from tests.support.problems import PROBLEMS
 
 REPORT = ("length", "volume", "free_anchoring", "largest_bore_anchoring")
@@ -26,11 +27,7 @@ def repeated():
     tolerance, three outside the model (narrow, wide, frictionless), some beyond a 160 kPa supply."""
     demo = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
     rng = np.random.default_rng(7)
-    d = rng.uniform(3.0, 3.6, 23) * 0.0254
-    d[[3, 17]] = [0.05, 0.2]  # narrower than D₀ = 57 mm; wider than the braid opens
-    friction = rng.uniform(0.2, 0.5, 23)
-    friction[9] = 0.0
-    incline = rng.uniform(-1.5, 1.5, 23)
+    d, incline, friction = mixed_kinds(rng)
     tolerance = np.where(np.arange(23) % 3 == 0, 1e-3, 0.0)
     kinds = [Section(f"k{k}", 1.0, d[k], incline[k], friction[k], 0.0, d[k] - tolerance[k],
                      d[k] + tolerance[k]) for k in range(23)]

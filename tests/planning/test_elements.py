@@ -12,6 +12,7 @@ from pampipe.planning import plan_mission, problem
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.solve import solve
 from pampipe.specs.mission import Section
+from tests.support.mixed_route import mixed_kinds
 from tests.support.problems import PROBLEMS
 
 FIELDS = ("diameter", "length", "volume", "load", "load_per_payload", "friction", "anchoring",
@@ -32,11 +33,7 @@ def mixed():
     segments[2] = dataclasses.replace(segments[2], pam=dataclasses.replace(
         segments[2].pam, effects={"axial_preload": {"preload": 50.0}}))
     rng = np.random.default_rng(7)
-    diameters = rng.uniform(3.0, 3.6, 23) * 0.0254
-    diameters[[3, 17]] = [0.05, 0.2]  # narrower than D₀ = 57 mm; wider than the braid opens
-    friction = rng.uniform(0.2, 0.5, 23)
-    friction[9] = 0.0
-    incline = rng.uniform(-1.5, 1.5, 23)
+    diameters, incline, friction = mixed_kinds(rng)
     route = tuple(Section(f"s{k}", 1.0, d, phi, mu, 0.0)
                   for k, (d, phi, mu) in enumerate(zip(diameters, incline, friction, strict=True)))
     return dataclasses.replace(demo, segments=tuple(segments), route=route, supply_pressure=160e3)
