@@ -37,12 +37,18 @@ class Passage:
     where: str
 
 
+def _meets_arc(h: float, outer: float, room: float) -> bool:
+    """True where a line at distance h [m] from the centre meets the outer circle within ``room`` [rad] of arc
+    ahead of its foot: atan(τ_c/h) ≤ room, τ_c = √(R_o² − h²)."""
+    return math.atan2(math.sqrt(max(outer * outer - h * h, 0.0)), h) <= room
+
+
 def _end(h: float, outer: float, room: float) -> float:
-    """Distance [m] along a line at distance h from the centre to the outer wall, with ``room`` [rad] of arc
-    left ahead of the line's foot: the circle if it is met on the arc, else the straight wall."""
-    tau_c = math.sqrt(max(outer * outer - h * h, 0.0))
-    if math.atan2(tau_c, h) <= room:
-        return tau_c
+    """E(h, room) [m]: distance along a line at distance h from the centre to the outer wall, with ``room``
+    [rad] of arc left ahead of the line's foot: τ_c on the arc (:func:`_meets_arc`), else the straight wall,
+    (R_o − h cos room)/sin room."""
+    if _meets_arc(h, outer, room):
+        return math.sqrt(max(outer * outer - h * h, 0.0))
     if room <= 0.0:
         return math.inf
     return (outer - h * math.cos(room)) / math.sin(room)
@@ -66,22 +72,14 @@ def chord_interval(direction: float, *, bore: float, radius: float, angle: float
     return -min(backs), min(fronts)
 
 
-def chord(direction: float, *, bore: float, radius: float, angle: float, diameter: float) -> float:
-    """chord(ψ) [m]: the longest cylinder of ``diameter`` d lying on the inner wall's tangent at direction ψ
-    (the length of :func:`chord_interval`)."""
-    back, front = chord_interval(direction, bore=bore, radius=radius, angle=angle, diameter=diameter)
-    return max(front - back, 0.0)
-
-
 def rigid_passage(*, bore: float, radius: float, angle: float, diameter: float) -> Passage:
-    """L* = min over ψ of :func:`chord` = chord(0) = 2·E(R_i + d, θ/2) [m] (docs/physics.md §14.2).
+    """L* = min over ψ of chord(ψ) = chord(0) = 2·E(R_i + d, θ/2) [m] (docs/physics.md §14.2).
 
-    E(h, δ) = √(R_o² − h²) if atan(√(R_o² − h²)/h) ≤ δ (the end on the arc), else (R_o − h cos δ)/sin δ
-    (in the straight pipe): chord(ψ) = E(h, θ/2 − ψ) + E(h, θ/2 + ψ) with h = R_i + d (the outer side
-    binds: E falls with h), and E is convex and non-increasing in δ, so the symmetric direction ψ = 0
-    binds. ``bore`` D [m],
-    ``radius`` R [m] of the centreline (R ≥ D/2), ``angle`` θ [rad] in (0, π], ``diameter`` d [m] of the
-    cylinder. A straight run (θ = 0) passes any length.
+    chord(ψ), the length of :func:`chord_interval`, is E(h, θ/2 − ψ) + E(h, θ/2 + ψ) with h = R_i + d (the
+    outer side binds: E, :func:`_end`, falls with h), and E is convex and non-increasing in the room left, so
+    the symmetric direction ψ = 0 binds. Both ends lie on the arc where the bend holds the classical chord
+    2√(R_o² − h²), else in the straight pipes. ``bore`` D [m], ``radius`` R [m] of the centreline (R ≥ D/2),
+    ``angle`` θ [rad] in (0, π], ``diameter`` d [m] of the cylinder. A straight run (θ = 0) passes any length.
     """
     if diameter >= bore:
         return Passage(0.0, "bore")
@@ -89,22 +87,9 @@ def rigid_passage(*, bore: float, radius: float, angle: float, diameter: float) 
         return Passage(math.inf, "straight")
     a = bore / 2
     h, outer = radius - a + diameter, radius + a
-    longest = 2 * _end(h, outer, angle / 2)
-    where = ("mid-bend, ends on the arc" if _on_arc(longest, bore, radius, diameter)
+    where = ("mid-bend, ends on the arc" if _meets_arc(h, outer, angle / 2)
              else "mid-bend, ends in the straight pipes")
-    return Passage(longest, where)
-
-
-def _on_arc(longest: float, bore: float, radius: float, diameter: float) -> bool:
-    """True where L* is the classical both-ends-on-the-arc chord 2√(R_o² − (R_i + d)²)."""
-    classical = classical_chord(bore=bore, radius=radius, diameter=diameter)
-    return abs(longest - classical) <= 1e-9 * max(classical, 1e-3)
-
-
-def classical_chord(*, bore: float, radius: float, diameter: float) -> float:
-    """2√(R_o² − (R_i + d)²) [m]: the mid-bend chord of a bend long enough to hold it (pigging's formula)."""
-    a = bore / 2
-    return 2 * math.sqrt(max((radius + a) ** 2 - (radius - a + diameter) ** 2, 0.0))
+    return Passage(2 * _end(h, outer, angle / 2), where)
 
 
 def flexible_bend_radius(*, rest_length: float, rest_diameter: float, braid_length: float) -> float:

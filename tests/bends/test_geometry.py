@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pampipe.bends.geometry import (
-    classical_chord,
+    chord_interval,
     elbow_radius_needed,
     flexible_bend_radius,
     rigid_passage,
@@ -27,6 +27,17 @@ def _bends(count: int, seed: int):
     radii = np.concatenate([[1, 5], rng.uniform(1, 5, count - 2)])
     fits = rng.uniform(0.4, 0.95, count)
     return list(zip(angles.tolist(), radii.tolist(), fits.tolist(), strict=True))
+
+
+def chord(psi, **bend):
+    """chord(ψ) [m]: the length of the module's interval of a cylinder on the inner wall's tangent at ψ."""
+    back, front = chord_interval(psi, **bend)
+    return front - back
+
+
+def classical(radius, d):
+    """Pigging's mid-bend chord 2√(R_o² − (R_i + d)²) [m], both ends on the arc."""
+    return 2 * math.sqrt((radius + BORE / 2) ** 2 - (radius - BORE / 2 + d) ** 2)
 
 
 def _compare(angle_deg, radius_d, fit_d):
@@ -48,8 +59,6 @@ def test_the_longest_length_is_the_least_chord_over_directions(bend):
     scipy's bounded Brent search around its best, against the module's closed form chord(0) (§14.2)."""
     from scipy.optimize import minimize_scalar
 
-    from pampipe.bends.geometry import chord
-
     theta, radius, diameter = math.radians(bend[0]), bend[1] * BORE, bend[2] * BORE
 
     def length(psi):
@@ -68,9 +77,8 @@ def test_the_longest_length_is_the_least_chord_over_directions(bend):
 def test_no_bend_binds_away_from_the_symmetric_direction():
     """§14.2's proof that ψ = 0 binds (E convex and non-increasing in the room left, the outer side binding),
     checked on 300 random bends (1–180°, R 0.5–6 D, fits 0.05–0.999 D): no direction of a 401-point scan of
-    chord(ψ) over [0, θ/2] is shorter than chord(0), which is what rigid_passage returns."""
-    from pampipe.bends.geometry import chord
-
+    chord(ψ) over [0, θ/2] is shorter than chord(0), which is what rigid_passage returns; its ends lie on the
+    arc exactly where chord(0) is the classical chord."""
     rng = np.random.default_rng(14)
     for _ in range(300):
         theta = rng.uniform(math.radians(1), math.pi)
@@ -79,6 +87,9 @@ def test_no_bend_binds_away_from_the_symmetric_direction():
         least = min(chord(psi, **kw) for psi in np.linspace(0.0, theta / 2, 401))
         assert rigid_passage(**kw).longest == pytest.approx(chord(0.0, **kw), rel=1e-12)
         assert least >= chord(0.0, **kw) * (1 - 1e-12)
+        on_arc = chord(0.0, **kw) == pytest.approx(classical(radius, diameter), rel=1e-9)
+        assert rigid_passage(**kw).where == ("mid-bend, ends on the arc" if on_arc
+                                             else "mid-bend, ends in the straight pipes")
 
 
 @pytest.mark.slow
@@ -101,7 +112,6 @@ def test_long_bend_gives_the_classical_chord():
     """Where the bend holds the whole chord, L* = 2√(R_o² − (R_i + d)²), computed by hand here."""
     radius, d = 1.5 * BORE, 0.75 * BORE
     by_hand = 2 * math.sqrt((radius + BORE / 2) ** 2 - (radius - BORE / 2 + d) ** 2)
-    assert by_hand == pytest.approx(classical_chord(bore=BORE, radius=radius, diameter=d))
     passage = rigid_passage(bore=BORE, radius=radius, angle=math.pi / 2, diameter=d)
     assert passage.longest == pytest.approx(by_hand, rel=1e-9)
     assert passage.where == "mid-bend, ends on the arc"
@@ -114,12 +124,14 @@ def test_short_bend_is_roomier_than_the_classical_chord():
     by_hand = 2 * (radius + BORE / 2 - h * math.cos(theta / 2)) / math.sin(theta / 2)
     passage = rigid_passage(bore=BORE, radius=radius, angle=theta, diameter=d)
     assert passage.longest == pytest.approx(by_hand, rel=1e-6)
-    assert passage.longest > 2 * classical_chord(bore=BORE, radius=radius, diameter=d)
+    assert passage.longest > 2 * classical(radius, d)
     assert passage.where == "mid-bend, ends in the straight pipes"
 
 
 def test_limits():
-    assert rigid_passage(bore=BORE, radius=BORE, angle=1.0, diameter=BORE).longest == 0.0
+    """A cylinder exactly as wide as the bore does not fit, and the report says "bore"."""
+    snug = rigid_passage(bore=BORE, radius=BORE, angle=1.0, diameter=BORE)
+    assert (snug.longest, snug.where) == (0.0, "bore")
     wide = rigid_passage(bore=BORE, radius=50 * BORE, angle=math.pi / 2, diameter=0.5 * BORE).longest
     tight = rigid_passage(bore=BORE, radius=BORE, angle=math.pi / 2, diameter=0.5 * BORE).longest
     assert wide > tight
@@ -149,7 +161,8 @@ def test_a_slight_bend_is_a_bend_not_a_straight_run(theta):
     passage = rigid_passage(bore=BORE, radius=radius, angle=theta, diameter=d)
     assert math.isfinite(passage.longest) and passage.longest == pytest.approx(by_hand, rel=1e-6)
     assert passage.where == "mid-bend, ends in the straight pipes"
-    assert rigid_passage(bore=BORE, radius=radius, angle=0.0, diameter=d).longest == math.inf
+    straight = rigid_passage(bore=BORE, radius=radius, angle=0.0, diameter=d)
+    assert (straight.longest, straight.where) == (math.inf, "straight")
 
 
 def test_elbow_radius_needed_below_two_bores():
