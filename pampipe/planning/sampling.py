@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cache, cached_property, partial
 
 import numpy as np
 
@@ -96,6 +97,7 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
     retain_freed_memory()  # MB-sized temporaries in a loop: reuse them, no page faults (pampipe.runtime.heap)
     draws = muscle_draws(problem)
     n, count, m = problem.samples, len(classes), len(problem.structures)
+    drawn = cache(partial(class_deviations, problem, classes))  # on first use, once per chunk
     shape = (count, m)
     out = ChunkResult(np.full(shape, np.inf), np.zeros(shape), np.zeros(shape),
                       {f"{c:g}": np.full(shape, np.inf) for c in LEVELS}, np.full((*shape, 2), np.inf),
@@ -115,9 +117,9 @@ def sample_chunk(task: tuple[Problem, Classes]) -> ChunkResult:
         if rows.size == 0 or twin != i:  # a twin's draws and inputs are the same: so is its plan
             _copy(out, twin, i)
             continue
-        part = classes if rows.size == count else classes.part(rows)
-        ev = Evaluator(problem, draws, classes, i, rows, Deviations(problem, part, "bore"),
-                       Deviations(problem, part, "friction"))
+        take = slice(None) if rows.size == count else rows  # every class: no copy
+        ev = Evaluator(problem, draws, classes, i, rows, Deviations(drawn, 0, take),
+                       Deviations(drawn, 1, take))
         supply = None if problem.supply is None else problem.supply[i]
         plain = supply is None and not problem.uncertainties[i].unresolved and ev.drag_draws is None
         found = by_families(ev, problem.active, ranks, share=True) if plain else None
@@ -216,18 +218,18 @@ def by_candidates(problem: Problem, classes: Classes) -> bool:
 
 
 class Deviations:
-    """The (n, C) deviations of one kind ("bore" or "friction") of a chunk's classes (rows of
-    :func:`class_deviations`), drawn on first use: ``.T`` is the (C, n) array. The candidates' path
-    (:mod:`pampipe.planning.family`) draws each statement's row itself and never builds it."""
+    """One kind of a chunk's class deviations (``kind`` 0: bore δ [m], 1: friction δ, of
+    :func:`class_deviations`) for the chunk's classes ``take`` (a slice or rows), as the evaluator takes
+    them: ``.T`` is the (C, n) array. ``drawn`` draws both kinds of every class of the chunk on its first
+    call and keeps them (``functools.cache``), so the chunk's segments share one draw; the candidates'
+    path (:mod:`pampipe.planning.family`) draws each statement's row itself and never calls it."""
 
-    def __init__(self, problem: Problem, classes: Classes, kind: str):
-        self._problem, self._classes, self._kind, self._rows = problem, classes, kind, None
+    def __init__(self, drawn, kind: int, take):
+        self._drawn, self._kind, self._take = drawn, kind, take
 
-    @property
+    @cached_property
     def T(self) -> np.ndarray:
-        if self._rows is None:
-            self._rows = class_deviations(self._problem, self._classes)[0 if self._kind == "bore" else 1]
-        return self._rows
+        return self._drawn()[self._kind][self._take]
 
 
 def class_deviations(problem: Problem, classes: Classes) -> tuple[np.ndarray, np.ndarray]:

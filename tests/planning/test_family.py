@@ -5,6 +5,8 @@ wrong, so the bound is what makes them exact."""
 
 from __future__ import annotations
 
+from functools import cache, partial
+
 import numpy as np
 import pytest
 
@@ -15,7 +17,7 @@ from pampipe.planning.evaluator import Evaluator
 from pampipe.planning.law import settle
 from pampipe.planning.problem import build_elements, mission_muscles
 from pampipe.planning.quantiles import order_statistics, upper_rank
-from pampipe.planning.sampling import Deviations, by_families, muscle_draws
+from pampipe.planning.sampling import Deviations, by_families, class_deviations, muscle_draws
 from tests.support.problems import PROBLEMS
 
 UNCERTAIN = PROBLEMS / "missions" / "riser-uncertain-friction.yaml"
@@ -37,8 +39,9 @@ def _evaluator(tmp_path, step_deg: float) -> Evaluator:
     elements = build_elements(mission, muscles)
     problem, classes, _ = sampling_problem(mission, muscles, elements, 0.95, samples=N, seed=7)
     assert set(problem.active) == {"moduli", "bore", "friction"}
+    drawn = cache(partial(class_deviations, problem, classes))
     return Evaluator(problem, muscle_draws(problem), classes, 0, np.arange(len(classes)),
-                     Deviations(problem, classes, "bore"), Deviations(problem, classes, "friction"))
+                     Deviations(drawn, 0, slice(None)), Deviations(drawn, 1, slice(None)))
 
 
 CASES = [("all", [upper_rank(N, 0.95), 2730, 2969, upper_rank(N, 0.9), upper_rank(N, 0.99)], True),
