@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pampipe.planning.law import Terms, settle
+from pampipe.planning.law import Terms, per_class, raw_least, settle
 from pampipe.planning.sources import keyed_normal
 
 #: Rounding allowance of one value against its terms' size (law.raw_least: five rounded operations after
@@ -109,14 +109,13 @@ def values(family: Family, members: np.ndarray, columns: np.ndarray | None) -> n
     load += family.at_zero[members, None]
     if family.drag is not None:
         load = load + family.drag[members, None]
-    per_mu = np.divide(load, mu)
+    load, per_mu = per_class(load, mu)
     shape = (members.size, family.size if columns is None else columns.size)
-    least = None
+    spare, least = np.empty(shape), None
     for t in family.terms:
-        k, r, f = (v if v.size == 1 or columns is None else v[columns] for v in (t.k, t.r, t.f))
-        out = np.multiply(load, k, out=np.empty(shape))
-        out += np.multiply(per_mu, r)
-        out -= f
+        if columns is not None:
+            t = Terms(*(v if v.size == 1 else v[columns] for v in (t.k, t.r, t.f)))
+        out = raw_least(load, per_mu, t, np.empty(shape), spare)
         least = out if least is None else np.maximum(least, out, out=least)
     return least
 

@@ -27,7 +27,7 @@ from pampipe.model.muscle import Muscle
 from pampipe.model.no_slip import STANDARD_GRAVITY, incline_load
 from pampipe.planning.bores import worst_bores
 from pampipe.planning.tension import section_drag
-from pampipe.runtime.alike import distinct_rows, per_distinct
+from pampipe.runtime.alike import distinct_rows, per_distinct, taken_back
 
 #: Sections per pass over the element table: a pass's temporaries stay in cache, so memory is the
 #: table itself, linear in elements (benchmarks/bench_plan.py).
@@ -114,8 +114,7 @@ class Elements:
         if self.alike is not None:
             first, index = self.alike
             if all(np.array_equal(c, c[first][index], equal_nan=True) for c in columns):
-                out = function(*(c[first] for c in columns))
-                return tuple(o[index] for o in out) if isinstance(out, tuple) else out[index]
+                return taken_back(function, columns, first, index)
         return per_distinct(function, *columns)
 
     def _per_segment(self, value) -> np.ndarray:

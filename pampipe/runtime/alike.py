@@ -70,8 +70,11 @@ def per_distinct(function, *columns):
     distinct row of ``columns`` (:func:`distinct_rows`) where the rows repeat; ``function`` must map each
     row to its outputs by that row alone."""
     alike = distinct_rows(columns)
-    if alike is None:
-        return function(*columns)
-    first, index = alike
+    return function(*columns) if alike is None else taken_back(function, columns, *alike)
+
+
+def taken_back(function, columns, first: np.ndarray, index: np.ndarray):
+    """``function`` of the rows ``first`` of ``columns``, its outputs (a tuple of arrays, or one array) taken
+    back to every row by ``index`` (:func:`grouped_rows`)."""
     out = function(*(np.asarray(c)[first] for c in columns))
     return tuple(o[index] for o in out) if isinstance(out, tuple) else out[index]
