@@ -12,7 +12,7 @@ import pytest
 from hypothesis import HealthCheck, settings
 
 from pampipe.io.pam_schema import load_pam
-from tests.support.order import shuffled
+from tests.support.order import heavy_first, shuffled
 from tests.support.problems import PROBLEMS
 
 #: No test depends on the machine's speed: hypothesis neither times examples nor calls slow data generation
@@ -73,10 +73,12 @@ def pytest_collection_modifyitems(session, config, items):
     """``PAMPIPE_TEST_SHUFFLE=SEED`` runs the tests in an order drawn from SEED (an integer), to find tests
     that depend on another test having run first: the modules in a shuffled order, and the tests of each
     module shuffled among themselves (a module's tests stay together: its module fixtures are built once).
-    Every pytest-xdist worker draws the same order, as it must. The seed is printed in the header."""
+    Every pytest-xdist worker draws the same order, as it must. The seed is printed in the header. Either way
+    the longest modules go first (:func:`tests.support.order.heavy_first`), so the workers end together."""
     seed = os.environ.get("PAMPIPE_TEST_SHUFFLE")
     if seed:
         items[:] = shuffled(items, int(seed))
+    items[:] = heavy_first(items)
 
 
 def pytest_report_header(config):

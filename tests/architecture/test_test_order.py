@@ -1,32 +1,24 @@
-"""PAMPIPE_TEST_SHUFFLE=SEED runs the suite in an order drawn from SEED (issue 40: no test may rely on another
-having run first)."""
+"""The order ``make test`` runs the tests in (tests/support/order.py): the longest modules first."""
 
 from __future__ import annotations
 
-import itertools
+from pathlib import Path
 from types import SimpleNamespace
 
-from tests.support.order import shuffled
+from tests.support.order import HEAVY_MODULES, heavy_first
 
-ITEMS = [SimpleNamespace(nodeid=f"tests/{m}/test_x.py::test_{k}") for m in "abcdef" for k in range(6)]
-
-
-def test_a_shuffle_keeps_every_test_once_and_each_module_together():
-    order = shuffled(ITEMS, 7)
-    assert sorted(i.nodeid for i in order) == sorted(i.nodeid for i in ITEMS)
-    modules = [i.nodeid.split("::")[0] for i in order]
-    changes = sum(a != b for a, b in itertools.pairwise(modules))
-    assert changes == len(set(modules)) - 1  # each module's tests are one contiguous run
+ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_one_seed_gives_one_order_and_two_seeds_two():
-    def ids(seed):
-        return [i.nodeid for i in shuffled(ITEMS, seed)]
+def test_every_listed_heavy_module_exists():
+    missing = [m for m in HEAVY_MODULES if not (ROOT / m).is_file()]
+    assert not missing, f"HEAVY_MODULES names modules that are gone: {missing}"
 
-    assert ids(7) == ids(7)  # every xdist worker must collect the same order
-    assert ids(7) != ids(8)
-    assert ids(7) != [i.nodeid for i in ITEMS]
-    firsts = {ids(seed)[0].split("::")[0] for seed in range(40)}
-    assert len(firsts) == 6  # every module comes first for some seed
-    inside = {ids(seed)[0] for seed in range(40)} & {i.nodeid for i in ITEMS[:6]}
-    assert len(inside) > 1  # and the tests inside a module
+
+def test_heavy_modules_move_to_the_front_and_the_rest_keep_their_order():
+    first, second = HEAVY_MODULES[:2]
+    ids = ["tests/a/test_x.py::t1", f"{second}::t1", "tests/a/test_x.py::t2", f"{first}::t2",
+           f"{second}::t0", "tests/b/test_y.py::t1", f"{first}::t1"]
+    order = [item.nodeid for item in heavy_first([SimpleNamespace(nodeid=i) for i in ids])]
+    assert order == [f"{first}::t2", f"{first}::t1", f"{second}::t1", f"{second}::t0",
+                     "tests/a/test_x.py::t1", "tests/a/test_x.py::t2", "tests/b/test_y.py::t1"]
