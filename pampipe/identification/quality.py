@@ -146,7 +146,7 @@ def test_quality(test: TestData, model: np.ndarray) -> TestQuality:
     e = r[1:-1] - (w_minus * r[:-2] + (1 - w_minus) * r[2:])
     values = (e**2 / (1 + w_minus**2 + (1 - w_minus) ** 2))[inner]
     floors = [(math.sqrt(float(np.median(values)) / CHI2_MEDIAN), values.size)] if values.size else []
-    local, terms = local_floor(*_floor_paths(test, live))
+    local, terms = local_floor(*_floor_paths(test, live, (rows, group)))
     floors += [(local, terms)] if local is not None else []
     floor, terms = min(((f, n) for f, n in floors if n >= MIN_TERMS), default=(None, 0))
     changes = int(np.sum(((r[1:] >= 0) != (r[:-1] >= 0))[same]))
@@ -162,13 +162,15 @@ def test_quality(test: TestData, model: np.ndarray) -> TestQuality:
                        scale)
 
 
-def _floor_paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _floor_paths(test: TestData, live: np.ndarray, paths: tuple[np.ndarray, np.ndarray]
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(x, measured force, path) of the live rows sorted by path then x, for the noise floor: each held
-    length swept in pressure for a test that holds its lengths (a force map), else :func:`_paths`."""
+    length swept in pressure for a test that holds its lengths (a force map), else ``paths`` (:func:`_paths`
+    of the live rows, which the caller has)."""
     rows = np.flatnonzero(live)
     held = held_length_paths(test.length[rows]) if test.kind == "axial" and rows.size > 1 else None
     if held is None:
-        rows, group = _paths(test, live)
+        rows, group = paths
         return _coordinate(test)[rows], test.force[rows], group
     order = np.lexsort((test.pressure[rows], held))
     return test.pressure[rows][order], test.force[rows][order], held[order]
