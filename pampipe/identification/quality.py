@@ -29,6 +29,7 @@ data), not a misfit.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -216,10 +217,24 @@ def _paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _path_order(x: np.ndarray, group: np.ndarray) -> np.ndarray:
-    """``np.lexsort((x, group))`` (by group, then x; ties in recorded order) as two stable sorts, the one
-    by group a radix sort (:func:`~pampipe.specs.protocol.group_order`): 1.5x faster at 1.8·10⁶ rows."""
-    order = np.argsort(x, kind="stable")
-    return order[group_order(group[order])]
+    """``np.lexsort((x, group))`` (by group, then x; ties in recorded order): the rows by group (a radix sort,
+    :func:`~pampipe.specs.protocol.group_order`), then each group's by x (a stable sort); a path is one sweep,
+    so its x come in one run that the stable sort takes as it is (2.5x faster at 1.8·10⁶ rows than one
+    sort of every x). With more than :data:`SORTED_PATHS` paths, one stable sort by x, then the radix sort."""
+    by_group = group_order(group)
+    grouped = group[by_group]
+    bounds = np.flatnonzero(grouped[1:] != grouped[:-1]) + 1
+    if bounds.size >= SORTED_PATHS:
+        order = np.argsort(x, kind="stable")
+        return order[group_order(group[order])]
+    for a, b in itertools.pairwise([0, *bounds.tolist(), group.size]):
+        rows = by_group[a:b]
+        by_group[a:b] = rows[np.argsort(x[rows], kind="stable")]
+    return by_group
+
+
+#: Paths above which :func:`_path_order` sorts every row at once (a loop over them would cost more).
+SORTED_PATHS = 4096
 
 
 def _row_groups(columns: list[np.ndarray]) -> np.ndarray:
