@@ -68,6 +68,9 @@ def main() -> None:
             experiment, job, rows = paper_protocol(pam, scale, tmp / f"scale{scale}")
             commands = {"pampipe": [sys.executable, "-m", "pampipe", "identify", str(experiment), "--json"],
                         "floor": [sys.executable, str(here / "floor_identify.py"), str(job)]}
+            for solver in [] if args.no_peer else args.peer_solver:
+                commands[f"trf-{solver}"] = [sys.executable, str(here / "baseline_identify.py"), str(job),
+                                             solver]
             places = dict.fromkeys(commands, (env, ROOT))  # python -m imports the pampipe of its folder
             if args.baseline is not None:
                 tree = args.baseline.resolve()
@@ -75,9 +78,6 @@ def main() -> None:
                 commands["baseline"] = commands["pampipe"]
                 own = {**env, "PYTHONPATH": str(tree), "PAMPIPE_NLP_CACHE": str(tmp / "baseline-cache")}
                 places["baseline"] = (own, tree)
-            for solver in [] if args.no_peer else args.peer_solver:
-                commands[f"trf-{solver}"] = [sys.executable, str(here / "baseline_identify.py"), str(job),
-                                             solver]
             for name in [n for n in ("pampipe", "baseline") if n in commands]:
                 measured(commands[name], *places[name])  # fills the NLP cache
             cpu: dict[str, list[float]] = {name: [] for name in commands}
