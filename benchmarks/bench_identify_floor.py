@@ -19,8 +19,11 @@ max(0, F) (its objective, as the peer's ``sse_N2``); the peer's plain SSE scores
 pampipe ÷ floor and the faster of trf-exact and trf-lsmr ÷ pampipe (goals, issue 39: ≥ 1.5× / 2× / 5×
 faster than the peer at 3·10⁴ / 3·10⁵ / 3·10⁶ rows, ≤ 1.2× the floor's CPU and memory at 3·10⁵–3·10⁶).
 
+With ``--baseline TREE`` (a checkout of main) that tree's ``pampipe identify`` runs in the same rounds, with
+a cache of its own, and pampipe ÷ baseline is printed (the median of the per-round ratios and their spread).
+
     .venv/bin/python benchmarks/bench_identify_floor.py [--scales 10 100 1000] [--repeat 5] [--no-peer]
-        [--peer-solver exact lsmr]
+        [--peer-solver exact lsmr] [--baseline TREE]
 """
 
 from __future__ import annotations
@@ -50,6 +53,8 @@ def main() -> None:
     parser.add_argument("--peer-solver", choices=("exact", "lsmr"), nargs="+", default=["exact", "lsmr"],
                         help="least_squares' trust-region subproblem solvers run (default both; the faster "
                              "is the peer)")
+    parser.add_argument("--baseline", type=Path, help="another pampipe source tree (a checkout of main): its "
+                        "identify runs in the same rounds, as 'baseline'")
     args = parser.parse_args()
     compileall.compile_dir(ROOT / "pampipe", quiet=1)  # bytecode, as installed (PYTHONDONTWRITEBYTECODE)
     pam = load_pam(ROOT / "problems" / "pams" / "paper-radial-pam.yaml")
@@ -66,12 +71,20 @@ def main() -> None:
             for solver in [] if args.no_peer else args.peer_solver:
                 commands[f"trf-{solver}"] = [sys.executable, str(here / "baseline_identify.py"), str(job),
                                              solver]
-            measured(commands["pampipe"], env)  # fills the NLP cache
+            places = dict.fromkeys(commands, (env, ROOT))  # python -m imports the pampipe of its folder
+            if args.baseline is not None:
+                tree = args.baseline.resolve()
+                compileall.compile_dir(tree / "pampipe", quiet=1)
+                commands["baseline"] = commands["pampipe"]
+                own = {**env, "PYTHONPATH": str(tree), "PAMPIPE_NLP_CACHE": str(tmp / "baseline-cache")}
+                places["baseline"] = (own, tree)
+            for name in [n for n in ("pampipe", "baseline") if n in commands]:
+                measured(commands[name], *places[name])  # fills the NLP cache
             cpu: dict[str, list[float]] = {name: [] for name in commands}
             out: dict[str, list[bytes]] = {name: [] for name in commands}
             for _ in range(args.repeat):
                 for name, command in commands.items():
-                    cpu[name].append(measured(command, env, out=out[name])[0])
+                    cpu[name].append(measured(command, *places[name], out=out[name])[0])
             t = {name: statistics.median(values) for name, values in cpu.items()}
             print(f"\n{rows:,} rows, load average {os.getloadavg()[0]:.2f}")
             for name, values in cpu.items():
@@ -82,13 +95,17 @@ def main() -> None:
                     sse = f"SSE {doc['sse_N2']:.10g}" + (f", plain SSE {doc['sse_plain_N2']:.10g}"
                                                          if "sse_plain_N2" in doc else "")
                 print(f"  {name:<11} {t[name]:7.3f} [{min(values):.3f}-{max(values):.3f}] s  "
-                      f"{peak_kb(commands[name], env) / 1024:7.0f} MB  {sse}", flush=True)
+                      f"{peak_kb(commands[name], *places[name]) / 1024:7.0f} MB  {sse}", flush=True)
             peers = [name for name in t if name.startswith("trf-")]
             line = f"  pampipe / floor {t['pampipe'] / t['floor']:.2f}x"
             if peers:
                 peer = min(peers, key=t.get)
                 line += f"; the faster peer {peer}: {t[peer] / t['pampipe']:.2f}x pampipe's CPU"
             print(line, flush=True)
+            if "baseline" in cpu:
+                ratios = [a / b for a, b in zip(cpu["pampipe"], cpu["baseline"], strict=True)]
+                print(f"  pampipe / baseline {statistics.median(ratios):.3f} "
+                      f"[{min(ratios):.3f}-{max(ratios):.3f}] (per round)", flush=True)
 
 
 if __name__ == "__main__":

@@ -71,8 +71,9 @@ def minimum(nlp, p: np.ndarray, x: np.ndarray, lbx: np.ndarray, ubx: np.ndarray,
         fresh = False
         step, multipliers = _equality_step(hessian, gradient, a[working], b[working] - a[working] @ x)
         slack, rate = a @ x - b, a @ step
-        others = np.setdiff1d(np.arange(b.size), working)
-        blocking = others[(rate[others] < 0) & (slack[others] + rate[others] < 0)]
+        outside = np.ones(b.size, dtype=bool)  # the constraints not in the working set, in order
+        outside[working] = False
+        blocking = np.flatnonzero(outside & (rate < 0) & (slack + rate < 0))
         if blocking.size:
             fractions = np.maximum(slack[blocking], 0.0) / -rate[blocking]
             k = int(np.argmin(fractions))

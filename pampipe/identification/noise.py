@@ -95,6 +95,8 @@ def evenly_spaced(size: int, count: int) -> np.ndarray:
 
 #: More distinct lengths than this in an axial test is a sweep, not held lengths (:func:`held_length_paths`).
 MOST_HELD_LENGTHS = 30
+#: The first rows :func:`held_length_paths` looks at before it sorts every row (a sweep shows itself there).
+PROBE = 4096
 
 
 def held_length_paths(length: np.ndarray, *, most: int = MOST_HELD_LENGTHS, fewest: int = 3
@@ -102,7 +104,12 @@ def held_length_paths(length: np.ndarray, *, most: int = MOST_HELD_LENGTHS, fewe
     """The held length of each row as a path index, for a test whose rows sit at 2..``most`` distinct
     lengths (to 0.1 mm), each held for at least ``fewest`` rows; None for a test that sweeps its length."""
     held = np.round(np.asarray(length, float), 4)
-    values, index, counts = np.unique(held, return_inverse=True, return_counts=True)
-    if not 2 <= values.size <= most or counts.min() < fewest:
+    if np.unique(held[:PROBE]).size > most:  # a sweep: its first rows already hold more lengths (no sort of
+        return None  # every row, ≈ 0.2 s at 1.8·10⁶ rows)
+    values = np.unique(held)  # numpy's vectorised sort, not the merge sort of return_inverse
+    if not 2 <= values.size <= most:
         return None
-    return index.ravel()
+    index = np.searchsorted(values, held)  # the rank among the distinct lengths: np.unique's inverse
+    if np.bincount(index, minlength=values.size).min() < fewest:
+        return None
+    return index

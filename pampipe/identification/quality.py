@@ -29,6 +29,7 @@ data), not a misfit.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -146,7 +147,7 @@ def test_quality(test: TestData, model: np.ndarray) -> TestQuality:
     e = r[1:-1] - (w_minus * r[:-2] + (1 - w_minus) * r[2:])
     values = (e**2 / (1 + w_minus**2 + (1 - w_minus) ** 2))[inner]
     floors = [(math.sqrt(float(np.median(values)) / CHI2_MEDIAN), values.size)] if values.size else []
-    local, terms = local_floor(*_floor_paths(test, live))
+    local, terms = local_floor(*_floor_paths(test, live, (rows, group)))
     floors += [(local, terms)] if local is not None else []
     floor, terms = min(((f, n) for f, n in floors if n >= MIN_TERMS), default=(None, 0))
     changes = int(np.sum(((r[1:] >= 0) != (r[:-1] >= 0))[same]))
@@ -162,13 +163,15 @@ def test_quality(test: TestData, model: np.ndarray) -> TestQuality:
                        scale)
 
 
-def _floor_paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _floor_paths(test: TestData, live: np.ndarray, paths: tuple[np.ndarray, np.ndarray]
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(x, measured force, path) of the live rows sorted by path then x, for the noise floor: each held
-    length swept in pressure for a test that holds its lengths (a force map), else :func:`_paths`."""
+    length swept in pressure for a test that holds its lengths (a force map), else ``paths`` (:func:`_paths`
+    of the live rows, which the caller has)."""
     rows = np.flatnonzero(live)
     held = held_length_paths(test.length[rows]) if test.kind == "axial" and rows.size > 1 else None
     if held is None:
-        rows, group = _paths(test, live)
+        rows, group = paths
         return _coordinate(test)[rows], test.force[rows], group
     order = np.lexsort((test.pressure[rows], held))
     return test.pressure[rows][order], test.force[rows][order], held[order]
@@ -214,10 +217,24 @@ def _paths(test: TestData, live: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _path_order(x: np.ndarray, group: np.ndarray) -> np.ndarray:
-    """``np.lexsort((x, group))`` (by group, then x; ties in recorded order) as two stable sorts, the one
-    by group a radix sort (:func:`~pampipe.specs.protocol.group_order`): 1.5x faster at 1.8·10⁶ rows."""
-    order = np.argsort(x, kind="stable")
-    return order[group_order(group[order])]
+    """``np.lexsort((x, group))`` (by group, then x; ties in recorded order): the rows by group (a radix sort,
+    :func:`~pampipe.specs.protocol.group_order`), then each group's by x (a stable sort); a path is one sweep,
+    so its x come in one run that the stable sort takes as it is (2.5x faster at 1.8·10⁶ rows than one
+    sort of every x). With more than :data:`SORTED_PATHS` paths, one stable sort by x, then the radix sort."""
+    by_group = group_order(group)
+    grouped = group[by_group]
+    bounds = np.flatnonzero(grouped[1:] != grouped[:-1]) + 1
+    if bounds.size >= SORTED_PATHS:
+        order = np.argsort(x, kind="stable")
+        return order[group_order(group[order])]
+    for a, b in itertools.pairwise([0, *bounds.tolist(), group.size]):
+        rows = by_group[a:b]
+        by_group[a:b] = rows[np.argsort(x[rows], kind="stable")]
+    return by_group
+
+
+#: Paths above which :func:`_path_order` sorts every row at once (a loop over them would cost more).
+SORTED_PATHS = 4096
 
 
 def _row_groups(columns: list[np.ndarray]) -> np.ndarray:

@@ -60,3 +60,32 @@ def test_windows_of_repeats_only_are_inverted_to_the_bit_of_numpys_pseudo_invers
     reference = np.linalg.pinv(gram)[:, 0, :]
     assert row.tobytes() == reference.tobytes()
     assert row[3].tolist() == [0.25, 0.0, 0.0] and row[0].tolist() == [1 / 6, 0.0, 0.0]
+
+
+def _held_reference(length, most=30, fewest=3):
+    """held_length_paths by its definition: np.unique of the lengths to 0.1 mm, its inverse and counts."""
+    values, index, counts = np.unique(np.round(length, 4), return_inverse=True, return_counts=True)
+    return None if not 2 <= values.size <= most or counts.min() < fewest else index.ravel()
+
+
+@pytest.mark.parametrize("kind", ["held", "sweep", "held, then a sweep after the first rows",
+                                  "one held twice", "thirty held"])
+def test_held_length_paths_as_numpys_unique_numbers_them(kind):
+    rng = np.random.default_rng(len(kind))
+    for _ in range(40):
+        n = int(rng.integers(2, 12_000))
+        levels = rng.uniform(0.2, 0.31, int(rng.integers(1, 40)))
+        length = levels[rng.integers(0, levels.size, n)] + rng.normal(0, 1e-6, n)
+        if kind == "sweep":
+            length = rng.uniform(0.2, 0.31, n)
+        elif kind == "thirty held":  # as many as held lengths may be, every one in the first rows
+            length = np.linspace(0.2, 0.31, 30)[rng.integers(0, 30, n + 5000)]
+        elif kind == "held, then a sweep after the first rows":
+            length[min(5000, n - 1):] = rng.uniform(0.2, 0.31, n - min(5000, n - 1))
+        elif kind == "one held twice":
+            length[: n // 2] = levels[0]
+            length[n // 2:] = levels[0] if n % 2 else levels[-1]
+        found, expected = held_length_paths(length), _held_reference(length)
+        assert (found is None) == (expected is None)
+        if expected is not None:
+            np.testing.assert_array_equal(found, expected)

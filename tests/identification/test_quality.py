@@ -23,7 +23,7 @@ import pytest
 import yaml
 
 from pampipe.errors import InputError
-from pampipe.identification import FitOptions, identify, multistart, seeds
+from pampipe.identification import FitOptions, identify, multistart, quality, seeds
 from pampipe.identification.options import parse_fit_options
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.experiment_schema import load_experiment
@@ -461,3 +461,15 @@ def test_paths_are_ordered_as_a_lexsort_by_group_then_coordinate():
         x = np.round(rng.uniform(0, 1, size), 3)  # many ties
         group = rng.integers(0, groups, size)
         assert np.array_equal(_path_order(x, group), np.lexsort((x, group)))
+
+
+@pytest.mark.parametrize("paths", [1, 84, quality.SORTED_PATHS + 10])
+def test_rows_in_path_order_as_lexsort_orders_them(paths):
+    """By path, then by x, ties in recorded order: np.lexsort((x, path)), whether each path is sorted on its
+    own or all rows at once; x with repeats (ties) and sweeps up and down."""
+    rng = np.random.default_rng(paths)
+    for _ in range(5):
+        n = int(rng.integers(paths, 20 * paths + 50))
+        group = rng.integers(0, paths, n)
+        x = np.round(np.where(rng.random(n) < 0.5, 1, -1) * rng.uniform(0, 1, n), 2)
+        np.testing.assert_array_equal(quality._path_order(x, group), np.lexsort((x, group)))
