@@ -126,3 +126,56 @@ def test_a_held_length_protocol_gives_a_block_per_held_length(radial_pam):
     assert all(b.rows == 30 for b in held.blocks if b.kind == "length")  # 2 legs x 15 points
     swept = error(Protocol(points_per_leg=5, cycles=1, pipes=()))
     assert len(swept.blocks) == 4 and swept.dof == 3
+
+
+def test_a_radial_rows_miss_counts_as_a_miss_of_the_axial_force_at_the_anchored_length(radial_pam):
+    """A plan draws the model error as a shift of F_ax at the anchored length L_p; a radial test measures
+    F_r = A(F_ax(P, L_p) − F_a), so its miss δ counts as δ/A. Checked against A found independently, as
+    (2/π)(−dL/dD) by a central difference of L(D) = √(B² − (NπD)²) (B = L₀/cos α₀, N = L₀ tan α₀/(πD₀)),
+    with every refit a muscle whose moduli are 5 % stiff (noise-free data of the demo muscle): each block's
+    RMSE is that of its axial misses and its radial misses over A, and the written error removes the noise
+    σ_n² on an axial row, σ_n²/A² on a radial one."""
+    import math
+
+    from pampipe.identification import model_error
+    from pampipe.simulation.synthetic import Protocol, generate
+    from pampipe.specs.experiment import ExperimentData
+
+    pipe = 0.0889
+    protocol = Protocol(cycles=1, points_per_leg=10, pipes=(pipe,), loads=(0.0,), radial_points=10,
+                        force_noise=0.0)
+    tests = tuple(make_test_data(spec, cols) for spec, cols in generate(radial_pam, protocol, seed=1))
+    data = ExperimentData(PROBLEMS / "generated.yaml", Pam(radial_pam.name, radial_pam.geometry), tests, {})
+    truth = Muscle.from_pam(radial_pam)
+    stiff = Muscle(truth.geometry, 1.05 * np.asarray(truth.theta), truth.reference_pressure)
+    error = model_error.estimate(data, lambda _x: (stiff, {}), None, lambda _d: (stiff, {}), slack="exclude",
+                                 noise=2.0)
+
+    g = radial_pam.geometry
+    b = g.initial_length / math.cos(g.braid_angle)
+    n = g.initial_length * math.tan(g.braid_angle) / (math.pi * g.initial_diameter)
+
+    def length(d):
+        return math.sqrt(b**2 - (n * math.pi * d) ** 2)
+
+    amplification = (2 / math.pi) * (length(pipe - 1e-6) - length(pipe + 1e-6)) / 2e-6
+    rows = model_error.sample_rows(data, "exclude")
+    misses, weights = [], []
+    for t, test in enumerate(data.tests):
+        mine = rows.rows[rows.test == t]
+        if test.kind == "axial":
+            force = stiff.axial_force(test.pressure[mine], test.length[mine], leg=test.leg[mine])
+            misses.append(force - test.force[mine])
+            weights.append(np.ones(mine.size))
+        else:
+            miss = stiff.radial_force(test.pressure[mine], pipe) - test.force[mine]
+            misses.append(miss / amplification)
+            weights.append(np.full(mine.size, amplification**-2))
+    miss, weight = np.concatenate(misses), np.concatenate(weights)
+    assert 1.1 < amplification < 1.5 and any(b.kind == "pressure" for b in error.blocks)
+    floors = []
+    for block, (_kind, _low, _high, held) in zip(error.blocks, model_error.blocks(data, rows), strict=True):
+        assert block.rmse == pytest.approx(float(np.sqrt(np.mean(miss[held] ** 2))), rel=1e-6)
+        floors.append(4.0 * float(np.mean(weight[held])))
+    cv = float(np.mean([block.rmse**2 for block in error.blocks]))
+    assert error.value == pytest.approx(math.sqrt(cv - np.mean(floors)), rel=1e-6)
