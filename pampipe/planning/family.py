@@ -84,37 +84,31 @@ def families(ev, sources) -> list[Family] | None:
     return out
 
 
-def chunk_statistics(found: list[Family], ranks: list[int], n: int, count: int, share: bool):
-    """(settled statistics (len(ranks), count), shares (count,) or None) of every class of the families
-    ``found`` (:func:`family_statistics`); None where candidates do not pay."""
-    stats, shares = np.empty((len(ranks), count)), np.empty(count) if share else None
-    for family in found:
-        result = family_statistics(family, ranks, n, share)
-        if result is None:
-            return None
-        stats[:, family.rows] = result[0]
-        if share:
-            shares[family.rows] = result[1]
-    return stats, shares
-
-
 def values(family: Family, members: np.ndarray, columns: np.ndarray | None) -> np.ndarray:
-    """Raw P* (len(members), K) of ``members`` (positions in the family) in draws ``columns`` (None: all n),
-    by the operations of Evaluator.friction_load, law.per_class and law.raw_least (the same bits)."""
+    """Raw P* (len(members), K) of ``members`` (positions in the family) in draws ``columns`` (None: all
+    n)."""
     if family.drawn:
         mu = (family.mu if columns is None else family.mu[columns])[None, :]
     else:
         mu = family.mu[members, None]
+    return raw_values(family, members, mu, columns)
+
+
+def raw_values(family: Family, members: np.ndarray, mu: np.ndarray, columns: np.ndarray | None = None):
+    """Raw P* of ``members`` at frictions ``mu`` (broadcast against (len(members), 1)), the terms in draws
+    ``columns`` (None: all n, or one number each), by the operations of Evaluator.friction_load,
+    law.per_class and law.raw_least (the same bits)."""
     load = np.multiply(mu, family.slope[members, None])
     load += family.at_zero[members, None]
     if family.drag is not None:
         load = load + family.drag[members, None]
     load, per_mu = per_class(load, mu)
-    shape = (members.size, family.size if columns is None else columns.size)
+    terms = [t if columns is None else Terms(*(v if v.size == 1 else v[columns] for v in (t.k, t.r, t.f)))
+             for t in family.terms]
+    sizes = ((1, v.size) for t in terms for v in vars(t).values())
+    shape = np.broadcast_shapes(load.shape, (members.size, 1), *sizes)
     spare, least = np.empty(shape), None
-    for t in family.terms:
-        if columns is not None:
-            t = Terms(*(v if v.size == 1 else v[columns] for v in (t.k, t.r, t.f)))
+    for t in terms:
         out = raw_least(load, per_mu, t, np.empty(shape), spare)
         least = out if least is None else np.maximum(least, out, out=least)
     return least
@@ -174,7 +168,7 @@ def _bound(e: Extremes, members: np.ndarray, reference: int) -> tuple[np.ndarray
     return low - slack, high + slack
 
 
-def _select(part: np.ndarray, ranks: list[int], below: int):
+def select(part: np.ndarray, ranks: list[int], below: int):
     """(raw statistics (len(ranks), m), ``part`` partitioned) of the full ranks ``ranks`` from candidates
     ``part`` (m, K), ``below`` values known to lie under them (partitioned in place)."""
     shifted = [k - below for k in ranks]
@@ -185,7 +179,7 @@ def _select(part: np.ndarray, ranks: list[int], below: int):
     return part[:, shifted].T
 
 
-def _exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, share: bool):
+def exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, share: bool):
     """(settled statistics, the share of n values ≤ the first, or None) as quantiles.order_statistics
     gives them: the ties above the first rank after settle are counted."""
     out = settle(stats)
@@ -195,10 +189,12 @@ def _exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, 
     return out, (first + 1 + np.count_nonzero(above == out[0][:, None], axis=1)) / n
 
 
-def family_statistics(family: Family, ranks: list[int], n: int, share: bool):
+def family_statistics(family: Family, ranks: list[int], n: int, share: bool, fill=None):
     """(settled order statistics (len(ranks), m) of each member's n raw values, their share ≤ the first or
     None) for 0-based ``ranks`` (the first a high rank where ``share``); None where the ranks' tails are
-    too wide for candidates to pay (more than half the draws)."""
+    too wide for candidates to pay (more than half the draws). ``fill(family, high, low, top, bottom, n,
+    out)`` fills the :class:`Statistics` instead of the reference members' blocks (e.g.
+    :func:`pampipe.planning.convex.convex_statistics`)."""
     high = [k for k in ranks if 2 * k >= n]
     low = [k for k in ranks if 2 * k < n]
     top = n - min(high) if high else 0
@@ -210,6 +206,9 @@ def family_statistics(family: Family, ranks: list[int], n: int, share: bool):
     m = family.rows.size
     out = Statistics(np.empty((len(ranks), m)), np.empty(m) if share else None,
                      [(high + low).index(k) for k in ranks])
+    if fill is not None:
+        fill(family, high, low, top, bottom, n, out)
+        return out.stats, out.shares
     bounds = extremes(family)
     start, block = 0, FIRST_BLOCK
     while start < m:
@@ -238,7 +237,7 @@ def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: St
     reference = int(members[members.size // 2])
     row = values(family, np.array([reference]), None)[0]
     if not np.all(np.isfinite(row)):
-        return _whole(family, members, high + low, n, out)
+        return whole(family, members, high + low, n, out)
     lowest, highest = _bound(bounds, members, reference)
     good = np.ones(members.size, dtype=bool)
     found = []
@@ -248,7 +247,7 @@ def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: St
         candidates = np.flatnonzero(row >= sorted_row[n - top])
         below = n - candidates.size
         part = values(family, members, candidates)
-        raw = _select(part, high, below)
+        raw = select(part, high, below)
         ceiling = np.max(sorted_row[:n - top]) + highest  # the others lie at or below it
         good &= raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling)
         found.append((raw, part, below))
@@ -256,7 +255,7 @@ def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: St
         sorted_row[:n - top].partition(bottom - 1)
         candidates = np.flatnonzero(row <= sorted_row[bottom - 1])
         part = values(family, members, candidates)
-        raw = _select(part, low, 0)
+        raw = select(part, low, 0)
         floor = np.min(sorted_row[bottom:]) + lowest
         good &= raw.max(axis=0) < floor - 4 * SLACK * np.abs(floor)
         found.append((raw, part, 0))
@@ -264,18 +263,18 @@ def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: St
     out.stats[:, members[good]] = settled[out.slots][:, good]
     if out.shares is not None:
         raw, part, below = found[0]
-        out.shares[members[good]] = _exact(raw[:, good], part[good], high[0], below, n, True)[1]
+        out.shares[members[good]] = exact(raw[:, good], part[good], high[0], below, n, True)[1]
     bad = members[~good]
     if bad.size:
-        _whole(family, bad, high + low, n, out)
+        whole(family, bad, high + low, n, out)
     return int(bad.size)
 
 
-def _whole(family, members, ranks, n, out: Statistics) -> int:
+def whole(family, members, ranks, n, out: Statistics) -> int:
     """Fill ``members`` from all n draws (the plain partition); returns how many."""
     part = values(family, members, None)
-    raw = _select(part, ranks, 0)
-    settled, held = _exact(raw, part, ranks[0], 0, n, out.shares is not None)
+    raw = select(part, ranks, 0)
+    settled, held = exact(raw, part, ranks[0], 0, n, out.shares is not None)
     out.stats[:, members] = settled[out.slots]
     if held is not None:
         out.shares[members] = held
