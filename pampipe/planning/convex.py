@@ -77,61 +77,84 @@ def convex_statistics(family: Family, high: list[int], low: list[int], top: int,
     order = np.argsort(family.mu, kind="stable")
     mu = family.mu[order]
     size = extremes(family).size
+    grid = np.unique(np.append(np.arange(0, n, STRIDE), n - 1))
     for start in range(0, family.rows.size, BLOCK):
         members = np.arange(start, min(start + BLOCK, family.rows.size))
         slack = 2 * SLACK * size[members]
-        good = np.ones(members.size, dtype=bool)
+        coarse = raw_values(family, members, mu[grid][None, :])
+        good = np.all(np.isfinite(coarse), axis=1)
         found = []
         if high:
-            found.append(_high(family, members, mu, high, top, n, slack, good))
+            found.append(_high(family, members, mu, coarse, grid, high, top, n, slack, good,
+                               out.shares is not None))
         if low:
-            found.append(_low(family, members, mu, low, bottom, n, slack, good))
-        settled = exact(np.concatenate([raw for raw, _, _ in found]), None, 0, 0, n, False)[0]
+            found.append(_low(family, members, mu, coarse, grid, low, bottom, n, slack, good))
+        settled = exact(np.concatenate([raw for raw, _ in found]), None, 0, 0, n, False)[0]
         out.stats[:, members[good]] = settled[out.slots][:, good]
         if out.shares is not None:
-            raw, part, below = found[0]
-            out.shares[members[good]] = exact(raw[:, good], part[good], high[0], below, n, True)[1]
+            out.shares[members[good]] = found[0][1][good]
         if not good.all():
             whole(family, members[~good], high + low, n, out)
 
 
-def _high(family: Family, members, mu, high, top, n, slack, good):
-    """(raw high statistics, the candidates partitioned, how many lie below): the ``top`` lowest and
-    highest μ; clears ``good`` where the lowest statistic is not above the chord between them + 2E."""
+def _high(family: Family, members, mu, coarse, grid, high, top, n, slack, good, share: bool):
+    """(raw high statistics (len(high), m), the share of n values ≤ the first or None): the candidates
+    are the ``top`` lowest and highest μ, or those of one end and the other end's last draw where the
+    coarse grid shows g falling (rising) to below its value ``top`` positions in; clears ``good`` where the
+    lowest statistic is not above the chord between the candidates around the other draws + 2E."""
     k = min(top, n // 2)
-    columns = np.concatenate([mu[:k], mu[n - k:]])[None, :]
-    part = raw_values(family, members, columns)
-    ceiling = np.maximum(part[:, k - 1], part[:, k]) + slack
-    below = n - 2 * k
-    raw = select(part, high, below)
-    good &= np.all(np.isfinite(part), axis=1) & (raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling))
-    return raw, part, below
+    inner_left = coarse[:, np.searchsorted(grid, k)]  # g on the grid k positions in from either end
+    inner_right = coarse[:, np.searchsorted(grid, n - 1 - k) - 1]
+    left = (coarse[:, -1] < inner_left) & (coarse[:, 0] >= inner_left)  # the top k all on the left
+    right = ~left & (coarse[:, 0] < inner_right) & (coarse[:, -1] >= inner_right)
+    raw, held = np.empty((len(high), members.size)), np.empty(members.size) if share else None
+    ends = np.arange(n - k, n)
+    for rows, positions, chord in ((left, np.append(np.arange(k), n - 1), k - 1),
+                                   (right, np.insert(ends, 0, 0), 0),
+                                   (~left & ~right, np.concatenate([np.arange(k), ends]), k - 1)):
+        if not rows.any():
+            continue
+        part = raw_values(family, members[rows], mu[positions][None, :])
+        ceiling = np.maximum(part[:, chord], part[:, chord + 1]) + slack[rows]  # the draws between them
+        below = n - positions.size
+        raw[:, rows] = select(part, high, below)
+        good[rows] &= np.all(np.isfinite(part), axis=1) & (raw[:, rows].min(axis=0) > ceiling + 4 * SLACK
+                                                           * np.abs(ceiling))
+        if share:
+            held[rows] = exact(raw[:, rows], part, high[0], below, n, True)[1]
+    return raw, held
 
 
-def _low(family: Family, members, mu, low, bottom, n, slack, good):
-    """(raw low statistics, the window partitioned, 0): a window of positions around each member's least value
-    on the coarse grid; clears ``good`` where an edge does not bound the draws beyond it."""
-    grid = np.unique(np.append(np.arange(0, n, STRIDE), n - 1))
-    coarse = raw_values(family, members, mu[grid][None, :])
-    width = min(n, 2 * (bottom + STRIDE) + 1)
-    left = window_start(grid[np.argmin(coarse, axis=1)], bottom, n, width)
-    if np.all(left == left[0]):  # one window for all (commonly: g monotone over the draws), one row of μ
-        window = mu[left[0]:left[0] + width][None, :]
-    else:
-        window = mu[left[:, None] + np.arange(width)]
-    part = raw_values(family, members, window)
-    edges = [(left > 0, part[:, 0].copy(), part[:, 1].copy(), window[:, 0] < window[:, 1]),
-             (left + width < n, part[:, -1].copy(), part[:, -2].copy(), window[:, -2] < window[:, -1])]
-    good &= np.all(np.isfinite(part), axis=1)
-    raw = select(part, low, 0)
-    for beyond, edge, inner, apart in edges:
-        good &= ~beyond | bounds_beyond(edge, inner, apart, raw.max(axis=0), slack)
-    return raw, part, 0
+def _low(family: Family, members, mu, coarse, grid, low, bottom, n, slack, good):
+    """(raw low statistics (len(low), m), None): a window of positions around each member's least value on
+    the coarse grid (one-sided at an end of the draws); clears ``good`` where an edge does not bound the
+    draws beyond it."""
+    least = grid[np.argmin(coarse, axis=1)]
+    at_end = (least == 0) | (least == n - 1)
+    raw = np.empty((len(low), members.size))
+    for rows, width in ((at_end, min(n, bottom + STRIDE + 1)), (~at_end, min(n, 2 * (bottom + STRIDE) + 1))):
+        if not rows.any():
+            continue
+        left = window_start(least[rows], bottom, n, width)
+        if np.all(left == left[0]):  # one window for all (commonly: g monotone over the draws), one row of μ
+            window = mu[left[0]:left[0] + width][None, :]
+        else:
+            window = mu[left[:, None] + np.arange(width)]
+        part = raw_values(family, members[rows], window)
+        edges = [(left > 0, part[:, 0].copy(), part[:, 1].copy(), window[:, 0] < window[:, 1]),
+                 (left + width < n, part[:, -1].copy(), part[:, -2].copy(), window[:, -2] < window[:, -1])]
+        ok = np.all(np.isfinite(part), axis=1)
+        raw[:, rows] = select(part, low, 0)
+        for beyond, edge, inner, apart in edges:
+            ok &= ~beyond | bounds_beyond(edge, inner, apart, raw[:, rows].max(axis=0), slack[rows])
+        good[rows] &= ok
+    return raw, None
 
 
 def window_start(least: np.ndarray, bottom: int, n: int, width: int) -> np.ndarray:
     """The first position of each member's window of ``width`` positions: ``bottom`` + STRIDE before the least
-    value on the coarse grid (at position ``least``), within 0 … n − width. For an exact convex g its
+    value on the coarse grid (at position ``least``), within 0 … n − width (at an end of the draws the
+    window reaches ``bottom`` + STRIDE from it). For an exact convex g its
     ``bottom`` least values lie within ``bottom`` positions of its least value, itself within STRIDE of
     the grid's."""
     return np.clip(least - bottom - STRIDE, 0, n - width)
