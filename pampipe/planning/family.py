@@ -31,6 +31,7 @@ import numpy as np
 
 from pampipe.planning.law import Terms, per_class, raw_least, settle
 from pampipe.planning.sources import keyed_normal
+from pampipe.runtime.alike import unique_rows
 
 #: Rounding allowance of one value against its terms' size (law.raw_least: five rounded operations after
 #: the load's two or three; 32u is more than their sum).
@@ -63,8 +64,7 @@ def families(ev, sources) -> list[Family] | None:
     slope, at_zero = ev.load_affine()
     friction = "friction" in sources
     keys = np.stack([*(group for group, _ in per_bore), ev.mu, ev.mu_sd if friction else 0 * ev.mu])
-    _, inverse = np.unique(keys, axis=1, return_inverse=True)
-    inverse = np.asarray(inverse).reshape(-1)
+    inverse = unique_rows(keys.T)[2]
     out = []
     for f in range(int(inverse.max()) + 1 if inverse.size else 0):
         rows = np.flatnonzero(inverse == f)
