@@ -38,8 +38,8 @@ from pampipe.runtime.alike import unique_rows
 SLACK = 32 * np.finfo(float).eps / 2
 #: Candidates beyond a tail's ranks: MARGIN_SHARE of the tail, at least MARGIN.
 MARGIN, MARGIN_SHARE = 32, 0.25
-#: Members per reference: the first block, and the bounds the block size moves within (halved where more
-#: than a quarter of a block is evaluated in full, doubled where none is).
+#: Members: how far the first reference lies ahead (half of it) and how many are evaluated in full where no
+#: neighbour is sure to clear a reference's test; the most one reference serves.
 FIRST_BLOCK, LARGEST_BLOCK = 8, 256
 
 
@@ -210,16 +210,31 @@ def family_statistics(family: Family, ranks: list[int], n: int, share: bool, fil
         fill(family, high, low, top, bottom, n, out)
         return out.stats, out.shares
     bounds = extremes(family)
-    start, block = 0, FIRST_BLOCK
+    start, reach = 0, FIRST_BLOCK // 2
     while start < m:
-        members = np.arange(start, min(start + block, m))
-        whole = _block(family, bounds, members, high, low, top, bottom, n, out)
-        if 4 * whole > members.size:
-            block = max(1, block // 2)
-        elif whole == 0:
-            block = min(2 * block, LARGEST_BLOCK)
-        start += members.size
+        reference = min(start + reach, m - 1)
+        ref = _reference(family, reference, high, low, top, bottom, n)
+        stop = start if ref is None else _cleared(bounds, reference, start, min(start + LARGEST_BLOCK, m),
+                                                  ref.gap)
+        if stop <= start + 1 and reach > 0:  # the reference too far: one nearer
+            reach //= 2
+            continue
+        if stop <= start + 1:  # no neighbour sure to clear (far apart, or a draw where it does not hold)
+            start += whole(family, np.arange(start, min(start + FIRST_BLOCK, m)), high + low, n, out)
+            continue
+        _block(family, bounds, np.arange(start, stop), ref, high, low, n, out)
+        reach = min(4 * (stop - 1 - reference) // 5, LARGEST_BLOCK // 2) if stop > reference else 0
+        start = stop
     return out.stats, out.shares
+
+
+def _cleared(bounds: Extremes, reference: int, start: int, end: int, gap: float) -> int:
+    """The first member from ``start`` (up to ``end``) not sure to clear the test against ``reference``: a
+    member's statistics lie within [lowest, highest] of the reference's (:func:`_bound`), so it clears where
+    highest − lowest is less than the reference's ``gap`` (with 5 % to spare)."""
+    lowest, highest = _bound(bounds, np.arange(start, end), reference)
+    fails = np.flatnonzero(~(highest - lowest < 0.95 * gap))
+    return start + int(fails[0]) if fails.size else end
 
 
 @dataclass(frozen=True)
@@ -231,32 +246,56 @@ class Statistics:
     slots: list[int]  # row of each asked rank among the high ranks then the low ranks
 
 
-def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: Statistics) -> int:
-    """Fill ``stats`` (and ``shares``) of ``members`` from the candidates of the middle one; returns how many
-    were evaluated over all n draws."""
-    reference = int(members[members.size // 2])
+@dataclass(frozen=True)
+class Reference:
+    """A reference member's candidates and what bounds the draws off them [Pa]."""
+
+    high: np.ndarray | None  # the draws at or above its (n − top)-th value (None: no high ranks)
+    low: np.ndarray | None  # the draws at or below its bottom-th value
+    reference: int  # the member
+    ceiling: float  # its largest value off the high candidates
+    floor: float  # its least value off the low candidates
+    gap: float  # the room a member's spread may take: its statistics' distance to the ceiling and floor
+
+
+def _reference(family, reference: int, high, low, top, bottom, n) -> Reference | None:
+    """The :class:`Reference` of member ``reference`` from its n values; None where one is not finite."""
     row = values(family, np.array([reference]), None)[0]
     if not np.all(np.isfinite(row)):
-        return whole(family, members, high + low, n, out)
-    lowest, highest = _bound(bounds, members, reference)
-    good = np.ones(members.size, dtype=bool)
-    found = []
-    sorted_row = np.array(row)
+        return None
+    sorted_row, gap = np.array(row), np.inf
+    above = below = None
+    ceiling = floor = np.nan
     if high:  # the candidates: every draw at or above the reference's (n − top)-th value
         sorted_row.partition(n - top)
-        candidates = np.flatnonzero(row >= sorted_row[n - top])
-        below = n - candidates.size
-        part = values(family, members, candidates)
-        raw = select(part, high, below)
-        ceiling = np.max(sorted_row[:n - top]) + highest  # the others lie at or below it
-        good &= raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling)
-        found.append((raw, part, below))
+        above = np.flatnonzero(row >= sorted_row[n - top])
+        ceiling = float(np.max(sorted_row[:n - top]))
+        gap = np.partition(sorted_row[n - top:], min(high) - n + top)[min(high) - n + top] - ceiling
     if low:  # every draw at or below the reference's bottom-th value
         sorted_row[:n - top].partition(bottom - 1)
-        candidates = np.flatnonzero(row <= sorted_row[bottom - 1])
-        part = values(family, members, candidates)
+        below = np.flatnonzero(row <= sorted_row[bottom - 1])
+        floor = float(np.min(sorted_row[bottom:]))
+        gap = min(gap, floor - np.partition(sorted_row[:bottom], max(low))[max(low)])
+    return Reference(above, below, reference, ceiling, floor, float(gap))
+
+
+def _block(family, bounds: Extremes, members, ref: Reference, high, low, n, out: Statistics) -> None:
+    """Fill ``stats`` (and ``shares``) of ``members`` from the candidates of the reference ``ref``; a member
+    that does not clear the test, from all n draws."""
+    lowest, highest = _bound(bounds, members, ref.reference)
+    good = np.ones(members.size, dtype=bool)
+    found = []
+    if high:
+        below = n - ref.high.size
+        part = values(family, members, ref.high)
+        raw = select(part, high, below)
+        ceiling = ref.ceiling + highest  # the others lie at or below it
+        good &= raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling)
+        found.append((raw, part, below))
+    if low:
+        part = values(family, members, ref.low)
         raw = select(part, low, 0)
-        floor = np.min(sorted_row[bottom:]) + lowest
+        floor = ref.floor + lowest
         good &= raw.max(axis=0) < floor - 4 * SLACK * np.abs(floor)
         found.append((raw, part, 0))
     settled = settle(np.concatenate([raw for raw, _, _ in found]))
@@ -264,10 +303,8 @@ def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: St
     if out.shares is not None:
         raw, part, below = found[0]
         out.shares[members[good]] = exact(raw[:, good], part[good], high[0], below, n, True)[1]
-    bad = members[~good]
-    if bad.size:
-        whole(family, bad, high + low, n, out)
-    return int(bad.size)
+    if not good.all():
+        whole(family, members[~good], high + low, n, out)
 
 
 def whole(family, members, ranks, n, out: Statistics) -> int:
