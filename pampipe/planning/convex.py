@@ -10,8 +10,9 @@ convex in μ wherever b_c·r_b ≥ 0 (a line plus b_c·r_b/μ, and the max of co
 sorted by μ (positions 0 … n−1), then:
 
 * **high ranks:** every draw between positions K−1 and n−K lies at or below the larger of the two (a convex
-  function's chord): the K lowest and K highest μ are the candidates, and a member's statistics among them are
-  its statistics among all n where its lowest high statistic lies above that larger value + 2E;
+  function's chord): the K lowest and K highest μ are the candidates (where the coarse grid below shows g
+  falling or rising throughout, the K of that end and the other end's last draw), and a member's statistics
+  among them are its statistics among all n where its lowest high statistic lies above that larger value + 2E;
 * **low ranks:** around the member's least value on a coarse grid of positions (every :data:`STRIDE`-th), a
   window [L, R] of positions; where g falls from L to L+1 (μ_L < μ_{L+1}), every draw left of L lies at or
   above g(μ_L) (convexity), and likewise right of R where g rises from R−1 to R: its statistics among the
@@ -42,7 +43,7 @@ from pampipe.planning.family import (
 
 #: Positions between the points of the coarse grid that finds a member's least value.
 STRIDE = 32
-#: Members per numpy pass (arrays of BLOCK × about 2.5·10³ values: within the L2 cache's reach).
+#: Members per numpy pass (arrays of BLOCK × about 1.3·10³ values at 10⁴ draws: within the L2 cache's reach).
 BLOCK = 128
 
 
