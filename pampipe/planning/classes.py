@@ -14,6 +14,7 @@ import numpy as np
 
 from pampipe.model.muscle import Structure
 from pampipe.planning.sources import MuscleUncertainty
+from pampipe.runtime.alike import unique_rows
 
 
 @dataclass(frozen=True)
@@ -51,12 +52,12 @@ def section_classes(route, elements, drag=None, drag_draws=None) -> tuple[Classe
     if tethered:
         columns += [drag] + ([np.arange(len(route))] if drag_draws is not None else [])
     table = np.column_stack(columns).astype(float)
-    rows, first, inverse = np.unique(table, axis=0, return_index=True, return_inverse=True)
+    rows, first, inverse = unique_rows(table)
     classes = Classes(rows[:, 0], rows[:, 1], rows[:, 2:2 + m], rows[:, 2 + m:2 + 2 * m] > 0.5,
                       *(rows[:, 2 + 2 * m + k] for k in range(4)),
                       drag=rows[:, 2 + 2 * m + 4] if tethered else None,
                       drag_draws=None if drag_draws is None else drag_draws[first])
-    return classes, np.asarray(inverse).reshape(-1)
+    return classes, inverse
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,7 @@ from pampipe.model.pam import Geometry
 from pampipe.planning.law import Terms, per_class, per_draw, raw_least, settle
 from pampipe.planning.memo import Memo
 from pampipe.planning.quantiles import order_statistics
+from pampipe.runtime.alike import unique_rows
 
 if TYPE_CHECKING:
     from pampipe.planning.classes import Classes, Problem
@@ -356,9 +357,8 @@ class Evaluator:
 def _groups(bore: np.ndarray, statement: tuple) -> tuple:
     """(the distinct (bore, its statement) columns (4, G), each class's group (C,), each group's first
     class (G,)): classes of one group share the drawn bore and so its coefficients."""
-    bores, group = np.unique(np.stack([bore, *statement]), axis=1, return_inverse=True)
-    group = np.asarray(group).reshape(-1)
-    return bores, group, np.array([np.flatnonzero(group == g)[0] for g in range(bores.shape[1])])
+    bores, first, group = unique_rows(np.stack([bore, *statement], axis=1))
+    return bores.T, group, first
 
 
 def _runs(group: np.ndarray) -> list[tuple[int, slice]]:

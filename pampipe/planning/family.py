@@ -31,14 +31,15 @@ import numpy as np
 
 from pampipe.planning.law import Terms, per_class, raw_least, settle
 from pampipe.planning.sources import keyed_normal
+from pampipe.runtime.alike import unique_rows
 
 #: Rounding allowance of one value against its terms' size (law.raw_least: five rounded operations after
 #: the load's two or three; 32u is more than their sum).
 SLACK = 32 * np.finfo(float).eps / 2
 #: Candidates beyond a tail's ranks: MARGIN_SHARE of the tail, at least MARGIN.
 MARGIN, MARGIN_SHARE = 32, 0.25
-#: Members per reference: the first block, and the bounds the block size moves within (halved where more
-#: than a quarter of a block is evaluated in full, doubled where none is).
+#: Members: how far the first reference lies ahead (half of it) and how many are evaluated in full where no
+#: neighbour is sure to clear a reference's test; the most one reference serves.
 FIRST_BLOCK, LARGEST_BLOCK = 8, 256
 
 
@@ -63,8 +64,7 @@ def families(ev, sources) -> list[Family] | None:
     slope, at_zero = ev.load_affine()
     friction = "friction" in sources
     keys = np.stack([*(group for group, _ in per_bore), ev.mu, ev.mu_sd if friction else 0 * ev.mu])
-    _, inverse = np.unique(keys, axis=1, return_inverse=True)
-    inverse = np.asarray(inverse).reshape(-1)
+    inverse = unique_rows(keys.T)[2]
     out = []
     for f in range(int(inverse.max()) + 1 if inverse.size else 0):
         rows = np.flatnonzero(inverse == f)
@@ -84,37 +84,31 @@ def families(ev, sources) -> list[Family] | None:
     return out
 
 
-def chunk_statistics(found: list[Family], ranks: list[int], n: int, count: int, share: bool):
-    """(settled statistics (len(ranks), count), shares (count,) or None) of every class of the families
-    ``found`` (:func:`family_statistics`); None where candidates do not pay."""
-    stats, shares = np.empty((len(ranks), count)), np.empty(count) if share else None
-    for family in found:
-        result = family_statistics(family, ranks, n, share)
-        if result is None:
-            return None
-        stats[:, family.rows] = result[0]
-        if share:
-            shares[family.rows] = result[1]
-    return stats, shares
-
-
 def values(family: Family, members: np.ndarray, columns: np.ndarray | None) -> np.ndarray:
-    """Raw P* (len(members), K) of ``members`` (positions in the family) in draws ``columns`` (None: all n),
-    by the operations of Evaluator.friction_load, law.per_class and law.raw_least (the same bits)."""
+    """Raw P* (len(members), K) of ``members`` (positions in the family) in draws ``columns`` (None: all
+    n)."""
     if family.drawn:
         mu = (family.mu if columns is None else family.mu[columns])[None, :]
     else:
         mu = family.mu[members, None]
+    return raw_values(family, members, mu, columns)
+
+
+def raw_values(family: Family, members: np.ndarray, mu: np.ndarray, columns: np.ndarray | None = None):
+    """Raw P* of ``members`` at frictions ``mu`` (broadcast against (len(members), 1)), the terms in draws
+    ``columns`` (None: all n, or one number each), by the operations of Evaluator.friction_load,
+    law.per_class and law.raw_least (the same bits)."""
     load = np.multiply(mu, family.slope[members, None])
     load += family.at_zero[members, None]
     if family.drag is not None:
         load = load + family.drag[members, None]
     load, per_mu = per_class(load, mu)
-    shape = (members.size, family.size if columns is None else columns.size)
+    terms = [t if columns is None else Terms(*(v if v.size == 1 else v[columns] for v in (t.k, t.r, t.f)))
+             for t in family.terms]
+    sizes = ((1, v.size) for t in terms for v in vars(t).values())
+    shape = np.broadcast_shapes(load.shape, (members.size, 1), *sizes)
     spare, least = np.empty(shape), None
-    for t in family.terms:
-        if columns is not None:
-            t = Terms(*(v if v.size == 1 else v[columns] for v in (t.k, t.r, t.f)))
+    for t in terms:
         out = raw_least(load, per_mu, t, np.empty(shape), spare)
         least = out if least is None else np.maximum(least, out, out=least)
     return least
@@ -174,7 +168,7 @@ def _bound(e: Extremes, members: np.ndarray, reference: int) -> tuple[np.ndarray
     return low - slack, high + slack
 
 
-def _select(part: np.ndarray, ranks: list[int], below: int):
+def select(part: np.ndarray, ranks: list[int], below: int):
     """(raw statistics (len(ranks), m), ``part`` partitioned) of the full ranks ``ranks`` from candidates
     ``part`` (m, K), ``below`` values known to lie under them (partitioned in place)."""
     shifted = [k - below for k in ranks]
@@ -185,7 +179,7 @@ def _select(part: np.ndarray, ranks: list[int], below: int):
     return part[:, shifted].T
 
 
-def _exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, share: bool):
+def exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, share: bool):
     """(settled statistics, the share of n values ≤ the first, or None) as quantiles.order_statistics
     gives them: the ties above the first rank after settle are counted."""
     out = settle(stats)
@@ -195,10 +189,12 @@ def _exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, 
     return out, (first + 1 + np.count_nonzero(above == out[0][:, None], axis=1)) / n
 
 
-def family_statistics(family: Family, ranks: list[int], n: int, share: bool):
+def family_statistics(family: Family, ranks: list[int], n: int, share: bool, fill=None):
     """(settled order statistics (len(ranks), m) of each member's n raw values, their share ≤ the first or
     None) for 0-based ``ranks`` (the first a high rank where ``share``); None where the ranks' tails are
-    too wide for candidates to pay (more than half the draws)."""
+    too wide for candidates to pay (more than half the draws). ``fill(family, high, low, top, bottom, n,
+    out)`` fills the :class:`Statistics` instead of the reference members' blocks (e.g.
+    :func:`pampipe.planning.convex.convex_statistics`)."""
     high = [k for k in ranks if 2 * k >= n]
     low = [k for k in ranks if 2 * k < n]
     top = n - min(high) if high else 0
@@ -210,17 +206,35 @@ def family_statistics(family: Family, ranks: list[int], n: int, share: bool):
     m = family.rows.size
     out = Statistics(np.empty((len(ranks), m)), np.empty(m) if share else None,
                      [(high + low).index(k) for k in ranks])
+    if fill is not None:
+        fill(family, high, low, top, bottom, n, out)
+        return out.stats, out.shares
     bounds = extremes(family)
-    start, block = 0, FIRST_BLOCK
+    start, reach = 0, FIRST_BLOCK // 2
     while start < m:
-        members = np.arange(start, min(start + block, m))
-        whole = _block(family, bounds, members, high, low, top, bottom, n, out)
-        if 4 * whole > members.size:
-            block = max(1, block // 2)
-        elif whole == 0:
-            block = min(2 * block, LARGEST_BLOCK)
-        start += members.size
+        reference = min(start + reach, m - 1)
+        ref = _reference(family, reference, high, low, top, bottom, n)
+        stop = start if ref is None else _cleared(bounds, reference, start, min(start + LARGEST_BLOCK, m),
+                                                  ref.gap)
+        if stop <= start + 1 and reach > 0:  # the reference too far: one nearer
+            reach //= 2
+            continue
+        if stop <= start + 1:  # no neighbour sure to clear (far apart, or a draw where it does not hold)
+            start += whole(family, np.arange(start, min(start + FIRST_BLOCK, m)), high + low, n, out)
+            continue
+        _block(family, bounds, np.arange(start, stop), ref, high, low, n, out)
+        reach = min(4 * (stop - 1 - reference) // 5, LARGEST_BLOCK // 2) if stop > reference else 0
+        start = stop
     return out.stats, out.shares
+
+
+def _cleared(bounds: Extremes, reference: int, start: int, end: int, gap: float) -> int:
+    """The first member from ``start`` (up to ``end``) not sure to clear the test against ``reference``: a
+    member's statistics lie within [lowest, highest] of the reference's (:func:`_bound`), so it clears where
+    highest − lowest is less than the reference's ``gap`` (with 5 % to spare)."""
+    lowest, highest = _bound(bounds, np.arange(start, end), reference)
+    fails = np.flatnonzero(~(highest - lowest < 0.95 * gap))
+    return start + int(fails[0]) if fails.size else end
 
 
 @dataclass(frozen=True)
@@ -232,50 +246,72 @@ class Statistics:
     slots: list[int]  # row of each asked rank among the high ranks then the low ranks
 
 
-def _block(family, bounds: Extremes, members, high, low, top, bottom, n, out: Statistics) -> int:
-    """Fill ``stats`` (and ``shares``) of ``members`` from the candidates of the middle one; returns how many
-    were evaluated over all n draws."""
-    reference = int(members[members.size // 2])
+@dataclass(frozen=True)
+class Reference:
+    """A reference member's candidates and what bounds the draws off them [Pa]."""
+
+    high: np.ndarray | None  # the draws at or above its (n − top)-th value (None: no high ranks)
+    low: np.ndarray | None  # the draws at or below its bottom-th value
+    reference: int  # the member
+    ceiling: float  # its largest value off the high candidates
+    floor: float  # its least value off the low candidates
+    gap: float  # the room a member's spread may take: its statistics' distance to the ceiling and floor
+
+
+def _reference(family, reference: int, high, low, top, bottom, n) -> Reference | None:
+    """The :class:`Reference` of member ``reference`` from its n values; None where one is not finite."""
     row = values(family, np.array([reference]), None)[0]
     if not np.all(np.isfinite(row)):
-        return _whole(family, members, high + low, n, out)
-    lowest, highest = _bound(bounds, members, reference)
-    good = np.ones(members.size, dtype=bool)
-    found = []
-    sorted_row = np.array(row)
+        return None
+    sorted_row, gap = np.array(row), np.inf
+    above = below = None
+    ceiling = floor = np.nan
     if high:  # the candidates: every draw at or above the reference's (n − top)-th value
         sorted_row.partition(n - top)
-        candidates = np.flatnonzero(row >= sorted_row[n - top])
-        below = n - candidates.size
-        part = values(family, members, candidates)
-        raw = _select(part, high, below)
-        ceiling = np.max(sorted_row[:n - top]) + highest  # the others lie at or below it
-        good &= raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling)
-        found.append((raw, part, below))
+        above = np.flatnonzero(row >= sorted_row[n - top])
+        ceiling = float(np.max(sorted_row[:n - top]))
+        gap = np.partition(sorted_row[n - top:], min(high) - n + top)[min(high) - n + top] - ceiling
     if low:  # every draw at or below the reference's bottom-th value
         sorted_row[:n - top].partition(bottom - 1)
-        candidates = np.flatnonzero(row <= sorted_row[bottom - 1])
-        part = values(family, members, candidates)
-        raw = _select(part, low, 0)
-        floor = np.min(sorted_row[bottom:]) + lowest
+        below = np.flatnonzero(row <= sorted_row[bottom - 1])
+        floor = float(np.min(sorted_row[bottom:]))
+        gap = min(gap, floor - np.partition(sorted_row[:bottom], max(low))[max(low)])
+    return Reference(above, below, reference, ceiling, floor, float(gap))
+
+
+def _block(family, bounds: Extremes, members, ref: Reference, high, low, n, out: Statistics) -> None:
+    """Fill ``stats`` (and ``shares``) of ``members`` from the candidates of the reference ``ref``; a member
+    that does not clear the test, from all n draws."""
+    lowest, highest = _bound(bounds, members, ref.reference)
+    good = np.ones(members.size, dtype=bool)
+    found = []
+    if high:
+        below = n - ref.high.size
+        part = values(family, members, ref.high)
+        raw = select(part, high, below)
+        ceiling = ref.ceiling + highest  # the others lie at or below it
+        good &= raw.min(axis=0) > ceiling + 4 * SLACK * np.abs(ceiling)
+        found.append((raw, part, below))
+    if low:
+        part = values(family, members, ref.low)
+        raw = select(part, low, 0)
+        floor = ref.floor + lowest
         good &= raw.max(axis=0) < floor - 4 * SLACK * np.abs(floor)
         found.append((raw, part, 0))
     settled = settle(np.concatenate([raw for raw, _, _ in found]))
     out.stats[:, members[good]] = settled[out.slots][:, good]
     if out.shares is not None:
         raw, part, below = found[0]
-        out.shares[members[good]] = _exact(raw[:, good], part[good], high[0], below, n, True)[1]
-    bad = members[~good]
-    if bad.size:
-        _whole(family, bad, high + low, n, out)
-    return int(bad.size)
+        out.shares[members[good]] = exact(raw[:, good], part[good], high[0], below, n, True)[1]
+    if not good.all():
+        whole(family, members[~good], high + low, n, out)
 
 
-def _whole(family, members, ranks, n, out: Statistics) -> int:
+def whole(family, members, ranks, n, out: Statistics) -> int:
     """Fill ``members`` from all n draws (the plain partition); returns how many."""
     part = values(family, members, None)
-    raw = _select(part, ranks, 0)
-    settled, held = _exact(raw, part, ranks[0], 0, n, out.shares is not None)
+    raw = select(part, ranks, 0)
+    settled, held = exact(raw, part, ranks[0], 0, n, out.shares is not None)
     out.stats[:, members] = settled[out.slots]
     if held is not None:
         out.shares[members] = held

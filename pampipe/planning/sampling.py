@@ -22,8 +22,9 @@ from functools import cache, cached_property, partial
 import numpy as np
 
 from pampipe.planning.classes import Classes, Problem
+from pampipe.planning.convex import chunk_statistics
 from pampipe.planning.evaluator import Evaluator
-from pampipe.planning.family import chunk_statistics, families
+from pampipe.planning.family import families
 from pampipe.planning.law import settle
 from pampipe.planning.quantiles import lower_rank, order_statistics, share_at_most, upper_rank
 from pampipe.planning.sources import MuscleDraws, draw_muscles, keyed_normal

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pampipe.runtime import alike
-from pampipe.runtime.alike import distinct_rows, grouped_rows, per_distinct
+from pampipe.runtime.alike import distinct_rows, grouped_rows, per_distinct, unique_rows
 
 
 def _grouped(columns) -> tuple[list[int], list[int]]:
@@ -65,3 +65,18 @@ def test_grouped_rows_of_no_columns_or_rows():
     assert first.tolist() == [0] and index.tolist() == [0, 0, 0]
     first, index = grouped_rows(np.zeros((0, 2), dtype=np.int64))
     assert first.size == 0 and index.size == 0
+
+
+@pytest.mark.parametrize("nan", [False, True])
+def test_unique_rows_are_numpys(nan):
+    """The rows, first places and index of np.unique(axis=0): repeated rows, 0.0 and −0.0 (alike), ties in
+    the first columns broken by the later ones; with a NaN (never alike), np.unique's own answer."""
+    rng = np.random.default_rng(3)
+    table = rng.choice([-1.5, -0.0, 0.0, 2.0, 7.25], size=(400, 4))
+    if nan:
+        table[[5, 9], 2] = np.nan
+    rows, first, index = unique_rows(table)
+    expected = np.unique(table, axis=0, return_index=True, return_inverse=True)
+    assert np.array_equal(rows, expected[0], equal_nan=True)
+    assert first.tolist() == expected[1].tolist() and index.tolist() == expected[2].ravel().tolist()
+    assert np.array_equal(rows[index], table, equal_nan=True) and rows.shape[0] < 400
