@@ -170,7 +170,7 @@ class ListWriter:
         self.texts: list[str] = []
         self._known: dict[tuple, dict[bytes, int]] = {}  # per layout of the columns: a record's bits → id
         self._inner: dict[str, ListWriter] = {}
-        self._parts: dict[int, list[str]] = {}  # of :meth:`parts`
+        self._parts: dict[int, np.ndarray] = {}  # of :meth:`parts`, by their width
 
     def coded(self, fields: dict, count: int) -> tuple[np.ndarray, np.ndarray, list[_Column]]:
         """(the ids of the chunk's distinct records, each record's place among them, the free columns) of the
@@ -204,14 +204,14 @@ class ListWriter:
     def parts(self, ids: np.ndarray, width: int) -> np.ndarray:
         """(ids, ``width``) texts: each record's text split at its free columns' places, ``", "`` after
         the last."""
-        table = np.empty((ids.size, width), dtype=object)
-        for row, i in zip(table, ids.tolist(), strict=True):
-            split = self._parts.get(i)
-            if split is None:
-                split = self._parts[i] = self.texts[i].split(_SLOT)
-                split[-1] += ", "
-            row[:] = split
-        return table
+        table = self._parts.get(width)
+        if table is None or table.shape[0] < len(self.texts):
+            table = self._parts[width] = np.empty((len(self.texts), width), dtype=object)
+            for i, text in enumerate(self.texts):
+                split = text.split(_SLOT)
+                if len(split) == width:
+                    table[i] = split[:-1] + [split[-1] + ", "]
+        return table[ids]
 
     def _ids(self, fields: dict, count: int) -> np.ndarray:
         """The id of each of ``count`` records (a writer without free columns)."""

@@ -329,10 +329,10 @@ class MissionPlan:
     def _segment_columns(self, rows: slice, complete: np.ndarray) -> dict:
         """The segments' columns of :meth:`section_columns`: (complete sections × segments), flattened (the
         nominal pressure with --confidence only)."""
-        a = self.arrays
+        a, every = self.arrays, bool(complete.all())
 
-        def flat(column):
-            return column[rows][complete].ravel()
+        def flat(column):  # a view where every section is complete (a long route's usual case)
+            return column[rows].ravel() if every else column[rows][complete].ravel()
 
         p, w, cap, touch = flat(a.pressure), flat(a.required_hold), flat(a.holding_capacity), \
             flat(a.largest_bore_anchoring)
