@@ -322,7 +322,7 @@ def record_pieces(writer: ListWriter, fields: dict, count: int) -> np.ndarray:
 
 
 #: Records per text of :func:`joined_records`.
-JOINED = 4096
+JOINED = 512
 
 
 def joined_records(pieces: np.ndarray, *, part: int = JOINED):
