@@ -210,7 +210,7 @@ class ListWriter:
             for i, text in enumerate(self.texts):
                 split = text.split(_SLOT)
                 if len(split) == width:
-                    table[i] = split[:-1] + [split[-1] + ", "]
+                    table[i] = [*split[:-1], split[-1] + ", "]
         return table[ids]
 
     def _ids(self, fields: dict, count: int) -> np.ndarray:
