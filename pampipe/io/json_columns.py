@@ -6,12 +6,12 @@ A long route's plan has 10⁵ section records of 3 segments each, about 7·10⁶
 rounding each float in Python (``float(f"{x:.12g}")``) costs more than planning them. A long route also
 repeats its sections (the 10⁵ of ``benchmarks/bench_big_mission.py`` hold 1,260 distinct ones). So a list
 (:func:`streamed_records`) is written by a :class:`ListWriter` that, for each chunk of records, groups them
-by their columns' bits (:func:`~pampipe.runtime.alike.grouped_rows`: one hash and one sort per chunk, in
-numpy) and writes the text of each distinct record once for the whole list: its floats rounded to
+by their columns' bits (:func:`~pampipe.runtime.alike.grouped_columns`: one hash and one sort per chunk,
+in numpy) and writes the text of each distinct record once for the whole list: its floats rounded to
 :data:`~pampipe.io.files.JSON_DIGITS` significant digits in numpy (:func:`rounded`) and written with
 ``float.__repr__`` (what the C JSON encoder calls), by one ``%`` of a template whose keys are sorted as
-``sort_keys`` sorts them. A chunk's records are then that text per record, joined a few thousand at a time
-(one ``str.join`` each). A column of mostly distinct texts (the names) is left out of the grouping: its
+``sort_keys`` sorts them. A chunk's records are then that text per record, joined :data:`JOINED` at a
+time (one ``str.join`` each). A column of mostly distinct texts (the names) is left out of the grouping: its
 value is put into each record's text as the texts are joined.
 
 A column (a value of ``fields``) is one of:
@@ -19,6 +19,7 @@ A column (a value of ``fields``) is one of:
 * a 1-D numpy array of floats, bools or ints, one value per record;
 * a 2-D numpy float array: one JSON list per record (its row);
 * a :class:`Texts`: one JSON text per record, already encoded (a nested list, say);
+* a :class:`~pampipe.runtime.alike.Picked`: a few str (or None) values, one picked per record by index;
 * a dict of columns: one nested JSON object per record;
 * any other sequence of plain values (str, None, bool, int, float, dict), one per record.
 
@@ -85,12 +86,20 @@ def rounded(values: np.ndarray) -> np.ndarray:
 
 
 def float_texts(values: np.ndarray) -> list[str]:
-    """The JSON texts of the floats ``values`` as the rounding writes them (``-0.0`` as such);
-    :class:`NotFinite` if any is NaN or infinite."""
+    """The JSON texts of the floats ``values`` as the rounding writes them, each distinct value rounded and
+    formatted once (``float.__repr__`` costs ~1 µs; a column of all-distinct records repeats its values),
+    0.0 and -0.0 apart; :class:`NotFinite` if any is NaN or infinite."""
     values = np.asarray(values, dtype=float).ravel()
     if not np.isfinite(values).all():
         raise NotFinite
-    return list(map(float.__repr__, rounded(values).tolist()))
+    distinct, index = np.unique(values, return_inverse=True)
+    texts = list(map(float.__repr__, rounded(distinct).tolist()))
+    index = index.ravel()
+    zeros = np.flatnonzero(values == 0.0)  # 0.0 and -0.0 are one value to np.unique
+    if zeros.size:
+        index[zeros] = len(texts) + np.signbit(values[zeros])
+        texts += ["0.0", "-0.0"]
+    return np.array(texts, dtype=object)[index].tolist()
 
 
 #: Stands in a record's text for the value of a column left out of the grouping (never in JSON text: the
@@ -162,15 +171,36 @@ class ListWriter:
 
     Each distinct record (the bits of its values, the free columns aside) is formatted once for the whole
     list and given an id; ``texts[id]`` is its text, with :data:`_SLOT` where a free column's value goes.
+    Where the records barely repeat (more than :data:`KEPT` texts held, nested ones included), every text is
+    forgotten between two chunks (:meth:`forget`), so that the memory stays that of a few chunks.
     """
 
     def __init__(self, *, free: bool = True, words: _Words | None = None) -> None:
         self.free = free
         self.words = _Words() if words is None else words
+        self._empty()
+
+    def forget(self) -> None:
+        """Drop every text held, of this writer, its nested ones and its words (between chunks only: the
+        ids of the nested records and of the words are parts of this writer's records' bits)."""
+        self.words = _Words()
+        self._empty()
+
+    def _empty(self) -> None:
+        """Hold no text yet (the words aside)."""
         self.texts: list[str] = []
         self._known: dict[tuple, dict[bytes, int]] = {}  # per layout of the columns: a record's bits → id
         self._inner: dict[str, ListWriter] = {}
         self._parts: dict[int, np.ndarray] = {}  # of :meth:`parts`, by their width
+
+    def held(self) -> int:
+        """The texts held: this writer's, its nested writers' and the words."""
+        writers, count = [self], len(self.words.texts)
+        while writers:
+            writer = writers.pop()
+            count += len(writer.texts)
+            writers.extend(writer._inner.values())
+        return count
 
     def coded(self, fields: dict, count: int) -> tuple[np.ndarray, np.ndarray, list[_Column]]:
         """(the ids of the chunk's distinct records, each record's place among them, the free columns) of the
@@ -204,13 +234,14 @@ class ListWriter:
     def parts(self, ids: np.ndarray, width: int) -> np.ndarray:
         """(ids, ``width``) texts: each record's text split at its free columns' places, ``", "`` after
         the last."""
-        table = self._parts.get(width)
-        if table is None or table.shape[0] < len(self.texts):
-            table = self._parts[width] = np.empty((len(self.texts), width), dtype=object)
-            for i, text in enumerate(self.texts):
+        table = self._parts.get(width, np.empty((0, width), dtype=object))
+        if table.shape[0] < len(self.texts):  # the texts' split written since: added
+            added = np.empty((len(self.texts) - table.shape[0], width), dtype=object)
+            for row, text in zip(added, self.texts[table.shape[0]:], strict=True):
                 split = text.split(_SLOT)
                 if len(split) == width:
-                    table[i] = [*split[:-1], split[-1] + ", "]
+                    row[:] = [*split[:-1], split[-1] + ", "]
+            table = self._parts[width] = np.concatenate([table, added])
         return table[ids]
 
     def _ids(self, fields: dict, count: int) -> np.ndarray:
@@ -321,6 +352,10 @@ def record_pieces(writer: ListWriter, fields: dict, count: int) -> np.ndarray:
     return pieces
 
 
+#: Texts a :class:`ListWriter` holds at most from one chunk to the next (a repeating route holds a few
+#: thousand; one whose sections all differ would hold every record's text).
+KEPT = 1 << 14
+
 #: Records per text of :func:`joined_records`.
 JOINED = 512
 
@@ -359,3 +394,5 @@ def streamed_records(count: int, columns_of, documents_of, *, chunk: int = COLUM
             yield from documents_of(start, stop)
         else:
             yield from joined_records(pieces, part=part)
+        if writer.held() > KEPT:
+            writer.forget()

@@ -122,6 +122,15 @@ def test_records_are_sorted_json_of_each_row(chunk):
     assert _written(fields, 64, chunk, nested) == _listed(records)
 
 
+@pytest.mark.parametrize("kept", [0, 20])
+def test_texts_forgotten_between_passes_are_written_again(kept, monkeypatch):
+    """A writer that holds more than KEPT texts forgets them (records, nested ones, words) after a pass:
+    the next passes write the same bytes."""
+    monkeypatch.setattr(json_columns, "KEPT", kept)
+    fields, nested, records = _example(64)
+    assert _written(fields, 64, 7, nested) == _listed(records)
+
+
 def test_names_are_written_into_each_record():
     """A column of distinct names (more than half the records) is left out of the grouping: plain ones
     between quotes, ones that need escaping escaped. The text is ASCII with nothing a terminal would obey
