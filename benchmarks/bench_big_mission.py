@@ -12,6 +12,7 @@ resident memory (a separate run, started by a small launcher process), also per 
 Goals (issues 25, 39): the text report of 10⁵ sections in ≤ 2.5 s CPU; --json ≤ 1.5× the text report.
 
     .venv/bin/python benchmarks/bench_big_mission.py [--sections 100000] [--repeat 5] [--baseline TREE]
+        [--distinct]
 """
 
 from __future__ import annotations
@@ -61,13 +62,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sections", type=int, default=100_000)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--distinct", action="store_true", help="every section its own incline: no two "
+                        "sections alike (by default the route repeats 1,260 distinct sections)")
     parser.add_argument("--baseline", type=Path, help="another pampipe source tree (a checkout of main): its "
                         "text report and --json run from there in the same rounds, as 'baseline: ...'")
     args = parser.parse_args()
     compileall.compile_dir(ROOT / "pampipe", quiet=1)  # bytecode, as installed (PYTHONDONTWRITEBYTECODE)
     env = {**os.environ, **THREADS}
     with tempfile.TemporaryDirectory(prefix="bench-big-mission-") as tmp:
-        mission = str(write_mission(Path(tmp), args.sections))
+        mission = str(write_mission(Path(tmp), args.sections, distinct=args.distinct))
         out = str(Path(tmp) / "plan.json")
         commands = {
             "peer: yaml.load (CSafeLoader)": [sys.executable, "-c", PEER, mission],
@@ -89,8 +92,8 @@ def main() -> None:
             for name, command in commands.items():
                 runs[name].append(measured(command, *places[name]))
         load = f"load {load_before:.2f}-{os.getloadavg()[0]:.2f}"
-        print(f"{args.sections:,} sections; {load}; one BLAS thread; median and spread of {repeat} "
-              "alternated whole processes")
+        print(f"{args.sections:,} sections{' (all distinct)' if args.distinct else ''}; {load}; one BLAS "
+              f"thread; median and spread of {repeat} alternated whole processes")
         peer = statistics.median(cpu for cpu, _ in runs[next(iter(commands))])
         bare = peak_kb([sys.executable, "-c", "pass"], env)
         print(f"{'command':<38} {'CPU s':>7} {'CPU spread s':>13} {'wall s':>7} {'CPU / peer':>10} "

@@ -27,6 +27,7 @@ from pampipe.bends.geometry import (
 )
 from pampipe.bends.steering import SteeringCommand, steer
 from pampipe.model.muscle import Muscle
+from pampipe.runtime.alike import Picked
 from pampipe.specs.turns import turn_name
 
 #: Bends that turn by less than this [rad] get no steering command (docs/physics.md §14.4): 10°, below the
@@ -209,12 +210,11 @@ def reducer_columns(reducers: Reducers) -> dict:
     a column-wise JSON writer; each distinct sentence is worded once."""
     if not reducers:
         return {}
-    small = np.minimum(reducers.before, reducers.after)
-    widest = reducers.widest_segment
-    reasons = {bore: _reducer_reason(bore, widest) for bore in set(small.tolist())}
+    bores, index = np.unique(np.minimum(reducers.before, reducers.after), return_inverse=True)
+    reasons = [_reducer_reason(bore, reducers.widest_segment) for bore in bores.tolist()]
     return {"after_section": reducers.after_section, "from_inner_diameter_m": reducers.before,
             "to_inner_diameter_m": reducers.after, "passable": reducers.passable,
-            "reason": list(map(reasons.__getitem__, small.tolist()))}
+            "reason": Picked(reasons, index.ravel())}
 
 
 def _finite(value: float) -> float | None:

@@ -214,13 +214,14 @@ def emit_streamed(args: argparse.Namespace, document, text: str) -> None:
         return
     print(localize(text), file=sys.stderr, flush=True)
     args.document_printed = True  # from here on an error adds no second JSON document
+    write = getattr(sys.stdout, "write_escaped", sys.stdout.write)  # JSON: ASCII, its controls escaped
     if args.output is not None:
         with open(args.output, encoding="utf-8") as written:
             while chunk := written.read(1 << 20):
-                sys.stdout.write(chunk)
+                write(chunk)
     else:
         for chunk in json_chunks(document(), timings=timings):
-            sys.stdout.write(chunk)
+            write(chunk)
     sys.stdout.flush()
 
 

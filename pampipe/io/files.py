@@ -299,12 +299,15 @@ class Streamed:
         self.items = items
 
 
-class JsonText(str):
-    """Items of a :class:`Streamed` list already encoded, as :func:`json_chunks` would encode them, joined
-    by ``", "`` (:mod:`pampipe.io.json_columns` writes long lists of records column-wise); ``items``: how
-    many."""
+class JsonText:
+    """Items of a :class:`Streamed` list already encoded: ``text``, as :func:`json_chunks` would encode them,
+    joined by ``", "`` (:mod:`pampipe.io.json_columns` writes long lists of records column-wise); ``items``:
+    how many. Held, not a ``str`` subclass, so that megabytes of text are written without a copy."""
 
-    items = 1
+    __slots__ = ("items", "text")
+
+    def __init__(self, text: str, items: int) -> None:
+        self.text, self.items = text, items
 
 
 #: Items of a :class:`Streamed` list encoded per chunk of :func:`json_chunks`.
@@ -330,7 +333,7 @@ def json_chunks(document: dict, *, timings: bool = True):
                     yield separator + ", ".join(batch)
                     batch, separator = [], ", "
                 yield separator
-                yield item
+                yield item.text
                 separator, place = ", ", place + item.items
                 continue
             batch.append(json.dumps(_clean(item, (((), key), place), timings), sort_keys=True,

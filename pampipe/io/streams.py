@@ -67,6 +67,15 @@ class GuardedStream:
         except (OSError, ValueError) as exc:  # ValueError: the stream was closed
             raise self._error(exc) from None
 
+    def write_escaped(self, text: str) -> int:
+        """:meth:`write` of a text that needs no escaping, without :func:`safe_text`'s scan (0.3 s of the
+        239 MB of a 10⁵-section ``plan --json``): JSON from pampipe's writers, ASCII with every control
+        character escaped by the encoder."""
+        try:
+            return self._stream.write(text)
+        except (OSError, ValueError) as exc:
+            raise self._error(exc) from None
+
     def flush(self) -> None:
         try:
             self._stream.flush()

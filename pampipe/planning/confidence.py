@@ -51,6 +51,7 @@ from pampipe.planning.sources import (
     muscle_uncertainty,
 )
 from pampipe.planning.tension import drawn_drag, section_drag
+from pampipe.runtime.alike import Picked
 from pampipe.runtime.executors import executor, run_all
 from pampipe.runtime.memory import check_fits
 from pampipe.runtime.progress import deferred
@@ -170,7 +171,7 @@ class Confidence:
             return None
         if self.open_shift is not None and not np.isnan(flat(self.open_shift)).all():
             return None
-        return {"unit": list(self.units) * int(complete.sum()),
+        return {"unit": Picked(self.units, np.tile(np.arange(len(self.units)), int(complete.sum()))),
                 "holding_probability": flat(self.holding_probability),
                 "holding_probability_se": flat(self.holding_se),
                 "contact_probability": flat(self.contact_probability),

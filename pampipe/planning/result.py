@@ -11,6 +11,7 @@ import numpy as np
 from pampipe.errors import InputError
 from pampipe.planning.payload import PayloadLimit
 from pampipe.results import notebook
+from pampipe.runtime.alike import Picked
 
 
 def thin_contact(pressure, touch, cost):
@@ -328,10 +329,10 @@ class MissionPlan:
     def _segment_columns(self, rows: slice, complete: np.ndarray) -> dict:
         """The segments' columns of :meth:`section_columns`: (complete sections × segments), flattened (the
         nominal pressure with --confidence only)."""
-        a = self.arrays
+        a, every = self.arrays, bool(complete.all())
 
-        def flat(column):
-            return column[rows][complete].ravel()
+        def flat(column):  # a view where every section is complete (a long route's usual case)
+            return column[rows].ravel() if every else column[rows][complete].ravel()
 
         p, w, cap, touch = flat(a.pressure), flat(a.required_hold), flat(a.holding_capacity), \
             flat(a.largest_bore_anchoring)
@@ -339,13 +340,14 @@ class MissionPlan:
         with np.errstate(divide="ignore", invalid="ignore"):
             margin = np.where(w > 0, cap / np.where(w > 0, w, 1.0), np.inf)
             thin = thin_contact(p, touch, np.where(cost_angle > cost_bore, cost_angle, cost_bore))
-        columns = {"name": list(a.segment_names) * int(complete.sum()), "pressure_Pa": p,
+        width, sections = len(a.segment_names), int(complete.sum())
+        columns = {"name": Picked(a.segment_names, np.tile(np.arange(width), sections)), "pressure_Pa": p,
                    "anchoring_pressure_Pa": flat(a.anchoring_pressure), "required_hold_N": w,
                    "holding_capacity_N": cap, "radial_force_N": flat(a.radial_force),
                    "contact_pressure_Pa": flat(a.contact_pressure),
                    "loaded_anchoring_pressure_Pa": flat(a.loaded_anchoring_pressure),
                    "air_volume_m3": flat(a.air_volume), "margin": margin,
-                   "binding": ["no_slip" if x else "contact" for x in flat(a.slip_active).tolist()],
+                   "binding": Picked(("contact", "no_slip"), flat(a.slip_active).astype(np.intp)),
                    "feasible": flat(a.feasible).astype(bool), "worst_inner_diameter_m": flat(a.diameter),
                    "largest_bore_anchoring_pressure_Pa": touch, "contact_margin_Pa": p - touch,
                    "contact_cost_1mm_bore_Pa": cost_bore, "contact_cost_1deg_braid_Pa": cost_angle,

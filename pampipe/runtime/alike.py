@@ -34,12 +34,12 @@ def _mixed(key: np.ndarray) -> np.ndarray:
 
 def distinct_rows(columns) -> tuple[np.ndarray, np.ndarray] | None:
     """(first, index) of the rows of ``columns`` (1-D arrays of one length n, as floats) by
-    :func:`grouped_rows`; None where n < :data:`LEAST` or fewer than half the rows repeat another."""
-    table = np.stack([np.asarray(c, dtype=float) for c in columns], axis=1)
-    if table.shape[0] < LEAST:
+    :func:`grouped_columns`; None where n < :data:`LEAST` or fewer than half the rows repeat another."""
+    floats = [np.ascontiguousarray(c, dtype=float) for c in columns]
+    if floats[0].size < LEAST:
         return None
-    first, index = grouped_rows(table.view(np.uint64))
-    return None if 2 * first.size > table.shape[0] else (first, index)
+    first, index = grouped_columns([c.view(np.uint64) for c in floats])
+    return None if 2 * first.size > floats[0].size else (first, index)
 
 
 def grouped_rows(bits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -47,16 +47,24 @@ def grouped_rows(bits: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     ``first`` the place of each distinct row's first occurrence (ascending), ``index`` the distinct row at
     each place, so that ``bits[first][index]`` is ``bits``."""
     bits = np.ascontiguousarray(bits).view(np.uint64)
-    count = bits.shape[0]
-    if bits.shape[1] == 0 or count == 0:
-        return np.zeros(min(count, 1), dtype=np.intp), np.zeros(count, dtype=np.intp)
-    key = _mixed(bits[:, 0].copy())
-    for k in range(1, bits.shape[1]):
-        key = _mixed(key ^ bits[:, k])
+    if bits.shape[1] == 0 or bits.shape[0] == 0:
+        return np.zeros(min(bits.shape[0], 1), dtype=np.intp), np.zeros(bits.shape[0], dtype=np.intp)
+    return grouped_columns([bits[:, k] for k in range(bits.shape[1])])
+
+
+def grouped_columns(columns: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`grouped_rows` of the table whose columns are ``columns`` (at least one; 1-D arrays of 8-byte
+    numbers, of one length), without building the table unless two unlike rows share their hash."""
+    key = _mixed(columns[0].view(np.uint64).copy())
+    for column in columns[1:]:
+        key ^= column.view(np.uint64)
+        key = _mixed(key)
     _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
     inverse = inverse.ravel()
-    if not np.array_equal(bits, bits[first][inverse]):  # a hash shared by unlike rows: group by bytes
-        rows = bits.view(np.dtype((np.void, bits.itemsize * bits.shape[1]))).ravel()
+    place = first[inverse]
+    if not all(np.array_equal(column, column[place]) for column in columns):  # group by the rows' bytes
+        table = np.stack([c.view(np.uint64) for c in columns], axis=1)
+        rows = table.view(np.dtype((np.void, table.itemsize * table.shape[1]))).ravel()
         _, first, inverse = np.unique(rows, return_index=True, return_inverse=True)
         inverse = inverse.ravel()
     order = np.argsort(first)  # the distinct rows in the order they first appear
@@ -82,6 +90,16 @@ def unique_rows(table: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     inverse = np.empty(order.size, dtype=np.intp)
     inverse[order] = np.cumsum(new) - 1
     return ordered[new], order[new], inverse
+
+
+class Picked:
+    """A column of a few values, one per row picked by ``index``: ``values[index[row]]`` (the column-wise
+    JSON writer groups such rows by ``index``, without looking at each row's value)."""
+
+    __slots__ = ("index", "values")
+
+    def __init__(self, values, index: np.ndarray) -> None:
+        self.values, self.index = tuple(values), np.asarray(index, dtype=np.intp)
 
 
 def per_distinct(function, *columns):
