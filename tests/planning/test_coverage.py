@@ -140,3 +140,34 @@ def test_a_shard_runs_every_nth_trial_and_a_bad_shard_exits_2(monkeypatch, capsy
             bench.main([f"--shard={bad}", "--fit-only", "--fits", "unused"])
         assert stop.value.code == 2
         assert "give I/N with whole numbers 0 <= I < N" in capsys.readouterr().err
+
+
+def test_the_calibrate_option_fits_its_entries_with_radial_data_under_their_own_name(monkeypatch, capsys):
+    """``--calibrate NAME`` (repeatable) calibrates those entries where a radial test is, nothing without one;
+    a fit of another calibration has another cache name (the default braid angle keeps the old names), and a
+    name identify cannot calibrate (D₀) exits 2."""
+    import benchmarks.bench_coverage as bench
+
+    seen = {}
+
+    def no_fit(fits, key, fit):
+        seen[key] = fit.args[4]  # fitted(stated, truth, protocol, seed, calibrate)
+        return "not fitted here"
+
+    monkeypatch.setattr(bench, "cached_fit", no_fit)
+    mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
+    mission = dataclasses.replace(mission, route=mission.route[:1])
+    both = bench.calibration(["bladder_thickness", "braid_angle", "bladder_thickness"])
+    assert both == ("braid_angle", "bladder_thickness") and bench.calibration(None) == ("braid_angle",)
+    for calibrate in (("braid_angle",), both):
+        bench.trial(mission, 1.0, 1.0, 3, 1, 100, calibrate=calibrate)
+    assert seen == {"seed1-trial3-size1-level1-radial-held": ("braid_angle",),
+                    "seed1-trial3-size1-level1-axial-held": (),
+                    "seed1-trial3-size1-level1-radial-held-cal-braid_angle-bladder_thickness": both}
+    none = bench.fit_key(1, 3, 1.0, 1.0, "axial + radial", "sweep", ())
+    assert none == "seed1-trial3-size1-level1-radial-cal-none"
+    for bad in ("initial_diameter", "wall"):
+        with pytest.raises(SystemExit) as stop:
+            bench.main(["--calibrate", bad, "--fit-only", "--fits", "unused"])
+        assert stop.value.code == 2
+        assert "invalid choice" in capsys.readouterr().err
