@@ -9,9 +9,10 @@ Truth known independently of the planner. Each trial, for each muscle size and t
    at each) or ``sweep`` (the length cycled at each of the paper's 10 pressures), about 1000 rows each. The
    protocol sets the model error's degrees of freedom (its cross-validation holds out 4 pressure bands and
    each held length: ν = 11 held, 3 swept), so the plans' width depends on it;
-3. ``identify`` on each, from the STATED geometry, calibrating the braid angle where a radial test is; the
-   written PAM keeps the stated sd of every entry, the calibrated angle's too (the lot's tolerance:
-   ``fitted_pam`` drops the calibrated entry's sd today, and a ``unit: lot`` plan needs it);
+3. ``identify`` on each, from the STATED geometry, calibrating where a radial test is the entries of
+   ``--calibrate`` (:data:`CALIBRATABLE`; default :data:`DEFAULT_CALIBRATE`, the braid angle); the written
+   PAM keeps the stated sd of every entry, the calibrated ones' too (the lot's tolerance: ``fitted_pam``
+   drops a calibrated entry's sd today, and a ``unit: lot`` plan needs it);
 4. ``plan --confidence C`` (C = 0.5, 0.9, 0.95, 0.99) of the demo climb (3 × 0.4 kg, 2 kg payload, SF 1.5)
    up a riser of bore 1.333 D₀ (76.2 mm: no test used it), every segment ``unit: tested``, then ``unit: lot``;
 5. the judge, each muscle's closed-form least holding pressure in the riser
@@ -78,6 +79,10 @@ DATA_SETS = ("axial + radial", "axial only")
 #: pressure at each, 2 × 62 rows (992 rows), as a lab's force map is recorded.
 AXIAL = {"sweep": {"cycles": 1}, "held": {"cycles": 1, "held_lengths": 8, "points_per_leg": 62}}
 PROTOCOLS = tuple(AXIAL)
+#: The geometry entries ``identify`` can calibrate (docs/commands.md §3.3), in the order the cache names them;
+#: D₀ cannot be.
+CALIBRATABLE = ("braid_angle", "bladder_thickness", "initial_length")
+DEFAULT_CALIBRATE = ("braid_angle",)
 FRICTION = 0.3
 
 
@@ -128,12 +133,23 @@ def cached_fit(fits: Path | None, key: str, fit) -> Pam | str:
     return load_pam(pam_file)
 
 
-def fit_key(seed: int, k: int, size: float, level: float, name: str, protocol: str = "held") -> str:
+def fit_key(seed: int, k: int, size: float, level: float, name: str, protocol: str = "held",
+            calibrate: tuple[str, ...] = DEFAULT_CALIBRATE) -> str:
     """The cache name of one fit: ``seed1-trial13-size1-level1-radial-held`` (``sweep``: no suffix, the
-    names of the caches made before ``--protocol``)."""
+    names of the caches made before ``--protocol``), then the calibrated entries where they are not
+    :data:`DEFAULT_CALIBRATE` (the names made before ``--calibrate``): ``…-radial-held-cal-braid_angle-
+    bladder_thickness``, ``…-cal-none``. ``calibrate`` is what the fit calibrates (nothing without a radial
+    test, so an axial-only fit is one whatever ``--calibrate`` says)."""
     data = "radial" if "radial" in name else "axial"
     suffix = "" if protocol == "sweep" else f"-{protocol}"
+    if data == "radial" and tuple(calibrate) != DEFAULT_CALIBRATE:
+        suffix += "-cal-" + ("-".join(calibrate) or "none")
     return f"seed{seed}-trial{k}-size{size:g}-level{level:g}-{data}{suffix}"
+
+
+def calibration(names) -> tuple[str, ...]:
+    """The ``--calibrate`` names once each, in the order of :data:`CALIBRATABLE` (None: the default)."""
+    return DEFAULT_CALIBRATE if not names else tuple(n for n in CALIBRATABLE if n in names)
 
 
 def least(pam: Pam, bore: float, load: float, mission) -> float:
@@ -161,9 +177,11 @@ def plans(mission, pam: Pam, samples: int, seed: int, levels=LEVELS) -> dict:
 
 
 def trial(mission, size: float, level: float, k: int, seed: int, samples: int, data_sets=DATA_SETS,
-          levels=LEVELS, fits: Path | None = None, protocol: str = "held") -> dict:
+          levels=LEVELS, fits: Path | None = None, protocol: str = "held",
+          calibrate: tuple[str, ...] = DEFAULT_CALIBRATE) -> dict:
     """One tested muscle, its siblings, and the plans of each data set's fit (see the module docstring;
-    ``protocol``: the axial test's, a key of :data:`AXIAL`)."""
+    ``protocol``: the axial test's, a key of :data:`AXIAL`; ``calibrate``: the geometry entries fitted where
+    a radial test is)."""
     stated = stated_muscle(size, level)
     rng = np.random.default_rng([seed, int(size * 1000), int(level * 1000), k])
     truth = drawn_around(stated, stated.geometry_sd, rng)
@@ -183,9 +201,9 @@ def trial(mission, size: float, level: float, k: int, seed: int, samples: int, d
                  "axial only": Protocol(pipes=(), **axial)}
     for name in data_sets:
         made = protocols[name]
-        calibrate = ("braid_angle",) if made.pipes else ()
-        pam = cached_fit(fits, fit_key(seed, k, size, level, name, protocol),
-                         functools.partial(fitted, stated, truth, made, seed * 1000 + k, calibrate))
+        entries = tuple(calibrate) if made.pipes else ()
+        pam = cached_fit(fits, fit_key(seed, k, size, level, name, protocol, entries),
+                         functools.partial(fitted, stated, truth, made, seed * 1000 + k, entries))
         if isinstance(pam, str):  # no PAM, no plan: counted, not hidden
             out["data"][name] = {"failed": pam}
             continue
@@ -282,16 +300,17 @@ def decomposition(rows: list[dict], name: str = DATA_SETS[0], c: float = 0.95) -
 
 def run(trials: int, seed: int, samples: int = 4000, progress=None, data_sets=DATA_SETS, size: float = 1.0,
         level: float = 1.0, levels=LEVELS, fits: Path | None = None, protocol: str = "held",
-        shard: tuple[int, int] = (0, 1)) -> list[dict]:
+        shard: tuple[int, int] = (0, 1), calibrate: tuple[str, ...] = DEFAULT_CALIBRATE) -> list[dict]:
     """``trials`` trials of one muscle size and tolerance level, planned at each C of ``levels`` (``fits``:
     the folder of cached fits, see the module docstring); of those, the trials k with k % N = I for
-    ``shard`` = (I, N)."""
+    ``shard`` = (I, N); ``calibrate``: the geometry entries fitted where a radial test is."""
     mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
     mission = dataclasses.replace(mission, route=mission.route[:1])
     rows = []
     index, count = shard
     for k in range(index, trials, count):
-        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels, fits, protocol))
+        rows.append(trial(mission, size, level, k, seed, samples, data_sets, levels, fits, protocol,
+                          calibrate))
         if progress:
             progress(k, rows[-1])
     return rows
@@ -323,9 +342,13 @@ def main(argv=None) -> int:
                         help="the axial test: held lengths, pressure ramped (a force map), or length sweeps")
     parser.add_argument("--shard", type=shard_of, default=(0, 1), metavar="I/N",
                         help="run only the trials k with k %% N == I (N processes in parallel)")
+    parser.add_argument("--calibrate", action="append", choices=CALIBRATABLE, metavar="NAME",
+                        help="a geometry entry identify fits where a radial test is (repeatable: "
+                             f"{', '.join(CALIBRATABLE)}; default {', '.join(DEFAULT_CALIBRATE)})")
     parser.add_argument("--decompose", action="store_true",
                         help="also print, per trial, what each source adds to the tested C = 0.95 plan")
     args = parser.parse_args(argv)
+    calibrate = calibration(args.calibrate)
     if args.quick:
         args.trials, args.sizes, args.levels = 6, "1", "1"
     data_sets = {"both": DATA_SETS, "radial": DATA_SETS[:1], "axial": DATA_SETS[1:]}[args.data]
@@ -349,12 +372,12 @@ def main(argv=None) -> int:
 
             rows = run(args.trials, args.seed, args.samples, progress, data_sets, size, level,
                        levels=() if args.fit_only else LEVELS, fits=args.fits, protocol=args.protocol,
-                       shard=args.shard)
+                       shard=args.shard, calibrate=calibrate)
             if args.fit_only:
                 continue
             d0 = 57.15 * size
             print(f"\ncoverage over {len(rows)} tested muscles (seed {args.seed}, {args.samples} draws, "
-                  f"{args.protocol} axial protocol): "
+                  f"{args.protocol} axial protocol, calibrating {'+'.join(calibrate)} with radial data): "
                   f"D0 {d0:.4g} mm, riser {RISER * d0:.4g} mm (untested), radial test at {TESTED * d0:.4g} "
                   "mm; "
                   f"tolerance sd x {level:g}: L0 {level:g} mm, D0 {0.5 * level:g} mm, braid angle {level:g} "

@@ -20,6 +20,23 @@ from pampipe.io.pam_schema import load_pam
 from tests.support.problems import PROBLEMS
 
 
+def unfitted_trials(monkeypatch, argument: int):
+    """({cache name: the ``argument``-th argument of ``fitted``}, a call of ``bench_coverage.trial`` 3
+    (seed 1, size 1, level 1) on the demo climb's first section that records each fit instead of fitting)."""
+    import benchmarks.bench_coverage as bench
+
+    seen = {}
+
+    def no_fit(fits, key, fit):
+        seen[key] = fit.args[argument]
+        return "not fitted here"
+
+    monkeypatch.setattr(bench, "cached_fit", no_fit)
+    mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
+    mission = dataclasses.replace(mission, route=mission.route[:1])
+    return seen, lambda **options: bench.trial(mission, 1.0, 1.0, 3, 1, 100, **options)
+
+
 @pytest.mark.slow
 def test_confidence_plans_hold_on_the_muscles_their_unit_names_with_a_bounded_overhead():
     rows = run(4, seed=7, samples=2000, protocol="sweep")  # the bound's protocol: held, axial only, lot 1.53x
@@ -105,17 +122,9 @@ def test_the_protocol_option_picks_the_axial_test_and_its_cache_name(monkeypatch
     import benchmarks.bench_coverage as bench
     from pampipe.simulation.synthetic import generate
 
-    seen = {}
-
-    def no_fit(fits, key, fit):
-        seen[key] = fit.args[2]  # fitted(stated, truth, protocol, seed, calibrate)
-        return "not fitted here"
-
-    monkeypatch.setattr(bench, "cached_fit", no_fit)
-    mission = load_mission(PROBLEMS / "missions" / "vertical-climb-3in.yaml")
-    mission = dataclasses.replace(mission, route=mission.route[:1])
+    seen, trial = unfitted_trials(monkeypatch, argument=2)  # fitted(stated, truth, protocol, seed, calibrate)
     for protocol in ("held", "sweep"):
-        row = bench.trial(mission, 1.0, 1.0, 3, 1, 100, protocol=protocol)
+        row = trial(protocol=protocol)
         assert row["data"]["axial + radial"] == {"failed": "not fitted here"}
     assert sorted(seen) == ["seed1-trial3-size1-level1-axial", "seed1-trial3-size1-level1-axial-held",
                             "seed1-trial3-size1-level1-radial", "seed1-trial3-size1-level1-radial-held"]
@@ -140,3 +149,26 @@ def test_a_shard_runs_every_nth_trial_and_a_bad_shard_exits_2(monkeypatch, capsy
             bench.main([f"--shard={bad}", "--fit-only", "--fits", "unused"])
         assert stop.value.code == 2
         assert "give I/N with whole numbers 0 <= I < N" in capsys.readouterr().err
+
+
+def test_the_calibrate_option_fits_its_entries_with_radial_data_under_their_own_name(monkeypatch, capsys):
+    """``--calibrate NAME`` (repeatable) calibrates those entries where a radial test is, nothing without one;
+    a fit of another calibration has another cache name (the default braid angle keeps the old names), and a
+    name identify cannot calibrate (D₀) exits 2."""
+    import benchmarks.bench_coverage as bench
+
+    seen, trial = unfitted_trials(monkeypatch, argument=4)  # fitted(stated, truth, protocol, seed, calibrate)
+    both = bench.calibration(["bladder_thickness", "braid_angle", "bladder_thickness"])
+    assert both == ("braid_angle", "bladder_thickness") and bench.calibration(None) == ("braid_angle",)
+    for calibrate in (("braid_angle",), both):
+        trial(calibrate=calibrate)
+    assert seen == {"seed1-trial3-size1-level1-radial-held": ("braid_angle",),
+                    "seed1-trial3-size1-level1-axial-held": (),
+                    "seed1-trial3-size1-level1-radial-held-cal-braid_angle-bladder_thickness": both}
+    none = bench.fit_key(1, 3, 1.0, 1.0, "axial + radial", "sweep", ())
+    assert none == "seed1-trial3-size1-level1-radial-cal-none"
+    for bad in ("initial_diameter", "wall"):
+        with pytest.raises(SystemExit) as stop:
+            bench.main(["--calibrate", bad, "--fit-only", "--fits", "unused"])
+        assert stop.value.code == 2
+        assert "invalid choice" in capsys.readouterr().err
