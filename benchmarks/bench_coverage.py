@@ -52,7 +52,7 @@ from scipy.special import ndtri, stdtrit
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from pampipe.errors import SolverError  # noqa: E402
+from pampipe.errors import InputError, SolverError  # noqa: E402
 from pampipe.identification import identify  # noqa: E402
 from pampipe.identification.options import FitOptions  # noqa: E402
 from pampipe.io.mission_schema import load_mission  # noqa: E402
@@ -115,7 +115,9 @@ def fitted(stated: Pam, truth: Pam, protocol: Protocol, seed: int, calibrate: tu
 
 def cached_fit(fits: Path | None, key: str, fit) -> Pam | str:
     """The PAM ``fit()`` returns, or its :class:`SolverError` message; kept as ``fits/key.yaml`` (or
-    ``fits/key.failed``) and read back from there when present (``fits`` None: no cache)."""
+    ``fits/key.failed``) and read back from there when present (``fits`` None: no cache). A kept PAM that
+    pampipe refuses to read (a calibrated value the stated sd puts across the domain's edge) is a failed fit
+    too, with the reader's message."""
     if fits is None:
         try:
             return fit()
@@ -130,7 +132,10 @@ def cached_fit(fits: Path | None, key: str, fit) -> Pam | str:
         except SolverError as exc:
             failed_file.write_text(str(exc))
             return str(exc)
-    return load_pam(pam_file)
+    try:
+        return load_pam(pam_file)
+    except InputError as exc:
+        return f"the fitted PAM is refused: {exc}"
 
 
 def fit_key(seed: int, k: int, size: float, level: float, name: str, protocol: str = "held",

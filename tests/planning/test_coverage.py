@@ -96,6 +96,17 @@ def test_a_cached_fit_plans_as_the_fit_itself_and_is_not_refitted(tmp_path):
     assert cached_fit(None, "k", failing).startswith("IPOPT")  # no folder: no cache
 
 
+def test_a_kept_fit_that_pampipe_refuses_to_read_counts_as_failed(tmp_path):
+    """A calibrated wall of 0.8 mm with the stated sd 0.25 mm (a fit of round 47 did that) puts 7e-4 of the
+    draws below zero thickness: the reader refuses the file, and the trial is a failed fit, not a traceback."""
+    pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
+    thin = dataclasses.replace(pam.geometry, bladder_thickness=0.8e-3)
+    refused = dataclasses.replace(pam, geometry=thin, geometry_sd={"bladder_thickness": 0.25e-3})
+    message = cached_fit(tmp_path, "thin", lambda: refused)
+    assert isinstance(message, str) and "bladder_thickness" in message
+    assert cached_fit(tmp_path, "thin", lambda: pytest.fail("refitted")) == message
+
+
 def test_the_decomposition_finds_the_least_spread_that_holds_by_hand():
     """20 made-up trials, each planned 10 kPa over a nominal 100 kPa, whose truths lie 0, 0.5, …, 9.5 kPa
     over it: a share ≥ 0.95 (19 of 20) holds from λ = 0.9 of the planned spread (the 19th smallest need
