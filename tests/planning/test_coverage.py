@@ -98,7 +98,7 @@ def test_a_cached_fit_plans_as_the_fit_itself_and_is_not_refitted(tmp_path):
 
 def test_a_kept_fit_that_pampipe_refuses_to_read_counts_as_failed(tmp_path):
     """A calibrated wall of 0.8 mm with the stated sd 0.25 mm (a fit of round 47 did that) puts 7e-4 of the
-    draws below zero thickness: the reader refuses the file, and the trial is a failed fit, not a traceback."""
+    draws below zero thickness: the reader refuses the file; the trial is a failed fit, not a traceback."""
     pam = load_pam(PROBLEMS / "pams" / "paper-radial-pam.yaml")
     thin = dataclasses.replace(pam.geometry, bladder_thickness=0.8e-3)
     refused = dataclasses.replace(pam, geometry=thin, geometry_sd={"bladder_thickness": 0.25e-3})
