@@ -62,10 +62,7 @@ class GuardedStream:
         self.failed = False
 
     def write(self, text: str) -> int:
-        try:
-            return self._stream.write(safe_text(text))
-        except (OSError, ValueError) as exc:  # ValueError: the stream was closed
-            raise self._error(exc) from None
+        return self.write_escaped(safe_text(text))
 
     def write_escaped(self, text: str) -> int:
         """:meth:`write` of a text that needs no escaping, without :func:`safe_text`'s scan (0.3 s of the
@@ -73,7 +70,7 @@ class GuardedStream:
         character escaped by the encoder."""
         try:
             return self._stream.write(text)
-        except (OSError, ValueError) as exc:
+        except (OSError, ValueError) as exc:  # ValueError: the stream was closed
             raise self._error(exc) from None
 
     def flush(self) -> None:
