@@ -10,7 +10,9 @@ Truth known independently of the planner. Each trial, for each muscle size and t
    protocol sets the model error's degrees of freedom (its cross-validation holds out 4 pressure bands and
    each held length: ν = 11 held, 3 swept), so the plans' width depends on it;
 3. ``identify`` on each, from the STATED geometry, calibrating where a radial test is the entries of
-   ``--calibrate`` (:data:`CALIBRATABLE`; default :data:`DEFAULT_CALIBRATE`, the braid angle); the written
+   ``--calibrate`` (:data:`CALIBRATABLE`; default :data:`DEFAULT_CALIBRATE`, the braid angle and the rest
+   length, which the force map's zero-force edge pins and whose stated 1 mm sd otherwise reaches the plans as
+   model error: docs/commands.md §4.5); the written
    PAM keeps the stated sd of every entry, the calibrated ones' too (the lot's tolerance: ``fitted_pam``
    drops a calibrated entry's sd today, and a ``unit: lot`` plan needs it);
 4. ``plan --confidence C`` (C = 0.5, 0.9, 0.95, 0.99) of the demo climb (3 × 0.4 kg, 2 kg payload, SF 1.5)
@@ -82,7 +84,9 @@ PROTOCOLS = tuple(AXIAL)
 #: The geometry entries ``identify`` can calibrate (docs/commands.md §3.3), in the order the cache names them;
 #: D₀ cannot be.
 CALIBRATABLE = ("braid_angle", "bladder_thickness", "initial_length")
-DEFAULT_CALIBRATE = ("braid_angle",)
+DEFAULT_CALIBRATE = ("braid_angle", "initial_length")
+#: The calibration whose cache names carry no suffix: the one from before ``--calibrate``, the angle alone.
+UNNAMED_CALIBRATE = ("braid_angle",)
 FRICTION = 0.3
 
 
@@ -142,12 +146,12 @@ def fit_key(seed: int, k: int, size: float, level: float, name: str, protocol: s
             calibrate: tuple[str, ...] = DEFAULT_CALIBRATE) -> str:
     """The cache name of one fit: ``seed1-trial13-size1-level1-radial-held`` (``sweep``: no suffix, the
     names of the caches made before ``--protocol``), then the calibrated entries where they are not
-    :data:`DEFAULT_CALIBRATE` (the names made before ``--calibrate``): ``…-radial-held-cal-braid_angle-
-    bladder_thickness``, ``…-cal-none``. ``calibrate`` is what the fit calibrates (nothing without a radial
-    test, so an axial-only fit is one whatever ``--calibrate`` says)."""
+    :data:`UNNAMED_CALIBRATE` (the names made before ``--calibrate``): ``…-radial-held-cal-braid_angle-
+    initial_length`` (the default), ``…-cal-none``. ``calibrate`` is what the fit calibrates (nothing
+    without a radial test, so an axial-only fit is one whatever ``--calibrate`` says)."""
     data = "radial" if "radial" in name else "axial"
     suffix = "" if protocol == "sweep" else f"-{protocol}"
-    if data == "radial" and tuple(calibrate) != DEFAULT_CALIBRATE:
+    if data == "radial" and tuple(calibrate) != UNNAMED_CALIBRATE:
         suffix += "-cal-" + ("-".join(calibrate) or "none")
     return f"seed{seed}-trial{k}-size{size:g}-level{level:g}-{data}{suffix}"
 

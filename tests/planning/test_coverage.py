@@ -135,7 +135,7 @@ def test_the_protocol_option_picks_the_axial_test_and_its_cache_name(monkeypatch
 
     seen, trial = unfitted_trials(monkeypatch, argument=2)  # fitted(stated, truth, protocol, seed, calibrate)
     for protocol in ("held", "sweep"):
-        row = trial(protocol=protocol)
+        row = trial(protocol=protocol, calibrate=bench.UNNAMED_CALIBRATE)  # the names before --calibrate
         assert row["data"]["axial + radial"] == {"failed": "not fitted here"}
     assert sorted(seen) == ["seed1-trial3-size1-level1-axial", "seed1-trial3-size1-level1-axial-held",
                             "seed1-trial3-size1-level1-radial", "seed1-trial3-size1-level1-radial-held"]
@@ -164,16 +164,21 @@ def test_a_shard_runs_every_nth_trial_and_a_bad_shard_exits_2(monkeypatch, capsy
 
 def test_the_calibrate_option_fits_its_entries_with_radial_data_under_their_own_name(monkeypatch, capsys):
     """``--calibrate NAME`` (repeatable) calibrates those entries where a radial test is, nothing without one;
-    a fit of another calibration has another cache name (the default braid angle keeps the old names), and a
-    name identify cannot calibrate (D₀) exits 2."""
+    a fit of another calibration has another cache name (the braid angle alone keeps the names made before
+    ``--calibrate``; the default, the angle and the rest length, is named), and a name identify cannot
+    calibrate (D₀) exits 2."""
     import benchmarks.bench_coverage as bench
 
     seen, trial = unfitted_trials(monkeypatch, argument=4)  # fitted(stated, truth, protocol, seed, calibrate)
     both = bench.calibration(["bladder_thickness", "braid_angle", "bladder_thickness"])
-    assert both == ("braid_angle", "bladder_thickness") and bench.calibration(None) == ("braid_angle",)
+    assert both == ("braid_angle", "bladder_thickness")
+    assert bench.calibration(None) == ("braid_angle", "initial_length")
+    trial()
     for calibrate in (("braid_angle",), both):
         trial(calibrate=calibrate)
-    assert seen == {"seed1-trial3-size1-level1-radial-held": ("braid_angle",),
+    assert seen == {"seed1-trial3-size1-level1-radial-held-cal-braid_angle-initial_length":
+                    ("braid_angle", "initial_length"),
+                    "seed1-trial3-size1-level1-radial-held": ("braid_angle",),
                     "seed1-trial3-size1-level1-axial-held": (),
                     "seed1-trial3-size1-level1-radial-held-cal-braid_angle-bladder_thickness": both}
     none = bench.fit_key(1, 3, 1.0, 1.0, "axial + radial", "sweep", ())
