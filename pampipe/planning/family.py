@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pampipe.model.muscle import PRESSURE_LIMIT
 from pampipe.planning.law import Terms, per_class, raw_least, settle
 from pampipe.planning.sources import keyed_normal
 from pampipe.runtime.alike import unique_rows
@@ -181,12 +182,18 @@ def select(part: np.ndarray, ranks: list[int], below: int):
 
 def exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, share: bool):
     """(settled statistics, the share of n values ≤ the first, or None) as quantiles.order_statistics
-    gives them: the ties above the first rank after settle are counted."""
+    gives them: the ties above the first rank after settle are counted. Where the first raw value v lies in
+    (0, 100 MPa], settle keeps it and a value above settles to v only if it equals v: the raw values are
+    compared, not settled first (one pass, not four)."""
     out = settle(stats)
     if not share:
         return out, None
-    above = settle(part[:, first - below + 1:])
-    return out, (first + 1 + np.count_nonzero(above == out[0][:, None], axis=1)) / n
+    above, first_raw = part[:, first - below + 1:], stats[0]
+    kept = (first_raw > 0) & (first_raw <= PRESSURE_LIMIT)
+    ties = np.count_nonzero(above == first_raw[:, None], axis=1)
+    if not kept.all():  # 0 or inf: every value above that settles to it
+        ties[~kept] = np.count_nonzero(settle(above[~kept]) == out[0][~kept, None], axis=1)
+    return out, (first + 1 + ties) / n
 
 
 def family_statistics(family: Family, ranks: list[int], n: int, share: bool, fill=None):
