@@ -199,8 +199,8 @@ def exact(stats: np.ndarray, part: np.ndarray, first: int, below: int, n: int, s
 def family_statistics(family: Family, ranks: list[int], n: int, share: bool, fill=None):
     """(settled order statistics (len(ranks), m) of each member's n raw values, their share ≤ the first or
     None) for 0-based ``ranks`` (the first a high rank where ``share``); None where the ranks' tails are
-    too wide for candidates to pay (more than half the draws). ``fill(family, high, low, top, bottom, n,
-    out)`` fills the :class:`Statistics` instead of the reference members' blocks (e.g.
+    too wide for candidates to pay (more than half the draws). ``fill(family, high, low, n, out)`` fills
+    the :class:`Statistics` instead of the reference members' blocks (e.g.
     :func:`pampipe.planning.convex.convex_statistics`)."""
     high = [k for k in ranks if 2 * k >= n]
     low = [k for k in ranks if 2 * k < n]
@@ -214,7 +214,7 @@ def family_statistics(family: Family, ranks: list[int], n: int, share: bool, fil
     out = Statistics(np.empty((len(ranks), m)), np.empty(m) if share else None,
                      [(high + low).index(k) for k in ranks])
     if fill is not None:
-        fill(family, high, low, top, bottom, n, out)
+        fill(family, high, low, n, out)
         return out.stats, out.shares
     bounds = extremes(family)
     start, reach = 0, FIRST_BLOCK // 2
