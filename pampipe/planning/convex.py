@@ -81,7 +81,7 @@ def convex_statistics(family: Family, high: list[int], low: list[int], n: int, o
     positions away from the nearest statistic, not cover a reference's spread (family.MARGIN_SHARE)."""
     top = n - min(high) + MARGIN if high else 0
     bottom = max(low) + 1 + MARGIN if low else 0
-    order = np.argsort(family.mu, kind="stable")
+    order = np.argsort(family.mu, kind="stable") if family.order is None else family.order
     mu = family.mu[order]
     size = extremes(family).size
     grid = np.unique(np.append(np.arange(0, n, STRIDE), n - 1))

@@ -25,6 +25,7 @@ family) are close.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,6 +61,7 @@ class Family:
     at_zero: np.ndarray  # (m,) W at μ = 0 [N]
     drag: np.ndarray | None  # (m,) the tether's tension [N] (None: no tether)
     size: int  # n, the draws
+    order: np.ndarray | None = None  # the draws by the drawn μ (stable argsort; None: not kept)
 
 
 def families(ev, sources) -> list[Family] | None:
@@ -76,8 +78,9 @@ def families(ev, sources) -> list[Family] | None:
         c = int(rows[0])
         terms = [all_terms[group[c]] for group, all_terms in per_bore]
         sd = float(ev.mu_sd[c]) if friction else 0.0
-        if sd > 0:  # μ(d) as Evaluator.friction_load sums it: μ̂ + sd·ξ(d)
-            mu = ev.mu[c] + keyed_normal(ev.problem.seed, "friction", (ev.mu[c], sd), ev.problem.samples) * sd
+        order = None
+        if sd > 0:
+            mu, order = drawn_friction(ev.problem.seed, float(ev.mu[c]), sd, ev.problem.samples)
         else:
             mu = ev.mu[rows] + np.zeros(1)
         finite = all(np.all(np.isfinite(v)) for t in terms for v in vars(t).values())
@@ -85,8 +88,20 @@ def families(ev, sources) -> list[Family] | None:
         if not (finite and per_draw and np.min(mu) > 0):
             return None
         drag = None if ev.drag is None else ev.drag[rows]
-        out.append(Family(rows, terms, mu, sd > 0, slope[rows], at_zero[rows], drag, ev.problem.samples))
+        out.append(Family(rows, terms, mu, sd > 0, slope[rows], at_zero[rows], drag, ev.problem.samples,
+                          order))
     return out
+
+
+@functools.lru_cache(maxsize=16)
+def drawn_friction(seed: int, value: float, sd: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(μ(d) = μ̂ + sd·ξ(d) (n,), as Evaluator.friction_load sums it, the draws in the order of μ (stable
+    argsort)) of the friction statement (μ̂ = ``value``, ``sd``), read-only: once per process, not per
+    family and chunk (every chunk's families of a statement share its draws)."""
+    mu = value + keyed_normal(seed, "friction", (value, sd), n) * sd
+    order = np.argsort(mu, kind="stable")
+    mu.flags.writeable = order.flags.writeable = False
+    return mu, order
 
 
 def values(family: Family, members: np.ndarray, columns: np.ndarray | None) -> np.ndarray:

@@ -106,3 +106,13 @@ def test_the_share_counts_the_ties_of_the_settled_values():
     np.testing.assert_array_equal(stats[0], expected)
     np.testing.assert_array_equal(share, np.count_nonzero(settled <= expected[:, None], axis=1) / 8)
     np.testing.assert_array_equal(share, [6 / 8, 6 / 8, 1.0, 1.0])
+
+
+def test_the_drawn_friction_and_its_order_are_kept_once_per_statement():
+    """μ(d) = μ̂ + sd·ξ(d) of the statement's keyed stream, its stable order by μ, read-only, and the same
+    arrays for the same statement (every chunk's families of it share one draw and one sort)."""
+    mu, order = family.drawn_friction(7, 0.3, 0.05, 500)
+    np.testing.assert_array_equal(mu, 0.3 + family.keyed_normal(7, "friction", (0.3, 0.05), 500) * 0.05)
+    np.testing.assert_array_equal(order, np.lexsort((np.arange(500), mu)))
+    assert not (mu.flags.writeable or order.flags.writeable)
+    assert family.drawn_friction(7, 0.3, 0.05, 500)[1] is order
