@@ -12,7 +12,8 @@ sorted by μ (positions 0 … n−1), then:
 * **high ranks:** every draw between positions K−1 and n−K lies at or below the larger of the two (a convex
   function's chord): the K lowest and K highest μ are the candidates (where the coarse grid below shows g
   falling or rising throughout, the K of that end and the other end's last draw), and a member's statistics
-  among them are its statistics among all n where its lowest high statistic lies above that larger value + 2E;
+  among them are its statistics among all n where its lowest high statistic lies above that larger value + 2E
+  (K: the high tail and ``family.MARGIN`` draws);
 * **low ranks:** around the member's least value on a coarse grid of positions (every :data:`STRIDE`-th), a
   window [L, R] of positions; where g falls from L to L+1 (μ_L < μ_{L+1}), every draw left of L lies at or
   above g(μ_L) (convexity), and likewise right of R where g rises from R−1 to R: its statistics among the
@@ -30,6 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from pampipe.planning.family import (
+    MARGIN,
     SLACK,
     Family,
     Statistics,
@@ -41,8 +43,9 @@ from pampipe.planning.family import (
     whole,
 )
 
-#: Positions between the points of the coarse grid that finds a member's least value.
-STRIDE = 32
+#: Positions between the points of the coarse grid that finds a member's least value (a window reaches
+#: STRIDE beyond its tail; 64 against 32: 157 fewer grid values, 32 or 64 more in the window).
+STRIDE = 64
 #: Members per numpy pass (arrays of BLOCK × about 1.3·10³ values at 10⁴ draws: within the L2 cache's reach).
 BLOCK = 128
 
@@ -71,11 +74,14 @@ def applies(family: Family) -> bool:
     return all(np.all(b * float(t.r[0]) >= 0) for t in family.terms)
 
 
-def convex_statistics(family: Family, high: list[int], low: list[int], top: int, bottom: int, n: int,
-                      out: Statistics) -> None:
-    """Fill ``out`` for every member of ``family`` (:func:`applies`), ``top`` / ``bottom`` the candidates
-    of each tail (margins included)."""
-    order = np.argsort(family.mu, kind="stable")
+def convex_statistics(family: Family, high: list[int], low: list[int], n: int, out: Statistics) -> None:
+    """Fill ``out`` for every member of ``family`` (:func:`applies`) for the 0-based ranks ``high`` and
+    ``low``. The candidates of each tail are its ranks and :data:`family.MARGIN` more: each member is tested
+    on its own values, so the margin need only put the chord's (or the window edge's) draws MARGIN
+    positions away from the nearest statistic, not cover a reference's spread (family.MARGIN_SHARE)."""
+    top = n - min(high) + MARGIN if high else 0
+    bottom = max(low) + 1 + MARGIN if low else 0
+    order = np.argsort(family.mu, kind="stable") if family.order is None else family.order
     mu = family.mu[order]
     size = extremes(family).size
     grid = np.unique(np.append(np.arange(0, n, STRIDE), n - 1))

@@ -87,3 +87,32 @@ def test_without_the_bound_far_classes_come_out_wrong(tmp_path, monkeypatch):
                                                                          np.full(members.size, -1e300)))
     with pytest.raises(AssertionError):
         _compare(ev, "moduli", ranks, share)
+
+
+def test_the_share_counts_the_ties_of_the_settled_values():
+    """``exact``'s share of values ≤ the first statistic, against counting on the settled whole row: a
+    first raw value below 0 (settles to 0 with every value ≤ 0 above it, −0 too), inside (0, 100 MPa] with
+    exact ties, beyond 100 MPa and NaN (settle to inf with every value above them)."""
+    rows = np.array([[-5.0, -3.0, -1.0, 0.0, -0.0, 2.0, -2.0, 7.0],
+                     [1e5, 3e5, 2e5, 3e5, 3e5, 4e5, 1e5, 5e5],
+                     [1e5, 2e8, 3e8, 1.5e8, np.nan, 2e8, 1e5, 4e8],
+                     [1.0, np.nan, 2.0, np.nan, np.nan, np.nan, 4.0, 5.0]])
+    first = 4  # the 5th value
+    part = rows.copy()
+    part.partition(first, axis=1)
+    stats, share = family.exact(part[:, [first]].T, part, first, 0, rows.shape[1], True)
+    settled = settle(rows)
+    expected = settle(np.sort(rows, axis=1)[:, first])
+    np.testing.assert_array_equal(stats[0], expected)
+    np.testing.assert_array_equal(share, np.count_nonzero(settled <= expected[:, None], axis=1) / 8)
+    np.testing.assert_array_equal(share, [6 / 8, 6 / 8, 1.0, 1.0])
+
+
+def test_the_drawn_friction_and_its_order_are_kept_once_per_statement():
+    """μ(d) = μ̂ + sd·ξ(d) of the statement's keyed stream, its stable order by μ, read-only, and the same
+    arrays for the same statement (every chunk's families of it share one draw and one sort)."""
+    mu, order = family.drawn_friction(7, 0.3, 0.05, 500)
+    np.testing.assert_array_equal(mu, 0.3 + family.keyed_normal(7, "friction", (0.3, 0.05), 500) * 0.05)
+    np.testing.assert_array_equal(order, np.lexsort((np.arange(500), mu)))
+    assert not (mu.flags.writeable or order.flags.writeable)
+    assert family.drawn_friction(7, 0.3, 0.05, 500)[1] is order
