@@ -69,8 +69,12 @@ bench: $(STAMP)  ## the benchmarks docs/performance.md quotes (median and spread
 	@echo "== benchmarks/bench_startup.py --repeat 7"; $(BIN)/python benchmarks/bench_startup.py --repeat 7
 	@echo "== benchmarks/bench_big_mission.py --sections 100000 --repeat 5"; $(BIN)/python \
 		benchmarks/bench_big_mission.py --sections 100000 --repeat 5 $(if $(BENCH_BASELINE),--baseline $(BENCH_BASELINE))
-	@echo "== benchmarks/bench_identify.py --repeat 5"; $(BIN)/python benchmarks/bench_identify.py --repeat 5
-	@echo "== benchmarks/bench_identify_floor.py --repeat 5"; $(BIN)/python benchmarks/bench_identify_floor.py --repeat 5
+	@echo "== benchmarks/bench_identify.py --scales 10 100 --repeat 5"; $(BIN)/python benchmarks/bench_identify.py \
+		--scales 10 100 --repeat 5
+	@echo "== benchmarks/bench_identify_floor.py --scales 10 100 --repeat 5"; $(BIN)/python \
+		benchmarks/bench_identify_floor.py --scales 10 100 --repeat 5
+	@echo "== benchmarks/bench_identify_floor.py --scales 1000 --repeat 3 --no-peer"; $(BIN)/python \
+		benchmarks/bench_identify_floor.py --scales 1000 --repeat 3 --no-peer
 	@echo "== benchmarks/bench_confidence.py --sections '' --distinct 100000 --repeat 5"; $(BIN)/python \
 		benchmarks/bench_confidence.py --sections '' --distinct 100000 --repeat 5
 
