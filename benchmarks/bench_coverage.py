@@ -12,9 +12,9 @@ Truth known independently of the planner. Each trial, for each muscle size and t
 3. ``identify`` on each, from the STATED geometry, calibrating where a radial test is the entries of
    ``--calibrate`` (:data:`CALIBRATABLE`; default :data:`DEFAULT_CALIBRATE`, the braid angle and the rest
    length, which the force map's zero-force edge pins and whose stated 1 mm sd otherwise reaches the plans as
-   model error: docs/commands.md §4.5); the written
-   PAM keeps the stated sd of every entry, the calibrated ones' too (the lot's tolerance: ``fitted_pam``
-   drops a calibrated entry's sd today, and a ``unit: lot`` plan needs it);
+   model error: docs/commands.md §4.5); the written PAM keeps the stated sd of every entry, the calibrated
+   ones' too (the lot's tolerance: ``fitted_pam`` drops a calibrated entry's sd today, and a ``unit: lot``
+   plan needs it);
 4. ``plan --confidence C`` (C = 0.5, 0.9, 0.95, 0.99) of the demo climb (3 × 0.4 kg, 2 kg payload, SF 1.5)
    up a riser of bore 1.333 D₀ (76.2 mm: no test used it), every segment ``unit: tested``, then ``unit: lot``;
 5. the judge, each muscle's closed-form least holding pressure in the riser

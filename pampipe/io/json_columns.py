@@ -156,8 +156,7 @@ class _Words:
     def of_values(self, distinct) -> np.ndarray:
         """The ids of the texts of the str or None values ``distinct``."""
         missing = [v for v in distinct if v not in self._of_value]
-        for value, i in zip(missing, self.of_texts("null" if v is None else encode_basestring_ascii(v)
-                                                   for v in missing).tolist(), strict=True):
+        for value, i in zip(missing, self.of_texts(_value_texts(missing)).tolist(), strict=True):
             self._of_value[value] = i
         return np.array([self._of_value[v] for v in distinct], dtype=np.uint64)
 
