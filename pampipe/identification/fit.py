@@ -141,9 +141,9 @@ class Round(NamedTuple):
 
 
 def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo,
-         round_: int = 0, centred=None, exact_rounds: bool = True, setup: Setup | None = None) -> Round:
+         round_: int = 0, centred=None, setup: Setup | None = None) -> Round:
     """One fit with the ``hinge`` rows in cells, from ``warm`` (a previous solution, ``centred`` the Hessian
-    of its problem there: see :func:`.solve.solve_fit`, as ``exact_rounds``) if given. Its
+    of its problem there: see :func:`.solve.solve_fit`) if given. Its
     report gives the IdentifyResult and ``finish``; ``finish()`` gives its (model error, written joint
     uncertainty, fit quality, predictions the data determine, warnings), which the result leaves out
     (None, no warnings). Both are computed only for the fit reported, not for every round of the hinge,
@@ -165,8 +165,7 @@ def _fit(data: ExperimentData, options: FitOptions, say, hinge, warm, memo: Memo
             + which)
         solution, info = solve_fit(setup.nlp, setup.values, setup.x0, setup.lbx, setup.ubx, setup.stats,
                                    setup.structure, updater_for(setup.values, data, options, setup),
-                                   centred if warm is not None and warm.size == setup.x0.size else None,
-                                   exact_rounds=exact_rounds)
+                                   centred if warm is not None and warm.size == setup.x0.size else None)
         solve = Solve(solution, info, setup.values, 0.0, 0, None, None)
     fit = _solved(data, options, setup, solve)
     return Round(fit.x, fit.solver, cache(lambda: _report(data, options, setup, solve, fit)), fit.axial, fit,
@@ -394,8 +393,8 @@ def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data
     :mod:`.model_error`), a calibrated geometry held at the full fit's, the slack hinge not repeated
     (``hessian``: the full fit's Hessian at its solution).
     ``refits`` "active_set": solved from the full fit by :func:`.held_out.refit` where that applies (least
-    squares), else, and always with "ipopt", by one IPOPT fit of the same NLP structure (cached; every round
-    by IPOPT, :func:`.solve.solve_fit`); only the
+    squares), else, and always with "ipopt", by one fit of the same NLP structure (cached) from the linear
+    screen: IPOPT, then the rounds of the slack cells as the full fit's, :func:`.solve.solve_fit`); only the
     round's geometry and moduli, not its report (the Hessian, the uncertainty, each test's scores, the
     Drucker minimum)."""
     x, moduli = fit.x, slice(0, fit.x.size - len(options.calibrate))  # the geometry is x's last block
@@ -407,7 +406,7 @@ def _refit(options: FitOptions, fit: Fit, hessian: np.ndarray, refits: str, data
         found = refit_from_full(data, options, x[moduli], hessian[moduli, moduli], setup)
         if found is not None:
             return found
-    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), exact_rounds=False, setup=setup).fit
+    fitted = _fit(data, options, lambda _text: None, {}, None, Memo(), setup=setup).fit
     return problem.muscles(fitted.geometry, fitted.moduli, fitted.pipe_moduli)
 
 

@@ -45,8 +45,7 @@ SCALE_FLOOR = 1e-3
 ROWS_MOVED = 1e-3
 
 
-def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update, centred=None, *,
-              exact_rounds: bool = True):
+def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure, update, centred=None):
     """IPOPT, re-solved from its last point while ``update(x, seen)`` changes the data of the problem.
 
     ``update`` (see :func:`_updater`) moves slack cells between clipped and live and, with a
@@ -54,15 +53,15 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
     A re-solve of least squares at a fixed geometry (:func:`.exact.applies`) is the active-set solve of
     :func:`.exact.resolved` from the last point instead, where that finds the one minimum IPOPT would
     (IPOPT for the rest); so is the first solve when ``x0`` is an IPOPT solution and ``centred`` the
-    Hessian of its problem there (the slack hinge's next round, :func:`.fit.identify`). ``exact_rounds``
-    False: every round by IPOPT (a held-out refit of the model error, whose withheld rows may see a
-    direction its own data leave flat: there IPOPT's choice along it is the reference).
+    Hessian of its problem there (the slack hinge's next round, :func:`.fit.identify`). Along a direction
+    the data leave flat the steps do not move x: it stays where the first IPOPT solve put it (a held-out
+    refit of the model error, whose withheld rows may see such a direction, keeps that solve's choice).
     Returns (solution, statistics summed over the solves).
     """
     iterations, wall = 0, 0.0
     x, last, seen = x0, None, set()
     for round_ in range(UPDATE_ROUNDS):
-        if centred is not None and exact_rounds and exact.applies(structure):
+        if centred is not None and exact.applies(structure):
             scale(nlp, values, x, stats, structure)  # as IPOPT's solve from x would be
             found = exact.resolved(nlp, values, x, lbx, ubx, centred)
             if found is not None:
@@ -87,7 +86,7 @@ def solve_fit(nlp, values, x0, lbx, ubx, stats: Statistics, structure: Structure
             values.update(last[2])  # a refinement failed: keep the previous solve and its data
             break
         last = (solution, info, _kept(values))
-        if exact_rounds and exact.applies(structure):
+        if exact.applies(structure):
             centred = np.asarray(nlp.hessian(x, nlp.layout.pack(values)), dtype=float)
         if not update(x, seen):
             break

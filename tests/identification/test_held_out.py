@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from pampipe.identification import exact, held_out, identify
+from pampipe.identification import solve as solve_module
 from pampipe.io.csvfile import load_experiment_data
 from pampipe.io.experiment_schema import load_experiment
 from tests.support.problems import PROBLEMS
@@ -49,9 +50,10 @@ def test_undetermined_directions_are_the_flat_ones_off_the_binding_rows():
 
 
 def test_the_fits_rounds_by_active_set_steps_reach_the_ipopt_rounds_answer(monkeypatch):
-    """The re-solves of the full fit (slack cells changing side, the slack hinge's next round) by active-set
-    steps from the last IPOPT solution (:func:`pampipe.identification.exact.resolved`) give what IPOPT
-    re-solves give: the same SSE, moduli and model error, with fewer IPOPT iterations."""
+    """The re-solves of the full fit and of a held-out refit that falls back to IPOPT (slack cells changing
+    side, the slack hinge's next round) by active-set steps from the last IPOPT solution
+    (:func:`pampipe.identification.exact.resolved`) give what IPOPT re-solves give: the same SSE, moduli and
+    model error, with fewer IPOPT solves and iterations."""
     data = load_experiment_data(load_experiment(PROBLEMS / "experiments" / "paper-protocol.yaml"))
     original, used = exact.resolved, []
 
@@ -61,11 +63,23 @@ def test_the_fits_rounds_by_active_set_steps_reach_the_ipopt_rounds_answer(monke
         return found
 
     monkeypatch.setattr(exact, "resolved", counted)
+    ipopt_solves = []
+
+    def solve(*args, **kwargs):
+        ipopt_solves.append(1)
+        return original_solve(*args, **kwargs)
+
+    original_solve = solve_module.solve
+    monkeypatch.setattr(solve_module, "solve", solve)
     fast = identify(data)
     assert any(used)  # the bundled protocol's slack rows make rounds that the steps finish
+    # one IPOPT solve for the full fit, one for the held-out block that falls back to IPOPT (its withheld
+    # rows see a direction its data leave flat); every later round of either is active-set steps
+    assert len(ipopt_solves) == 2
     ipopt_rounds = SimpleNamespace(applies=exact.applies, resolved=lambda *args, **kwargs: None)
-    monkeypatch.setattr("pampipe.identification.solve.exact", ipopt_rounds)  # the held-out refits as before
+    monkeypatch.setattr("pampipe.identification.solve.exact", ipopt_rounds)  # every round by IPOPT
     reference = identify(data)
+    assert len(ipopt_solves) > 2 + 2
     assert fast.solver.iterations < reference.solver.iterations
     assert fast.sse == pytest.approx(reference.sse, rel=1e-9)
     assert np.allclose(fast.x, reference.x, rtol=1e-6, atol=1e-6)
