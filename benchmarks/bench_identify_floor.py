@@ -16,7 +16,8 @@ it compiles every module in every run: 0.3 s of a 1.7 s run at 3·10⁴ rows).
 Printed per size: the load average; per command its median CPU [min-max] over the runs, the peak
 memory of one more run (started by a small launcher) and its SSE: pampipe's scores the slack rows as
 max(0, F) (its objective, as the peer's ``sse_N2``); the peer's plain SSE scores them by F; then
-pampipe ÷ floor and the faster of trf-exact and trf-lsmr ÷ pampipe (goals, issue 39: ≥ 1.5× / 2× / 5×
+pampipe ÷ floor and the faster of trf-exact and trf-lsmr ÷ pampipe, each the ratio of the medians with
+the spread of the same ratio taken round by round (goals, issue 39: ≥ 1.5× / 2× / 5×
 faster than the peer at 3·10⁴ / 3·10⁵ / 3·10⁶ rows, ≤ 1.2× the floor's CPU and memory at 3·10⁵–3·10⁶).
 
 With ``--baseline TREE`` (a checkout of main) that tree's ``pampipe identify`` runs in the same rounds, with
@@ -97,15 +98,24 @@ def main() -> None:
                 print(f"  {name:<11} {t[name]:7.3f} [{min(values):.3f}-{max(values):.3f}] s  "
                       f"{peak_kb(commands[name], *places[name]) / 1024:7.0f} MB  {sse}", flush=True)
             peers = [name for name in t if name.startswith("trf-")]
-            line = f"  pampipe / floor {t['pampipe'] / t['floor']:.2f}x"
+            line = (f"  pampipe / floor {t['pampipe'] / t['floor']:.2f}x "
+                    f"{_spread(cpu['pampipe'], cpu['floor'])}")
             if peers:
                 peer = min(peers, key=t.get)
-                line += f"; the faster peer {peer}: {t[peer] / t['pampipe']:.2f}x pampipe's CPU"
+                line += (f"; the faster peer {peer}: {t[peer] / t['pampipe']:.2f}x pampipe's CPU "
+                         f"{_spread(cpu[peer], cpu['pampipe'])}")
             print(line, flush=True)
             if "baseline" in cpu:
                 ratios = [a / b for a, b in zip(cpu["pampipe"], cpu["baseline"], strict=True)]
                 print(f"  pampipe / baseline {statistics.median(ratios):.3f} "
                       f"[{min(ratios):.3f}-{max(ratios):.3f}] (per round)", flush=True)
+
+
+def _spread(numerator: list[float], denominator: list[float]) -> str:
+    """The ratio of two commands' CPU round by round (they alternate within a round), as "[min-max per
+    round]": the movement a ratio of medians has on this machine."""
+    ratios = [a / b for a, b in zip(numerator, denominator, strict=True)]
+    return f"[{min(ratios):.2f}-{max(ratios):.2f} per round]"
 
 
 if __name__ == "__main__":
