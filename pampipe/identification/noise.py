@@ -55,10 +55,15 @@ def local_floor(x: np.ndarray, force: np.ndarray, group: np.ndarray) -> tuple[fl
     rows = np.where(rows < centre[:, None], rows, rows + 1)[:, :NEIGHBOURS]  # skip the centre row
     dx = x[rows] - x[centre][:, None]
     scale = np.ptp(dx, axis=1)
-    dx = dx / np.where(scale > 0, scale, 1.0)[:, None]
-    design = dx[:, :, None] ** np.arange(DEGREE + 1)[None, None, :]
-    first_row = _first_row_of_inverse(np.einsum("mki,mkj->mij", design, design))
-    intercept = np.einsum("mj,mkj,mk->m", first_row, design, force[rows])
+    dx /= np.where(scale > 0, scale, 1.0)[:, None]
+    # X = [1, dx, dx²] per window: XᵀX and Xᵀy from the sums of the window's powers of dx (and times F)
+    square, near = dx * dx, force[rows]
+    sums = [np.full(dx.shape[0], float(NEIGHBOURS)), *(v.sum(axis=1) for v in (dx, square, dx * square,
+                                                                                 square * square))]
+    gram = np.stack([sums[i:i + DEGREE + 1] for i in range(DEGREE + 1)], axis=1).transpose(2, 0, 1)
+    first_row = _first_row_of_inverse(gram)
+    intercept = (first_row[:, 0] * near.sum(axis=1) + first_row[:, 1] * (dx * near).sum(axis=1)
+                 + first_row[:, 2] * (square * near).sum(axis=1))
     error = force[centre] - intercept
     values = error**2 / (1 + first_row[:, 0])
     return math.sqrt(float(np.median(values)) / CHI2_MEDIAN), int(values.size)
@@ -89,8 +94,10 @@ def _first_row_of_inverse(gram: np.ndarray) -> np.ndarray:
 
 
 def evenly_spaced(size: int, count: int) -> np.ndarray:
-    """Indices of ``count`` rows evenly spaced over 0 … size − 1, in order (fewer where two round to one)."""
-    return np.unique(np.linspace(0, size - 1, count).astype(np.int64))
+    """Indices of ``count`` rows evenly spaced over 0 … size − 1, in order (fewer where two round to one):
+    the linspace truncated is non-decreasing, so its distinct values are those unlike their predecessor."""
+    spaced = np.linspace(0, size - 1, count).astype(np.int64)
+    return spaced[np.r_[True, spaced[1:] != spaced[:-1]]] if spaced.size else spaced
 
 
 #: More distinct lengths than this in an axial test is a sweep, not held lengths (:func:`held_length_paths`).
