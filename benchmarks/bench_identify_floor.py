@@ -106,15 +106,19 @@ def main() -> None:
                          f"{_spread(cpu[peer], cpu['pampipe'])}")
             print(line, flush=True)
             if "baseline" in cpu:
-                ratios = [a / b for a, b in zip(cpu["pampipe"], cpu["baseline"], strict=True)]
+                ratios = _per_round(cpu["pampipe"], cpu["baseline"])
                 print(f"  pampipe / baseline {statistics.median(ratios):.3f} "
                       f"[{min(ratios):.3f}-{max(ratios):.3f}] (per round)", flush=True)
 
 
+def _per_round(numerator: list[float], denominator: list[float]) -> list[float]:
+    """The ratio of two commands' CPU round by round (they alternate within a round)."""
+    return [a / b for a, b in zip(numerator, denominator, strict=True)]
+
+
 def _spread(numerator: list[float], denominator: list[float]) -> str:
-    """The ratio of two commands' CPU round by round (they alternate within a round), as "[min-max per
-    round]": the movement a ratio of medians has on this machine."""
-    ratios = [a / b for a, b in zip(numerator, denominator, strict=True)]
+    """:func:`_per_round` as "[min-max per round]": the movement a ratio of medians has on this machine."""
+    ratios = _per_round(numerator, denominator)
     return f"[{min(ratios):.2f}-{max(ratios):.2f} per round]"
 
 
